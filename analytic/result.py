@@ -1,0 +1,203 @@
+"""What a shot produced: status, stage instants, release and landing, histories, energy."""
+
+from __future__ import annotations
+
+import enum
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from analytic.design import Design
+
+
+class Status(str, enum.Enum):
+    """How a shot ended. Only ``OK`` is a throw; the rest are named failures."""
+
+    OK = "ok"
+    NEVER_FIRES = "never_fires"                            # counterweight cannot lift the arm
+    NEVER_LIFTS_OFF = "never_lifts_off"                    # projectile stays on the base
+    HITS_BASE_BEFORE_RELEASE = "hits_base_before_release"  # projectile back on the base in stage 2
+    NEVER_RELEASES = "never_releases"                      # release condition not met in time
+
+
+class Stage(enum.IntEnum):
+    """The three stages of a shot (``docs/derivation.md``)."""
+
+    SLIDE = 1   # projectile on the base, dragged by the sling (2 DOF)
+    SWING = 2   # free swing in the sling (3 DOF)
+    FLIGHT = 3  # point-mass flight with drag and wind
+
+
+#: Keys of the ``--json`` object, shared by ``analytic`` and ``engine_model``.
+JSON_KEYS = (
+    "design", "status", "message", "liftoff_time", "release_time",
+    "release_position", "release_velocity", "release_speed", "launch_angle",
+    "range", "range_from_release", "apex_height", "flight_time", "landing_time",
+    "landed_behind_pivot", "energy_efficiency", "range_efficiency", "min_sling_tension",
+)
+
+
+@dataclass(frozen=True)
+class EnergyBudget:
+    """Mechanical energy through stages 1 and 2, J; each array has shape (n,) on ``Shot.t``.
+
+    ``projectile`` is kinetic plus potential energy of the projectile relative to
+    its start; ``machine`` likewise for arm and counterweight (negative as the
+    counterweight falls); ``total = projectile + machine`` is conserved by the
+    dynamics (drag acts only in flight).
+    """
+
+    projectile: np.ndarray
+    machine: np.ndarray
+    total: np.ndarray
+
+
+@dataclass(frozen=True)
+class Shot:
+    """The outcome of simulating one design.
+
+    Scalars are SI (s, m, m/s, J, N); angles are radians except where a name
+    says ``_deg``. Fields that a failed shot never reached are ``None`` /
+    ``nan``-free: e.g. ``release_time`` is ``None`` when ``status`` is
+    ``NEVER_RELEASES``.
+
+    Attributes
+    ----------
+    design : the design simulated.
+    status, message : how it ended, in words a user can act on.
+    liftoff_time, release_time, landing_time : s from firing, or None.
+    release_position : (2,) projectile centre at release [x, y], m from the pivot.
+    release_velocity : (2,) projectile velocity at release [vx, vy], m/s.
+    landing_position : (2,) where the projectile reaches base level, m from the pivot.
+    apex_height : highest point of the flight above the base, m.
+    min_sling_tension : smallest sling tension in stages 1 and 2, N (negative: the rigid sling pushed).
+    t : (n,) sample times through stages 1 and 2, s.
+    stage : (n,) ``Stage`` of each sample (1 or 2).
+    q, qdot : (n, 3) coordinates [theta, phi, psi] (rad) and their rates (rad/s).
+    sling_tension : (n,) N.
+    energy : ``EnergyBudget`` on ``t``.
+    flight_t : (k,) flight sample times, s (from firing).
+    flight_path : (k, 2) projectile centre in flight, m from the pivot.
+    path : (n, 2) projectile centre through stages 1 and 2, m from the pivot.
+    counterweight_energy_released : J, potential energy given up by counterweight
+        and arm between firing and release.
+    """
+
+    design: Design
+    status: Status
+    message: str
+    liftoff_time: float | None = None
+    release_time: float | None = None
+    landing_time: float | None = None
+    release_position: np.ndarray | None = None
+    release_velocity: np.ndarray | None = None
+    landing_position: np.ndarray | None = None
+    apex_height: float | None = None
+    min_sling_tension: float | None = None
+    counterweight_energy_released: float | None = None
+    t: np.ndarray = field(default_factory=lambda: np.empty(0))
+    stage: np.ndarray = field(default_factory=lambda: np.empty(0, dtype=int))
+    q: np.ndarray = field(default_factory=lambda: np.empty((0, 3)))
+    qdot: np.ndarray = field(default_factory=lambda: np.empty((0, 3)))
+    path: np.ndarray = field(default_factory=lambda: np.empty((0, 2)))
+    sling_tension: np.ndarray = field(default_factory=lambda: np.empty(0))
+    energy: EnergyBudget | None = None
+    flight_t: np.ndarray = field(default_factory=lambda: np.empty(0))
+    flight_path: np.ndarray = field(default_factory=lambda: np.empty((0, 2)))
+
+    @property
+    def ok(self) -> bool:
+        return self.status is Status.OK
+
+    @property
+    def release_speed(self) -> float | None:
+        return None if self.release_velocity is None else float(np.hypot(*self.release_velocity))
+
+    @property
+    def launch_angle(self) -> float | None:
+        """Velocity direction at release above the horizontal, rad."""
+        if self.release_velocity is None:
+            return None
+        return float(math.atan2(self.release_velocity[1], self.release_velocity[0]))
+
+    @property
+    def range(self) -> float | None:
+        """Horizontal distance from the pivot to the landing point, m (negative: behind the pivot)."""
+        return None if self.landing_position is None else float(self.landing_position[0])
+
+    @property
+    def range_from_release(self) -> float | None:
+        if self.landing_position is None or self.release_position is None:
+            return None
+        return float(self.landing_position[0] - self.release_position[0])
+
+    @property
+    def flight_time(self) -> float | None:
+        if self.landing_time is None or self.release_time is None:
+            return None
+        return self.landing_time - self.release_time
+
+    @property
+    def landed_behind_pivot(self) -> bool | None:
+        return None if self.range is None else self.range < 0.0
+
+    @property
+    def energy_efficiency(self) -> float | None:
+        """Projectile energy at release / potential energy released by counterweight and arm."""
+        if self.energy is None or self.release_time is None or not self.counterweight_energy_released:
+            return None
+        return float(self.energy.projectile[-1] / self.counterweight_energy_released)
+
+    @property
+    def range_efficiency(self) -> float | None:
+        """Range / the vacuum range at 45 deg if the counterweight's whole available drop
+        went into the projectile: ``2 m_w drop / m_p`` with ``drop`` from its start height
+        to its lowest reachable point (``arm_short + counterweight_link`` below the pivot)."""
+        if self.range is None:
+            return None
+        return self.range / ideal_range(self.design)
+
+    def to_json(self) -> dict[str, Any]:
+        """The ``--json`` object (keys ``JSON_KEYS``); angles in degrees, ``None`` where not reached."""
+        def number(value: float | None) -> float | None:
+            return None if value is None else float(value)
+
+        def pair(value: np.ndarray | None) -> list[float] | None:
+            return None if value is None else [float(v) for v in value]
+
+        angle = self.launch_angle
+        return {
+            "design": self.design.name,
+            "status": self.status.value,
+            "message": self.message,
+            "liftoff_time": number(self.liftoff_time),
+            "release_time": number(self.release_time),
+            "release_position": pair(self.release_position),
+            "release_velocity": pair(self.release_velocity),
+            "release_speed": number(self.release_speed),
+            "launch_angle": None if angle is None else math.degrees(angle),
+            "range": number(self.range),
+            "range_from_release": number(self.range_from_release),
+            "apex_height": number(self.apex_height),
+            "flight_time": number(self.flight_time),
+            "landing_time": number(self.landing_time),
+            "landed_behind_pivot": self.landed_behind_pivot,
+            "energy_efficiency": number(self.energy_efficiency),
+            "range_efficiency": number(self.range_efficiency),
+            "min_sling_tension": number(self.min_sling_tension),
+        }
+
+
+def ideal_range(design: Design) -> float:
+    """Vacuum range at 45 deg if the counterweight's available drop all went into the projectile, m.
+
+    The counterweight starts hanging plumb from the raised short-arm tip and can
+    at most fall to ``arm_short + counterweight_link`` below the pivot, so
+    ``E = m_w g drop`` and ``R = v^2 / g = 2 E / (m_p g) = 2 m_w drop / m_p``.
+    """
+    m = design.machine
+    start_height = m.arm_short * math.sin(m.starting_angle) - m.counterweight_link
+    drop = start_height + m.arm_short + m.counterweight_link
+    return 2.0 * m.counterweight_mass * drop / design.projectile.mass
