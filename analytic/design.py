@@ -24,7 +24,6 @@ import dataclasses
 import math
 import tomllib
 from dataclasses import dataclass, field
-from importlib import resources
 from pathlib import Path
 from typing import Any
 
@@ -414,8 +413,7 @@ def save_design(design: Design, path: str | Path) -> None:
 
 def default_design() -> Design:
     """The built-in default: the paper's Table III optimum (see ``data/paper_table3.toml``)."""
-    text = resources.files("analytic").joinpath("data/paper_table3.toml").read_text()
-    return design_from_dict(tomllib.loads(text), name="paper-table3")
+    return load_design(Path(__file__).with_name("data") / "paper_table3.toml")
 
 
 # --------------------------------------------------------------------------- #

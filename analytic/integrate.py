@@ -1,0 +1,157 @@
+"""Integrate an ODE until an event, with events that may be armed or disarmed by the state.
+
+``scipy.integrate.solve_ivp`` stops at any root of a terminal event; the release
+rule needs more (a root counts only when the velocity points along the release
+angle, not opposite it, and the direction may sweep past the opposite many
+times first). So this module steps scipy's ``DOP853`` solver itself, watches
+the event functions between accepted steps, and locates each root on the
+step's dense output with Brent's method -- the same scheme ``solve_ivp`` uses,
+plus an ``armed`` predicate checked at the root.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+from scipy.integrate import DOP853
+from scipy.optimize import brentq
+
+
+class IntegrationError(RuntimeError):
+    """The solver failed (step size underflow, non-finite state)."""
+
+
+@dataclass(frozen=True)
+class Event:
+    """A zero crossing to watch for.
+
+    Attributes
+    ----------
+    name : reported back when this event ends the integration.
+    value : ``value(t, y) -> float``, continuous along the solution.
+    direction : +1 counts rising crossings only, -1 falling only, 0 both.
+    armed : optional ``armed(t, y) -> bool`` evaluated at the root; a root
+        where it is false is ignored and integration continues.
+    terminal : stop at the first counted root (otherwise just record it).
+    """
+
+    name: str
+    value: Callable[[float, np.ndarray], float]
+    direction: int = 0
+    armed: Callable[[float, np.ndarray], bool] | None = None
+    terminal: bool = True
+
+
+@dataclass(frozen=True)
+class Segment:
+    """One integrated stretch.
+
+    Attributes
+    ----------
+    t : (n,) output times (a fixed grid of spacing ``output_step`` plus the end), s.
+    y : (n, m) states at ``t``.
+    event : name of the terminal event that ended it, or None if ``t_end`` was reached.
+    t_end, y_end : (m,) where it ended.
+    roots : name -> list of (t, y) for non-terminal events that were counted.
+    """
+
+    t: np.ndarray
+    y: np.ndarray
+    event: str | None
+    t_end: float
+    y_end: np.ndarray
+    roots: dict[str, list[tuple[float, np.ndarray]]]
+
+
+#: Event roots are located to this absolute time tolerance, s.
+ROOT_TIME_TOLERANCE = 1e-14
+
+
+def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.ndarray,
+              t_end: float, events: tuple[Event, ...] = (), *, rtol: float, atol: float,
+              output_step: float) -> Segment:
+    """Integrate ``y' = fun(t, y)`` from ``t0`` until a terminal event or ``t_end``.
+
+    Parameters
+    ----------
+    fun : right-hand side, returns shape (m,).
+    y0 : (m,) initial state.
+    events : watched zero crossings; a crossing counts when the value goes
+        from strictly one side of zero to zero or the other side.
+    rtol, atol : DOP853 tolerances.
+    output_step : spacing of the returned samples, s.
+    """
+    solver = DOP853(fun, t0, np.asarray(y0, dtype=float), t_end, rtol=rtol, atol=atol)
+    previous = [event.value(t0, solver.y) for event in events]
+    times, states = [t0], [solver.y.copy()]
+    next_output = t0 + output_step
+    roots: dict[str, list[tuple[float, np.ndarray]]] = {e.name: [] for e in events if not e.terminal}
+
+    while solver.status == "running":
+        message = solver.step()
+        if solver.status == "failed":
+            raise IntegrationError(f"integration failed at t = {solver.t:.6g} s: {message}")
+        if not np.all(np.isfinite(solver.y)):
+            raise IntegrationError(f"non-finite state at t = {solver.t:.6g} s")
+        dense = solver.dense_output()
+        current = [event.value(solver.t, solver.y) for event in events]
+
+        hit: tuple[float, Event] | None = None
+        for event, before, after in zip(events, previous, current):
+            for t_root in _crossings(event, before, after, dense, solver.t_old, solver.t):
+                y_root = dense(t_root)
+                if event.armed is not None and not event.armed(t_root, y_root):
+                    continue
+                if event.terminal:
+                    if hit is None or t_root < hit[0]:
+                        hit = (t_root, event)
+                    break
+                roots[event.name].append((t_root, y_root))
+        previous = current
+
+        t_stop = solver.t if hit is None else hit[0]
+        while next_output < t_stop:
+            times.append(next_output)
+            states.append(dense(next_output))
+            next_output += output_step
+        if hit is not None:
+            t_hit, event = hit
+            y_hit = dense(t_hit)
+            times.append(t_hit)
+            states.append(y_hit)
+            for name in roots:
+                roots[name] = [(t, y) for t, y in roots[name] if t <= t_hit]
+            return Segment(np.array(times), np.array(states), event.name, t_hit, y_hit, roots)
+
+    if times[-1] < solver.t:
+        times.append(solver.t)
+        states.append(solver.y.copy())
+    return Segment(np.array(times), np.array(states), None, solver.t, solver.y.copy(), roots)
+
+
+def _crossings(event: Event, before: float, after: float, dense, t_old: float, t_new: float):
+    """Roots of ``event.value`` in (t_old, t_new] in the counted direction.
+
+    Normally a step holds at most one root; if the armed check rejects it the
+    step's remainder is searched again, so a step that holds both the crossing
+    of the opposite direction and the real one still finds the real one.
+    """
+    def value(t: float) -> float:
+        return event.value(t, dense(t))
+
+    start, v_start = t_old, before
+    while True:
+        rising = v_start < 0.0 <= after
+        falling = v_start > 0.0 >= after
+        if not ((rising and event.direction >= 0) or (falling and event.direction <= 0)):
+            return
+        t_root = t_new if after == 0.0 else brentq(value, start, t_new, xtol=ROOT_TIME_TOLERANCE, rtol=4 * np.finfo(float).eps)
+        yield t_root
+        # Rejected: look for a later root in the same step, past this one.
+        nudge = max(ROOT_TIME_TOLERANCE * 10, (t_new - t_root) * 1e-9)
+        if t_root + nudge >= t_new:
+            return
+        start = t_root + nudge
+        v_start = value(start)
