@@ -393,9 +393,9 @@ def load_design(path: str | Path) -> Design:
         with path.open("rb") as handle:
             data = tomllib.load(handle)
     except tomllib.TOMLDecodeError as error:
-        raise DesignError(str(path), "(file)", f"not valid TOML: {error}") from None
+        raise DesignError("file", str(path), f"not valid TOML: {error}") from None
     except OSError as error:
-        raise DesignError(str(path), "(file)", f"cannot be read: {error.strerror}") from None
+        raise DesignError("file", str(path), f"cannot be read: {error.strerror}") from None
     return design_from_dict(data, name=path.stem)
 
 

@@ -1,0 +1,67 @@
+"""Command line: ``python -m analytic simulate|optimise`` (a thin layer over the library)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from analytic.design import Design, DesignError, default_design, load_design
+from analytic.report import format_shot
+
+#: Exit codes: a throw, an unbuildable design, a valid design that does not throw.
+EXIT_OK, EXIT_INVALID, EXIT_NO_THROW = 0, 2, 3
+
+
+def load_or_default(path: str | None) -> Design:
+    """The design in ``path``, or the built-in default (the paper's Table III optimum)."""
+    return default_design() if path is None else load_design(path)
+
+
+def _simulate(args: argparse.Namespace) -> int:
+    from analytic.simulate import simulate
+
+    try:
+        design = load_or_default(args.design)
+    except DesignError as error:
+        print(f"invalid design: {error}", file=sys.stderr)
+        return EXIT_INVALID
+    shot = simulate(design)
+    if args.json:
+        print(json.dumps(shot.to_json(), indent=2))
+    else:
+        print(format_shot(shot))
+    if args.plot:
+        from analytic.plot import save_shot_figure
+
+        Path(args.plot).parent.mkdir(parents=True, exist_ok=True)
+        save_shot_figure(shot, args.plot)
+        if not args.json:
+            print(f"plot written to {args.plot}")
+    return EXIT_OK if shot.ok else EXIT_NO_THROW
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="python -m analytic",
+                                     description="Hand-derived Lagrange model of the hinged-counterweight trebuchet.")
+    commands = parser.add_subparsers(dest="command", required=True)
+    sim = commands.add_parser("simulate", help="simulate one shot")
+    sim.add_argument("design", nargs="?", help="design TOML (default: the paper's Table III optimum)")
+    sim.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
+    sim.add_argument("--plot", metavar="FILE.png", help="write trajectory, machine at release and energy plot")
+    sim.set_defaults(func=_simulate)
+    try:
+        from analytic import optimise
+    except ImportError:  # pragma: no cover - the optimiser is optional at import time
+        optimise = None
+    if optimise is not None:
+        opt = commands.add_parser("optimise", help="maximise range over the paper's design variables")
+        optimise.add_arguments(opt)
+        opt.set_defaults(func=optimise.run)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    return args.func(args)

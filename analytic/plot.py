@@ -1,0 +1,84 @@
+"""Plots of a shot: trajectory, the machine at release, and the energy budget (Agg, no pyplot)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+
+from analytic.result import Shot, Stage
+
+
+def machine_points(shot: Shot, index: int) -> dict[str, np.ndarray]:
+    """Positions (2,) of the machine's joints at history sample ``index``, m from the pivot."""
+    m = shot.design.machine
+    theta, phi, psi = shot.q[index]
+    long_tip = m.arm_long * np.array([-math.sin(theta), math.cos(theta)])
+    short_tip = m.arm_short * np.array([math.sin(theta), -math.cos(theta)])
+    weight = short_tip + m.counterweight_link * np.array([math.sin(theta + phi), -math.cos(theta + phi)])
+    projectile = long_tip + m.sling_length * np.array([-math.sin(theta + psi), math.cos(theta + psi)])
+    return {"pivot": np.zeros(2), "long_tip": long_tip, "short_tip": short_tip,
+            "weight": weight, "projectile": projectile}
+
+
+def draw_machine(ax, shot: Shot, index: int, alpha: float = 1.0) -> None:
+    """Draw frame, arm, counterweight link and mass, sling and projectile at sample ``index``."""
+    h = shot.design.machine.pivot_height
+    pts = machine_points(shot, index)
+    ax.plot([-0.3 * h, 0.0, 0.3 * h], [-h, 0.0, -h], color="0.4", lw=2, alpha=alpha)
+    ax.plot(*np.c_[pts["short_tip"], pts["long_tip"]], color="saddlebrown", lw=3, alpha=alpha)
+    ax.plot(*np.c_[pts["short_tip"], pts["weight"]], color="0.2", lw=1.5, alpha=alpha)
+    ax.plot(*pts["weight"], "s", color="0.2", ms=10, alpha=alpha)
+    ax.plot(*np.c_[pts["long_tip"], pts["projectile"]], color="tab:blue", lw=1, alpha=alpha)
+    ax.plot(*pts["projectile"], "o", color="tab:red", ms=5, alpha=alpha)
+    ax.plot(0.0, 0.0, "o", color="k", ms=4)
+
+
+def shot_figure(shot: Shot) -> Figure:
+    """Three panels: the flight, the machine at release (or at the end), the energy over time."""
+    fig = Figure(figsize=(13, 4.2), layout="constrained")
+    ax_flight, ax_machine, ax_energy = fig.subplots(1, 3, gridspec_kw={"width_ratios": [1.6, 1, 1.1]})
+    h = shot.design.machine.pivot_height
+    title = f"{shot.design.name}: {shot.status.value}"
+    if shot.range is not None:
+        title += f", range {shot.range:.2f} m, release {shot.release_speed:.2f} m/s at {math.degrees(shot.launch_angle):.1f} deg"
+    fig.suptitle(title)
+
+    ax_flight.axhline(0.0, color="0.5", lw=1)
+    ax_flight.plot(shot.path[:, 0], shot.path[:, 1] + h, color="tab:blue", lw=1, label="in the sling")
+    if len(shot.flight_path):
+        ax_flight.plot(shot.flight_path[:, 0], shot.flight_path[:, 1] + h, color="tab:red", label="flight")
+    ax_flight.plot(0.0, h, "k^", label="pivot")
+    ax_flight.set(xlabel="x from pivot (m)", ylabel="height above base (m)", title="trajectory")
+    ax_flight.set_aspect("equal", adjustable="datalim")
+    ax_flight.legend(loc="upper right", fontsize=8)
+
+    ax_machine.axhline(-h, color="0.5", lw=1)
+    ax_machine.plot(shot.path[:, 0], shot.path[:, 1], color="tab:blue", lw=0.8, ls=":")
+    draw_machine(ax_machine, shot, 0, alpha=0.25)
+    draw_machine(ax_machine, shot, len(shot.t) - 1)
+    when = "release" if shot.release_time is not None else "end"
+    ax_machine.set(xlabel="x (m)", ylabel="y (m)", title=f"machine at start (faint) and {when}")
+    ax_machine.set_aspect("equal", adjustable="datalim")
+
+    if shot.energy is not None:
+        ax_energy.plot(shot.t, shot.energy.projectile, label="projectile")
+        ax_energy.plot(shot.t, shot.energy.machine, label="arm + counterweight")
+        ax_energy.plot(shot.t, shot.energy.total, "k--", label="total")
+        if shot.liftoff_time is not None:
+            ax_energy.axvline(shot.liftoff_time, color="0.6", lw=0.8)
+            ax_energy.text(shot.liftoff_time, ax_energy.get_ylim()[1], " lift-off", va="top", fontsize=8)
+        ax_energy.set(xlabel="time (s)", ylabel="energy relative to rest (J)",
+                      title=f"energy, stages {int(Stage.SLIDE)}-{int(Stage.SWING)}")
+        ax_energy.legend(fontsize=8)
+    return fig
+
+
+def save_shot_figure(shot: Shot, path: str | Path, dpi: int = 110) -> None:
+    """Render ``shot_figure`` to a PNG file."""
+    fig = shot_figure(shot)
+    FigureCanvasAgg(fig)
+    fig.savefig(path, dpi=dpi)

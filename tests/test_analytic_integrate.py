@@ -1,0 +1,70 @@
+"""The event-locating integrator: roots, directions, and the armed predicate."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+from analytic.integrate import Event, integrate
+
+TOL = dict(rtol=1e-12, atol=1e-12, output_step=0.01)
+
+
+def test_falling_root_of_a_free_fall_is_the_closed_form_time():
+    # y'' = -g from y = 1 at rest reaches 0 at t = sqrt(2 / g) (elementary kinematics).
+    g = 9.81
+    seg = integrate(lambda t, y: np.array([y[1], -g]), 0.0, np.array([1.0, 0.0]), 5.0,
+                    (Event("ground", lambda t, y: y[0], direction=-1),), **TOL)
+    assert seg.event == "ground"
+    assert seg.t_end == pytest.approx(math.sqrt(2.0 / g), abs=1e-12)
+
+
+def test_direction_filter_skips_rising_crossings():
+    # y = sin(t): rising root at 0 (start, not counted), falling at pi, rising at 2 pi.
+    seg = integrate(lambda t, y: np.array([math.cos(t)]), 0.0, np.array([0.0]), 10.0,
+                    (Event("rise", lambda t, y: y[0], direction=+1),), **TOL)
+    assert seg.t_end == pytest.approx(2.0 * math.pi, abs=1e-9)
+
+
+def test_armed_predicate_rejects_the_opposite_direction_many_times():
+    """A direction that wobbles around alpha + 180 deg (many rising roots of
+    sin(alpha - angle), all disarmed) before sweeping clockwise to alpha."""
+    alpha = math.radians(45.0)
+
+    def angle(t):  # rad; wobbles about 225 deg, then sweeps clockwise past 45 deg
+        return math.radians(220.0 + 20.0 * math.sin(30.0 * t) - 20.0 * t * t)
+
+    def value(t, y):
+        return math.sin(alpha - y[0])
+
+    def armed(t, y):
+        return math.cos(alpha - y[0]) > 0.0
+
+    def rate(t, y):
+        return np.array([math.radians(600.0 * math.cos(30.0 * t) - 40.0 * t)])
+
+    seg = integrate(rate, 0.0, np.array([angle(0.0)]), 5.0,
+                    (Event("release", value, direction=+1, armed=armed),), **TOL)
+    # Independent answer: scan the closed-form angle for its first clockwise
+    # pass through 45 deg, then refine that bracket.
+    grid = np.linspace(0.0, 5.0, 500001)
+    values = np.array([value(t, [angle(t)]) for t in grid])
+    along = np.array([armed(t, [angle(t)]) for t in grid])
+    rising = np.flatnonzero((values[:-1] < 0) & (values[1:] >= 0))
+    first = next(i for i in rising if along[i + 1])
+    expected = brentq(lambda t: angle(t) - alpha, grid[first], grid[first + 1], xtol=1e-15)
+    assert sum(1 for i in rising if i < first and not along[i + 1]) >= 3, \
+        "the test must exercise several disarmed roots"
+    assert seg.event == "release"
+    assert seg.t_end == pytest.approx(expected, abs=1e-9)
+
+
+def test_non_terminal_events_are_recorded_and_end_is_reported():
+    seg = integrate(lambda t, y: np.array([math.cos(t)]), 0.0, np.array([0.0]), 7.0,
+                    (Event("peak", lambda t, y: math.cos(t), direction=-1, terminal=False),), **TOL)
+    assert seg.event is None and seg.t_end == pytest.approx(7.0)
+    assert [t for t, _ in seg.roots["peak"]] == pytest.approx([math.pi / 2], abs=1e-9)
+    assert np.all(np.diff(seg.t) > 0)
