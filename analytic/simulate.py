@@ -186,7 +186,8 @@ def _slide_history(segment: Segment, p: Params):
 
 def _swing_history(segment: Segment, p: Params):
     rows = []
-    for t, y in zip(segment.t, segment.y):
+    # The first sample is the lift-off instant, already the slide's last sample.
+    for t, y in zip(segment.t[1:], segment.y[1:]):
         q, qdot = y[:3], y[3:]
         rows.append((t, Stage.SWING, q, qdot,
                      sling_tension(q, qdot, swing_accelerations(q, qdot, p), 0.0, p)))

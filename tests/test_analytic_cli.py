@@ -1,0 +1,62 @@
+"""``python -m analytic simulate``: JSON contract, table, plot, exit codes."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+
+import pytest
+
+from analytic.cli import EXIT_INVALID, EXIT_NO_THROW, EXIT_OK, main
+from analytic.design import save_design
+from analytic.result import JSON_KEYS
+
+from conftest import with_machine
+
+
+def test_json_has_every_contract_key(capsys):
+    assert main(["simulate", "--json"]) == EXIT_OK
+    out = json.loads(capsys.readouterr().out)
+    assert set(JSON_KEYS) <= set(out)
+    assert out["status"] == "ok" and out["design"] == "paper-table3"
+    assert out["launch_angle"] == pytest.approx(43.4, abs=1e-6)  # the design's release angle, deg
+    assert math.hypot(*out["release_velocity"]) == pytest.approx(out["release_speed"])
+    assert out["range"] == pytest.approx(out["range_from_release"] + out["release_position"][0])
+
+
+def test_table_output(capsys):
+    assert main(["simulate"]) == EXIT_OK
+    out = capsys.readouterr().out
+    assert "status   ok" in out and "range (from pivot)" in out
+
+
+def test_plot_is_written(tmp_path, capsys):
+    target = tmp_path / "sub" / "shot.png"
+    assert main(["simulate", "--plot", str(target)]) == EXIT_OK
+    assert target.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_invalid_design_file_exits_2_naming_the_field(tmp_path, capsys):
+    path = tmp_path / "bad.toml"
+    from analytic.design import default_design, dumps_design
+    path.write_text(dumps_design(default_design()).replace("sling_length = 0.61", "sling_length = -0.61"))
+    assert main(["simulate", str(path)]) == EXIT_INVALID
+    err = capsys.readouterr().err
+    assert "sling_length = -0.61: must be positive" in err
+
+
+def test_a_design_that_does_not_throw_exits_non_zero(tmp_path, capsys, table3):
+    path = tmp_path / "weak.toml"
+    save_design(with_machine(table3, counterweight_mass=0.2), path)
+    assert main(["simulate", "--json", str(path)]) == EXIT_NO_THROW
+    out = json.loads(capsys.readouterr().out)
+    assert out["status"] == "never_fires" and out["range"] is None
+
+
+def test_module_entry_point_runs():
+    done = subprocess.run([sys.executable, "-m", "analytic", "simulate", "--json"],
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert json.loads(done.stdout)["status"] == "ok"
