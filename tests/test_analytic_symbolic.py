@@ -1,0 +1,394 @@
+"""analytic.eom against an independent sympy Lagrangian: M, f, the constrained slide, energies, sling force.
+
+The reference here is derived from nothing but the geometry in the module
+docstring of ``analytic.design``: body positions -> velocities by
+differentiation -> T and V -> Euler-Lagrange, ``M q'' = f`` with
+``f = -(dM/dt) q' + dT/dq - dV/dq``. Stage 1 is not reduced by hand: the full
+3-DOF system carries the base constraint ``y_P = -h`` with its multiplier N
+(the normal force on the projectile, positive up),
+
+    [[M, -J^T], [J, 0]] [q'', N] = [f, -J' q'],   J = d y_P / d q,
+
+and the 4x4 is solved numerically. The sling tension comes from the
+projectile's own Newton equation, not from the Lagrangian.
+
+States and parameters are random (seeded) so that no term can hide behind a
+special value (a zero angle, equal lengths, g = 9.81).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from analytic import eom
+from analytic.design import default_design, initial_angles
+from analytic.eom import Params
+
+#: Agreement asked of analytic.eom and the sympy reference, relative to the
+#: largest entry of the quantity compared. Both sides evaluate the same closed
+#: form in a few dozen double-precision operations on O(1)-O(1e3) numbers, so
+#: they differ by round-off (~1e-14); 1e-10 leaves room for the cancellation in
+#: solving the 4x4 constrained system while still catching any wrong term.
+REL_TOL = 1e-10
+
+#: Seed of the random states and parameters (any fixed value; fixed so a
+#: failure reproduces).
+SEED = 20_240_611
+#: Random (parameters, state) samples per stage.
+N_SAMPLES = 8
+
+
+# --------------------------------------------------------------------------- #
+# The reference: a sympy Lagrangian, lambdified once per module
+# --------------------------------------------------------------------------- #
+
+class Reference:
+    """Lambdified sympy reference; every function takes floats and returns numpy arrays."""
+
+    def __init__(self) -> None:
+        theta, phi, psi = q = sp.symbols("theta phi psi", real=True)
+        qd = sp.symbols("dtheta dphi dpsi", real=True)
+        qdd = sp.symbols("ddtheta ddphi ddpsi", real=True)
+        normal = sp.Symbol("N", real=True)
+        prm = sp.symbols(Params._fields, real=True)
+        La, Lb, d, mA, IA, mW, Lw, IW, Ls, mP, h, g = prm
+        qv, qdv, qddv = sp.Matrix(q), sp.Matrix(qd), sp.Matrix(qdd)
+
+        along_arm = sp.Matrix([-sp.sin(theta), sp.cos(theta)])
+        tip = La * along_arm
+        arm_cm = d * along_arm
+        short_tip = -Lb * along_arm
+        weight = short_tip + Lw * sp.Matrix([sp.sin(theta + phi), -sp.cos(theta + phi)])
+        sling = sp.Matrix([-sp.sin(theta + psi), sp.cos(theta + psi)])  # tip -> projectile, unit
+        projectile = tip + Ls * sling
+
+        def velocity(r):
+            return r.jacobian(qv) * qdv
+
+        def acceleration(r):
+            v = velocity(r)
+            return v.jacobian(qdv) * qddv + v.jacobian(qv) * qdv
+
+        def half_m_v2(m, r):
+            v = velocity(r)
+            return m * v.dot(v) / 2
+
+        kinetic_machine = (half_m_v2(mA, arm_cm) + IA * qd[0] ** 2 / 2
+                           + half_m_v2(mW, weight) + IW * (qd[0] + qd[1]) ** 2 / 2)
+        kinetic_projectile = half_m_v2(mP, projectile)
+        potential_machine = g * (mA * arm_cm[1] + mW * weight[1])
+        potential_projectile = g * mP * projectile[1]
+        kinetic = kinetic_machine + kinetic_projectile
+        potential = potential_machine + potential_projectile
+
+        momentum = sp.Matrix([kinetic]).jacobian(qdv).T           # dT/dq'
+        mass = momentum.jacobian(qdv)
+        forcing = (-momentum.jacobian(qv) * qdv
+                   + sp.Matrix([kinetic]).jacobian(qv).T
+                   - sp.Matrix([potential]).jacobian(qv).T)
+
+        # Base constraint y_P = -h: its Jacobian and the velocity-product term J' q'.
+        y_p = projectile[1]
+        jac = sp.Matrix([y_p]).jacobian(qv)
+        jdot_qd = (qdv.T * sp.hessian(y_p, q) * qdv)[0]
+
+        # Projectile's Newton equation: mP a = -T sling + (N - mP g) y_hat.
+        # The sling component gives T; the normal component is a check on M, f.
+        residual = mP * acceleration(projectile) - sp.Matrix([0, normal - mP * g])
+        tension = -residual.dot(sling)
+        normal_dir = sp.Matrix([-sp.cos(theta + psi), -sp.sin(theta + psi)])
+        newton_across = residual.dot(normal_dir)
+
+        energy = kinetic + potential
+        power = (sp.Matrix([energy]).jacobian(qv) * qdv + sp.Matrix([energy]).jacobian(qdv) * qddv)[0]
+
+        state_args = (q, qd, prm)
+        self.mass = sp.lambdify(state_args, mass, "numpy", cse=True)
+        self.forcing = sp.lambdify(state_args, forcing, "numpy", cse=True)
+        self.constraint_jacobian = sp.lambdify(state_args, jac, "numpy", cse=True)
+        self.jdot_qd = sp.lambdify(state_args, jdot_qd, "numpy", cse=True)
+        self.energies = sp.lambdify(state_args, [kinetic_machine, kinetic_projectile,
+                                                 potential_machine, potential_projectile],
+                                    "numpy", cse=True)
+        self.projectile = sp.lambdify(state_args, [projectile, velocity(projectile)], "numpy", cse=True)
+        force_args = (q, qd, qdd, normal, prm)
+        self.tension = sp.lambdify(force_args, tension, "numpy", cse=True)
+        self.newton_across = sp.lambdify(force_args, newton_across, "numpy", cse=True)
+        self.power = sp.lambdify((q, qd, qdd, prm), power, "numpy", cse=True)
+
+    # -- stage 2 ----------------------------------------------------------- #
+    def swing(self, q, qd, p):
+        """(M (3, 3), f (3,), q'' (3,)) of the free 3-DOF system."""
+        m = np.asarray(self.mass(q, qd, p), dtype=float)
+        f = np.asarray(self.forcing(q, qd, p), dtype=float).ravel()
+        return m, f, np.linalg.solve(m, f)
+
+    # -- stage 1 ----------------------------------------------------------- #
+    @staticmethod
+    def slide_psi(theta, p):
+        """psi on the base constraint, branch sin(theta + psi) < 0, by atan2 (not arccos)."""
+        cos_beta = -(p.h + p.La * math.cos(theta)) / p.Ls
+        return math.atan2(-math.sqrt(1.0 - cos_beta**2), cos_beta) - theta
+
+    def slide(self, theta, phi, dtheta, dphi, p):
+        """Constrained stage 1: dict with q, qd, s, c, B, M_r, r, q'' (3,), N."""
+        psi = self.slide_psi(theta, p)
+        q0 = (theta, phi, psi)
+        jac = np.asarray(self.constraint_jacobian(q0, (0.0, 0.0, 0.0), p), dtype=float).ravel()
+        s = -jac[0] / jac[2]            # J B = 0 with B = [[1, 0], [0, 1], [s, 0]] (J[1] = 0)
+        q, qd = np.array(q0), np.array([dtheta, dphi, s * dtheta])
+        m = np.asarray(self.mass(q, qd, p), dtype=float)
+        f = np.asarray(self.forcing(q, qd, p), dtype=float).ravel()
+        jdot = float(self.jdot_qd(q, qd, p))
+        c = -jdot / jac[2]              # J (B [theta'', phi''] + [0, 0, c]) = -J' q'
+        big = np.zeros((4, 4))
+        big[:3, :3], big[:3, 3], big[3, :3] = m, -jac, jac
+        sol = np.linalg.solve(big, np.concatenate([f, [-jdot]]))
+        b = np.array([[1.0, 0.0], [0.0, 1.0], [s, 0.0]])
+        return {"q": q, "qd": qd, "s": s, "c": c, "jac": jac, "m": m, "f": f,
+                "m_r": b.T @ m @ b, "r": b.T @ (f - m @ np.array([0.0, 0.0, c])),
+                "qdd": sol[:3], "normal": sol[3]}
+
+
+@pytest.fixture(scope="module")
+def ref() -> Reference:
+    return Reference()
+
+
+# --------------------------------------------------------------------------- #
+# Random parameters and states
+# --------------------------------------------------------------------------- #
+
+def random_params(rng: np.random.Generator) -> Params:
+    """A plausible machine with every parameter distinct and none at a special value."""
+    La = rng.uniform(0.8, 4.0)
+    Lb = La * rng.uniform(0.15, 0.5)
+    h = La * rng.uniform(0.4, 0.9)
+    mA = math.exp(rng.uniform(math.log(0.3), math.log(50.0)))
+    mW = math.exp(rng.uniform(math.log(5.0), math.log(2000.0)))
+    return Params(La=La, Lb=Lb, d=rng.uniform(-Lb, La), mA=mA,
+                  IA=mA * (La + Lb) ** 2 / 12.0 * rng.uniform(0.5, 1.5), mW=mW,
+                  Lw=h * rng.uniform(0.2, 0.8), IW=mW * rng.uniform(0.0, 0.05),
+                  Ls=La * rng.uniform(0.5, 1.3),
+                  mP=math.exp(rng.uniform(math.log(0.04), math.log(20.0))), h=h,
+                  g=rng.uniform(1.0, 25.0))
+
+
+def swing_samples():
+    rng = np.random.default_rng(SEED)
+    out = []
+    for _ in range(N_SAMPLES):
+        p = random_params(rng)
+        out.append((p, rng.uniform(-math.pi, math.pi, 3), rng.normal(0.0, 4.0, 3)))
+    return out
+
+
+def slide_samples():
+    """(params, theta, phi, dtheta, dphi) with the projectile on the base, sling not near vertical."""
+    rng = np.random.default_rng(SEED + 1)
+    out = []
+    while len(out) < N_SAMPLES:
+        p = random_params(rng)
+        beta = rng.uniform(-math.pi + 0.25, -0.25)
+        cos_theta = (-p.h - p.Ls * math.cos(beta)) / p.La
+        if abs(cos_theta) > 0.98:
+            continue
+        theta = math.acos(cos_theta) * rng.choice([-1.0, 1.0])
+        out.append((p, theta, rng.uniform(-math.pi, math.pi), *rng.normal(0.0, 4.0, 2)))
+    return out
+
+
+SWING = swing_samples()
+SLIDE = slide_samples()
+SWING_IDS = [f"swing{i}" for i in range(len(SWING))]
+SLIDE_IDS = [f"slide{i}" for i in range(len(SLIDE))]
+
+
+def assert_close(actual, expected, what: str, scale: float | None = None) -> float:
+    """|actual - expected| <= REL_TOL * scale (default: the largest |expected| entry); returns the error."""
+    actual, expected = np.asarray(actual, dtype=float), np.asarray(expected, dtype=float)
+    if scale is None:
+        scale = float(np.max(np.abs(expected)))
+    error = float(np.max(np.abs(actual - expected)))
+    assert error <= REL_TOL * scale, (
+        f"{what}: analytic.eom {actual!r} vs sympy {expected!r}; "
+        f"max |diff| {error:.3g} > {REL_TOL:g} x scale {scale:.3g}")
+    return error / scale
+
+
+# --------------------------------------------------------------------------- #
+# The reference checks itself (so agreement with it means something)
+# --------------------------------------------------------------------------- #
+
+@pytest.mark.parametrize("sample", SWING, ids=SWING_IDS)
+def test_reference_conserves_energy_in_the_swing(ref, sample):
+    p, q, qd = sample
+    _, _, qdd = ref.swing(q, qd, p)
+    scale = float(np.max(np.abs(ref.mass(q, qd, p)))) * float(np.max(np.abs(qd))) * float(np.max(np.abs(qdd)))
+    assert abs(ref.power(q, qd, qdd, p)) <= REL_TOL * scale
+
+
+@pytest.mark.parametrize("sample", SLIDE, ids=SLIDE_IDS)
+def test_reference_slide_keeps_the_projectile_on_the_base_and_conserves_energy(ref, sample):
+    p, theta, phi, dtheta, dphi = sample
+    sol = ref.slide(theta, phi, dtheta, dphi, p)
+    (position, velocity) = ref.projectile(sol["q"], sol["qd"], p)
+    assert float(position[1][0]) == pytest.approx(-p.h, rel=REL_TOL)
+    assert float(velocity[1][0]) == pytest.approx(0.0, abs=REL_TOL * np.max(np.abs(velocity)))
+    # The normal force does no work (the projectile moves along the base).
+    scale = float(np.max(np.abs(sol["m"]))) * float(np.max(np.abs(sol["qd"]))) * float(np.max(np.abs(sol["qdd"])))
+    assert abs(ref.power(sol["q"], sol["qd"], sol["qdd"], p)) <= REL_TOL * scale
+
+
+@pytest.mark.parametrize("sample", SWING, ids=SWING_IDS)
+def test_reference_newton_across_the_sling_matches_the_lagrangian(ref, sample):
+    p, q, qd = sample
+    _, _, qdd = ref.swing(q, qd, p)
+    scale = p.mP * (p.g + p.La * float(np.max(np.abs(qdd))) + p.La * float(np.max(qd**2)))
+    assert abs(ref.newton_across(q, qd, qdd, 0.0, p)) <= REL_TOL * scale
+
+
+# --------------------------------------------------------------------------- #
+# Stage 2
+# --------------------------------------------------------------------------- #
+
+@pytest.mark.parametrize("sample", SWING, ids=SWING_IDS)
+def test_mass_matrix(ref, sample):
+    p, q, qd = sample
+    assert_close(eom.mass_matrix(q, p), ref.swing(q, qd, p)[0], "M(q)")
+
+
+@pytest.mark.parametrize("sample", SWING, ids=SWING_IDS)
+def test_forcing(ref, sample):
+    p, q, qd = sample
+    assert_close(eom.forcing(q, qd, p), ref.swing(q, qd, p)[1], "f(q, q')")
+
+
+@pytest.mark.parametrize("sample", SWING, ids=SWING_IDS)
+def test_swing_accelerations(ref, sample):
+    p, q, qd = sample
+    assert_close(eom.swing_accelerations(q, qd, p), ref.swing(q, qd, p)[2], "q''")
+
+
+@pytest.mark.parametrize("sample", SWING, ids=SWING_IDS)
+def test_swing_rhs_stacks_rates_and_accelerations(ref, sample):
+    p, q, qd = sample
+    y = np.concatenate([q, qd])
+    assert_close(eom.swing_rhs(0.0, y, p), np.concatenate([qd, ref.swing(q, qd, p)[2]]), "swing_rhs")
+
+
+# --------------------------------------------------------------------------- #
+# Stage 1
+# --------------------------------------------------------------------------- #
+
+@pytest.mark.parametrize("sample", SLIDE, ids=SLIDE_IDS)
+def test_slide_kinematics(ref, sample):
+    p, theta, phi, dtheta, dphi = sample
+    sol = ref.slide(theta, phi, dtheta, dphi, p)
+    kin = eom.slide_kinematics(theta, dtheta, p)
+    assert_close(kin.psi, sol["q"][2], "psi", scale=math.pi)
+    assert_close(kin.s, sol["s"], "s = dpsi/dtheta", scale=max(1.0, abs(sol["s"])))
+    assert_close(kin.dpsi, sol["qd"][2], "psi'", scale=max(abs(dtheta), abs(sol["qd"][2])))
+    assert_close(kin.c, sol["c"], "c", scale=max(dtheta**2, abs(sol["c"])))
+    assert_close(kin.sin_beta, math.sin(theta + sol["q"][2]), "sin beta", scale=1.0)
+    assert kin.sin_beta < 0.0
+
+
+@pytest.mark.parametrize("sample", SLIDE, ids=SLIDE_IDS)
+def test_slide_system_is_the_reduced_lagrangian(ref, sample):
+    p, theta, phi, dtheta, dphi = sample
+    sol = ref.slide(theta, phi, dtheta, dphi, p)
+    m_r, r, _ = eom.slide_system(theta, phi, dtheta, dphi, p)
+    assert_close(m_r, sol["m_r"], "M_r = B^T M B")
+    assert_close(r, sol["r"], "r = B^T (f - M [0, 0, c])")
+
+
+@pytest.mark.parametrize("sample", SLIDE, ids=SLIDE_IDS)
+def test_slide_accelerations_and_normal_force(ref, sample):
+    p, theta, phi, dtheta, dphi = sample
+    sol = ref.slide(theta, phi, dtheta, dphi, p)
+    ddtheta, ddphi, normal = eom.slide_accelerations(theta, phi, dtheta, dphi, p)
+    assert_close([ddtheta, ddphi], sol["qdd"][:2], "theta'', phi''")
+    # N is a difference of forces of size mP g and mP La theta'^2 etc.
+    scale = max(abs(sol["normal"]), p.mP * p.g,
+                p.mP * p.La * max(dtheta**2, float(np.max(np.abs(sol["qdd"])))))
+    assert_close(normal, sol["normal"], "N", scale=scale)
+
+
+@pytest.mark.parametrize("sample", SLIDE, ids=SLIDE_IDS)
+def test_slide_rhs_and_full_state(ref, sample):
+    p, theta, phi, dtheta, dphi = sample
+    sol = ref.slide(theta, phi, dtheta, dphi, p)
+    y = np.array([theta, phi, dtheta, dphi])
+    assert_close(eom.slide_rhs(0.0, y, p), [dtheta, dphi, *sol["qdd"][:2]], "slide_rhs")
+    q, qd = eom.slide_full_state(y, p)
+    assert_close(q, sol["q"], "q", scale=math.pi)
+    assert_close(qd, sol["qd"], "q'")
+
+
+def test_normal_force_is_the_projectiles_weight_at_rest_with_the_sling_flat():
+    # Closed-form limit: at rest with the sling along the base (theta + psi = -pi/2)
+    # the projectile has no vertical acceleration and the sling pulls horizontally,
+    # so the base carries exactly mP g (design.initial_angles, Table III design).
+    p = eom.params(default_design())
+    theta, phi, psi = initial_angles(default_design().machine)
+    assert eom.slide_kinematics(theta, 0.0, p).psi == pytest.approx(psi, abs=REL_TOL)
+    _, _, normal = eom.slide_accelerations(theta, phi, 0.0, 0.0, p)
+    assert normal == pytest.approx(p.mP * p.g, rel=REL_TOL)
+
+
+# --------------------------------------------------------------------------- #
+# Energies, projectile state, sling tension
+# --------------------------------------------------------------------------- #
+
+@pytest.mark.parametrize("sample", SWING, ids=SWING_IDS)
+def test_energies(ref, sample):
+    p, q, qd = sample
+    t_machine, t_proj, v_machine, v_proj = ref.energies(q, qd, p)
+    t_scale = float(np.max(np.abs(ref.mass(q, qd, p)))) * float(np.max(qd**2))
+    v_scale = p.g * (p.mA * abs(p.d) + p.mW * (p.Lb + p.Lw) + p.mP * (p.La + p.Ls))
+    assert_close(eom.kinetic_energy(q, qd, p), [t_machine, t_proj], "kinetic (machine, projectile)", t_scale)
+    assert_close(eom.potential_energy(q, p), [v_machine, v_proj], "potential (machine, projectile)", v_scale)
+
+
+@pytest.mark.parametrize("sample", SWING, ids=SWING_IDS)
+def test_projectile_state(ref, sample):
+    p, q, qd = sample
+    position, velocity = ref.projectile(q, qd, p)
+    pos, vel = eom.projectile_state(q, qd, p)
+    assert_close(pos, np.ravel(position), "projectile position", scale=p.La + p.Ls)
+    assert_close(vel, np.ravel(velocity), "projectile velocity",
+                 scale=(p.La + p.Ls) * float(np.max(np.abs(qd))))
+
+
+def test_direction_helpers_are_unit_vectors_along_arm_and_sling():
+    p = SWING[0][0]
+    q, qd = SWING[0][1], np.zeros(3)
+    pos, _ = eom.projectile_state(q, qd, p)
+    tip = p.La * eom.arm_direction(q)
+    assert_close(tip + p.Ls * eom.sling_direction(q), pos, "tip + Ls * sling_direction", scale=p.La)
+
+
+@pytest.mark.parametrize("sample", SWING, ids=SWING_IDS)
+def test_sling_tension_in_the_swing(ref, sample):
+    p, q, qd = sample
+    _, _, qdd = ref.swing(q, qd, p)
+    expected = float(ref.tension(q, qd, qdd, 0.0, p))
+    scale = p.mP * (p.g + (p.La + p.Ls) * max(float(np.max(qd**2)), float(np.max(np.abs(qdd)))))
+    assert_close(eom.sling_tension(q, qd, qdd, 0.0, p), expected, "T (stage 2)", scale)
+
+
+@pytest.mark.parametrize("sample", SLIDE, ids=SLIDE_IDS)
+def test_sling_tension_on_the_base(ref, sample):
+    p, theta, phi, dtheta, dphi = sample
+    sol = ref.slide(theta, phi, dtheta, dphi, p)
+    q, qd, qdd, normal = sol["q"], sol["qd"], sol["qdd"], sol["normal"]
+    expected = float(ref.tension(q, qd, qdd, normal, p))
+    scale = p.mP * (p.g + (p.La + p.Ls) * max(float(np.max(qd**2)), float(np.max(np.abs(qdd))))) + abs(normal)
+    assert_close(eom.sling_tension(q, qd, qdd, normal, p), expected, "T (stage 1)", scale)
+    # Newton across the sling holds too with the reference's N and q''.
+    assert abs(ref.newton_across(q, qd, qdd, normal, p)) <= REL_TOL * scale
