@@ -1,0 +1,94 @@
+"""The designs the cross-check runs: the paper's, ones that exercise every input, a seeded sample."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from analytic.design import BeamArm, Design, default_design, load_design
+from analytic.problem import default_problem, design_at, from_unit
+
+
+@dataclass(frozen=True)
+class Case:
+    """One design to run through both models; ``group`` is paper, exercise, sample or file."""
+
+    name: str
+    design: Design
+    group: str
+
+
+#: The arms the sample is drawn with: the default's pine beam, and a nearly massless one.
+WOODEN_ARM = BeamArm(width=0.019, depth=0.038, density=450.0)
+LIGHT_ARM = BeamArm(width=0.005, depth=0.005, density=100.0)
+
+
+def _variant(design: Design, name: str, *, machine=None, projectile=None, environment=None) -> Design:
+    return dataclasses.replace(
+        design, name=name,
+        machine=dataclasses.replace(design.machine, **(machine or {})),
+        projectile=dataclasses.replace(design.projectile, **(projectile or {})),
+        environment=dataclasses.replace(design.environment, **(environment or {})))
+
+
+def paper_cases() -> list[Case]:
+    """Table III's optimum as published (43.4 deg) and at the prototype's measured 61 deg (section IV)."""
+    table3 = default_design()
+    return [Case("table3", table3, "paper"),
+            Case("table3-61deg", _variant(table3, "table3-61deg", machine={"release_angle": math.radians(61.0)}), "paper")]
+
+
+def exercise_cases() -> list[Case]:
+    """Variants of Table III that each exercise one input (and one of each failure)."""
+    t3 = default_design()
+    deg = math.radians
+    variants = {
+        "cw-point-mass": dict(machine={"counterweight_inertia": 0.0}),
+        "cw-large-inertia": dict(machine={"counterweight_inertia": 0.08}),
+        "sling-rule": dict(machine={"release_rule": "sling", "release_angle": deg(-40.0)}),
+        "sling-rule-late": dict(machine={"release_rule": "sling", "release_angle": deg(30.0)}),
+        "downward-release": dict(machine={"release_angle": deg(-30.0)}),
+        "very-late-release": dict(machine={"release_angle": deg(-75.0)}),
+        "steep-release": dict(machine={"release_angle": deg(75.0)}),
+        "no-drag": dict(projectile={"drag": "none"}),
+        "constant-drag": dict(projectile={"drag": "constant", "drag_coefficient": 0.45}),
+        "smooth-sphere": dict(projectile={"drag": "smooth-sphere"}),
+        "tailwind": dict(environment={"wind_speed": 5.0}),
+        "headwind": dict(environment={"wind_speed": -5.0}),
+        "heavy-arm": dict(machine={"arm_mass": 1.2, "arm_inertia": 0.09}),
+        "fails-never-fires": dict(machine={"counterweight_mass": 0.2}),
+        "fails-never-lifts-off": dict(projectile={"mass": 5.0}),
+    }
+    return [Case(name, _variant(t3, name, **changes), "exercise") for name, changes in variants.items()]
+
+
+def sample_cases(count: int, seed: int) -> list[Case]:
+    """``count`` designs drawn uniformly over the paper's Table II bounds (``analytic.problem``),
+    alternating the wooden and the light arm; kept whether they throw or fail."""
+    problem = default_problem()
+    rng = np.random.default_rng(seed)
+    cases = []
+    for i in range(count):
+        arm_name, arm = (("wooden", WOODEN_ARM), ("light", LIGHT_ARM))[i % 2]
+        unit = rng.uniform(0.0, 1.0, size=len(problem.free))
+        name = f"sample-{seed}-{i:03d}-{arm_name}"
+        design = design_at(dataclasses.replace(problem, arm=arm), from_unit(problem, unit), name=name)
+        cases.append(Case(name, design, "sample"))
+    return cases
+
+
+def file_cases(paths: list[str]) -> list[Case]:
+    """Designs from the user's TOML files."""
+    cases = []
+    for path in paths:
+        design = load_design(path)
+        cases.append(Case(design.name, design, "file"))
+    return cases
+
+
+def default_suite(sample: int = 24, seed: int = 0) -> list[Case]:
+    """The suite ``python -m crosscheck`` runs with no design files."""
+    return paper_cases() + exercise_cases() + sample_cases(sample, seed)

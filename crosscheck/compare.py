@@ -1,0 +1,145 @@
+"""Run one design through both models and compare what they report, quantity by quantity."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from analytic.design import Design
+from analytic.result import Shot
+from analytic.simulate import simulate as analytic_simulate
+from crosscheck import tolerances as tol
+from crosscheck.cases import Case
+
+#: The engine's default fixed step, s (engine_model.simulate.DEFAULT_DT).
+DEFAULT_DT = 1e-4
+
+
+def engine_simulate(design: Design, dt: float) -> tuple[Shot, float]:
+    """The pymunk model's shot and its largest joint drift (m)."""
+    from engine_model.simulate import simulate
+
+    shot, diagnostics = simulate(design, dt=dt)
+    return shot, diagnostics.max_joint_drift
+
+
+@dataclass(frozen=True)
+class Row:
+    """One compared quantity (SI units, angles in rad); ``ok`` when ``|difference| <= tolerance``."""
+
+    quantity: str
+    unit: str
+    analytic: float | str
+    engine: float | str
+    difference: float | None
+    tolerance: float | None
+    ok: bool
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """Both models' verdict on one case."""
+
+    case: str
+    group: str
+    analytic_status: str
+    engine_status: str
+    rows: tuple[Row, ...]
+    max_joint_drift: float | None = None
+    error: str | None = None
+
+    @property
+    def agree(self) -> bool:
+        return self.error is None and all(row.ok for row in self.rows)
+
+    def to_json(self) -> dict:
+        return {"case": self.case, "group": self.group, "agree": self.agree,
+                "analytic_status": self.analytic_status, "engine_status": self.engine_status,
+                "max_joint_drift": self.max_joint_drift, "error": self.error,
+                "rows": [row.__dict__ for row in self.rows]}
+
+
+def _numeric(quantity: str, unit: str, a: float, e: float, tolerance: float) -> Row:
+    a, e, tolerance = float(a), float(e), float(tolerance)
+    difference = e - a
+    ok = math.isfinite(difference) and abs(difference) <= tolerance
+    return Row(quantity, unit, a, e, difference, tolerance, bool(ok))
+
+
+def compare_shots(a: Shot, e: Shot) -> tuple[Row, ...]:
+    """Rows for every quantity both shots reached; the outcome row first."""
+    rows = [Row("outcome", "", a.status.value, e.status.value, None, None, bool(a.status is e.status))]
+    if a.liftoff_time is not None and e.liftoff_time is not None:
+        rows.append(_numeric("liftoff_time", "s", a.liftoff_time, e.liftoff_time, tol.EVENT_TIME))
+    if not (a.ok and e.ok):
+        return tuple(rows)
+    speed = a.release_speed
+    range_tolerance = tol.RANGE_REL * max(abs(a.range), tol.RANGE_FLOOR)
+    rows += [
+        _numeric("release_time", "s", a.release_time, e.release_time, tol.EVENT_TIME),
+        _numeric("release_x", "m", a.release_position[0], e.release_position[0], tol.RELEASE_POSITION),
+        _numeric("release_y", "m", a.release_position[1], e.release_position[1], tol.RELEASE_POSITION),
+        _numeric("release_vx", "m/s", a.release_velocity[0], e.release_velocity[0], tol.RELEASE_VELOCITY_REL * speed),
+        _numeric("release_vy", "m/s", a.release_velocity[1], e.release_velocity[1], tol.RELEASE_VELOCITY_REL * speed),
+        _numeric("release_speed", "m/s", speed, e.release_speed, tol.RELEASE_SPEED_REL * speed),
+        _numeric("launch_angle", "rad", a.launch_angle, e.launch_angle, tol.LAUNCH_ANGLE),
+        _numeric("range", "m", a.range, e.range, range_tolerance),
+        _numeric("apex_height", "m", a.apex_height, e.apex_height, tol.APEX_HEIGHT_REL * a.apex_height),
+    ]
+    return tuple(rows)
+
+
+def compare(case: Case, dt: float = DEFAULT_DT,
+            engine: Callable[[Design, float], tuple[Shot, float]] = engine_simulate) -> Comparison:
+    """Simulate ``case`` in both models and compare. An engine that cannot be
+    trusted (``EngineError``: unstable, joints apart) is reported as a
+    disagreement, with its message."""
+    a = analytic_simulate(case.design)
+    try:
+        e, drift = engine(case.design, dt)
+    except RuntimeError as error:
+        return Comparison(case.name, case.group, a.status.value, "error", (), None,
+                          f"{type(error).__name__}: {error}")
+    return Comparison(case.name, case.group, a.status.value, e.status.value, compare_shots(a, e), float(drift))
+
+
+@dataclass(frozen=True)
+class StepStudy:
+    """Engine error against step size on one design.
+
+    Attributes
+    ----------
+    dt : (k,) steps, s.
+    speed_error, range_error : (k,) |engine - analytic| / analytic.
+    speed_order, range_order : fitted slope of log(error) against log(dt).
+    """
+
+    design: str
+    dt: np.ndarray
+    speed_error: np.ndarray
+    range_error: np.ndarray
+    speed_order: float
+    range_order: float
+
+    def to_json(self) -> dict:
+        return {"design": self.design, "dt": self.dt.tolist(), "speed_error": self.speed_error.tolist(),
+                "range_error": self.range_error.tolist(), "speed_order": self.speed_order,
+                "range_order": self.range_order}
+
+
+def step_study(design: Design, dts: tuple[float, ...] = (4e-4, 2e-4, 1e-4, 5e-5),
+               engine: Callable[[Design, float], tuple[Shot, float]] = engine_simulate) -> StepStudy:
+    """Measure the engine's convergence order against the analytic reference."""
+    reference = analytic_simulate(design)
+    speed, rng = [], []
+    for dt in dts:
+        shot, _ = engine(design, dt)
+        speed.append(abs(shot.release_speed / reference.release_speed - 1.0))
+        rng.append(abs(shot.range / reference.range - 1.0))
+    log_dt = np.log(dts)
+    return StepStudy(design.name, np.array(dts), np.array(speed), np.array(rng),
+                     float(np.polyfit(log_dt, np.log(speed), 1)[0]),
+                     float(np.polyfit(log_dt, np.log(rng), 1)[0]))

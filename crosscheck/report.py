@@ -1,0 +1,166 @@
+"""Cross-check output: the terminal table, the summary of worst cases, JSON and plots."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+
+from crosscheck.compare import Comparison, StepStudy
+
+
+def _display(value, unit: str) -> tuple[str, str]:
+    """Value and unit as shown: radians become degrees here, at the edge."""
+    if isinstance(value, str):
+        return value, unit
+    if value is None:
+        return "-", unit
+    if unit == "rad":
+        return f"{math.degrees(value):.6g}", "deg"
+    return f"{value:.6g}", unit
+
+
+def format_table(comparisons: list[Comparison]) -> str:
+    """Design, quantity, analytic, engine, difference, tolerance, verdict: one line each."""
+    header = ("design", "quantity", "analytic", "engine", "difference", "tolerance", "verdict")
+    lines = []
+    for c in comparisons:
+        if c.error:
+            lines.append((c.case, "engine", c.analytic_status, "error", "-", "-", "FAIL: " + c.error))
+        for row in c.rows:
+            a, unit = _display(row.analytic, row.unit)
+            e, _ = _display(row.engine, row.unit)
+            d, _ = _display(row.difference, row.unit)
+            t, _ = _display(row.tolerance, row.unit)
+            lines.append((c.case, f"{row.quantity} ({unit})" if unit else row.quantity, a, e, d, t,
+                          "ok" if row.ok else "FAIL"))
+    widths = [max(len(str(r[i])) for r in [header, *lines]) for i in range(len(header))]
+    return "\n".join("  ".join(str(v).ljust(w) for v, w in zip(r, widths)).rstrip()
+                     for r in [header, *lines])
+
+
+def worst_cases(comparisons: list[Comparison]) -> dict[str, dict]:
+    """For each quantity, the largest |difference| / tolerance and where it happened."""
+    worst: dict[str, dict] = {}
+    for c in comparisons:
+        for row in c.rows:
+            if row.difference is None:
+                continue
+            ratio = abs(row.difference) / row.tolerance
+            relative = abs(row.difference) / abs(row.analytic) if row.analytic else math.inf
+            if ratio >= worst.get(row.quantity, {}).get("fraction_of_tolerance", -1.0):
+                worst[row.quantity] = {"case": c.case, "difference": row.difference, "unit": row.unit,
+                                       "relative": relative, "fraction_of_tolerance": ratio}
+    return worst
+
+
+def format_summary(comparisons: list[Comparison], study: StepStudy | None) -> str:
+    agreed = sum(c.agree for c in comparisons)
+    outcomes = {}
+    for c in comparisons:
+        outcomes[c.analytic_status] = outcomes.get(c.analytic_status, 0) + 1
+    lines = [f"{agreed} of {len(comparisons)} designs agree "
+             f"(analytic outcomes: {', '.join(f'{k} {v}' for k, v in sorted(outcomes.items()))})",
+             "worst case per quantity (|difference| as a fraction of its tolerance):"]
+    for quantity, w in worst_cases(comparisons).items():
+        shown, unit = _display(w["difference"], w["unit"])
+        lines.append(f"  {quantity:<14} {shown:>12} {unit:<4} rel {w['relative']:.2e}  "
+                     f"{w['fraction_of_tolerance']:.3f} of tolerance  ({w['case']})")
+    drifts = [c.max_joint_drift for c in comparisons if c.max_joint_drift is not None]
+    if drifts:
+        lines.append(f"largest engine joint drift: {max(drifts):.3g} m")
+    if study is not None:
+        lines.append(f"engine convergence on {study.design}: order {study.speed_order:.2f} (release speed), "
+                     f"{study.range_order:.2f} (range)")
+        for dt, s, r in zip(study.dt, study.speed_error, study.range_error):
+            lines.append(f"  dt {dt:.1e} s   speed error {s:.2e}   range error {r:.2e}")
+    return "\n".join(lines)
+
+
+def write_report(directory: str | Path, comparisons: list[Comparison], study: StepStudy | None) -> list[Path]:
+    """``crosscheck.json`` and three plots in ``directory``; returns the paths written."""
+    out = Path(directory)
+    out.mkdir(parents=True, exist_ok=True)
+    report = {"agree": all(c.agree for c in comparisons),
+              "comparisons": [c.to_json() for c in comparisons],
+              "worst": worst_cases(comparisons),
+              "step_study": None if study is None else study.to_json()}
+    paths = [out / "crosscheck.json"]
+    paths[0].write_text(json.dumps(report, indent=2))
+    for name, figure in (("agreement.png", agreement_figure(comparisons)),
+                         ("errors.png", error_figure(comparisons))):
+        paths.append(out / name)
+        _save(figure, paths[-1])
+    if study is not None:
+        paths.append(out / "convergence.png")
+        _save(convergence_figure(study), paths[-1])
+    return paths
+
+
+def _save(figure: Figure, path: Path) -> None:
+    FigureCanvasAgg(figure)
+    figure.savefig(path, dpi=100)
+
+
+_PLOTTED = ("release_speed", "launch_angle", "range", "apex_height", "release_time", "liftoff_time")
+
+
+def agreement_figure(comparisons: list[Comparison]) -> Figure:
+    """Engine against analytic for each quantity; points on the diagonal agree."""
+    fig = Figure(figsize=(12, 7), layout="constrained")
+    axes = fig.subplots(2, 3).ravel()
+    for ax, quantity in zip(axes, _PLOTTED):
+        pairs = [(r.analytic, r.engine, r.ok, r.unit) for c in comparisons for r in c.rows if r.quantity == quantity]
+        if not pairs:
+            ax.set_visible(False)
+            continue
+        unit = pairs[0][3]
+        scale = (180.0 / math.pi) if unit == "rad" else 1.0
+        a = np.array([p[0] for p in pairs]) * scale
+        e = np.array([p[1] for p in pairs]) * scale
+        ok = np.array([p[2] for p in pairs])
+        span = [min(a.min(), e.min()), max(a.max(), e.max())]
+        ax.plot(span, span, color="0.7", lw=1)
+        ax.scatter(a[ok], e[ok], s=14, color="tab:blue", label="agree")
+        if (~ok).any():
+            ax.scatter(a[~ok], e[~ok], s=30, color="tab:red", marker="x", label="disagree")
+        shown = "deg" if unit == "rad" else unit
+        ax.set(title=quantity, xlabel=f"analytic ({shown})", ylabel=f"engine ({shown})")
+    axes[0].legend(fontsize=8)
+    fig.suptitle("analytic vs engine, every design that reached each quantity")
+    return fig
+
+
+def error_figure(comparisons: list[Comparison]) -> Figure:
+    """Distribution of |difference| / tolerance per quantity (1 = at the tolerance)."""
+    fig = Figure(figsize=(10, 4.5), layout="constrained")
+    ax = fig.subplots()
+    quantities = sorted({r.quantity for c in comparisons for r in c.rows if r.difference is not None})
+    data = [[max(abs(r.difference) / r.tolerance, 1e-8) for c in comparisons for r in c.rows
+             if r.quantity == q] for q in quantities]
+    if data:
+        ax.boxplot(data, tick_labels=quantities, whis=(0, 100))
+    ax.axhline(1.0, color="tab:red", lw=1, ls="--", label="tolerance")
+    ax.set_yscale("log")
+    ax.set(ylabel="|engine - analytic| / tolerance", title="error distribution over all designs")
+    ax.tick_params(axis="x", rotation=30)
+    ax.legend()
+    return fig
+
+
+def convergence_figure(study: StepStudy) -> Figure:
+    """Engine error against step on log-log axes, with a slope-2 guide."""
+    fig = Figure(figsize=(6, 4.5), layout="constrained")
+    ax = fig.subplots()
+    ax.loglog(study.dt, study.speed_error, "o-", label=f"release speed (order {study.speed_order:.2f})")
+    ax.loglog(study.dt, study.range_error, "s-", label=f"range (order {study.range_order:.2f})")
+    guide = study.range_error[0] * (study.dt / study.dt[0]) ** 2
+    ax.loglog(study.dt, guide, "k:", label="slope 2")
+    ax.set(xlabel="engine step (s)", ylabel="|engine / analytic - 1|",
+           title=f"engine convergence on {study.design}")
+    ax.legend()
+    return fig
