@@ -134,6 +134,10 @@ def slide_kinematics(theta: float, dtheta: float, p: Params) -> SlideKinematics:
     stops stage 1 before it gets there (``never_lifts_off``).
     """
     cos_beta = -(p.h + p.La * math.cos(theta)) / p.Ls
+    if abs(cos_beta) > 1.0 + 1e-12:
+        raise ValueError(f"theta = {theta!r}: the long-arm tip is {p.La * math.cos(theta) + p.h:.6g} m "
+                         f"above the base, out of the sling's reach ({p.Ls:.6g} m)")
+    # Clamp only round-off, so that acos is defined at the reach's very edge.
     beta = -math.acos(min(1.0, max(-1.0, cos_beta)))
     sin_beta = math.sin(beta)
     s = -(p.La * math.sin(theta) + p.Ls * sin_beta) / (p.Ls * sin_beta)
