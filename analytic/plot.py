@@ -53,7 +53,9 @@ def shot_figure(shot: Shot) -> Figure:
         ax_flight.plot(shot.flight_path[:, 0], shot.flight_path[:, 1] + h, color="tab:red", label="flight")
     ax_flight.plot(0.0, h, "k^", label="pivot")
     ax_flight.set(xlabel="x from pivot (m)", ylabel="height above base (m)", title="trajectory")
-    ax_flight.set_aspect("equal", adjustable="datalim")
+    ax_flight.set_aspect("equal", adjustable="box")
+    top = max(float(np.max(shot.path[:, 1])), float(np.max(shot.flight_path[:, 1], initial=-h))) + h
+    ax_flight.set_ylim(-0.05 * top - 0.1, 1.1 * top + 0.1)
     ax_flight.legend(loc="upper right", fontsize=8)
 
     ax_machine.axhline(-h, color="0.5", lw=1)
