@@ -18,6 +18,8 @@ install: $(STAMP)
 
 run: $(STAMP)
 	$(PY) -m analytic simulate --plot $(OUT)/default-shot.png
+	$(PY) -m crosscheck --report $(OUT)/crosscheck
+	$(PY) -m engine_model render --out $(OUT)/frames --fps 15
 
 test: $(STAMP)
 	$(PY) -m pytest
