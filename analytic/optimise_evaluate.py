@@ -1,0 +1,151 @@
+"""Score batches of candidate designs in parallel, counting the ones that fail to throw by kind.
+
+The optimiser only ever sees a number per candidate: its range, or with a
+release-angle scatter the expected range (``analytic.optimise_robust``). A
+candidate that cannot be built (``DesignError``), whose integration fails
+(``IntegrationError``) or that does not throw (``Status`` other than ``OK``)
+scores ``FAILURE_RANGE`` and is counted under that kind, so the search goes on.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+from collections import Counter
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass
+
+import numpy as np
+
+from analytic.design import DesignError
+from analytic.integrate import IntegrationError
+from analytic.optimise_robust import Scatter, expected, release_scatter
+from analytic.problem import VARIABLE_NAMES, Problem, design_at
+from analytic.simulate import simulate
+
+#: Score of a candidate that does not throw, m. Any throw does better: with the
+#: velocity release rule and |release angle| < 90 deg the projectile leaves
+#: forward, so it lands ahead of its release point, which is at most a long
+#: arm plus a sling (< 2 m for the paper's bounds) behind the pivot.
+FAILURE_RANGE = -10.0
+#: The nominal problem: one node at the set release angle.
+NO_SCATTER = release_scatter(0.0)
+#: Failure kinds besides ``Status``: cannot be built / the integrator failed /
+#: the simulator raised (e.g. an equation evaluated outside its domain).
+DESIGN_ERROR, INTEGRATION_ERROR, SIMULATOR_ERROR = "design_error", "integration_error", "simulator_error"
+
+
+@dataclass(frozen=True)
+class Throw:
+    """One shot reduced to what the optimiser needs: the range (m), or the failure kind."""
+
+    range: float | None
+    failure: str | None = None
+
+
+def throw(problem: Problem, values: np.ndarray, tolerance: float) -> Throw:
+    """Simulate the design at ``values`` (shape (6,), m and rad) with rtol = atol = ``tolerance``."""
+    try:
+        design = design_at(problem, values)
+    except DesignError:
+        return Throw(None, DESIGN_ERROR)
+    try:
+        shot = simulate(design, rtol=tolerance, atol=tolerance)
+    except IntegrationError:
+        return Throw(None, INTEGRATION_ERROR)
+    except ValueError:
+        # simulate promises a Status for every valid design; count the ones where
+        # it raises instead, so the search goes on and the report shows them.
+        return Throw(None, SIMULATOR_ERROR)
+    if not shot.ok:
+        return Throw(None, shot.status.value)
+    return Throw(shot.range)
+
+
+_worker_problem: Problem | None = None
+
+
+def _start_worker(problem: Problem) -> None:
+    global _worker_problem
+    _worker_problem = problem
+
+
+def _throw_in_worker(task: tuple[np.ndarray, float]) -> Throw:
+    return throw(_worker_problem, *task)
+
+
+class Evaluator:
+    """Scores designs of one problem in ``workers`` processes.
+
+    Use as a context manager (it owns a process pool when ``workers > 1``). The
+    workers are spawned, so a script that makes one needs the usual
+    ``if __name__ == "__main__":`` guard.
+
+    Attributes
+    ----------
+    problem : the problem whose designs are scored.
+    failures : failure kind -> number of shots that failed so.
+    shots : number of shots simulated.
+    """
+
+    def __init__(self, problem: Problem, *, workers: int = 2):
+        if workers < 1:
+            raise ValueError(f"workers = {workers!r}: need at least one")
+        self.problem = problem
+        self.failures: Counter[str] = Counter()
+        self.shots = 0
+        self._pool = None
+        if workers > 1:
+            # spawn, not fork: the parent may run threads (tqdm's monitor), and
+            # forking a threaded process can deadlock.
+            self._pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"),
+                                             initializer=_start_worker, initargs=(problem,))
+        self.workers = workers
+
+    def __enter__(self) -> Evaluator:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def close(self) -> None:
+        if self._pool is not None:
+            self._pool.shutdown()
+            self._pool = None
+
+    def throws(self, values: np.ndarray, tolerance: float) -> list[Throw]:
+        """Shoot each design once, in parallel, counting failures.
+
+        Parameters
+        ----------
+        values : (S, 6) design vectors, m and rad.
+        """
+        tasks = [(v, tolerance) for v in np.asarray(values, dtype=float).reshape(-1, len(VARIABLE_NAMES))]
+        if self._pool is None:
+            results = [throw(self.problem, *task) for task in tasks]
+        else:
+            chunk = max(1, len(tasks) // (4 * self.workers))
+            results = list(self._pool.map(_throw_in_worker, tasks, chunksize=chunk))
+        self.shots += len(results)
+        self.failures.update(r.failure for r in results if r.failure is not None)
+        return results
+
+    def node_ranges(self, values: np.ndarray, tolerance: float, scatter: Scatter,
+                    failure_range: float = FAILURE_RANGE) -> np.ndarray:
+        """Ranges at the release-angle scatter's nodes, shape (S, n_nodes), m.
+
+        Parameters
+        ----------
+        values : (S, 6) set design vectors; each is shot with its release angle
+            (index 5) moved by every node offset.
+        failure_range : what a failed shot scores (``nan`` to mark it instead).
+        """
+        values = np.asarray(values, dtype=float).reshape(-1, len(VARIABLE_NAMES))
+        offsets = scatter.offsets
+        shots = np.repeat(values, len(offsets), axis=0)
+        shots[:, 5] += np.tile(offsets, len(values))
+        ranges = [failure_range if r.range is None else r.range for r in self.throws(shots, tolerance)]
+        return np.array(ranges).reshape(len(values), len(offsets))
+
+    def scores(self, values: np.ndarray, tolerance: float, scatter: Scatter = NO_SCATTER) -> np.ndarray:
+        """Range (no scatter) or expected range (with scatter) of each design, shape (S,), m."""
+        return expected(scatter, self.node_ranges(values, tolerance, scatter))

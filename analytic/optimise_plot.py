@@ -1,0 +1,106 @@
+"""Figures of an optimisation: convergence history, and range along each variable through the optimum."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+
+from analytic.optimise_search import Optimum
+from analytic.optimise_sensitivity import Sensitivity
+from analytic.problem import ANGLE_VARIABLES, Problem
+
+#: Axis labels and display scale of each variable (SI -> cm or deg).
+_LABELS = {"arm_short": ("short arm $L_{As}$", "cm"), "counterweight_link": ("weight link $L_W$", "cm"),
+           "clearance": ("clearance", "cm"), "sling_length": ("sling $L_S$", "cm"),
+           "starting_angle": (r"starting angle $\theta_0$", "deg"),
+           "release_angle": (r"release angle $\theta$", "deg")}
+
+
+def display(name: str, value):
+    """A variable's value(s) in the units of tables and plots: cm for lengths, deg for angles."""
+    return np.degrees(value) if name in ANGLE_VARIABLES else 100.0 * np.asarray(value)
+
+
+def convergence_figure(optima: dict[str, Optimum]) -> Figure:
+    """Best score against shots simulated, and the shortfall from the final score on a log scale.
+
+    Parameters
+    ----------
+    optima : label -> ``Optimum`` (e.g. nominal and robust), drawn one after the other.
+    """
+    figure = Figure(figsize=(11, 4.2), layout="constrained")
+    best_ax, gap_ax = figure.subplots(1, 2)
+    offset = 0
+    for label, optimum in optima.items():
+        history = optimum.history
+        shots = history.shots + offset
+        for stage, style in (("global", "-"), ("local", "-o")):
+            mask = history.stage == stage
+            if mask.any():
+                best_ax.plot(shots[mask], history.best[mask], style, ms=3, label=f"{label}: {stage} stage")
+                gap = np.maximum(optimum.score - history.best[mask], 1e-12)
+                gap_ax.semilogy(shots[mask], gap, style, ms=3, label=f"{label}: {stage} stage")
+        offset = shots[-1]
+    best_ax.set(xlabel="shots simulated", ylabel="best range so far (m)", title="convergence")
+    gap_ax.set(xlabel="shots simulated", ylabel="final range - best so far (m)",
+               title="shortfall from the final optimum")
+    for ax in (best_ax, gap_ax):
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=8)
+    return figure
+
+
+def sensitivity_figure(problem: Problem, sensitivity: Sensitivity, title: str) -> Figure:
+    """Range along each free variable through the optimum, others held; infeasible stretches shaded."""
+    count = len(sensitivity.variables)
+    columns = min(3, count)
+    rows = math.ceil(count / columns)
+    figure = Figure(figsize=(4.2 * columns, 3.3 * rows), layout="constrained")
+    axes = np.atleast_1d(figure.subplots(rows, columns, squeeze=False).ravel())
+    label = "expected range (m)" if sensitivity.scatter.sigma > 0 else "range (m)"
+    for ax, row, index in zip(axes, range(count), sensitivity.variables):
+        name = problem.variables[index].name
+        x = display(name, sensitivity.grid[row])
+        y = sensitivity.scores[row]
+        ax.plot(x, y, "-", color="C0")
+        infeasible = ~sensitivity.feasible[row]
+        ax.plot(x[infeasible], y[infeasible], "x", color="C3", ms=4, label="violates a constraint")
+        for start, stop in _runs(infeasible):
+            ax.axvspan(x[start], x[stop], color="C3", alpha=0.12, lw=0)
+        failed = ~np.isfinite(y)
+        if failed.any():
+            floor = np.min(y[~failed]) if (~failed).any() else 0.0
+            ax.plot(x[failed], np.full(failed.sum(), floor), "v", color="k", ms=4, label="does not throw")
+        ax.plot(display(name, sensitivity.optimum[index]), sensitivity.score, "o", color="C2", label="optimum")
+        text, unit = _LABELS[name]
+        ax.set(xlabel=f"{text} ({unit})", ylabel=label)
+        ax.grid(True, alpha=0.3)
+    for ax in axes[count:]:
+        ax.set_visible(False)
+    axes[0].legend(fontsize=7)
+    figure.suptitle(title)
+    return figure
+
+
+def save_figure(figure: Figure, path: str | Path, dpi: int = 110) -> None:
+    """Render with the Agg canvas (no pyplot) to ``path``."""
+    FigureCanvasAgg(figure)
+    figure.savefig(path, dpi=dpi)
+
+
+def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    """(first, last) indices of each run of True in ``mask``."""
+    runs, start = [], None
+    for i, flag in enumerate(mask):
+        if flag and start is None:
+            start = i
+        if not flag and start is not None:
+            runs.append((start, i - 1))
+            start = None
+    if start is not None:
+        runs.append((start, len(mask) - 1))
+    return runs

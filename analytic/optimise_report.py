@@ -1,0 +1,139 @@
+"""Text tables of an optimisation beside the paper's Tables III and IV (cm, deg, m at this edge)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from analytic.optimise_constraints import CONSTRAINT_NAMES, axle_distance, constraint_values, footprint
+from analytic.optimise_robust import Scatter, expected, spread
+from analytic.optimise_search import Optimum
+from analytic.problem import ANGLE_VARIABLES, Problem, design_at
+
+#: Range of the paper's optimum, m (Corie, Park & Standring, section III and Table III).
+PAPER_RANGE = 35.9
+#: L_Al:L_As, L_S:L_Al, m_W:m_P "purported optimal" (the paper's Table I).
+PURPORTED_RATIOS = (3.75, 1.0, 133.0)
+#: The same ratios of the paper's optimum as published (the paper's Table IV).
+PAPER_RATIOS = (2.91, 0.87, 143.0)
+
+#: Rows of the Table III analogue: label, machine attribute or variable, display unit.
+_DIMENSIONS = (("L_Al  long arm", "arm_long", "cm"), ("L_As  short arm", "arm_short", "cm"),
+               ("L_S   sling", "sling_length", "cm"), ("L_W   weight link", "counterweight_link", "cm"),
+               ("h     pivot height", "pivot_height", "cm"), ("      clearance", "clearance", "cm"),
+               ("theta0 starting angle", "starting_angle", "deg"),
+               ("theta release angle", "release_angle", "deg"))
+
+
+def dimensions(problem: Problem, values: np.ndarray) -> dict[str, float]:
+    """The design's Table III quantities in cm and deg, keyed as ``_DIMENSIONS``."""
+    machine = design_at(problem, values).machine
+    result = {}
+    for _, key, unit in _DIMENSIONS:
+        value = (values[2] if key == "clearance" else machine.starting_angle if key == "starting_angle"
+                 else getattr(machine, key))
+        result[key] = math.degrees(value) if unit == "deg" else 100.0 * value
+    return result
+
+
+def ratios(problem: Problem, values: np.ndarray) -> tuple[float, float, float]:
+    """The paper's Table IV ratios: long:short arm, sling:long arm, counterweight:projectile mass."""
+    machine = design_at(problem, values).machine
+    return (machine.arm_long / machine.arm_short, machine.sling_length / machine.arm_long,
+            machine.counterweight_mass / problem.projectile.mass)
+
+
+def format_tables(problem: Problem, columns: list[tuple[str, np.ndarray, float]]) -> str:
+    """Tables III and IV side by side for several designs.
+
+    Parameters
+    ----------
+    columns : (heading, (6,) design variables in m and rad, range in m) per column.
+    """
+    width = 16
+    head = f"{'':<24}" + "".join(f"{c[0]:>{width}}" for c in columns)
+    lines = ["Table III (optimisation results; lengths cm, angles deg)", head]
+    dims = [dimensions(problem, values) for _, values, _ in columns]
+    for label, key, unit in _DIMENSIONS:
+        digits = 1 if unit == "deg" and key == "release_angle" else 2
+        lines.append(f"{label:<24}" + "".join(f"{d[key]:>{width}.{digits}f}" for d in dims))
+    lines.append(f"{'range (m)':<24}" + "".join(f"{r:>{width}.2f}" for _, _, r in columns))
+    lines += ["", "Table IV (ratios)",
+              f"{'':<24}{'Table I':>{width}}{'Table IV':>{width}}"
+              + "".join(f"{c[0]:>{width}}" for c in columns)]
+    all_ratios = [ratios(problem, values) for _, values, _ in columns]
+    for k, label in enumerate(("L_Al : L_As", "L_S : L_Al", "m_W : m_P")):
+        digits = 0 if k == 2 else 2
+        lines.append(f"{label:<24}{PURPORTED_RATIOS[k]:>{width}.{digits}f}{PAPER_RATIOS[k]:>{width}.{digits}f}"
+                     + "".join(f"{r[k]:>{width}.{digits}f}" for r in all_ratios))
+    return "\n".join(lines)
+
+
+def format_constraints(problem: Problem, columns: list[tuple[str, np.ndarray, float]]) -> str:
+    """Footprint, height and axle clearance of each design at rest, with the limits (cm)."""
+    width = 16
+    clearance_needed = 100.0 * (problem.counterweight_radius + problem.axle_radius)
+    lines = ["Constraints at rest (cm; a negative margin violates)",
+             f"{'':<34}{'limit':>10}" + "".join(f"{c[0]:>{width}}" for c in columns)]
+    machines = [design_at(problem, values).machine for _, values, _ in columns]
+    lines.append(f"{'footprint (horizontal span)':<34}{'<= ' + format(100 * problem.max_footprint, '.2f'):>10}"
+                 + "".join(f"{100 * footprint(m):>{width}.2f}" for m in machines))
+    lines.append(f"{'height (pivot)':<34}{'<= ' + format(100 * problem.max_height, '.2f'):>10}"
+                 + "".join(f"{100 * m.pivot_height:>{width}.2f}" for m in machines))
+    lines.append(f"{'counterweight link to axle':<34}{'>= ' + format(clearance_needed, '.2f'):>10}"
+                 + "".join(f"{100 * axle_distance(m):>{width}.2f}" for m in machines))
+    margins = [constraint_values(problem, m) for m in machines]
+    for j, name in enumerate(CONSTRAINT_NAMES):
+        lines.append(f"{'  margin: ' + name:<44}" + "".join(f"{100 * g[j]:>{width}.3f}" for g in margins))
+    return "\n".join(lines)
+
+
+def format_first_order(optimum: Optimum) -> str:
+    """Active bounds and constraints with their multipliers, and the stationarity residual."""
+    fo = optimum.first_order
+    lines = ["First-order optimality (KKT, finite differences)"]
+    for name, side in fo.active_bounds.items():
+        per = "deg" if name in ANGLE_VARIABLES else "cm"
+        scale = math.radians(1.0) if per == "deg" else 0.01
+        lines.append(f"  bound {side:<5} {name:<20} multiplier {fo.bound_multipliers[name] * scale:10.4f} m per {per}")
+    for name in fo.active_constraints:
+        lines.append(f"  constraint {name:<32} multiplier {fo.constraint_multipliers[name] * 0.01:10.4f} m per cm")
+    if not fo.active_bounds and not fo.active_constraints:
+        lines.append("  nothing active: an interior maximum")
+    lines.append(f"  stationarity residual {fo.residual:.1e} (range still to gain per bound width, relative)")
+    if fo.degenerate:
+        lines.append("  the active gradients are linearly dependent, so how the multipliers split between"
+                     " them is not unique (e.g. the footprint's tip-to-projectile span is the sling length,"
+                     " so at a sling bound equal to the footprint limit the two coincide; or a constraint"
+                     " set by fixed variables alone)")
+    return "\n".join(lines)
+
+
+def format_search(label: str, optimum: Optimum) -> str:
+    """Shots, failures by kind, the stages' results and the time taken."""
+    failures = ", ".join(f"{kind} {count}" for kind, count in sorted(optimum.failures.items())) or "none"
+    global_stage = ("skipped (started from the optimum)" if math.isnan(optimum.global_score)
+                    else f"best {optimum.global_score:.4f} m")
+    lines = [f"Search ({label})",
+             f"  shots {optimum.shots} (each quadrature node one), failed to throw: {failures}",
+             f"  global stage {global_stage}; local stage: {optimum.local_message}",
+             f"  optimum {optimum.score:.6f} m at integrator tolerance {optimum.settings.final_tolerance:g}",
+             f"  wall time {optimum.seconds:.1f} s"]
+    return "\n".join(lines)
+
+
+def format_scatter(scatter: Scatter, rows: list[tuple[str, float, np.ndarray]]) -> str:
+    """Each design's nominal range beside its expected range and spread under release-angle scatter.
+
+    Parameters
+    ----------
+    rows : (label, nominal range in m, (n_nodes,) ranges at the scatter's nodes in m) per design.
+    """
+    sigma = math.degrees(scatter.sigma)
+    lines = [f"Release-angle scatter: normal, sigma = {sigma:g} deg ({scatter.nodes}-node Gauss-Hermite)",
+             f"{'':<24}{'nominal (m)':>14}{'expected (m)':>14}{'std dev (m)':>14}{'loss (m)':>12}"]
+    for label, nominal, ranges in rows:
+        mean, sd = float(expected(scatter, ranges)), float(spread(scatter, ranges))
+        lines.append(f"{label:<24}{nominal:>14.4f}{mean:>14.4f}{sd:>14.4f}{nominal - mean:>12.4f}")
+    return "\n".join(lines)

@@ -1,0 +1,66 @@
+"""Range along each design variable through an optimum, the others held, with feasibility marked."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from analytic.optimise_constraints import feasible
+from analytic.optimise_evaluate import NO_SCATTER, Evaluator
+from analytic.optimise_robust import Scatter, expected
+from analytic.problem import Problem, design_at
+
+#: Grid points per variable across its bounds (plus the optimum itself).
+DEFAULT_POINTS = 25
+
+
+@dataclass(frozen=True)
+class Sensitivity:
+    """One-at-a-time scans through ``optimum`` across each free variable's bounds.
+
+    Attributes
+    ----------
+    optimum : (6,) the point scanned through, m and rad.
+    score : the optimum's score, m.
+    variables : (k,) indices of the scanned (free) variables.
+    grid : (k, m) values of the scanned variable, m or rad, sorted.
+    scores : (k, m) range or expected range there, m (nan where a shot failed).
+    feasible : (k, m) all constraints hold there.
+    scatter : the release-angle scatter the scores are under.
+    """
+
+    optimum: np.ndarray
+    score: float
+    variables: np.ndarray
+    grid: np.ndarray
+    scores: np.ndarray
+    feasible: np.ndarray
+    scatter: Scatter
+
+
+def scan(evaluator: Evaluator, problem: Problem, optimum: np.ndarray, score: float, tolerance: float,
+         scatter: Scatter = NO_SCATTER, points: int = DEFAULT_POINTS) -> Sensitivity:
+    """Scan each free variable across its bounds through ``optimum`` (one parallel batch).
+
+    Parameters
+    ----------
+    optimum : (6,) m and rad.
+    score : the optimum's score (m), drawn as its point.
+    tolerance : integrator rtol = atol of the scan's shots.
+    """
+    free = problem.free
+    grids = np.array([np.sort(np.append(np.linspace(problem.lower[i], problem.upper[i], points),
+                                        optimum[i])) for i in free])
+    values = np.repeat(np.asarray(optimum, dtype=float)[None, None, :], grids.shape[1], axis=1)
+    values = np.repeat(values, len(free), axis=0)
+    for row, i in enumerate(free):
+        values[row, :, i] = grids[row]
+    flat = values.reshape(-1, values.shape[-1])
+    ranges = evaluator.node_ranges(flat, tolerance, scatter, failure_range=math.nan)
+    is_feasible = np.array([feasible(problem, design_at(problem, v).machine) for v in flat])
+    shape = grids.shape
+    return Sensitivity(optimum=np.asarray(optimum, dtype=float), score=float(score), variables=free,
+                       grid=grids, scores=expected(scatter, ranges).reshape(shape),
+                       feasible=is_feasible.reshape(shape), scatter=scatter)

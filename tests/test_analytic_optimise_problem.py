@@ -1,0 +1,158 @@
+"""The optimisation problem: the paper's Table II in the default file, x -> design, constraints at rest."""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from analytic.design import DesignError
+from analytic.optimise_constraints import (CONSTRAINT_NAMES, axle_distance, constraint_values,
+                                           feasible, footprint, rest_points)
+from analytic.optimise_report import PAPER_RATIOS, ratios
+from analytic.problem import (VARIABLE_NAMES, default_problem, design_at, from_unit, problem_from_dict,
+                              to_unit, variables_of)
+
+PROBLEM_FILE = Path(__file__).parents[1] / "analytic" / "data" / "paper_problem.toml"
+
+
+def problem_dict() -> dict:
+    """The default problem file as a dict, to vary in tests."""
+    with PROBLEM_FILE.open("rb") as handle:
+        return tomllib.load(handle)
+
+
+def test_default_bounds_are_table_ii():
+    # Reference values: Corie, Park & Standring, Table II (cm and deg).
+    table_ii = {"arm_short": (1.0, 30.0), "counterweight_link": (16.0, 45.0), "clearance": (16.0, 45.0),
+                "sling_length": (1.0, 61.0), "starting_angle": (10.0, 80.0), "release_angle": (-80.0, 80.0)}
+    problem = default_problem()
+    for variable in problem.variables:
+        scale = math.degrees(1.0) if variable.name.endswith("angle") else 100.0
+        assert (variable.lower * scale, variable.upper * scale) == pytest.approx(table_ii[variable.name])
+    # Section II.A: footprint and height at most 61 cm (2 ft); section III: 6.5 kg, 45.6 g.
+    assert (problem.max_footprint, problem.max_height) == (0.61, 0.61)
+    assert (problem.counterweight_mass, problem.projectile.mass) == (6.5, 0.0456)
+
+
+def test_counterweight_sphere_matches_the_table3_file(table3):
+    # paper_table3.toml: a cast-iron sphere of 6.5 kg has I = 0.009345 kg m^2 (4 significant digits).
+    assert default_problem().counterweight_inertia == pytest.approx(
+        table3.machine.counterweight_inertia, rel=5e-4)
+
+
+def test_table3_design_round_trips(table3):
+    # Table III's h = 59.42 cm = 24.05 + 19.37 + a clearance of 16.00 cm, theta0 = asin(59.42 / 70.06).
+    values = variables_of(table3.machine)
+    assert values[2] == pytest.approx(0.16, abs=1e-12)
+    assert values[4] == pytest.approx(math.asin(0.5942 / 0.7006), abs=1e-12)
+    rebuilt = design_at(default_problem(), values).machine
+    for name in ("pivot_height", "arm_long", "arm_short", "arm_mass", "arm_cg", "arm_inertia",
+                 "counterweight_link", "sling_length", "release_angle", "release_rule"):
+        assert getattr(rebuilt, name) == pytest.approx(getattr(table3.machine, name), abs=1e-12), name
+
+
+def test_table3_ratios_are_the_published_table_iv(table3):
+    # Table IV: 2.91:1, 0.87:1, 143:1 (rounded as published).
+    long_short, sling_long, masses = ratios(default_problem(), variables_of(table3.machine))
+    assert round(long_short, 2) == PAPER_RATIOS[0] and round(sling_long, 2) == PAPER_RATIOS[1]
+    assert round(masses) == PAPER_RATIOS[2]
+
+
+def test_unit_coordinates_round_trip():
+    problem = default_problem()
+    values = variables_of(design_at(problem, from_unit(problem, np.full(6, 0.3))).machine)
+    assert to_unit(problem, values) == pytest.approx(np.full(6, 0.3), abs=1e-12)
+    assert from_unit(problem, np.zeros(6)) == pytest.approx(problem.lower)
+
+
+def test_table3_footprint_is_its_sling_and_its_height_its_pivot(table3):
+    # The brief's observation, checked: from the long-arm tip (x = -La cos theta0) to the ball
+    # lying a sling length ahead is 61 cm exactly, and nothing sticks out further: the short
+    # tip is at Lb cos theta0 = 0.2405 * 0.5298 = 0.1274 m, the ball at 0.6100 - 0.3712 = 0.2388 m.
+    points = rest_points(table3.machine)
+    assert points["long_tip"][0] == pytest.approx(-math.sqrt(0.7006**2 - 0.5942**2), abs=1e-12)
+    assert points["short_tip"][0] == pytest.approx(0.2405 * math.sqrt(0.7006**2 - 0.5942**2) / 0.7006)
+    assert footprint(table3.machine) == pytest.approx(0.61, abs=1e-12)
+    g = constraint_values(default_problem(), table3.machine)
+    assert g[0] == pytest.approx(0.0, abs=1e-12)               # at the footprint limit
+    assert g[3] == pytest.approx(0.61 - 0.5942, abs=1e-12)     # pivot 59.42 cm under 61 cm
+    assert feasible(default_problem(), table3.machine)
+
+
+def test_table3_counterweight_hangs_just_above_the_axle(table3):
+    # Hand calculation: short tip at (0.2405 cos t0, 0.2405 sin t0) = (0.12741, 0.20398) m; the
+    # weight hangs 0.1937 m below it, 0.01028 m above the axle's level, so the link's closest
+    # approach is the distance to the weight's centre, hypot(0.12741, 0.01028) = 0.12782 m.
+    sin0, cos0 = 0.5942 / 0.7006, math.sqrt(0.7006**2 - 0.5942**2) / 0.7006
+    expected = math.hypot(0.2405 * cos0, 0.2405 * sin0 - 0.1937)
+    assert axle_distance(table3.machine) == pytest.approx(expected, abs=1e-12)
+    assert expected == pytest.approx(0.12782, abs=1e-5)
+
+
+def test_axle_distance_is_the_offset_when_the_weight_hangs_below_the_axle():
+    problem = default_problem()
+    # Long link: the weight hangs below the axle's level, so only the horizontal offset counts.
+    machine = design_at(problem, np.array([0.10, 0.40, 0.16, 0.30, math.radians(60.0), 0.0])).machine
+    assert axle_distance(machine) == pytest.approx(0.10 * math.cos(math.radians(60.0)), abs=1e-12)
+    # 5 cm offset < 5.996 cm weight radius + 0.635 cm axle radius: violated.
+    assert constraint_values(problem, machine)[4] < 0.0
+
+
+def test_axle_distance_has_a_continuous_slope_where_the_weight_crosses_the_axle_level():
+    problem = default_problem()
+    start = math.radians(40.0)
+    crossing = 0.2 * math.sin(start)   # link at which the weight's centre is level with the axle
+
+    def distance(link: float) -> float:
+        return axle_distance(design_at(problem, np.array([0.2, link, 0.16, 0.3, start, 0.0])).machine)
+
+    h = 1e-5
+    left = (distance(crossing) - distance(crossing - h)) / h
+    right = (distance(crossing + h) - distance(crossing)) / h
+    assert left == pytest.approx(0.0, abs=1e-4) and right == pytest.approx(0.0, abs=1e-12)
+
+
+def test_footprint_is_led_by_the_short_arm_when_the_sling_is_short():
+    problem = default_problem()
+    theta0 = math.radians(30.0)
+    machine = design_at(problem, np.array([0.30, 0.20, 0.20, 0.05, theta0, 0.0])).machine
+    h = 0.70
+    # La cos t0 = h / tan t0 behind; the short tip 0.30 cos t0 ahead; the sling's 5 cm stays behind it.
+    assert footprint(machine) == pytest.approx(h / math.tan(theta0) + 0.30 * math.cos(theta0), abs=1e-12)
+    assert CONSTRAINT_NAMES[2].startswith("footprint") and constraint_values(problem, machine)[2] < 0.0
+
+
+def test_a_variable_can_be_fixed():
+    data = problem_dict()
+    data["variables"]["release_angle"] = {"value": 43.4}
+    problem = problem_from_dict(data)
+    assert list(problem.free) == [0, 1, 2, 3, 4]
+    assert from_unit(problem, np.zeros(5))[5] == pytest.approx(math.radians(43.4))
+
+
+@pytest.mark.parametrize("change, field, reason", [
+    (lambda d: d["variables"]["sling_length"].update(lower=0.7), "variables.sling_length", "lower bound"),
+    (lambda d: d["variables"]["starting_angle"].update(upper=95.0), "variables.starting_angle", "strictly"),
+    (lambda d: d["variables"].update(arm_short={"lower": 0.01, "upper": 0.3, "step": 1}),
+     "variables.arm_short.step", "unknown key"),
+    (lambda d: d["constraints"].pop("max_height"), "constraints.max_height", "missing"),
+    (lambda d: d["constraints"].update(max_footprint=-1.0), "constraints.max_footprint", "positive"),
+    (lambda d: d["projectile"].update(colour="white"), "projectile.colour", "unknown key"),
+    (lambda d: d.pop("arm_beam"), r"\[arm_beam\]", "missing"),
+    (lambda d: d["release"].update(rule="late"), "release.rule", "must be one of"),
+], ids=["bounds-crossed", "angle-out-of-range", "unknown-key", "missing-limit", "negative-limit",
+        "unknown-projectile-key", "missing-table", "bad-rule"])
+def test_invalid_problems_name_field_and_reason(change, field, reason):
+    data = problem_dict()
+    change(data)
+    with pytest.raises(DesignError, match=rf"^{field}.* = .*{reason}"):
+        problem_from_dict(data)
+
+
+def test_variable_order_is_the_papers():
+    assert VARIABLE_NAMES == ("arm_short", "counterweight_link", "clearance", "sling_length",
+                              "starting_angle", "release_angle")
