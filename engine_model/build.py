@@ -1,0 +1,218 @@
+"""Build the trebuchet of a design as a pymunk Space: bodies, joints and the handles to them.
+
+Body frames (pymunk rotates each body about its centre of gravity and reports
+``body.velocity`` for that centre; ``body.position`` is the body's own origin):
+
+* arm: origin at the pivot, long tip at local ``(0, arm_long)``, short tip at
+  ``(0, -arm_short)``, centre of gravity at ``(0, arm_cg)``; so ``body.angle``
+  is the design's arm angle theta (CCW from the upward vertical).
+* counterweight: origin and centre of gravity at its centre, hinge at local
+  ``(0, counterweight_link)``; so ``body.angle`` is theta + phi.
+* projectile: origin and centre of gravity at its centre.
+
+Every joint has ``error_bias = 0`` (pymunk's error_bias is the fraction of
+joint error left uncorrected after one second; 0 removes the whole error in
+the next step), ``max_bias`` left at infinity (a cap would bring back the slow
+first-order correction) and ``collide_bodies`` off. There are no collision
+shapes: the parts never touch each other, and the base acts on the projectile
+only through the slide constraint.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import pymunk
+
+from analytic.design import Design, initial_angles
+from engine_model.kinematics import points_from_coordinates
+
+#: Default solver iterations per step. With ``error_bias = 0`` pymunk needs at
+#: least about 20 to stay stable on a machine with a counterweight 140 times
+#: the projectile. From 20 up the release speed moves by only 2e-7 (relative):
+#: the error left is the step's. But below about 200 the sling tension rings
+#: for a few steps after each change of the constraint set (firing, lift-off),
+#: by 10 % at 30 iterations and 0.1 % at 100; 200 costs 35 ms more per shot
+#: than 30 (measured on the paper's design, 3800 steps to release).
+DEFAULT_ITERATIONS = 200
+
+SLINGS = ("rigid", "rope")
+
+#: The arm body is never lighter than this fraction of the counterweight: pymunk's
+#: iterative solver does not converge for a light arm hinged between a heavy
+#: counterweight and the frame (a 10 g arm under 6.5 kg blows up even at 5000
+#: iterations). A lighter arm gets ballast at the pivot (see ``arm_body_properties``).
+ARM_MASS_FRACTION = 0.02
+
+
+class EngineError(RuntimeError):
+    """The engine cannot model the design or its run cannot be trusted; the message says why."""
+
+#: Length of the groove that holds the projectile on the base, in units of the
+#: machine's largest length, each way from the pivot: the projectile must never
+#: reach its ends (where pymunk's groove also constrains the sliding direction).
+GROOVE_HALF_LENGTH_FACTOR = 10.0
+
+
+@dataclass(frozen=True)
+class Rig:
+    """A design built in pymunk: the space and handles to its bodies and joints.
+
+    The pymunk objects are mutable (the space steps them); the record of which
+    object is which is not.
+
+    Attributes
+    ----------
+    space : the pymunk Space (gravity, iterations, damping 1 set).
+    arm, counterweight, projectile : the three dynamic bodies.
+    pivot : PivotJoint, frame to arm at the pivot.
+    hinge : PivotJoint (counterweight with inertia) or PinJoint (a point
+        counterweight, inertia 0: see ``build``), arm short tip to counterweight.
+    sling : PinJoint (rigid) or SlideJoint (rope), long tip to projectile.
+    groove : GrooveJoint holding the projectile on the base (stage 1).
+    sling_kind : ``"rigid"`` or ``"rope"``.
+    """
+
+    space: pymunk.Space
+    arm: pymunk.Body
+    counterweight: pymunk.Body
+    projectile: pymunk.Body
+    pivot: pymunk.PivotJoint
+    hinge: pymunk.Constraint
+    sling: pymunk.Constraint
+    groove: pymunk.GrooveJoint
+    sling_kind: str
+
+    @property
+    def machine_parts(self) -> tuple:
+        """Bodies and joints of the arm and counterweight (removed from the space at release)."""
+        return (self.pivot, self.hinge, self.arm, self.counterweight)
+
+
+def machine_length(design: Design) -> float:
+    """The machine's largest length, m: both arms, the link and the sling end to end."""
+    m = design.machine
+    return m.arm_long + m.arm_short + m.counterweight_link + m.sling_length
+
+
+def start_positions(design: Design) -> dict[str, tuple[float, float]]:
+    """World positions at rest (``analytic.design.initial_angles``), m: see
+    ``engine_model.kinematics.points_from_coordinates``."""
+    points = points_from_coordinates(initial_angles(design.machine), design)
+    return {name: (float(p[0]), float(p[1])) for name, p in points.items()}
+
+
+def arm_body_properties(design: Design) -> tuple[float, float, float]:
+    """Mass (kg), centre of gravity along the long arm (m) and moment about it (kg m^2) of the
+    pymunk arm body.
+
+    These are the design's own unless the arm is lighter than ``ARM_MASS_FRACTION``
+    of the counterweight, or has ``arm_inertia = 0`` (pymunk needs a positive
+    moment): then ballast is added at the pivot. A mass at the pivot of a body
+    pinned there changes nothing of the motion, which depends on the arm only
+    through ``arm_mass * arm_cg`` (its weight's torque) and its inertia about
+    the pivot ``arm_inertia + arm_mass * arm_cg**2``; both are kept.
+
+    Raises
+    ------
+    EngineError
+        The arm has no inertia about the pivot at all (``arm_inertia = 0`` and
+        ``arm_cg = 0``): a massless lever, which a pymunk body cannot be.
+    """
+    m = design.machine
+    pivot_inertia = m.arm_inertia + m.arm_mass * m.arm_cg**2
+    if pivot_inertia == 0.0:
+        raise EngineError("the arm has no moment of inertia about the pivot (arm_inertia = 0 and "
+                          "arm_cg = 0): the engine cannot model a massless lever; give the arm an inertia")
+    mass = max(m.arm_mass, ARM_MASS_FRACTION * m.counterweight_mass)
+    if m.arm_inertia == 0.0 and mass == m.arm_mass:
+        mass = 2.0 * m.arm_mass
+    if mass == m.arm_mass:
+        return m.arm_mass, m.arm_cg, m.arm_inertia
+    cg = m.arm_mass * m.arm_cg / mass
+    return mass, cg, pivot_inertia - mass * cg**2
+
+
+def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITERATIONS,
+          on_base: bool = True) -> Rig:
+    """The machine of ``design`` at rest, ready to fire, in a new pymunk Space.
+
+    Parameters
+    ----------
+    design : the validated design.
+    sling : ``"rigid"`` (a PinJoint: a massless rod that can pull and push) or
+        ``"rope"`` (a SlideJoint with min 0 and max ``sling_length``: it pulls
+        only, and goes slack where the rigid sling would push).
+    iterations : solver iterations per step.
+    on_base : add the groove that holds the projectile on the base (False
+        when the sling already lifts it at rest).
+
+    Notes
+    -----
+    A counterweight with ``counterweight_inertia = 0`` is a point mass on a
+    massless link: a body with zero moment hinged off its centre would have a
+    massless rotation that pymunk cannot solve, so the link is then a PinJoint
+    of length ``counterweight_link`` between the short tip and the
+    counterweight's centre (the same dynamics; the body's own rotation is
+    decoupled and its moment only a placeholder). A light arm, or one with
+    ``arm_inertia = 0``, carries ballast at the pivot (``arm_body_properties``).
+    """
+    if sling not in SLINGS:
+        raise ValueError(f"sling = {sling!r}: must be one of {', '.join(SLINGS)}")
+    if iterations < 1:
+        raise ValueError(f"iterations = {iterations!r}: must be at least 1")
+    m, env, proj = design.machine, design.environment, design.projectile
+    theta, phi, _ = initial_angles(m)
+    start = start_positions(design)
+
+    space = pymunk.Space()
+    space.gravity = (0.0, -env.gravity)
+    space.damping = 1.0
+    space.iterations = int(iterations)
+    # No shapes collide, but keep pymunk's pixel-sized defaults out of a metre world.
+    space.collision_slop = 1e-6 * machine_length(design)
+    frame = space.static_body
+
+    arm_mass, arm_cg, arm_moment = arm_body_properties(design)
+    arm = pymunk.Body(arm_mass, arm_moment)
+    # pymunk keeps the centre of gravity fixed when the angle is set: set the
+    # centre of gravity, then the angle, then the origin's position.
+    arm.center_of_gravity = (0.0, arm_cg)
+    arm.angle = theta
+    arm.position = (0.0, 0.0)
+
+    point_counterweight = m.counterweight_inertia == 0.0
+    cw_moment = (m.counterweight_mass * m.counterweight_link**2 if point_counterweight
+                 else m.counterweight_inertia)
+    counterweight = pymunk.Body(m.counterweight_mass, cw_moment)
+    counterweight.angle = theta + phi
+    counterweight.position = start["counterweight"]
+
+    radius = proj.diameter / 2.0
+    projectile = pymunk.Body(proj.mass, 0.4 * proj.mass * radius**2)  # solid sphere; decoupled
+    projectile.position = start["projectile"]
+
+    pivot = pymunk.PivotJoint(frame, arm, (0.0, 0.0), (0.0, 0.0))
+    if point_counterweight:
+        hinge = pymunk.PinJoint(arm, counterweight, (0.0, -m.arm_short), (0.0, 0.0))
+        hinge.distance = m.counterweight_link
+    else:
+        hinge = pymunk.PivotJoint(arm, counterweight, (0.0, -m.arm_short), (0.0, m.counterweight_link))
+    if sling == "rigid":
+        sling_joint = pymunk.PinJoint(arm, projectile, (0.0, m.arm_long), (0.0, 0.0))
+        sling_joint.distance = m.sling_length
+    else:
+        sling_joint = pymunk.SlideJoint(arm, projectile, (0.0, m.arm_long), (0.0, 0.0),
+                                        0.0, m.sling_length)
+    reach = GROOVE_HALF_LENGTH_FACTOR * machine_length(design)
+    groove = pymunk.GrooveJoint(frame, projectile, (-reach, -m.pivot_height),
+                                (reach, -m.pivot_height), (0.0, 0.0))
+
+    joints = [pivot, hinge, sling_joint] + ([groove] if on_base else [])
+    for joint in joints + [groove]:
+        joint.error_bias = 0.0
+        joint.max_bias = math.inf
+        joint.collide_bodies = False
+    space.add(arm, counterweight, projectile, *joints)
+    return Rig(space, arm, counterweight, projectile, pivot, hinge, sling_joint, groove, sling)

@@ -1,0 +1,101 @@
+"""Command line: ``python -m engine_model simulate|render`` (a thin layer over the library)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+from analytic.design import Design, DesignError, default_design, load_design
+from engine_model.build import DEFAULT_ITERATIONS, SLINGS
+from engine_model.simulate import DEFAULT_DT, EngineError, simulate
+
+#: Exit codes: a throw; an engine run that could not be trusted (unstable, joints
+#: apart); an invalid design; a valid design that does not throw.
+EXIT_OK, EXIT_ENGINE_ERROR, EXIT_INVALID, EXIT_NO_THROW = 0, 1, 2, 3
+
+
+def _design(path: str | None) -> Design:
+    return default_design() if path is None else load_design(path)
+
+
+def _positive(text: str) -> float:
+    value = float(text)
+    if not value > 0.0:
+        raise argparse.ArgumentTypeError(f"{text} is not a positive number")
+    return value
+
+
+def _run(args: argparse.Namespace):
+    """Load the design and simulate it; returns (shot, diagnostics) or an exit code."""
+    try:
+        design = _design(args.design)
+    except DesignError as error:
+        print(f"invalid design: {error}", file=sys.stderr)
+        return EXIT_INVALID
+    try:
+        return simulate(design, dt=args.dt, iterations=args.iterations, sling=args.sling)
+    except EngineError as error:
+        print(f"engine error: {error}", file=sys.stderr)
+        return EXIT_ENGINE_ERROR
+
+
+def _simulate(args: argparse.Namespace) -> int:
+    from engine_model.report import format_shot
+
+    result = _run(args)
+    if isinstance(result, int):
+        return result
+    shot, diagnostics = result
+    if args.json:
+        print(json.dumps({**shot.to_json(), "max_joint_drift": diagnostics.max_joint_drift}, indent=2))
+    else:
+        print(format_shot(shot, diagnostics))
+    return EXIT_OK if shot.ok else EXIT_NO_THROW
+
+
+def _render(args: argparse.Namespace) -> int:
+    from engine_model.render import render_shot
+
+    result = _run(args)
+    if isinstance(result, int):
+        return result
+    shot, _ = result
+    frames = render_shot(shot, args.out, fps=args.fps, slow_motion=args.slow_motion,
+                         gif=args.gif, progress=not args.quiet)
+    print(f"{len(frames)} frames written to {args.out}" + (" (and shot.gif)" if args.gif else ""))
+    return EXIT_OK if shot.ok else EXIT_NO_THROW
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="python -m engine_model",
+                                     description="The trebuchet in the pymunk rigid-body engine.")
+    commands = parser.add_subparsers(dest="command", required=True)
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument("design", nargs="?", help="design TOML (default: the paper's Table III optimum)")
+    common.add_argument("--dt", type=_positive, default=DEFAULT_DT, help=f"fixed step, s (default {DEFAULT_DT:g})")
+    common.add_argument("--iterations", type=int, default=DEFAULT_ITERATIONS,
+                        help=f"solver iterations per step (default {DEFAULT_ITERATIONS})")
+    common.add_argument("--sling", choices=SLINGS, default="rigid",
+                        help="rigid rod (default) or rope that goes slack instead of pushing")
+
+    sim = commands.add_parser("simulate", parents=[common], help="simulate one shot")
+    sim.add_argument("--json", action="store_true",
+                     help="print one JSON object (the analytic model's keys plus max_joint_drift, m)")
+    sim.set_defaults(func=_simulate)
+
+    ren = commands.add_parser("render", parents=[common], help="draw the shot as numbered PNG frames")
+    ren.add_argument("--out", required=True, help="directory for frame_00000.png, ...")
+    ren.add_argument("--fps", type=_positive, default=30.0, help="frames per second of playback (default 30)")
+    ren.add_argument("--slow-motion", type=_positive, default=1.0,
+                     help="playback this many times slower than real time (default 1)")
+    ren.add_argument("--gif", action="store_true", help="also write shot.gif")
+    ren.add_argument("--quiet", action="store_true", help="no progress bar")
+    ren.set_defaults(func=_render)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the command line on ``argv`` (default ``sys.argv[1:]``); returns the exit code."""
+    args = build_parser().parse_args(argv)
+    return args.func(args)

@@ -1,0 +1,332 @@
+"""Pure functions of recorded body states: coordinates, joint drift, energies and contact forces.
+
+A state row (shape (18,)) holds, for the arm, the counterweight and the
+projectile in turn, six numbers read from pymunk: the body origin ``x, y``
+(m), its ``angle`` (rad), the velocity ``vx, vy`` of the origin (m/s) and
+the angular velocity ``w`` (rad/s). The body frames are those of
+``engine_model.build``: the arm's origin is at the pivot, the others' at
+their centres. Nothing here depends on where pymunk puts a body's centre of
+gravity (the arm may carry ballast at the pivot). A table of rows has shape
+(n, 18).
+
+pymunk integrates with symplectic Euler: after a step to ``t`` the positions
+belong to ``t`` and the velocities to ``t + dt/2``. ``synchronise`` turns such
+raw rows into rows whose velocities belong to the same instant as the
+positions (the mean of the two half-step velocities around it, second-order
+accurate). Functions of velocities expect synchronised rows, except
+``contact_forces`` and ``constraint_residuals``, which are about one step and
+take raw ones.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from analytic.design import Design
+from analytic.result import ideal_range
+
+ARM, COUNTERWEIGHT, PROJECTILE = 0, 6, 12
+X, Y, ANGLE, VX, VY, W = range(6)
+
+
+def column(states: np.ndarray, body: int, quantity: int) -> np.ndarray:
+    """One quantity of one body over a table of rows, shape (n,)."""
+    return states[:, body + quantity]
+
+
+def synchronise(raw: np.ndarray) -> np.ndarray:
+    """Rows with positions at t_k and velocities at t_k, shape (n, 18).
+
+    Parameters
+    ----------
+    raw : (n, 18) rows read after each step: positions at t_k, velocities at
+        t_k + dt/2. Row 0 is the state after the opening half step from rest,
+        so its velocities belong to dt/2 and those at -dt/2 are their mirror
+        image (motion from rest is even in time to second order).
+    """
+    sync = raw.copy()
+    velocity_columns = [body + q for body in (ARM, COUNTERWEIGHT, PROJECTILE) for q in (VX, VY, W)]
+    half = raw[:, velocity_columns]
+    before = np.vstack([-half[:1], half[:-1]])
+    sync[:, velocity_columns] = 0.5 * (before + half)
+    return sync
+
+
+def points_from_coordinates(q: np.ndarray, design: Design) -> dict[str, np.ndarray]:
+    """Where the machine's parts are for coordinates [theta, phi, psi] (the design's conventions).
+
+    Parameters
+    ----------
+    q : (3,) or (n, 3) coordinates, rad.
+
+    Returns
+    -------
+    dict of positions, m, each (2,) or (n, 2): ``long_tip``, ``short_tip``,
+    ``arm_centre``, ``counterweight`` (its centre) and ``projectile`` (its centre).
+    """
+    m = design.machine
+    q = np.asarray(q, dtype=float)
+    theta, link, sling = q[..., 0], q[..., 0] + q[..., 1], q[..., 0] + q[..., 2]
+    along_arm = np.stack([-np.sin(theta), np.cos(theta)], axis=-1)
+    long = m.arm_long * along_arm
+    short = -m.arm_short * along_arm
+    counterweight = short + m.counterweight_link * np.stack([np.sin(link), -np.cos(link)], axis=-1)
+    projectile = long + m.sling_length * np.stack([-np.sin(sling), np.cos(sling)], axis=-1)
+    return {"long_tip": long, "short_tip": short, "arm_centre": m.arm_cg * along_arm,
+            "counterweight": counterweight, "projectile": projectile}
+
+
+def arm_point(states: np.ndarray, distance: float) -> np.ndarray:
+    """Position of the arm's point ``distance`` from the pivot along the long arm
+    (negative: along the short arm), shape (n, 2), m."""
+    theta = column(states, ARM, ANGLE)
+    return np.column_stack([column(states, ARM, X) - distance * np.sin(theta),
+                            column(states, ARM, Y) + distance * np.cos(theta)])
+
+
+def long_tip(states: np.ndarray, design: Design) -> np.ndarray:
+    """Long-arm tip (sling end) position, shape (n, 2), m."""
+    return arm_point(states, design.machine.arm_long)
+
+
+def short_tip(states: np.ndarray, design: Design) -> np.ndarray:
+    """Short-arm tip (counterweight hinge) position on the arm, shape (n, 2), m."""
+    return arm_point(states, -design.machine.arm_short)
+
+
+def arm_centre(states: np.ndarray, design: Design) -> np.ndarray:
+    """Arm centre of mass position, shape (n, 2), m."""
+    return arm_point(states, design.machine.arm_cg)
+
+
+def position(states: np.ndarray, body: int) -> np.ndarray:
+    """Origin of ``body`` (the centre, for counterweight and projectile), shape (n, 2), m."""
+    return states[:, body + X: body + Y + 1]
+
+
+def velocity(states: np.ndarray, body: int) -> np.ndarray:
+    """Velocity of the origin of ``body``, shape (n, 2), m/s."""
+    return states[:, body + VX: body + VY + 1]
+
+
+def point_velocity(states: np.ndarray, body: int, point: np.ndarray) -> np.ndarray:
+    """Velocity of the point of ``body`` that is at world position ``point`` (n, 2), m/s."""
+    offset = point - position(states, body)
+    spin = column(states, body, W)
+    return velocity(states, body) + np.column_stack([-spin * offset[:, 1], spin * offset[:, 0]])
+
+
+def _direction_angle_and_rate(offset: np.ndarray, rate: np.ndarray, zero_direction: float):
+    """Angle of ``offset`` measured CCW from ``zero_direction`` (rad) and its rate (rad/s)."""
+    angle = np.arctan2(offset[:, 1], offset[:, 0]) - zero_direction
+    cross = offset[:, 0] * rate[:, 1] - offset[:, 1] * rate[:, 0]
+    return angle, cross / np.sum(offset**2, axis=1)
+
+
+def _unwrap_from(angle: np.ndarray, start: float) -> np.ndarray:
+    angle = np.unwrap(angle)
+    return angle - 2.0 * math.pi * round((angle[0] - start) / (2.0 * math.pi))
+
+
+def coordinates(states: np.ndarray, design: Design, start: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The generalised coordinates [theta, phi, psi] and their rates, each shape (n, 3).
+
+    theta is the arm body's angle; phi and psi are reconstructed from where the
+    counterweight and projectile actually are (the hinge and sling directions),
+    so they mean the same for every counterweight and sling model. ``start``
+    (shape (3,), ``analytic.design.initial_angles``) picks the 2 pi branch of
+    the first row; later rows are unwrapped continuously.
+    """
+    theta = column(states, ARM, ANGLE)
+    theta_rate = column(states, ARM, W)
+    hinge, tip = short_tip(states, design), long_tip(states, design)
+    hinge_rate = point_velocity(states, ARM, hinge)
+    tip_rate = point_velocity(states, ARM, tip)
+    # The link hangs at theta + phi from the downward vertical; the sling
+    # points at theta + psi from the upward vertical.
+    link, link_rate = _direction_angle_and_rate(position(states, COUNTERWEIGHT) - hinge,
+                                                velocity(states, COUNTERWEIGHT) - hinge_rate,
+                                                -0.5 * math.pi)
+    sling, sling_rate = _direction_angle_and_rate(position(states, PROJECTILE) - tip,
+                                                  velocity(states, PROJECTILE) - tip_rate,
+                                                  0.5 * math.pi)
+    link = _unwrap_from(link, start[0] + start[1])
+    sling = _unwrap_from(sling, start[0] + start[2])
+    q = np.column_stack([theta, link - theta, sling - theta])
+    qdot = np.column_stack([theta_rate, link_rate - theta_rate, sling_rate - theta_rate])
+    return q, qdot
+
+
+def joint_drift(states: np.ndarray, design: Design, sling: str, on_base: np.ndarray) -> dict[str, np.ndarray]:
+    """How far each joint has come apart, m, each shape (n,).
+
+    Parameters
+    ----------
+    states : (n, 18) rows (positions only are used, so raw rows do as well).
+    sling : ``"rigid"`` or ``"rope"`` (a rope may be shorter than its length).
+    on_base : (n,) bool, rows where the groove holds the projectile.
+
+    Returns
+    -------
+    dict with ``pivot`` (arm origin from the pivot), ``hinge`` (short tip to the
+    counterweight's hinge point, or the link's length error for a point
+    counterweight), ``sling`` (length error, or stretch of a rope) and
+    ``groove`` (height of the projectile centre off the base, 0 off the base).
+    """
+    m = design.machine
+    pivot = np.hypot(column(states, ARM, X), column(states, ARM, Y))
+    hinge = short_tip(states, design)
+    centre = position(states, COUNTERWEIGHT)
+    if m.counterweight_inertia == 0.0:
+        hinge_drift = np.abs(np.hypot(*(centre - hinge).T) - m.counterweight_link)
+    else:
+        beta = column(states, COUNTERWEIGHT, ANGLE)
+        hinge_point = centre + m.counterweight_link * np.column_stack([-np.sin(beta), np.cos(beta)])
+        hinge_drift = np.hypot(*(hinge_point - hinge).T)
+    sling_length = np.hypot(*(position(states, PROJECTILE) - long_tip(states, design)).T)
+    stretch = sling_length - m.sling_length
+    sling_drift = np.maximum(stretch, 0.0) if sling == "rope" else np.abs(stretch)
+    groove = np.where(on_base, np.abs(column(states, PROJECTILE, Y) + m.pivot_height), 0.0)
+    return {"pivot": pivot, "hinge": hinge_drift, "sling": sling_drift, "groove": groove}
+
+
+def potential_energies(states: np.ndarray, design: Design) -> tuple[np.ndarray, np.ndarray]:
+    """Gravitational potential energy (machine: arm + counterweight; projectile), J, each (n,).
+
+    Measured from the pivot's height; only differences matter.
+    """
+    g = design.environment.gravity
+    m = design.machine
+    machine = g * (m.arm_mass * arm_centre(states, design)[:, 1]
+                   + m.counterweight_mass * column(states, COUNTERWEIGHT, Y))
+    projectile = g * design.projectile.mass * column(states, PROJECTILE, Y)
+    return machine, projectile
+
+
+def kinetic_energies(states: np.ndarray, design: Design) -> tuple[np.ndarray, np.ndarray]:
+    """Kinetic energy (machine: arm + counterweight; projectile), J, each (n,).
+
+    Uses the design's masses and inertias, not the pymunk bodies' (which may
+    carry ballast at the pivot or, for a point counterweight, a placeholder moment).
+    """
+    m = design.machine
+
+    def translation(speed: np.ndarray, mass: float) -> np.ndarray:
+        return 0.5 * mass * np.sum(speed**2, axis=1)
+
+    arm_centre_velocity = point_velocity(states, ARM, arm_centre(states, design))
+    machine = (translation(arm_centre_velocity, m.arm_mass) + 0.5 * m.arm_inertia * column(states, ARM, W)**2
+               + translation(velocity(states, COUNTERWEIGHT), m.counterweight_mass)
+               + 0.5 * m.counterweight_inertia * column(states, COUNTERWEIGHT, W)**2)
+    return machine, translation(velocity(states, PROJECTILE), design.projectile.mass)
+
+
+def energy_budget(states: np.ndarray, design: Design) -> tuple[np.ndarray, np.ndarray]:
+    """Mechanical energy of machine and projectile relative to the first row, J, each (n,)."""
+    v_machine, v_projectile = potential_energies(states, design)
+    k_machine, k_projectile = kinetic_energies(states, design)
+    return (k_machine + v_machine - v_machine[0] - k_machine[0],
+            k_projectile + v_projectile - v_projectile[0] - k_projectile[0])
+
+
+def available_energy(design: Design) -> float:
+    """Potential energy the counterweight can give up at most, J (scales energy errors).
+
+    From its start to the lowest point it can reach, as in
+    ``analytic.result.ideal_range``: that range is ``2 E / (m_p g)``.
+    """
+    return 0.5 * ideal_range(design) * design.projectile.mass * design.environment.gravity
+
+
+def contact_forces(velocity_before: tuple[float, float], velocity_after: tuple[float, float],
+                   tip: tuple[float, float], centre: tuple[float, float], on_base: bool,
+                   design: Design, dt: float) -> tuple[float, float]:
+    """Sling tension and base normal force on the projectile over one step, N.
+
+    pymunk reports only the size of a joint's impulse; the signs follow from
+    the projectile's momentum: over the step at t_k the constraints gave it the
+    impulse ``m (v[k+1/2] - v[k-1/2]) + m g dt``, which is the sling's pull
+    along the unit vector from the projectile to the tip plus, on the base,
+    the groove's push along +y (the groove is frictionless).
+
+    Parameters
+    ----------
+    velocity_before, velocity_after : projectile velocity at t_k - dt/2 and t_k + dt/2, m/s.
+    tip, centre : long-arm tip and projectile centre at t_k, m.
+    on_base : whether the groove acted in this step.
+
+    Returns
+    -------
+    (tension, normal) : positive when the sling pulls and when the base pushes
+    up; ``normal`` is 0 off the base.
+    """
+    mass = design.projectile.mass
+    force_x = mass * (velocity_after[0] - velocity_before[0]) / dt
+    force_y = mass * (velocity_after[1] - velocity_before[1]) / dt + mass * design.environment.gravity
+    offset_x, offset_y = tip[0] - centre[0], tip[1] - centre[1]
+    length = math.hypot(offset_x, offset_y)
+    unit_x, unit_y = offset_x / length, offset_y / length
+    if not on_base:
+        return force_x * unit_x + force_y * unit_y, 0.0
+    # Only the sling pulls sideways; near a vertical sling this is ill-conditioned,
+    # but stage 1 ends (never_lifts_off) well before that.
+    tension = force_x / unit_x
+    return tension, force_y - tension * unit_y
+
+
+def constraint_residuals(raw: np.ndarray, design: Design, sling: str, on_base: np.ndarray,
+                         steps: np.ndarray) -> dict[str, np.ndarray]:
+    """How far each joint's velocity misses what pymunk's solver aims for, m/s, each (n,).
+
+    With ``error_bias = 0`` a converged step leaves each joint's anchors with
+    the relative velocity that removes its whole position error in the step:
+    ``-error / step`` (``max_bias`` is infinite). An unconverged solver (too
+    few iterations for the mass ratios) misses it; the miss times the step is
+    joint error it adds, first order in the step.
+
+    Parameters
+    ----------
+    raw : (n, 18) raw rows: positions at t_k, velocities after the step's solve.
+    on_base : (n,) bool, rows whose step had the groove.
+    steps : (n,) step length that produced each row, s.
+
+    Returns
+    -------
+    dict with ``pivot``, ``hinge``, ``sling``, ``groove``. A rope only counts
+    where it is stretched and still stretching faster than it is being pulled in.
+    """
+    m = design.machine
+    pivot = np.hypot(*(velocity(raw, ARM) + position(raw, ARM) / steps[:, None]).T)
+    tip, short = long_tip(raw, design), short_tip(raw, design)
+    centre = position(raw, COUNTERWEIGHT)
+    if m.counterweight_inertia == 0.0:
+        hinge_miss = _distance_miss(short, point_velocity(raw, ARM, short), centre,
+                                    velocity(raw, COUNTERWEIGHT), m.counterweight_link, steps)
+        hinge_miss = np.abs(hinge_miss)
+    else:
+        beta = column(raw, COUNTERWEIGHT, ANGLE)
+        hinge_point = centre + m.counterweight_link * np.column_stack([-np.sin(beta), np.cos(beta)])
+        relative = point_velocity(raw, COUNTERWEIGHT, hinge_point) - point_velocity(raw, ARM, short)
+        hinge_miss = np.hypot(*(relative + (hinge_point - short) / steps[:, None]).T)
+    projectile = position(raw, PROJECTILE)
+    sling_miss = _distance_miss(tip, point_velocity(raw, ARM, tip), projectile,
+                                velocity(raw, PROJECTILE), m.sling_length, steps)
+    if sling == "rope":
+        stretched = np.hypot(*(projectile - tip).T) > m.sling_length
+        sling_miss = np.where(stretched, np.maximum(sling_miss, 0.0), 0.0)
+    else:
+        sling_miss = np.abs(sling_miss)
+    height = column(raw, PROJECTILE, Y) + m.pivot_height
+    groove = np.where(on_base, np.abs(column(raw, PROJECTILE, VY) + height / steps), 0.0)
+    return {"pivot": pivot, "hinge": hinge_miss, "sling": sling_miss, "groove": groove}
+
+
+def _distance_miss(a: np.ndarray, velocity_a: np.ndarray, b: np.ndarray, velocity_b: np.ndarray,
+                   length: float, steps: np.ndarray) -> np.ndarray:
+    """Signed miss of a distance joint: separation speed minus its target ``-(distance - length) / step``."""
+    offset = b - a
+    distance = np.hypot(*offset.T)
+    separating = np.sum((velocity_b - velocity_a) * offset, axis=1) / distance
+    return separating + (distance - length) / steps

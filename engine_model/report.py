@@ -1,0 +1,38 @@
+"""Readable text for an engine shot: the shared JSON fields in builder's units, plus the engine's diagnostics."""
+
+from __future__ import annotations
+
+from analytic.result import Shot
+from engine_model.simulate import EngineDiagnostics
+
+#: (JSON key, label, unit, format) in the order printed; values are as in ``Shot.to_json``.
+_FIELDS = (
+    ("liftoff_time", "lift-off", "s", "{:.5f}"),
+    ("release_time", "release", "s", "{:.5f}"),
+    ("release_position", "release at", "m from pivot", "({0[0]:.4f}, {0[1]:.4f})"),
+    ("release_velocity", "release velocity", "m/s", "({0[0]:.4f}, {0[1]:.4f})"),
+    ("release_speed", "release speed", "m/s", "{:.5f}"),
+    ("launch_angle", "launch angle", "deg", "{:.4f}"),
+    ("range", "range from pivot", "m", "{:.4f}"),
+    ("range_from_release", "range from release", "m", "{:.4f}"),
+    ("apex_height", "apex above base", "m", "{:.4f}"),
+    ("flight_time", "flight time", "s", "{:.4f}"),
+    ("landed_behind_pivot", "landed behind pivot", "", "{}"),
+    ("energy_efficiency", "energy efficiency", "", "{:.2%}"),
+    ("range_efficiency", "range efficiency", "", "{:.2%}"),
+    ("min_sling_tension", "min sling tension", "N (< 0: sling pushed)", "{:.4f}"),
+)
+
+
+def format_shot(shot: Shot, diagnostics: EngineDiagnostics) -> str:
+    """A two-column table of what the shot reached (fields it never reached are left out)."""
+    data = shot.to_json()
+    rows = [("design", data["design"], ""), ("status", data["status"], data["message"])]
+    rows += [(label, fmt.format(data[key]), unit)
+             for key, label, unit, fmt in _FIELDS if data[key] is not None]
+    rows += [("engine", f"dt {diagnostics.dt:g} s, {diagnostics.iterations} iterations",
+              f"{diagnostics.sling} sling"),
+             ("max joint drift", f"{diagnostics.max_joint_drift:.3g}", "m"),
+             ("energy error", f"{diagnostics.energy_error:.3g}", "of the counterweight's available energy")]
+    width = max(len(label) for label, _, _ in rows)
+    return "\n".join(f"{label:<{width}}  {value}  {unit}".rstrip() for label, value, unit in rows)

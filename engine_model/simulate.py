@@ -1,0 +1,390 @@
+"""Simulate one shot in pymunk: fire, slide, swing, release, fly -> (Shot, EngineDiagnostics).
+
+The machine is stepped at a fixed ``dt`` from rest. Events (lift-off, release,
+landing, failures) are watched after every step and located between steps by
+quadratic interpolation (``engine_model.events``). pymunk's velocities run
+half a step ahead of its positions; every quantity reported pairs a position
+with the velocity of the same instant (``engine_model.kinematics.synchronise``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from analytic.design import Design, Machine, initial_angles, release_function, swing_time_limit
+from analytic.result import EnergyBudget, Shot, Stage, Status
+from engine_model import kinematics as kin
+from engine_model.build import DEFAULT_ITERATIONS, EngineError, Rig, build, machine_length
+from engine_model.events import crossing_fraction, interpolate
+from engine_model.flight import fly
+
+#: Default fixed step, s: release speed and range within about 1e-5 of the
+#: analytic model on the paper's design (tests/test_engine_accuracy.py).
+DEFAULT_DT = 1e-4
+#: Stage 1 ends as never_lifts_off once the sling's forward component falls
+#: below this (within about 0.57 deg of vertical): the projectile is being
+#: dragged under the arm tip. The same convention as the analytic model, so
+#: both name such a design the same way.
+SLING_VERTICAL_LIMIT = 1e-2
+#: The projectile (in stage 2) or the long-arm tip (in stage 1) counts as back
+#: on the base once this far below base level, m: far above the round-off
+#: (1e-15 m) they leave it with, far below any real dip.
+BASE_TOLERANCE = 1e-9
+#: Solver iterations of the opening step, which has no previous impulses to start from.
+STARTUP_ITERATIONS = 1000
+#: A run whose joints come apart by more than this fraction of the machine's
+#: largest length is rejected: at 4x the default step the drift is about 1e-5
+#: of it, and above this the reported numbers would be off by more than that.
+DRIFT_LIMIT = 1e-4
+#: A run whose stage 1-2 mechanical energy changes by more than this fraction
+#: of the energy available from the counterweight is rejected as unstable
+#: (a sound run conserves it to 3e-5 at the default step and 5e-4 at 4x it).
+#: With the rope only a gain counts: on the paper's design it loses 9e-4 when
+#: it snaps taut.
+ENERGY_LIMIT = 1e-3
+#: A run whose solver leaves a joint's velocity this far (as a fraction of the
+#: machine's speed scale sqrt(g L), L its largest length) from what removes the
+#: joint's error is rejected as unconverged: sound runs stay below 2e-5 of it
+#: (the paper's design even at 20 iterations); runs that went wrong (a light
+#: arm between the frame and a heavy counterweight, too few iterations) showed
+#: 7e-4 and more, with lift-off times off by a factor of three.
+RESIDUAL_LIMIT = 1e-4
+
+
+@dataclass(frozen=True)
+class EngineDiagnostics:
+    """How well the engine kept to the design's constraints in one run.
+
+    Attributes
+    ----------
+    dt : fixed step, s.
+    iterations : pymunk solver iterations per step.
+    sling : ``"rigid"`` or ``"rope"``.
+    machine_steps, flight_steps : pymunk steps in stages 1-2 and in flight.
+    joint_drift : largest separation of each joint's anchors, m (keys ``pivot``,
+        ``hinge``, ``sling``, ``groove``).
+    max_joint_drift : the largest of those, m.
+    energy_error : largest change of mechanical energy through stages 1-2, as a
+        fraction of the energy the counterweight can give up (it is conserved
+        there; a rope that snaps taut loses some, as a real one would).
+    solver_residual : largest miss of a joint's target velocity, m/s
+        (``engine_model.kinematics.constraint_residuals``).
+    """
+
+    dt: float
+    iterations: int
+    sling: str
+    machine_steps: int
+    flight_steps: int
+    joint_drift: dict[str, float] = field(default_factory=dict)
+    max_joint_drift: float = 0.0
+    energy_error: float = 0.0
+    solver_residual: float = 0.0
+
+
+@dataclass
+class _Run:
+    """What the stepping loop gathers (internal, mutable while it runs)."""
+
+    raw: list = field(default_factory=list)
+    on_base: list = field(default_factory=list)
+    tension: list = field(default_factory=list)
+    normal: list = field(default_factory=list)
+    release_value: list = field(default_factory=list)
+    liftoff_time: float | None = None
+    status: Status | None = None
+    message: str = ""
+    release_fraction: float | None = None
+
+
+_ORIGIN = (0.0, 0.0)
+
+
+def read_state(rig: Rig) -> tuple[float, ...]:
+    """The 18 numbers of a state row (``engine_model.kinematics``) read from the bodies."""
+    a, c, p = rig.arm, rig.counterweight, rig.projectile
+    return (*a.position, a.angle, *a.velocity_at_local_point(_ORIGIN), a.angular_velocity,
+            *c.position, c.angle, *c.velocity, c.angular_velocity,
+            *p.position, p.angle, *p.velocity, p.angular_velocity)
+
+
+def simulate(design: Design, *, dt: float = DEFAULT_DT, iterations: int = DEFAULT_ITERATIONS,
+             sling: str = "rigid") -> tuple[Shot, EngineDiagnostics]:
+    """Simulate a shot of ``design`` in pymunk through all three stages.
+
+    A valid design that fails to throw is not an error: ``Shot.status`` names
+    the failure and ``Shot.message`` explains it.
+
+    Parameters
+    ----------
+    design : a validated ``Design``.
+    dt : fixed step, s.
+    iterations : pymunk solver iterations per step (at least about 20).
+    sling : ``"rigid"`` (PinJoint) or ``"rope"`` (SlideJoint, pulls only).
+
+    Returns
+    -------
+    (shot, diagnostics)
+
+    Raises
+    ------
+    EngineError
+        The design cannot be modelled (a massless arm), or the run cannot be
+        trusted: non-finite values, the solver unconverged (``RESIDUAL_LIMIT``),
+        an energy jump (``ENERGY_LIMIT``) or joints apart (``DRIFT_LIMIT``); use
+        a smaller ``dt`` or more ``iterations``.
+    """
+    if not (math.isfinite(dt) and dt > 0.0):
+        raise ValueError(f"dt = {dt!r}: must be a positive number of seconds")
+    run, rig = _run_machine(design, dt, iterations, sling)
+    raw = np.array(run.raw)
+    on_base = np.array(run.on_base)
+    sync = kin.synchronise(raw)
+    drift = kin.joint_drift(raw, design, sling, on_base)
+    steps = np.full(len(raw), dt)
+    steps[0] = 0.5 * dt
+    residual = kin.constraint_residuals(raw, design, sling, on_base, steps)
+    times = dt * np.arange(len(raw))
+    tension = np.array(run.tension)
+
+    fields: dict = {"liftoff_time": run.liftoff_time}
+    flight_steps = 0
+    if run.release_fraction is not None:
+        s = run.release_fraction
+        release_time = times[-2] + s * dt
+        release_state = interpolate(sync[-3:], s)
+        # A rope's tension jumps when it snaps taut: no parabola through a jump.
+        release_tension = interpolate(tension[-3:] if sling == "rigid" else tension[-2:], s)
+        sync = np.vstack([sync[:-1], release_state])
+        tension = np.append(tension[:-1], release_tension)
+        times = np.append(times[:-1], release_time)
+        position = kin.position(release_state[None, :], kin.PROJECTILE)[0]
+        velocity = kin.velocity(release_state[None, :], kin.PROJECTILE)[0]
+        flight = fly(design, release_time, position, velocity, dt)
+        flight_steps = flight.steps
+        fields.update(release_time=release_time, release_position=position,
+                      release_velocity=velocity, landing_time=flight.landing_time,
+                      landing_position=flight.landing_position,
+                      apex_height=float(flight.path[:, 1].max() + design.machine.pivot_height),
+                      flight_t=flight.t, flight_path=flight.path)
+    fields["min_sling_tension"] = (smallest_sample(tension) if sling == "rigid"
+                                   else float(tension.min()))
+    shot = _assemble(design, run, times, sync, tension, fields)
+    diagnostics = _diagnose(design, dt, iterations, sling, len(raw), flight_steps, drift, residual, shot)
+    return shot, diagnostics
+
+
+def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tuple[_Run, Rig]:
+    """Step stages 1 and 2 until release or a failure; the loop behind ``simulate``."""
+    m = design.machine
+    h, g = m.pivot_height, design.environment.gravity
+    t_limit = swing_time_limit(m, g)
+    run = _Run()
+
+    rig = build(design, sling=sling, iterations=iterations)
+    row = _opening_step(rig, dt, iterations)
+    if not row[kin.ARM + kin.W] < 0.0:
+        run.raw.append(row)
+        run.on_base.append(True)
+        run.tension.append(0.0)
+        run.status = Status.NEVER_FIRES
+        run.message = ("the counterweight cannot lift the arm: at rest the arm does not start "
+                       "to turn clockwise")
+        return run, rig
+    geometry = _row_geometry(row, m)
+    tension, normal = _forces(row, row, geometry, True, design, dt)
+    on_base = True
+    if normal < 0.0:
+        # The sling lifts the projectile at rest: start again without the base.
+        rig = build(design, sling=sling, iterations=iterations, on_base=False)
+        row = _opening_step(rig, dt, iterations)
+        geometry = _row_geometry(row, m)
+        tension, normal = _forces(row, row, geometry, False, design, dt)
+        on_base = False
+        run.liftoff_time = 0.0
+    run.raw.append(row)
+    run.on_base.append(on_base)
+    run.tension.append(tension)
+    run.normal.append(normal)
+    run.release_value.append(_release(row, row, geometry, m)[0])
+
+    step = rig.space.step
+    previous = row
+    k = 0
+    while True:
+        step(dt)
+        k += 1
+        row = read_state(rig)
+        if not math.isfinite(sum(row)):
+            raise EngineError(f"the engine went unstable (non-finite state) at t = {k * dt:.5g} s "
+                              f"with dt = {dt:g} s and {iterations} iterations: use a smaller dt "
+                              f"or more iterations")
+        geometry = _row_geometry(row, m)
+        tension, normal = _forces(previous, row, geometry, on_base, design, dt)
+        value, armed = _release(previous, row, geometry, m)
+        run.raw.append(row)
+        run.on_base.append(on_base)
+        run.tension.append(tension)
+        run.normal.append(normal)
+        run.release_value.append(value)
+        previous = row
+        t = k * dt
+        tip_height, centre_height, sling_forward = geometry[1] + h, row[kin.PROJECTILE + kin.Y] + h, geometry[2]
+
+        if on_base:
+            if normal < 0.0:
+                fraction = crossing_fraction(tuple(run.normal[-3:]))
+                run.liftoff_time = (k - 1 + fraction) * dt
+                rig.space.remove(rig.groove)
+                on_base = False
+            elif sling_forward < SLING_VERTICAL_LIMIT:
+                return _fail(run, rig, Status.NEVER_LIFTS_OFF, "the projectile never lifts off: it was "
+                             "dragged under the arm tip (the sling turned vertical)")
+            elif tip_height < -BASE_TOLERANCE:
+                return _fail(run, rig, Status.NEVER_LIFTS_OFF, "the projectile never lifts off: "
+                             "the arm swung back down to the base")
+            elif t > t_limit:
+                return _fail(run, rig, Status.NEVER_LIFTS_OFF, f"the projectile never lifts off: it "
+                             f"was still on the base after the time limit of {t_limit:.3g} s")
+            continue
+
+        if centre_height < -BASE_TOLERANCE and row[kin.PROJECTILE + kin.VY] < 0.0:
+            return _fail(run, rig, Status.HITS_BASE_BEFORE_RELEASE,
+                         f"the projectile came back down to the base at t = {t:.4f} s before the "
+                         f"release condition was met")
+        values = run.release_value
+        if values[-2] < 0.0 <= values[-1] and armed:
+            run.release_fraction = crossing_fraction(tuple(values[-3:]))
+            return run, rig
+        if t > t_limit:
+            rule = "velocity direction" if m.release_rule == "velocity" else "sling-to-arm angle"
+            return _fail(run, rig, Status.NEVER_RELEASES,
+                         f"the {rule} never reached the release angle of "
+                         f"{math.degrees(m.release_angle):g} deg within the time limit of {t_limit:.3g} s")
+
+
+def _opening_step(rig: Rig, dt: float, iterations: int) -> tuple[float, ...]:
+    """Half a step from rest: the positions stay at t = 0, the velocities reach dt/2 (leapfrog start).
+
+    Later steps start their solver from the previous step's impulses; this one
+    starts from nothing, so it gets ``STARTUP_ITERATIONS`` to converge (with
+    the usual count the sling tension rings by 10 % for a dozen steps).
+    """
+    rig.space.iterations = max(STARTUP_ITERATIONS, iterations)
+    rig.space.step(0.5 * dt)
+    rig.space.iterations = iterations
+    return read_state(rig)
+
+
+def _fail(run: _Run, rig: Rig, status: Status, message: str) -> tuple[_Run, Rig]:
+    run.status, run.message = status, message
+    return run, rig
+
+
+def _row_geometry(row: tuple[float, ...], machine: Machine) -> tuple[float, float, float, float, float]:
+    """Long tip (x, y), sling unit vector (x, y) from tip to projectile, and the sling's length."""
+    theta = row[kin.ARM + kin.ANGLE]
+    tip_x = row[kin.ARM + kin.X] - machine.arm_long * math.sin(theta)
+    tip_y = row[kin.ARM + kin.Y] + machine.arm_long * math.cos(theta)
+    dx, dy = row[kin.PROJECTILE + kin.X] - tip_x, row[kin.PROJECTILE + kin.Y] - tip_y
+    length = math.hypot(dx, dy)
+    return tip_x, tip_y, dx / length, dy / length, length
+
+
+def _forces(before: tuple, row: tuple, geometry: tuple, on_base: bool, design: Design,
+            dt: float) -> tuple[float, float]:
+    """Sling tension and base normal force over the step that produced ``row`` (``kin.contact_forces``)."""
+    p = kin.PROJECTILE
+    if before is row:  # the opening half step: the velocity before it is the mirror image
+        v_before = (-row[p + kin.VX], -row[p + kin.VY])
+    else:
+        v_before = (before[p + kin.VX], before[p + kin.VY])
+    return kin.contact_forces(v_before, (row[p + kin.VX], row[p + kin.VY]), geometry[:2],
+                              (row[p + kin.X], row[p + kin.Y]), on_base, design, dt)
+
+
+def _release(before: tuple, row: tuple, geometry: tuple, machine: Machine) -> tuple[float, bool]:
+    """``analytic.design.release_function`` at the row's instant (mean of the half-step velocities)."""
+    p = kin.PROJECTILE
+    if before is row:
+        velocity = (0.0, 0.0)
+    else:
+        velocity = (0.5 * (before[p + kin.VX] + row[p + kin.VX]), 0.5 * (before[p + kin.VY] + row[p + kin.VY]))
+    theta = row[kin.ARM + kin.ANGLE]
+    return release_function(machine, (-math.sin(theta), math.cos(theta)), geometry[2:4], velocity)
+
+
+def _assemble(design: Design, run: _Run, times: np.ndarray, sync: np.ndarray,
+              tension: np.ndarray, fields: dict) -> Shot:
+    """The ``Shot`` from the synchronised rows (the release instant, if any, is the last row)."""
+    q, qdot = kin.coordinates(sync, design, initial_angles(design.machine))
+    machine_energy, projectile_energy = kin.energy_budget(sync, design)
+    energy = EnergyBudget(projectile=projectile_energy, machine=machine_energy,
+                          total=machine_energy + projectile_energy)
+    lifted = run.liftoff_time is not None
+    stage = np.where(lifted & (times >= (run.liftoff_time if lifted else 0.0)), Stage.SWING, Stage.SLIDE)
+    status = run.status or Status.OK
+    message = run.message
+    released = None
+    if status is Status.OK:
+        message = "thrown"
+        if fields["landing_position"][0] < 0.0:
+            message = "thrown, but the projectile landed behind the pivot"
+        potential = kin.potential_energies(sync[[0, -1]], design)[0]
+        released = float(potential[0] - potential[1])
+    return Shot(design, status, message, t=times, stage=stage.astype(int), q=q, qdot=qdot,
+                path=kin.position(sync, kin.PROJECTILE).copy(), sling_tension=tension, energy=energy,
+                counterweight_energy_released=released,
+                **fields)
+
+
+def smallest_sample(values: np.ndarray) -> float:
+    """The minimum of a sampled smooth curve: the vertex of the parabola through the
+    smallest sample and its neighbours (the last sample, off the regular grid, is taken as is).
+
+    A sharp dip falls between samples: the rigid sling's tension dip before
+    release is about a millisecond wide, and the smallest sample alone misses
+    its bottom by up to 1e-3 of it at the default step; the vertex, by about
+    1e-6. Only for smooth curves: a rope's tension jumps when it snaps taut.
+    """
+    i = int(np.argmin(values))
+    if not 0 < i < len(values) - 2:
+        return float(values[i])
+    before, at, after = values[i - 1], values[i], values[i + 1]
+    curvature = before - 2.0 * at + after
+    if curvature <= 0.0:
+        return float(at)
+    return float(at - (after - before) ** 2 / (8.0 * curvature))
+
+
+def _diagnose(design: Design, dt: float, iterations: int, sling: str, machine_steps: int,
+              flight_steps: int, drift: dict[str, np.ndarray], residual: dict[str, np.ndarray],
+              shot: Shot) -> EngineDiagnostics:
+    """Summarise drift, solver residual and energy; raise ``EngineError`` if any shows a run gone wrong."""
+    advice = f"with dt = {dt:g} s and {iterations} iterations: use a smaller dt or more iterations"
+    largest_miss = {name: float(values.max()) for name, values in residual.items()}
+    worst_miss = max(largest_miss, key=largest_miss.get)
+    speed_limit = RESIDUAL_LIMIT * math.sqrt(design.environment.gravity * machine_length(design))
+    if not largest_miss[worst_miss] <= speed_limit:
+        raise EngineError(f"the solver did not converge: the {worst_miss} joint missed its target "
+                          f"velocity by {largest_miss[worst_miss]:.3g} m/s (limit {speed_limit:.3g} m/s) "
+                          f"{advice} (a light arm under a heavy counterweight needs many iterations)")
+    # A rope that snaps taut loses energy, as a real one would; it must never gain any.
+    change = shot.energy.total / kin.available_energy(design)
+    energy_error = float(np.abs(change).max())
+    if not (energy_error if sling == "rigid" else float(change.max())) <= ENERGY_LIMIT:
+        raise EngineError(f"the engine went unstable: the machine's energy changed by "
+                          f"{energy_error:.3g} of the counterweight's available energy {advice}")
+    largest = {name: float(values.max()) for name, values in drift.items()}
+    worst = max(largest, key=largest.get)
+    limit = DRIFT_LIMIT * machine_length(design)
+    if not largest[worst] <= limit:
+        raise EngineError(f"the {worst} joint came apart by {largest[worst]:.3g} m (limit {limit:.3g} m) "
+                          f"{advice}")
+    return EngineDiagnostics(dt=dt, iterations=iterations, sling=sling, machine_steps=machine_steps,
+                             flight_steps=flight_steps, joint_drift=largest,
+                             max_joint_drift=largest[worst], energy_error=energy_error,
+                             solver_residual=largest_miss[worst_miss])

@@ -1,0 +1,70 @@
+"""``python -m engine_model``: exit codes, JSON keys, messages, and the render command."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from analytic.design import default_design, save_design
+from analytic.result import JSON_KEYS
+from conftest import with_machine
+from engine_model.cli import EXIT_ENGINE_ERROR, EXIT_INVALID, EXIT_NO_THROW, EXIT_OK, main
+
+
+def test_simulate_json_has_the_shared_keys_and_the_drift(capsys):
+    assert main(["simulate", "--json"]) == EXIT_OK
+    data = json.loads(capsys.readouterr().out)
+    assert list(data) == list(JSON_KEYS) + ["max_joint_drift"]
+    assert data["status"] == "ok" and data["design"] == "paper-table3"
+    assert 0.0 < data["max_joint_drift"] < 1e-4
+    assert data["launch_angle"] == pytest.approx(43.4)  # the velocity rule's release angle, degrees
+
+
+def test_simulate_table_names_the_outcome(capsys, tmp_path):
+    path = tmp_path / "coarse.toml"
+    save_design(default_design(), path)
+    assert main(["simulate", str(path), "--dt", "2e-4", "--sling", "rope"]) == EXIT_OK
+    out = capsys.readouterr().out
+    assert "status" in out and "ok" in out and "range from pivot" in out and "rope sling" in out
+
+
+def test_an_invalid_design_exits_2_with_the_field_named(capsys, tmp_path):
+    path = tmp_path / "bad.toml"
+    save_design(default_design(), path)
+    path.write_text(path.read_text().replace("sling_length = 0.61", "sling_length = -0.61"))
+    assert main(["simulate", str(path)]) == EXIT_INVALID
+    assert "sling_length" in capsys.readouterr().err
+
+
+def test_a_failed_throw_exits_3(capsys, tmp_path):
+    path = tmp_path / "weak.toml"
+    save_design(with_machine(default_design(), counterweight_mass=0.2), path)  # cannot lift the arm
+    assert main(["simulate", str(path), "--json"]) == EXIT_NO_THROW
+    assert json.loads(capsys.readouterr().out)["status"] == "never_fires"
+
+
+def test_a_design_the_engine_cannot_model_exits_1(capsys, tmp_path):
+    path = tmp_path / "lever.toml"
+    save_design(with_machine(default_design(), arm_inertia=0.0, arm_cg=0.0), path)
+    assert main(["simulate", str(path)]) == EXIT_ENGINE_ERROR
+    assert "massless lever" in capsys.readouterr().err
+
+
+def test_render_writes_frames_and_a_gif(capsys, tmp_path):
+    out = tmp_path / "frames"
+    assert main(["render", "--out", str(out), "--fps", "1", "--dt", "4e-4", "--gif", "--quiet"]) == EXIT_OK
+    frames = sorted(out.glob("frame_*.png"))
+    assert len(frames) == 5  # t = 0, 1, 2, 3 s and the landing at 3.64 s
+    assert (out / "shot.gif").stat().st_size > 0
+    assert f"{len(frames)} frames" in capsys.readouterr().out
+
+
+def test_module_entry_point_runs():
+    done = subprocess.run([sys.executable, "-m", "engine_model", "simulate", "--dt", "4e-4"],
+                          capture_output=True, text=True, cwd=Path(__file__).resolve().parents[1])
+    assert done.returncode == EXIT_OK, done.stderr
+    assert "paper-table3" in done.stdout

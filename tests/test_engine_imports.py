@@ -1,0 +1,68 @@
+"""engine_model may use analytic's design contract and nothing of its model, so the cross-check stays honest.
+
+Allowed: ``analytic.design`` (the design description), ``analytic.aero`` (drag
+tables, which the design needs) and ``analytic.result`` (the shared result
+types). Everything else of ``analytic`` (equations, simulator, integrator) is
+what the engine is checked against, and must not leak in.
+"""
+
+from __future__ import annotations
+
+import ast
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ALLOWED = {"analytic", "analytic.design", "analytic.aero", "analytic.result"}
+PACKAGE = Path(__file__).resolve().parents[1] / "engine_model"
+MODULES = sorted(p.stem for p in PACKAGE.glob("*.py") if p.stem != "__main__")
+
+
+def test_every_module_is_scanned():
+    # The package's own layout (STYLE.md): guard against the glob silently matching nothing.
+    assert {"build", "simulate", "render", "cli"} <= set(MODULES)
+
+
+def test_importing_every_module_loads_no_other_analytic_module():
+    names = ", ".join(f"engine_model.{name}" for name in MODULES)
+    code = (f"import json, sys, importlib\n"
+            f"for name in {[f'engine_model.{m}' for m in MODULES]!r}: importlib.import_module(name)\n"
+            f"print(json.dumps(sorted(m for m in sys.modules if m.split('.')[0] == 'analytic')))")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          cwd=PACKAGE.parent, check=True)
+    loaded = set(json.loads(done.stdout))
+    assert loaded <= ALLOWED, f"importing {names} loaded {sorted(loaded - ALLOWED)}"
+
+
+def _analytic_references(path: Path) -> list[tuple[int, str]]:
+    """Every import of an analytic module in a file, and every string naming one (importlib)."""
+    found = []
+    for node in ast.walk(ast.parse(path.read_text(), filename=str(path))):
+        if isinstance(node, ast.Import):
+            found += [(node.lineno, alias.name) for alias in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.module:
+            found.append((node.lineno, node.module))
+            if node.module == "analytic":
+                found += [(node.lineno, f"analytic.{alias.name}") for alias in node.names]
+        elif isinstance(node, ast.Constant) and isinstance(node.value, str) and node.value.startswith("analytic."):
+            found.append((node.lineno, node.value))
+    return [(line, name) for line, name in found if name.split(".")[0] == "analytic"]
+
+
+@pytest.mark.parametrize("module", MODULES)
+def test_source_imports_only_the_allowed_analytic_modules(module):
+    # Also catches imports inside functions, which the subprocess check would only see when run.
+    path = PACKAGE / f"{module}.py"
+    bad = [(line, name) for line, name in _analytic_references(path)
+           if ".".join(name.split(".")[:2]) not in ALLOWED]
+    assert not bad, f"{path.name} reaches into analytic beyond {sorted(ALLOWED)}: {bad}"
+
+
+def test_the_scan_sees_a_forbidden_import(tmp_path):
+    # The guard must be able to fail: a lazy import of the analytic simulator is flagged.
+    sample = tmp_path / "sample.py"
+    sample.write_text("def f():\n    from analytic.simulate import simulate\n    from analytic import eom\n")
+    assert [name for _, name in _analytic_references(sample)] == ["analytic.simulate", "analytic", "analytic.eom"]

@@ -1,0 +1,191 @@
+"""The engine's physics: conservation, joint drift, contact forces, failures, and the rope sling."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from analytic.design import BeamArm, Design, Machine, Projectile, default_design, paper_geometry
+from analytic.result import Stage, Status
+from analytic.simulate import simulate as analytic_simulate
+from conftest import with_machine, with_projectile
+from engine_model import kinematics as kin
+from engine_model.build import build
+from engine_model.simulate import DEFAULT_DT, read_state, simulate
+
+#: The brief's conservation requirement: stage 1-2 energy to 1e-4 of the energy
+#: the counterweight releases (a sound leapfrog run at 1e-4 s keeps 3.5e-5).
+ENERGY_TOLERANCE = 1e-4
+#: How closely the measured joint separation must equal the one-step chord error
+#: predicted from the analytic motion (the prediction neglects O(dt^3) terms).
+CHORD_TOLERANCE = 1e-2
+
+
+@pytest.fixture(scope="module")
+def vacuum() -> Design:
+    return with_projectile(default_design(), drag="none")
+
+
+@pytest.fixture(scope="module")
+def engine(vacuum):
+    return simulate(vacuum)
+
+
+@pytest.fixture(scope="module")
+def analytic(vacuum):
+    return analytic_simulate(vacuum)
+
+
+def test_energy_is_conserved_through_stages_1_and_2(engine):
+    shot, _ = engine
+    assert shot.ok and shot.energy.total.shape == shot.t.shape
+    assert np.abs(shot.energy.total).max() < ENERGY_TOLERANCE * shot.counterweight_energy_released
+    # The budget adds up and the projectile got its share by release.
+    assert shot.energy.total == pytest.approx(shot.energy.machine + shot.energy.projectile)
+    assert shot.energy.projectile[-1] > 0.5 * shot.counterweight_energy_released
+
+
+def test_joint_drift_is_only_the_one_step_chord_error(engine, analytic):
+    # pymunk moves each body's centre in a straight line and turns it about that
+    # centre; a joint whose anchors then travel on arcs opens by the chord error,
+    # and the next step (error_bias = 0) closes it again, so nothing accumulates.
+    # Predicted from the analytic model's motion for a step dt:
+    #   pivot: dt^2/2 theta'^2 |arm_cg|  (the pivot is off the arm's centre)
+    #   hinge: dt^2/2 |theta'^2 r_arm - (theta'+phi')^2 r_link|  (arm centre and
+    #          counterweight centre to the hinge)
+    #   sling: dt^2 v_rel^2 / (2 L_s) + dt^2/2 theta'^2 (r_tip . e_sling)
+    _, diagnostics = engine
+    m, dt = analytic.design.machine, DEFAULT_DT
+    theta, phi, psi = analytic.q.T
+    arm_rate, link_rate, sling_rate = analytic.qdot[:, 0], analytic.qdot[:, 0] + analytic.qdot[:, 1], \
+        analytic.qdot[:, 0] + analytic.qdot[:, 2]
+    along = np.column_stack([-np.sin(theta), np.cos(theta)])
+    centre, short, tip = m.arm_cg * along, -m.arm_short * along, m.arm_long * along
+    link = m.counterweight_link * np.column_stack([np.sin(theta + phi), -np.cos(theta + phi)])
+    sling = np.column_stack([-np.sin(theta + psi), np.cos(theta + psi)])
+    predicted = {
+        "pivot": 0.5 * dt**2 * arm_rate**2 * abs(m.arm_cg),
+        "hinge": 0.5 * dt**2 * np.hypot(*(arm_rate[:, None]**2 * (short - centre)
+                                          + link_rate[:, None]**2 * link).T),
+        "sling": dt**2 * (m.sling_length * sling_rate)**2 / (2 * m.sling_length)
+        + 0.5 * dt**2 * arm_rate**2 * np.sum((tip - centre) * sling, axis=1),
+    }
+    for joint, chord in predicted.items():
+        assert diagnostics.joint_drift[joint] == pytest.approx(chord.max(), rel=CHORD_TOLERANCE), joint
+    assert diagnostics.joint_drift["groove"] < 1e-12  # a straight groove has no chord error
+
+
+@pytest.mark.xfail(strict=True, reason="not met: at the default step pymunk's one-step chord error "
+                   "(test above) is 1.7e-6 m in the hinge and 3.4e-6 m in the sling at release; "
+                   "it falls below 1e-6 m only at dt = 5e-5 s")
+def test_joint_drift_below_a_micrometre_at_the_default_step(engine):
+    assert engine[1].max_joint_drift < 1e-6
+
+
+def test_the_base_carries_the_weight_at_rest(vacuum):
+    # At rest the sling lies along the base, so it pulls horizontally: the base's
+    # push equals the projectile's weight, and the pull is the sling's tension.
+    rig = build(vacuum)
+    rig.space.iterations = 1000
+    rig.space.step(0.5 * DEFAULT_DT)
+    row = read_state(rig)
+    p = kin.PROJECTILE
+    tip = rig.arm.local_to_world((0.0, vacuum.machine.arm_long))
+    tension, normal = kin.contact_forces((-row[p + kin.VX], -row[p + kin.VY]), (row[p + kin.VX], row[p + kin.VY]),
+                                         tip, (row[p + kin.X], row[p + kin.Y]), True, vacuum, DEFAULT_DT)
+    # 1000 solver iterations from a cold start leave about 1e-8 of the forces unconverged.
+    assert normal == pytest.approx(vacuum.projectile.mass * vacuum.environment.gravity, rel=1e-7)
+    assert tension == pytest.approx(rig.sling.impulse / (0.5 * DEFAULT_DT), rel=1e-7)
+
+
+def test_sling_tension_recovered_from_momentum_matches_pymunk_and_the_analytic_model(engine, analytic):
+    shot, _ = engine
+    # pymunk reports only |impulse|; the sign comes from the projectile's momentum.
+    rig = build(shot.design)
+    rig.space.step(0.5 * DEFAULT_DT)
+    for _ in range(1000):  # 0.1 s, still sliding (lift-off at 0.148 s)
+        before = read_state(rig)
+        rig.space.step(DEFAULT_DT)
+    after = read_state(rig)
+    p = kin.PROJECTILE
+    tip = rig.arm.local_to_world((0.0, shot.design.machine.arm_long))
+    tension, _ = kin.contact_forces((before[p + kin.VX], before[p + kin.VY]), (after[p + kin.VX], after[p + kin.VY]),
+                                    tip, (after[p + kin.X], after[p + kin.Y]), True, shot.design, DEFAULT_DT)
+    assert abs(tension) == pytest.approx(rig.sling.impulse / DEFAULT_DT, rel=1e-6)
+    # Against the analytic tension history (signed): within 1e-4 of its largest value.
+    engine_tension = np.interp(analytic.t, shot.t, shot.sling_tension)
+    scale = np.abs(analytic.sling_tension).max()
+    assert np.abs(engine_tension - analytic.sling_tension).max() < 1e-3 * scale
+    assert shot.min_sling_tension < 0.0  # the rigid sling pushes before release (analytic: -3.99 N)
+
+
+def test_coordinates_follow_the_analytic_model(engine, analytic):
+    shot, _ = engine
+    q = np.column_stack([np.interp(analytic.t, shot.t, shot.q[:, i]) for i in range(3)])
+    assert np.abs(q - analytic.q).max() < 1e-4  # rad
+    assert shot.stage[0] == Stage.SLIDE and shot.stage[-1] == Stage.SWING
+    assert shot.t[shot.stage == Stage.SWING][0] >= shot.liftoff_time
+
+
+# Failures: designs in the paper's variables with a pine-beam arm (the default's
+# beam), 6.5 kg counterweight, no drag, found by a seeded random scan of the
+# paper's Table II bounds with the analytic model; never_fires is the lead's
+# statics case (0.2 kg * 0.2405 m < 0.306 kg * 0.230 m).
+def _beam_machine(arm_short, link, clearance, sling, start_deg, release_deg, rule, projectile_mass) -> Design:
+    h, arm_long = paper_geometry(arm_short, link, clearance, math.radians(start_deg))
+    mass, cg, inertia = BeamArm(0.019, 0.038, 450.0).properties(arm_long, arm_short)
+    machine = Machine(h, arm_long, arm_short, mass, cg, inertia, 6.5, link, 0.009345, sling,
+                      math.radians(release_deg), rule)
+    return Design(machine, Projectile(projectile_mass, 0.04, "none"), name="failure-case")
+
+
+FAILURES = {
+    "never_fires": (lambda: with_machine(default_design(), counterweight_mass=0.2),
+                    Status.NEVER_FIRES, "cannot lift the arm"),
+    "never_lifts_off": (lambda: _beam_machine(0.0565, 0.3376, 0.1727, 0.0314, 46.04, 163.52, "sling", 1.8704),
+                        Status.NEVER_LIFTS_OFF, "never lifts off"),
+    "hits_base_before_release": (lambda: _beam_machine(0.1347, 0.3107, 0.4358, 0.1606, 66.42, 169.62, "sling", 0.5975),
+                                 Status.HITS_BASE_BEFORE_RELEASE, "came back down to the base"),
+    "never_releases": (lambda: _beam_machine(0.0845, 0.2869, 0.3019, 0.095, 40.89, 168.55, "sling", 0.0217),
+                       Status.NEVER_RELEASES, "never reached the release angle"),
+}
+
+
+@pytest.mark.parametrize("case", list(FAILURES))
+def test_failures_are_named_as_the_analytic_model_names_them(case):
+    make, expected, phrase = FAILURES[case]
+    design = make()
+    assert analytic_simulate(design).status is expected  # the reference classification
+    shot, _ = simulate(design)
+    assert shot.status is expected, shot.message
+    assert phrase in shot.message
+    assert shot.release_time is None and shot.range is None and shot.to_json()["range"] is None
+    assert len(shot.t) >= 1 and np.all(np.isfinite(shot.q))
+
+
+def test_a_throw_behind_the_pivot_is_a_flagged_result():
+    # The lead's case: the sling let go 170 deg ahead of the arm flings the projectile backwards.
+    design = with_machine(default_design(), release_rule="sling", release_angle=math.radians(170.0))
+    shot, _ = simulate(design)
+    assert shot.ok and shot.range < 0.0 and shot.landed_behind_pivot
+    assert "behind the pivot" in shot.message
+
+
+def test_the_rope_never_pushes_and_never_gains_energy(vacuum, engine):
+    rigid, _ = engine
+    rope, diagnostics = simulate(vacuum, sling="rope")
+    assert rope.ok and diagnostics.sling == "rope"
+    assert rope.min_sling_tension > -1e-9  # round-off only
+    assert rope.energy.total.max() < 1e-6 * rope.counterweight_energy_released
+    # The same motion as the rigid sling until the rigid sling first pushes; the
+    # rope then goes slack. (Not to round-off: pymunk's rope acts only once it is
+    # stretched, so in the first step from rest, exactly at its length, it does
+    # not pull; the projectile lags by 1.4e-7 m for that step.)
+    first_push = rigid.t[np.argmax(rigid.sling_tension < 0.0)]
+    before = rigid.t < first_push - 1e-3
+    rope_path = np.column_stack([np.interp(rigid.t[before], rope.t, rope.path[:, i]) for i in range(2)])
+    assert np.abs(rope_path - rigid.path[before]).max() < 1e-6
+    slack = (rope.t > first_push) & (rope.t < rope.release_time)
+    assert np.any(np.abs(rope.sling_tension[slack]) < 1e-9)  # slack: no pull but round-off
