@@ -13,17 +13,14 @@ from analytic.result import Shot
 from analytic.simulate import simulate as analytic_simulate
 from crosscheck import tolerances as tol
 from crosscheck.cases import Case
+from engine_model.simulate import DEFAULT_DT, EngineError
+from engine_model.simulate import simulate as simulate_engine
 
-#: The engine's default fixed step, s (engine_model.simulate.DEFAULT_DT).
-DEFAULT_DT = 1e-4
 
 
-def engine_simulate(design: Design, dt: float) -> tuple[Shot, float]:
-    """The pymunk model's shot and its largest joint drift (m)."""
-    from engine_model.simulate import simulate
-
-    shot, diagnostics = simulate(design, dt=dt)
-    return shot, diagnostics.max_joint_drift
+def engine_simulate(design: Design, dt: float):
+    """The pymunk model's ``(shot, EngineDiagnostics)``."""
+    return simulate_engine(design, dt=dt)
 
 
 @dataclass(frozen=True)
@@ -50,6 +47,8 @@ class Comparison:
     rows: tuple[Row, ...]
     max_joint_drift: float | None = None
     error: str | None = None
+    engine_dt: float | None = None
+    engine_energy_error: float | None = None
 
     @property
     def agree(self) -> bool:
@@ -59,6 +58,7 @@ class Comparison:
         return {"case": self.case, "group": self.group, "agree": self.agree,
                 "analytic_status": self.analytic_status, "engine_status": self.engine_status,
                 "max_joint_drift": self.max_joint_drift, "error": self.error,
+                "engine_dt": self.engine_dt, "engine_energy_error": self.engine_energy_error,
                 "rows": [row.__dict__ for row in self.rows]}
 
 
@@ -92,18 +92,33 @@ def compare_shots(a: Shot, e: Shot) -> tuple[Row, ...]:
     return tuple(rows)
 
 
-def compare(case: Case, dt: float = DEFAULT_DT,
-            engine: Callable[[Design, float], tuple[Shot, float]] = engine_simulate) -> Comparison:
-    """Simulate ``case`` in both models and compare. An engine that cannot be
-    trusted (``EngineError``: unstable, joints apart) is reported as a
-    disagreement, with its message."""
+def compare(case: Case, dt: float = DEFAULT_DT, engine: Callable = engine_simulate) -> Comparison:
+    """Simulate ``case`` in both models and compare.
+
+    The engine runs at ``dt``; where its own diagnostics say the run is not
+    accurate enough (energy error above ``ENGINE_ENERGY_TRUST``, or an
+    ``EngineError``: unstable, joints apart), the step is halved, at most
+    ``MAX_STEP_HALVINGS`` times, and the step used is reported. An engine that
+    still cannot be trusted is a disagreement, with its message.
+    """
     a = analytic_simulate(case.design)
-    try:
-        e, drift = engine(case.design, dt)
-    except RuntimeError as error:
-        return Comparison(case.name, case.group, a.status.value, "error", (), None,
-                          f"{type(error).__name__}: {error}")
-    return Comparison(case.name, case.group, a.status.value, e.status.value, compare_shots(a, e), float(drift))
+    step = dt
+    for halvings in range(tol.MAX_STEP_HALVINGS + 1):
+        last = halvings == tol.MAX_STEP_HALVINGS
+        try:
+            e, diagnostics = engine(case.design, step)
+        except EngineError as error:
+            if last:
+                return Comparison(case.name, case.group, a.status.value, "error", (), None,
+                                  f"{type(error).__name__}: {error}", engine_dt=step)
+            step /= 2.0
+            continue
+        if diagnostics.energy_error <= tol.ENGINE_ENERGY_TRUST or last:
+            break
+        step /= 2.0
+    return Comparison(case.name, case.group, a.status.value, e.status.value, compare_shots(a, e),
+                      float(diagnostics.max_joint_drift), engine_dt=step,
+                      engine_energy_error=float(diagnostics.energy_error))
 
 
 @dataclass(frozen=True)
@@ -131,7 +146,7 @@ class StepStudy:
 
 
 def step_study(design: Design, dts: tuple[float, ...] = (4e-4, 2e-4, 1e-4, 5e-5),
-               engine: Callable[[Design, float], tuple[Shot, float]] = engine_simulate) -> StepStudy:
+               engine: Callable = engine_simulate) -> StepStudy:
     """Measure the engine's convergence order against the analytic reference."""
     reference = analytic_simulate(design)
     speed, rng = [], []

@@ -70,6 +70,10 @@ def format_summary(comparisons: list[Comparison], study: StepStudy | None) -> st
         shown, unit = _display(w["difference"], w["unit"])
         lines.append(f"  {quantity:<14} {shown:>12} {unit:<4} rel {w['relative']:.2e}  "
                      f"{w['fraction_of_tolerance']:.3f} of tolerance  ({w['case']})")
+    steps = sorted({c.engine_dt for c in comparisons if c.engine_dt is not None})
+    if len(steps) > 1:
+        refined = [f"{c.case} ({c.engine_dt:.3g} s)" for c in comparisons if c.engine_dt not in (None, steps[-1])]
+        lines.append(f"engine step halved where its energy error was above the trust limit: {', '.join(refined)}")
     drifts = [c.max_joint_drift for c in comparisons if c.max_joint_drift is not None]
     if drifts:
         lines.append(f"largest engine joint drift: {max(drifts):.3g} m")

@@ -6,7 +6,7 @@ import math
 
 import pytest
 
-from analytic.design import (BeamArm, DesignError, Machine, design_from_dict, default_design,
+from analytic.design import (BeamArm, DesignError, design_from_dict, default_design,
                              design_to_dict, dumps_design, initial_angles, load_design,
                              paper_geometry, save_design, sling_arm_angle)
 

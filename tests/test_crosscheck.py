@@ -11,15 +11,15 @@ import pytest
 
 from analytic.design import save_design
 from crosscheck import tolerances
-from crosscheck.cases import exercise_cases, paper_cases, sample_cases
+from crosscheck.cases import exercise_cases, failure_cases, paper_cases, sample_cases
 from crosscheck.cli import EXIT_AGREE, main
 from crosscheck.compare import compare, engine_simulate, step_study
 
-FAST = {"table3", "sling-rule", "constant-drag", "fails-never-fires"}
+FAST = {"table3", "sling-rule", "constant-drag", "fails-never_fires", "fails-never_lifts_off"}
 
 
 def _fast_cases():
-    return [c for c in paper_cases() + exercise_cases() if c.name in FAST]
+    return [c for c in paper_cases() + exercise_cases() + failure_cases() if c.name in FAST]
 
 
 @pytest.mark.parametrize("case", _fast_cases(), ids=lambda c: c.name)
