@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
-from scipy.integrate import DOP853
+from scipy.integrate import DOP853, OdeSolution
 from scipy.optimize import brentq
 
 
@@ -55,6 +55,8 @@ class Segment:
     event : name of the terminal event that ended it, or None if ``t_end`` was reached.
     t_end, y_end : (m,) where it ended.
     roots : name -> list of (t, y) for non-terminal events that were counted.
+    solution : the continuous solution on [t[0], t_end] (``OdeSolution``; None
+        for a segment of zero length).
     """
 
     t: np.ndarray
@@ -63,6 +65,7 @@ class Segment:
     t_end: float
     y_end: np.ndarray
     roots: dict[str, list[tuple[float, np.ndarray]]]
+    solution: OdeSolution | None = None
 
 
 #: Event roots are located to this absolute time tolerance, s.
@@ -88,6 +91,7 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
     times, states = [t0], [solver.y.copy()]
     next_output = t0 + output_step
     roots: dict[str, list[tuple[float, np.ndarray]]] = {e.name: [] for e in events if not e.terminal}
+    step_ends, interpolants = [t0], []
 
     while solver.status == "running":
         message = solver.step()
@@ -96,6 +100,8 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
         if not np.all(np.isfinite(solver.y)):
             raise IntegrationError(f"non-finite state at t = {solver.t:.6g} s")
         dense = solver.dense_output()
+        step_ends.append(solver.t)
+        interpolants.append(dense)
         current = [event.value(solver.t, solver.y) for event in events]
 
         hit: tuple[float, Event] | None = None
@@ -123,12 +129,14 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
             states.append(y_hit)
             for name in roots:
                 roots[name] = [(t, y) for t, y in roots[name] if t <= t_hit]
-            return Segment(np.array(times), np.array(states), event.name, t_hit, y_hit, roots)
+            return Segment(np.array(times), np.array(states), event.name, t_hit, y_hit, roots,
+                           OdeSolution(step_ends, interpolants))
 
     if times[-1] < solver.t:
         times.append(solver.t)
         states.append(solver.y.copy())
-    return Segment(np.array(times), np.array(states), None, solver.t, solver.y.copy(), roots)
+    solution = OdeSolution(step_ends, interpolants) if interpolants else None
+    return Segment(np.array(times), np.array(states), None, solver.t, solver.y.copy(), roots, solution)
 
 
 def _crossings(event: Event, before: float, after: float, dense, t_old: float, t_new: float):

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from scipy.optimize import minimize_scalar
 
 from analytic import aero
 from analytic.design import Design, initial_angles, release_function, swing_time_limit
@@ -59,11 +60,12 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
     else:  # the sling already pulls harder than the projectile's weight
         slide = Segment(np.zeros(1), y1[None, :], "liftoff", 0.0, y1, {})
     history = [_slide_history(slide, p)]
+    segments = [(Stage.SLIDE, slide)]
     if slide.event != "liftoff":
         reason = {"under_tip": "it was dragged under the arm tip (the sling turned vertical)",
                   "arm_back": "the arm swung back down to the base",
                   None: f"it was still on the base after the time limit of {t_limit:.3g} s"}[slide.event]
-        return _finish(design, p, history, Status.NEVER_LIFTS_OFF,
+        return _finish(design, p, history, segments, Status.NEVER_LIFTS_OFF,
                        f"the projectile never lifts off: {reason}")
 
     # Stage 2: free swing until release.
@@ -73,13 +75,14 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
                       t_limit, _swing_events(design, p), rtol=rtol, atol=atol,
                       output_step=SWING_OUTPUT_STEP)
     history.append(_swing_history(swing, p))
+    segments.append((Stage.SWING, swing))
     if swing.event == "hits_base":
-        return _finish(design, p, history, Status.HITS_BASE_BEFORE_RELEASE,
+        return _finish(design, p, history, segments, Status.HITS_BASE_BEFORE_RELEASE,
                        f"the projectile came back down to the base at t = {swing.t_end:.4f} s "
                        f"before the release condition was met", liftoff_time=liftoff_time)
     if swing.event is None:
         rule = "velocity direction" if machine.release_rule == "velocity" else "sling-to-arm angle"
-        return _finish(design, p, history, Status.NEVER_RELEASES,
+        return _finish(design, p, history, segments, Status.NEVER_RELEASES,
                        f"the {rule} never reached the release angle of "
                        f"{math.degrees(machine.release_angle):g} deg within the time limit "
                        f"of {t_limit:.3g} s", liftoff_time=liftoff_time)
@@ -93,7 +96,7 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
     message = "thrown"
     if landing[0] < 0.0:
         message = "thrown, but the projectile landed behind the pivot"
-    return _finish(design, p, history, Status.OK, message, liftoff_time=liftoff_time,
+    return _finish(design, p, history, segments, Status.OK, message, liftoff_time=liftoff_time,
                    release_time=release_time, release_position=position, release_velocity=velocity,
                    landing_time=flight.t_end, landing_position=landing, apex_height=apex + p.h,
                    flight_t=flight.t, flight_path=flight.y[:, :2])
@@ -174,27 +177,48 @@ def _fly(design: Design, t0: float, position: np.ndarray, velocity: np.ndarray,
 # --------------------------------------------------------------------------- #
 
 def _slide_history(segment: Segment, p: Params):
-    rows = []
-    for t, y in zip(segment.t, segment.y):
-        q, qdot = slide_full_state(y, p)
-        kin = slide_kinematics(y[0], y[2], p)
-        ddtheta, ddphi, normal = slide_accelerations(y[0], y[1], y[2], y[3], p)
-        ddq = (ddtheta, ddphi, kin.s * ddtheta + kin.c)
-        rows.append((t, Stage.SLIDE, q, qdot, sling_tension(q, qdot, ddq, normal, p)))
-    return rows
+    return [(t, Stage.SLIDE, *slide_full_state(y, p), _tension(Stage.SLIDE, y, p))
+            for t, y in zip(segment.t, segment.y)]
 
 
 def _swing_history(segment: Segment, p: Params):
-    rows = []
     # The first sample is the lift-off instant, already the slide's last sample.
-    for t, y in zip(segment.t[1:], segment.y[1:]):
-        q, qdot = y[:3], y[3:]
-        rows.append((t, Stage.SWING, q, qdot,
-                     sling_tension(q, qdot, swing_accelerations(q, qdot, p), 0.0, p)))
-    return rows
+    return [(t, Stage.SWING, y[:3], y[3:], _tension(Stage.SWING, y, p))
+            for t, y in zip(segment.t[1:], segment.y[1:])]
 
 
-def _finish(design: Design, p: Params, history, status: Status, message: str, **fields) -> Shot:
+def _tension(stage: Stage, y: np.ndarray, p: Params) -> float:
+    """Sling tension at a stage-1 or stage-2 state (eq. 5.2), N."""
+    if stage is Stage.SLIDE:
+        q, qdot = slide_full_state(y, p)
+        kin = slide_kinematics(y[0], y[2], p)
+        ddtheta, ddphi, normal = slide_accelerations(y[0], y[1], y[2], y[3], p)
+        return sling_tension(q, qdot, (ddtheta, ddphi, kin.s * ddtheta + kin.c), normal, p)
+    q, qdot = y[:3], y[3:]
+    return sling_tension(q, qdot, swing_accelerations(q, qdot, p), 0.0, p)
+
+
+def _smallest_tension(t: np.ndarray, stage: np.ndarray, tension: np.ndarray, segments, p: Params) -> float:
+    """The minimum of the sling tension, refined between the output samples.
+
+    The samples are ``SWING_OUTPUT_STEP`` apart while a push of the sling can
+    last about a millisecond, so the sampled minimum is refined by a bounded
+    scalar minimisation on the integrator's continuous solution around it.
+    """
+    i = int(np.argmin(tension))
+    stage_i = Stage(stage[i])
+    solution = dict(segments)[stage_i].solution
+    same = np.flatnonzero(stage == stage_i)
+    low, high = t[max(i - 1, same[0])], t[min(i + 1, same[-1])]
+    if solution is None or high <= low:
+        return float(tension[i])
+    low, high = max(low, solution.t_min), min(high, solution.t_max)
+    best = minimize_scalar(lambda s: _tension(stage_i, solution(s), p), bounds=(low, high),
+                           method="bounded", options={"xatol": 1e-9})
+    return float(min(best.fun, tension[i]))
+
+
+def _finish(design: Design, p: Params, history, segments, status: Status, message: str, **fields) -> Shot:
     rows = [row for part in history for row in part]
     t = np.array([row[0] for row in rows])
     stage = np.array([int(row[1]) for row in rows])
@@ -215,5 +239,6 @@ def _finish(design: Design, p: Params, history, status: Status, message: str, **
     if fields.get("release_time") is not None:
         released = v_machine0 - potential_energy(q[-1], p)[0]
     return Shot(design, status, message, t=t, stage=stage, q=q, qdot=qdot, path=path,
-                sling_tension=tension, energy=energy, min_sling_tension=float(tension.min()),
+                sling_tension=tension, energy=energy,
+                min_sling_tension=_smallest_tension(t, stage, tension, segments, p),
                 counterweight_energy_released=released, **fields)

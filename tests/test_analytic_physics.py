@@ -135,3 +135,17 @@ def test_result_arrays_have_documented_shapes(vacuum_shot):
     assert vacuum_shot.flight_path.shape == (len(vacuum_shot.flight_t), 2)
     assert np.all(np.diff(vacuum_shot.t) > 0) and vacuum_shot.t[-1] == vacuum_shot.release_time
     assert vacuum_shot.status is Status.OK
+
+
+def test_min_sling_tension_is_refined_between_samples(table3_vacuum, vacuum_shot, monkeypatch):
+    """The sling pushes for about a millisecond near release (the default design's
+    tension dips to about -4 N); the reported minimum must match a 50x denser sampling."""
+    import analytic.simulate as simulate_module
+
+    monkeypatch.setattr(simulate_module, "SWING_OUTPUT_STEP", simulate_module.SWING_OUTPUT_STEP / 50)
+    dense = simulate_module.simulate(table3_vacuum)
+    dense_min = float(dense.sling_tension.min())
+    coarse_min = float(vacuum_shot.sling_tension.min())
+    assert vacuum_shot.min_sling_tension <= dense_min + 1e-12
+    assert abs(vacuum_shot.min_sling_tension - dense_min) < 1e-4 * abs(dense_min)
+    assert abs(coarse_min - dense_min) > 1e-3 * abs(dense_min), "the test needs a coarse grid that misses the dip"
