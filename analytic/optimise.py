@@ -5,8 +5,7 @@
 Without a problem file the paper's problem (``analytic/data/paper_problem.toml``).
 Writes to ``--out``: ``report.txt`` (also printed), ``optimum.toml`` (a design
 file ``python -m analytic simulate`` reads), ``convergence.png``,
-``sensitivity.png``, and with ``--robust`` also ``robust-optimum.toml`` and
-``robust-sensitivity.png``.
+``sensitivity.png``, and with ``--robust`` also ``robust-optimum.toml``.
 """
 
 from __future__ import annotations
@@ -67,7 +66,7 @@ def run(args: argparse.Namespace) -> int:
                                  nodes=args.nodes, progress=not args.quiet)
     print(report)
     print(f"\nwritten to {out}/: report.txt, optimum.toml, convergence.png, sensitivity.png"
-          + (", robust-optimum.toml, robust-sensitivity.png" if args.robust is not None else ""))
+          + (", robust-optimum.toml" if args.robust is not None else ""))
     return EXIT_OK
 
 
@@ -89,7 +88,11 @@ def optimise_and_report(problem, out: Path, *, seed: int, workers: int, robust_s
     """
     from analytic.design import default_design, save_design
     from analytic.optimise_evaluate import Evaluator
-    from analytic.optimise_plot import convergence_figure, save_figure, sensitivity_figure
+    from analytic.optimise_plot import (
+        convergence_figure,
+        save_figure,
+        sensitivity_figure,
+    )
     from analytic.optimise_robust import release_scatter
     from analytic.optimise_search import Settings, maximise
     from analytic.optimise_sensitivity import scan
@@ -108,26 +111,31 @@ def optimise_and_report(problem, out: Path, *, seed: int, workers: int, robust_s
         ranges = dict(zip(designs, evaluator.scores(list(designs.values()), settings.final_tolerance)))
         node_ranges = None if scatter is None else dict(zip(designs, evaluator.node_ranges(
             list(designs.values()), settings.final_tolerance, scatter)))
-        scans = {label: scan(evaluator, problem, o.values, o.score, settings.search_tolerance, o.scatter)
-                 for label, o in optima.items()}
+        sensitivity = scan(evaluator, problem, optima["optimum"].values, optima["optimum"].score,
+                           settings.search_tolerance)
 
     report = _report(problem, paper, optima, ranges, scatter, node_ranges)
     report += f"\n\nTotal wall time {time.perf_counter() - began:.1f} s"
     (out / "report.txt").write_text(report + "\n")
     save_figure(convergence_figure(optima), out / "convergence.png")
-    for label, optimum in optima.items():
+    save_figure(sensitivity_figure(problem, sensitivity, f"range through the optimum ({problem.name})"),
+                out / "sensitivity.png")
+    for optimum in optima.values():
         prefix = "robust-" if optimum.scatter.sigma > 0 else ""
         save_design(design_at(problem, optimum.values, name=f"{problem.name}-{prefix}optimum"),
                     out / f"{prefix}optimum.toml")
-        what = "expected range" if optimum.scatter.sigma > 0 else "range"
-        save_figure(sensitivity_figure(problem, scans[label], f"{what} through the {label} ({problem.name})"),
-                    out / f"{prefix}sensitivity.png")
     return report
 
 
 def _report(problem, paper, optima, ranges, scatter, node_ranges) -> str:
-    from analytic.optimise_report import (PAPER_RANGE, format_constraints, format_first_order,
-                                          format_scatter, format_search, format_tables)
+    from analytic.optimise_report import (
+        PAPER_RANGE,
+        format_constraints,
+        format_first_order,
+        format_scatter,
+        format_search,
+        format_tables,
+    )
 
     columns = [("paper", paper, PAPER_RANGE), ("paper, ours", paper, ranges["paper, ours"])]
     columns += [(label, optimum.values, ranges[label]) for label, optimum in optima.items()]

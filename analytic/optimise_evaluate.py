@@ -13,6 +13,7 @@ import multiprocessing
 from collections import Counter
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
+from typing import Self
 
 import numpy as np
 
@@ -101,7 +102,7 @@ class Evaluator:
                                              initializer=_start_worker, initargs=(problem,))
         self.workers = workers
 
-    def __enter__(self) -> Evaluator:
+    def __enter__(self) -> Self:
         return self
 
     def __exit__(self, *exc) -> None:

@@ -9,20 +9,17 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
+from analytic.optimise_constraints import CONSTRAINT_NAMES, FEASIBILITY_TOLERANCE
+from analytic.optimise_report import display
 from analytic.optimise_search import Optimum
 from analytic.optimise_sensitivity import Sensitivity
-from analytic.problem import ANGLE_VARIABLES, Problem
+from analytic.problem import Problem
 
 #: Axis labels and display scale of each variable (SI -> cm or deg).
 _LABELS = {"arm_short": ("short arm $L_{As}$", "cm"), "counterweight_link": ("weight link $L_W$", "cm"),
            "clearance": ("clearance", "cm"), "sling_length": ("sling $L_S$", "cm"),
            "starting_angle": (r"starting angle $\theta_0$", "deg"),
            "release_angle": (r"release angle $\theta$", "deg")}
-
-
-def display(name: str, value):
-    """A variable's value(s) in the units of tables and plots: cm for lengths, deg for angles."""
-    return np.degrees(value) if name in ANGLE_VARIABLES else 100.0 * np.asarray(value)
 
 
 def convergence_figure(optima: dict[str, Optimum]) -> Figure:
@@ -45,8 +42,9 @@ def convergence_figure(optima: dict[str, Optimum]) -> Figure:
                 gap = np.maximum(optimum.score - history.best[mask], 1e-12)
                 gap_ax.semilogy(shots[mask], gap, style, ms=3, label=f"{label}: {stage} stage")
         offset = shots[-1]
-    best_ax.set(xlabel="shots simulated", ylabel="best range so far (m)", title="convergence")
-    gap_ax.set(xlabel="shots simulated", ylabel="final range - best so far (m)",
+    best_ax.set(xlabel="shots simulated", ylabel="best range so far (m; robust: expected range)",
+                title="convergence")
+    gap_ax.set(xlabel="shots simulated", ylabel="final - best so far (m)",
                title="shortfall from the final optimum")
     for ax in (best_ax, gap_ax):
         ax.grid(True, alpha=0.3)
@@ -55,7 +53,11 @@ def convergence_figure(optima: dict[str, Optimum]) -> Figure:
 
 
 def sensitivity_figure(problem: Problem, sensitivity: Sensitivity, title: str) -> Figure:
-    """Range along each free variable through the optimum, others held; infeasible stretches shaded."""
+    """Range along each free variable across its bounds through the optimum, the others held.
+
+    Stretches that violate a constraint are shaded and labelled with the
+    constraints they violate; the axes span the variables' bounds.
+    """
     count = len(sensitivity.variables)
     columns = min(3, count)
     rows = math.ceil(count / columns)
@@ -71,6 +73,10 @@ def sensitivity_figure(problem: Problem, sensitivity: Sensitivity, title: str) -
         ax.plot(x[infeasible], y[infeasible], "x", color="C3", ms=4, label="violates a constraint")
         for start, stop in _runs(infeasible):
             ax.axvspan(x[start], x[stop], color="C3", alpha=0.12, lw=0)
+            violated = np.any(sensitivity.margins[row, start:stop + 1] < -FEASIBILITY_TOLERANCE, axis=0)
+            names = sorted({CONSTRAINT_NAMES[j].split(" (")[0] for j in np.flatnonzero(violated)})
+            ax.text((x[start] + x[stop]) / 2, 0.03, "\n".join(names), transform=ax.get_xaxis_transform(),
+                    ha="center", va="bottom", fontsize=7, color="C3")
         failed = ~np.isfinite(y)
         if failed.any():
             floor = np.min(y[~failed]) if (~failed).any() else 0.0
@@ -81,7 +87,11 @@ def sensitivity_figure(problem: Problem, sensitivity: Sensitivity, title: str) -
         ax.grid(True, alpha=0.3)
     for ax in axes[count:]:
         ax.set_visible(False)
-    axes[0].legend(fontsize=7)
+    legend = {}
+    for ax in axes[:count]:
+        for handle, text in zip(*ax.get_legend_handles_labels()):
+            legend.setdefault(text, handle)
+    figure.legend(legend.values(), legend.keys(), loc="outside lower center", ncols=len(legend), fontsize=8)
     figure.suptitle(title)
     return figure
 

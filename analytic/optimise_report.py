@@ -6,7 +6,12 @@ import math
 
 import numpy as np
 
-from analytic.optimise_constraints import CONSTRAINT_NAMES, axle_distance, constraint_values, footprint
+from analytic.optimise_constraints import (
+    CONSTRAINT_NAMES,
+    axle_distance,
+    constraint_values,
+    footprint,
+)
 from analytic.optimise_robust import Scatter, expected, spread
 from analytic.optimise_search import Optimum
 from analytic.problem import ANGLE_VARIABLES, Problem, design_at
@@ -26,13 +31,18 @@ _DIMENSIONS = (("L_Al  long arm", "arm_long", "cm"), ("L_As  short arm", "arm_sh
                ("theta release angle", "release_angle", "deg"))
 
 
+def display(name: str, value):
+    """A design variable's value(s) in the units of tables and plots: cm for lengths, deg for angles."""
+    return np.degrees(value) if name in ANGLE_VARIABLES else 100.0 * np.asarray(value)
+
+
 def dimensions(problem: Problem, values: np.ndarray) -> dict[str, float]:
     """The design's Table III quantities in cm and deg, keyed as ``_DIMENSIONS``."""
     machine = design_at(problem, values).machine
+    not_in_machine = {"clearance": values[2], "starting_angle": machine.starting_angle}
     result = {}
     for _, key, unit in _DIMENSIONS:
-        value = (values[2] if key == "clearance" else machine.starting_angle if key == "starting_angle"
-                 else getattr(machine, key))
+        value = not_in_machine[key] if key in not_in_machine else getattr(machine, key)
         result[key] = math.degrees(value) if unit == "deg" else 100.0 * value
     return result
 
@@ -92,7 +102,8 @@ def format_constraints(problem: Problem, columns: list[tuple[str, np.ndarray, fl
 def format_first_order(optimum: Optimum) -> str:
     """Active bounds and constraints with their multipliers, and the stationarity residual."""
     fo = optimum.first_order
-    lines = ["First-order optimality (KKT, finite differences)"]
+    lines = [("First-order optimality (KKT, finite differences; a multiplier is the range gained per unit"
+              " the bound or limit is relaxed)")]
     for name, side in fo.active_bounds.items():
         per = "deg" if name in ANGLE_VARIABLES else "cm"
         scale = math.radians(1.0) if per == "deg" else 0.01
@@ -116,7 +127,8 @@ def format_search(label: str, optimum: Optimum) -> str:
     global_stage = ("skipped (started from the optimum)" if math.isnan(optimum.global_score)
                     else f"best {optimum.global_score:.4f} m")
     lines = [f"Search ({label})",
-             f"  shots {optimum.shots} (each quadrature node one), failed to throw: {failures}",
+             f"  shots {optimum.shots}" + (" (each quadrature node one)" if optimum.scatter.nodes > 1 else "")
+             + f", failed to throw: {failures}",
              f"  global stage {global_stage}; local stage: {optimum.local_message}",
              f"  optimum {optimum.score:.6f} m at integrator tolerance {optimum.settings.final_tolerance:g}",
              f"  wall time {optimum.seconds:.1f} s"]

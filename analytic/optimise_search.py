@@ -31,8 +31,13 @@ from scipy.optimize import NonlinearConstraint, differential_evolution, minimize
 
 from analytic.optimise_constraints import FEASIBILITY_TOLERANCE
 from analytic.optimise_evaluate import NO_SCATTER, Evaluator
-from analytic.optimise_kkt import (FirstOrder, constraint_jacobian, first_order, range_gradient,
-                                   unit_constraints)
+from analytic.optimise_kkt import (
+    FirstOrder,
+    constraint_jacobian,
+    first_order,
+    range_gradient,
+    unit_constraints,
+)
 from analytic.optimise_robust import Scatter
 from analytic.problem import Problem, from_unit, to_unit
 from analytic.simulate import DEFAULT_RTOL

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from analytic.optimise_constraints import feasible
+from analytic.optimise_constraints import FEASIBILITY_TOLERANCE, constraint_values
 from analytic.optimise_evaluate import NO_SCATTER, Evaluator
 from analytic.optimise_robust import Scatter, expected
 from analytic.problem import Problem, design_at
@@ -27,7 +27,7 @@ class Sensitivity:
     variables : (k,) indices of the scanned (free) variables.
     grid : (k, m) values of the scanned variable, m or rad, sorted.
     scores : (k, m) range or expected range there, m (nan where a shot failed).
-    feasible : (k, m) all constraints hold there.
+    margins : (k, m, 5) the constraint vector there (``optimise_constraints``), m.
     scatter : the release-angle scatter the scores are under.
     """
 
@@ -36,8 +36,13 @@ class Sensitivity:
     variables: np.ndarray
     grid: np.ndarray
     scores: np.ndarray
-    feasible: np.ndarray
+    margins: np.ndarray
     scatter: Scatter
+
+    @property
+    def feasible(self) -> np.ndarray:
+        """(k, m) every constraint holds (to ``FEASIBILITY_TOLERANCE``)."""
+        return np.all(self.margins >= -FEASIBILITY_TOLERANCE, axis=-1)
 
 
 def scan(evaluator: Evaluator, problem: Problem, optimum: np.ndarray, score: float, tolerance: float,
@@ -59,8 +64,8 @@ def scan(evaluator: Evaluator, problem: Problem, optimum: np.ndarray, score: flo
         values[row, :, i] = grids[row]
     flat = values.reshape(-1, values.shape[-1])
     ranges = evaluator.node_ranges(flat, tolerance, scatter, failure_range=math.nan)
-    is_feasible = np.array([feasible(problem, design_at(problem, v).machine) for v in flat])
+    margins = np.array([constraint_values(problem, design_at(problem, v).machine) for v in flat])
     shape = grids.shape
     return Sensitivity(optimum=np.asarray(optimum, dtype=float), score=float(score), variables=free,
                        grid=grids, scores=expected(scatter, ranges).reshape(shape),
-                       feasible=is_feasible.reshape(shape), scatter=scatter)
+                       margins=margins.reshape(shape + (-1,)), scatter=scatter)

@@ -20,8 +20,16 @@ from typing import Any
 
 import numpy as np
 
-from analytic.design import (BeamArm, Design, DesignError, Environment, Machine, Projectile,
-                             RELEASE_RULES, paper_geometry)
+from analytic.design import (
+    RELEASE_RULES,
+    BeamArm,
+    Design,
+    DesignError,
+    Environment,
+    Machine,
+    Projectile,
+    paper_geometry,
+)
 
 #: The design variables in the paper's order (Table II), the order of every vector here.
 VARIABLE_NAMES = ("arm_short", "counterweight_link", "clearance", "sling_length",
@@ -289,7 +297,7 @@ def _number(name: str, value: Any) -> float:
 
 
 def _reject_unknown(table: str, values: dict[str, Any], allowed: tuple[str, ...]) -> None:
-    for key in values:
+    for key, value in values.items():
         if key not in allowed:
-            raise DesignError(f"{table}.{key}", values[key],
+            raise DesignError(f"{table}.{key}", value,
                               f"unknown key; expected one of {', '.join(allowed)}")

@@ -9,8 +9,8 @@ import pytest
 
 from analytic.optimise_constraints import feasible
 from analytic.optimise_evaluate import Evaluator, throw
+from analytic.optimise_report import display
 from analytic.optimise_search import Settings, maximise
-from analytic.optimise_plot import display
 from analytic.problem import default_problem, design_at, variables_of
 from analytic.simulate import DEFAULT_RTOL
 
