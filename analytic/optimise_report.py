@@ -6,12 +6,8 @@ import math
 
 import numpy as np
 
-from analytic.optimise_constraints import (
-    CONSTRAINT_NAMES,
-    axle_distance,
-    constraint_values,
-    footprint,
-)
+from analytic.optimise_constraints import (CONSTRAINT_NAMES, axle_distance, constraint_values,
+                                           footprint)
 from analytic.optimise_robust import Scatter, expected, spread
 from analytic.optimise_search import Optimum
 from analytic.problem import ANGLE_VARIABLES, Problem, design_at

@@ -31,16 +31,16 @@ from scipy.optimize import NonlinearConstraint, differential_evolution, minimize
 
 from analytic.optimise_constraints import FEASIBILITY_TOLERANCE
 from analytic.optimise_evaluate import NO_SCATTER, Evaluator
-from analytic.optimise_kkt import (
-    FirstOrder,
-    constraint_jacobian,
-    first_order,
-    range_gradient,
-    unit_constraints,
-)
+from analytic.optimise_kkt import (FirstOrder, constraint_jacobian, first_order, range_gradient,
+                                   unit_constraints)
 from analytic.optimise_robust import Scatter
 from analytic.problem import Problem, from_unit, to_unit
 from analytic.simulate import DEFAULT_RTOL
+
+#: SLSQP stops once a step changes the objective (range / its starting value) by
+#: less than this: 1e-10 of ~50 m is 5 nm, just above the range's noise at the
+#: default integrator tolerance (~2e-9 m, ``optimise_kkt.RANGE_STEP``).
+LOCAL_FTOL = 1e-10
 
 
 @dataclass(frozen=True)
@@ -152,10 +152,9 @@ def maximise(problem: Problem, evaluator: Evaluator, settings: Settings = Settin
     else:
         unit, global_score = to_unit(problem, start), math.nan
     global_values = from_unit(problem, unit)
-    unit, message = _local_stage(problem, evaluator, settings, scatter, unit, record,
-                                 tqdm(total=settings.local_maxiter, desc="local (SLSQP)",
-                                      unit="it", disable=not progress, leave=False))
-    score, gradient = range_gradient(evaluator, problem, unit, settings.final_tolerance, scatter)
+    unit, message, score, gradient = _local_stage(
+        problem, evaluator, settings, scatter, unit, record,
+        tqdm(total=settings.local_maxiter, desc="local (SLSQP)", unit="it", disable=not progress, leave=False))
     stage, shots, best = zip(*records)
     failures = evaluator.failures - failures0
     return Optimum(problem=problem, scatter=scatter, settings=settings,
@@ -169,6 +168,7 @@ def maximise(problem: Problem, evaluator: Evaluator, settings: Settings = Settin
 
 
 def _global_stage(problem, evaluator, settings, scatter, record, bar):
+    """Differential evolution over the unit box; returns its best point and score."""
     n = len(problem.free)
 
     def objective(units: np.ndarray) -> np.ndarray:  # (n, S) -> (S,)
@@ -194,6 +194,7 @@ def _global_stage(problem, evaluator, settings, scatter, record, bar):
 
 
 def _local_stage(problem, evaluator, settings, scatter, unit, record, bar):
+    """SLSQP from ``unit``; returns the point, SLSQP's message, and the score and gradient there."""
     tolerance = settings.final_tolerance
     cache: dict[bytes, tuple[float, np.ndarray | None]] = {}
 
@@ -222,9 +223,10 @@ def _local_stage(problem, evaluator, settings, scatter, unit, record, bar):
                           constraints={"type": "ineq", "fun": lambda u: unit_constraints(problem, u),
                                        "jac": lambda u: constraint_jacobian(problem, u)},
                           callback=callback,
-                          options={"maxiter": settings.local_maxiter, "ftol": 1e-10})
+                          options={"maxiter": settings.local_maxiter, "ftol": LOCAL_FTOL})
     best = np.clip(result.x, 0.0, 1.0)
+    message = str(result.message)
     # SLSQP may end on a worse or infeasible point after a failed line search.
     if score(best) < score(unit) or np.min(unit_constraints(problem, best)) < -FEASIBILITY_TOLERANCE:
-        return unit, f"{result.message} (kept the starting point)"
-    return best, str(result.message)
+        best, message = unit, f"{message} (kept the starting point)"
+    return best, message, score(best), gradient(best)

@@ -20,16 +20,8 @@ from typing import Any
 
 import numpy as np
 
-from analytic.design import (
-    RELEASE_RULES,
-    BeamArm,
-    Design,
-    DesignError,
-    Environment,
-    Machine,
-    Projectile,
-    paper_geometry,
-)
+from analytic.design import (RELEASE_RULES, BeamArm, Design, DesignError, Environment, Machine,
+                             Projectile, paper_geometry)
 
 #: The design variables in the paper's order (Table II), the order of every vector here.
 VARIABLE_NAMES = ("arm_short", "counterweight_link", "clearance", "sling_length",

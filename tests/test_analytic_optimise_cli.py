@@ -4,14 +4,15 @@ from __future__ import annotations
 
 import pytest
 import tomli_w
-from conftest import with_machine
-from test_analytic_optimise_known import release_angle_problem_dict
 
 from analytic import optimise
 from analytic.design import default_design, load_design
 from analytic.optimise_constraints import feasible
 from analytic.problem import load_problem, variables_of
 from analytic.simulate import simulate
+
+from conftest import with_machine
+from test_analytic_optimise_known import release_angle_problem_dict
 
 pytestmark = pytest.mark.slow
 

@@ -9,7 +9,6 @@ import numpy as np
 import pytest
 from scipy.interpolate import CubicSpline
 from scipy.optimize import minimize_scalar
-from test_analytic_optimise_problem import PROBLEM_FILE
 
 from analytic.design import default_design
 from analytic.eom import params, projectile_state
@@ -19,6 +18,8 @@ from analytic.optimise_search import Settings, maximise
 from analytic.problem import VARIABLE_NAMES, design_at, problem_from_dict, variables_of
 from analytic.result import Stage
 from analytic.simulate import simulate
+
+from test_analytic_optimise_problem import PROBLEM_FILE
 
 #: The answer below comes from a cubic spline through swing samples 0.5 ms apart;
 #: it moves by 1e-7 m (2e-9 relative) and 4e-5 deg if a 3-point parabola is used
