@@ -35,6 +35,10 @@ import numpy as np
 from analytic.design import Design
 
 
+class OutOfReach(ValueError):
+    """Stage-1 state with the long-arm tip higher above the base than the sling is long."""
+
+
 class Params(NamedTuple):
     """The design's numbers in the symbols above (SI)."""
 
@@ -135,7 +139,7 @@ def slide_kinematics(theta: float, dtheta: float, p: Params) -> SlideKinematics:
     """
     cos_beta = -(p.h + p.La * math.cos(theta)) / p.Ls
     if abs(cos_beta) > 1.0 + 1e-12:
-        raise ValueError(f"theta = {theta!r}: the long-arm tip is {p.La * math.cos(theta) + p.h:.6g} m "
+        raise OutOfReach(f"theta = {theta!r}: the long-arm tip is {p.La * math.cos(theta) + p.h:.6g} m "
                          f"above the base, out of the sling's reach ({p.Ls:.6g} m)")
     # Clamp only round-off, so that acos is defined at the reach's very edge.
     beta = -math.acos(min(1.0, max(-1.0, cos_beta)))

@@ -9,7 +9,7 @@ from scipy.optimize import minimize_scalar
 
 from analytic import aero
 from analytic.design import Design, initial_angles, release_function, swing_time_limit
-from analytic.eom import (Params, arm_direction, kinetic_energy, params, potential_energy,
+from analytic.eom import (OutOfReach, Params, arm_direction, kinetic_energy, params, potential_energy,
                           projectile_state, sling_direction, sling_tension, slide_accelerations,
                           slide_full_state, slide_kinematics, slide_rhs, swing_accelerations,
                           swing_rhs)
@@ -55,7 +55,7 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
     # Stage 1: slide on the base until the normal force vanishes.
     y1 = np.array([q0[0], q0[1], 0.0, 0.0])
     if normal0 > 0.0:
-        slide = integrate(lambda t, y: slide_rhs(t, y, p), 0.0, y1, t_limit,
+        slide = integrate(lambda t, y: _guarded_slide_rhs(t, y, p), 0.0, y1, t_limit,
                           _slide_events(p), rtol=rtol, atol=atol, output_step=SWING_OUTPUT_STEP)
     else:  # the sling already pulls harder than the projectile's weight
         slide = Segment(np.zeros(1), y1[None, :], "liftoff", 0.0, y1, {})
@@ -106,18 +106,37 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
 # Events
 # --------------------------------------------------------------------------- #
 
-def _slide_events(p: Params) -> tuple[Event, ...]:
-    def normal(t, y):
-        return slide_accelerations(y[0], y[1], y[2], y[3], p)[2]
+def _guarded_slide_rhs(t: float, y: np.ndarray, p: Params) -> np.ndarray:
+    """Stage-1 derivative; NaN where a trial stage of a step overshoots the sling's reach.
 
+    With a very short sling the tip can rise past the sling's length within one
+    trial step, before the ``under_tip`` event (checked on accepted steps) can
+    end the stage. A non-finite derivative makes DOP853 reject the step and
+    retry with a fifth of it, so accepted states always lie within reach.
+    """
+    try:
+        return slide_rhs(t, y, p)
+    except OutOfReach:
+        return np.full(4, np.nan)
+
+
+def _slide_events(p: Params) -> tuple[Event, ...]:
     def sling_off_vertical(t, y):
-        return -math.sin(slide_kinematics(y[0], y[2], p).psi + y[0]) - SLING_VERTICAL_LIMIT
+        # |sin beta| from the constraint, defined (zero) even beyond the reach.
+        cos_beta = -(p.h + p.La * math.cos(y[0])) / p.Ls
+        return math.sqrt(max(0.0, 1.0 - cos_beta * cos_beta)) - SLING_VERTICAL_LIMIT
+
+    def normal(t, y):
+        if sling_off_vertical(t, y) <= 0.0:
+            return 1.0  # no lift-off here: under the tip, the under_tip event ends the stage
+        return slide_accelerations(y[0], y[1], y[2], y[3], p)[2]
 
     def tip_height(t, y):
         return p.La * math.cos(y[0]) + p.h
 
-    return (Event("liftoff", normal, direction=-1),
-            Event("under_tip", sling_off_vertical, direction=-1),
+    # under_tip first: in a tie the earlier-listed event is reported.
+    return (Event("under_tip", sling_off_vertical, direction=-1),
+            Event("liftoff", normal, direction=-1),
             Event("arm_back", tip_height, direction=-1))
 
 

@@ -51,3 +51,13 @@ def test_landing_behind_the_pivot_is_a_flagged_result(table3):
     assert shot.ok and shot.range < 0
     assert shot.landed_behind_pivot and shot.to_json()["landed_behind_pivot"] is True
     assert "behind the pivot" in shot.message
+
+
+def test_a_sling_shorter_than_one_steps_rise_of_the_tip_still_ends_cleanly():
+    """A 2.2 cm sling: the tip can rise past the sling's reach within one trial
+    step of the integrator (found by hypothesis and by the optimiser's search)."""
+    from analytic.problem import default_problem, design_at
+
+    shot = simulate(design_at(default_problem(), [0.2685888, 0.2815835, 0.2368245, 0.0219153, 0.5273128, 0.7839298]))
+    assert shot.status in set(Status) and np.all(np.isfinite(shot.q))
+    assert shot.liftoff_time is None or 0.0 < shot.liftoff_time < 0.1
