@@ -320,13 +320,13 @@ def design_from_dict(data: dict[str, Any], name: str = "design") -> Design:
     * ``[machine.arm_beam]`` with ``width``, ``depth``, ``density`` instead of
       ``arm_mass``, ``arm_cg``, ``arm_inertia`` (see ``BeamArm``).
     """
-    _reject_unknown("design", data, ("machine", "projectile", "environment", "name"))
+    reject_unknown_keys("design", data, ("machine", "projectile", "environment", "name"))
     for table in ("machine", "projectile"):
         if not isinstance(data.get(table), dict):
             raise DesignError(f"[{table}]", data.get(table), "required table is missing")
     machine_data = dict(data["machine"])
     beam_data = machine_data.pop("arm_beam", None)
-    _reject_unknown("machine", machine_data, _MACHINE_KEYS + _PAPER_KEYS)
+    reject_unknown_keys("machine", machine_data, _MACHINE_KEYS + _PAPER_KEYS)
     values = {key: _number_or_text(f"machine.{key}", value) for key, value in machine_data.items()}
     for key in _ANGLE_KEYS:
         if key in values:
@@ -351,7 +351,7 @@ def design_from_dict(data: dict[str, Any], name: str = "design") -> Design:
             if key in values:
                 raise DesignError(f"machine.{key}", values[key],
                                   "give either arm_mass, arm_cg and arm_inertia, or [machine.arm_beam], not both")
-        _reject_unknown("machine.arm_beam", beam_data, ("width", "depth", "density"))
+        reject_unknown_keys("machine.arm_beam", beam_data, ("width", "depth", "density"))
         for key in ("width", "depth", "density"):
             _require_present("machine.arm_beam", key, beam_data)
         for key in ("pivot_height", "arm_long", "arm_short"):
@@ -365,14 +365,14 @@ def design_from_dict(data: dict[str, Any], name: str = "design") -> Design:
             _require_present("machine", key, values)
     machine = Machine(**values)
 
-    _reject_unknown("projectile", data["projectile"], _PROJECTILE_KEYS)
+    reject_unknown_keys("projectile", data["projectile"], _PROJECTILE_KEYS)
     for key in ("mass", "diameter", "drag"):
         _require_present("projectile", key, data["projectile"])
     projectile = Projectile(**{k: _number_or_text(f"projectile.{k}", v)
                                for k, v in data["projectile"].items()})
 
     env_data = data.get("environment", {})
-    _reject_unknown("environment", env_data, _ENVIRONMENT_KEYS)
+    reject_unknown_keys("environment", env_data, _ENVIRONMENT_KEYS)
     environment = Environment(**{k: _number_or_text(f"environment.{k}", v) for k, v in env_data.items()})
     return Design(machine, projectile, environment, name=str(data.get("name", name)))
 
@@ -444,7 +444,8 @@ def _require_present(table: str, key: str, values: dict[str, Any]) -> None:
         raise DesignError(f"{table}.{key}", None, "required value is missing")
 
 
-def _reject_unknown(table: str, values: dict[str, Any], allowed: tuple[str, ...]) -> None:
+def reject_unknown_keys(table: str, values: dict[str, Any], allowed: tuple[str, ...]) -> None:
+    """Raise ``DesignError`` naming the first key of ``values`` not in ``allowed`` (typo guard for files)."""
     for key in values:
         if key not in allowed:
             raise DesignError(f"{table}.{key}", values[key],

@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 from analytic.design import (RELEASE_RULES, BeamArm, Design, DesignError, Environment, Machine,
-                             Projectile, paper_geometry)
+                             Projectile, paper_geometry, reject_unknown_keys)
 
 #: The design variables in the paper's order (Table II), the order of every vector here.
 VARIABLE_NAMES = ("arm_short", "counterweight_link", "clearance", "sling_length",
@@ -200,7 +200,7 @@ def problem_from_dict(data: dict[str, Any], name: str = "problem") -> Problem:
     Each ``[variables]`` entry is ``{ lower = .., upper = .. }`` or ``{ value = .. }``
     (fixed); lengths in m, angles in degrees.
     """
-    _reject_unknown("problem", data, _TABLES)
+    reject_unknown_keys("problem", data, _TABLES)
     tables = {}
     for table in _TABLES[1:]:
         if table in ("environment", "release"):
@@ -210,15 +210,15 @@ def problem_from_dict(data: dict[str, Any], name: str = "problem") -> Problem:
         else:
             tables[table] = data[table]
 
-    _reject_unknown("variables", tables["variables"], VARIABLE_NAMES)
+    reject_unknown_keys("variables", tables["variables"], VARIABLE_NAMES)
     variables = []
     for key in VARIABLE_NAMES:
         entry = _table(f"variables.{key}", tables["variables"].get(key))
         if "value" in entry:
-            _reject_unknown(f"variables.{key}", entry, ("value",))
+            reject_unknown_keys(f"variables.{key}", entry, ("value",))
             lower = upper = _number(f"variables.{key}.value", entry["value"])
         else:
-            _reject_unknown(f"variables.{key}", entry, ("lower", "upper"))
+            reject_unknown_keys(f"variables.{key}", entry, ("lower", "upper"))
             lower = _number(f"variables.{key}.lower", entry.get("lower"))
             upper = _number(f"variables.{key}.upper", entry.get("upper"))
         if key in ANGLE_VARIABLES:
@@ -226,15 +226,15 @@ def problem_from_dict(data: dict[str, Any], name: str = "problem") -> Problem:
         variables.append(Variable(key, lower, upper))
 
     constraints = tables["constraints"]
-    _reject_unknown("constraints", constraints, ("max_footprint", "max_height", "axle_radius"))
+    reject_unknown_keys("constraints", constraints, ("max_footprint", "max_height", "axle_radius"))
     counterweight = tables["counterweight"]
-    _reject_unknown("counterweight", counterweight, ("mass", "density"))
+    reject_unknown_keys("counterweight", counterweight, ("mass", "density"))
     beam = tables["arm_beam"]
-    _reject_unknown("arm_beam", beam, ("width", "depth", "density"))
+    reject_unknown_keys("arm_beam", beam, ("width", "depth", "density"))
     release = tables["release"]
-    _reject_unknown("release", release, ("rule",))
-    _reject_unknown("projectile", tables["projectile"], _field_names(Projectile))
-    _reject_unknown("environment", tables["environment"], _field_names(Environment))
+    reject_unknown_keys("release", release, ("rule",))
+    reject_unknown_keys("projectile", tables["projectile"], _field_names(Projectile))
+    reject_unknown_keys("environment", tables["environment"], _field_names(Environment))
     return Problem(
         name=str(data.get("name", name)),
         variables=tuple(variables),
@@ -288,8 +288,3 @@ def _number(name: str, value: Any) -> float:
     return float(value)
 
 
-def _reject_unknown(table: str, values: dict[str, Any], allowed: tuple[str, ...]) -> None:
-    for key, value in values.items():
-        if key not in allowed:
-            raise DesignError(f"{table}.{key}", value,
-                              f"unknown key; expected one of {', '.join(allowed)}")
