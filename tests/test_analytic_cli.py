@@ -10,7 +10,7 @@ import sys
 import pytest
 
 from analytic.cli import EXIT_INVALID, EXIT_NO_THROW, EXIT_OK, main
-from analytic.design import save_design
+from analytic.design import default_design, dumps_design, save_design
 from analytic.result import JSON_KEYS
 
 from conftest import with_machine
@@ -40,7 +40,6 @@ def test_plot_is_written(tmp_path, capsys):
 
 def test_invalid_design_file_exits_2_naming_the_field(tmp_path, capsys):
     path = tmp_path / "bad.toml"
-    from analytic.design import default_design, dumps_design
     path.write_text(dumps_design(default_design()).replace("sling_length = 0.61", "sling_length = -0.61"))
     assert main(["simulate", str(path)]) == EXIT_INVALID
     err = capsys.readouterr().err
