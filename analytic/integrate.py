@@ -105,7 +105,7 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
         current = [event.value(solver.t, solver.y) for event in events]
 
         hit: tuple[float, Event] | None = None
-        for event, before, after in zip(events, previous, current):
+        for event, before, after in zip(events, previous, current, strict=True):
             for t_root in _crossings(event, before, after, dense, solver.t_old, solver.t):
                 y_root = dense(t_root)
                 if event.armed is not None and not event.armed(t_root, y_root):

@@ -108,9 +108,9 @@ def optimise_and_report(problem, out: Path, *, seed: int, workers: int, robust_s
             optima["robust optimum"] = maximise(problem, evaluator, settings, scatter=scatter,
                                                 start=optima["optimum"].values, progress=progress)
         designs = {"paper, ours": paper} | {label: o.values for label, o in optima.items()}
-        ranges = dict(zip(designs, evaluator.scores(list(designs.values()), settings.final_tolerance)))
+        ranges = dict(zip(designs, evaluator.scores(list(designs.values()), settings.final_tolerance), strict=True))
         node_ranges = None if scatter is None else dict(zip(designs, evaluator.node_ranges(
-            list(designs.values()), settings.final_tolerance, scatter)))
+            list(designs.values()), settings.final_tolerance, scatter), strict=True))
         sensitivity = scan(evaluator, problem, optima["optimum"].values, optima["optimum"].score,
                            settings.search_tolerance)
 

@@ -162,10 +162,10 @@ def first_order(problem: Problem, unit: np.ndarray, score: float, gradient: np.n
         gradient=full_gradient,
         active_bounds={names[i]: kind for kind, i in labels if kind != "constraint"},
         bound_multipliers={names[i]: float(m / width[i])
-                           for (kind, i), m in zip(labels, multipliers) if kind != "constraint"},
+                           for (kind, i), m in zip(labels, multipliers, strict=True) if kind != "constraint"},
         active_constraints=tuple(CONSTRAINT_NAMES[j] for j in active),
         constraint_multipliers={CONSTRAINT_NAMES[i]: float(m)
-                                for (kind, i), m in zip(labels, multipliers) if kind == "constraint"},
+                                for (kind, i), m in zip(labels, multipliers, strict=True) if kind == "constraint"},
         residual=float(np.max(np.abs(stationarity)) / scale),
         degenerate=bool(degenerate),
     )

@@ -64,7 +64,7 @@ def sensitivity_figure(problem: Problem, sensitivity: Sensitivity, title: str) -
     figure = Figure(figsize=(4.2 * columns, 3.3 * rows), layout="constrained")
     axes = np.atleast_1d(figure.subplots(rows, columns, squeeze=False).ravel())
     label = "expected range (m)" if sensitivity.scatter.sigma > 0 else "range (m)"
-    for ax, row, index in zip(axes, range(count), sensitivity.variables):
+    for ax, row, index in zip(axes, range(count), sensitivity.variables, strict=True):
         name = problem.variables[index].name
         x = display(name, sensitivity.grid[row])
         y = sensitivity.scores[row]
@@ -89,7 +89,7 @@ def sensitivity_figure(problem: Problem, sensitivity: Sensitivity, title: str) -
         ax.set_visible(False)
     legend = {}
     for ax in axes[:count]:
-        for handle, text in zip(*ax.get_legend_handles_labels()):
+        for handle, text in zip(*ax.get_legend_handles_labels(), strict=True):
             legend.setdefault(text, handle)
     figure.legend(legend.values(), legend.keys(), loc="outside lower center", ncols=len(legend), fontsize=8)
     figure.suptitle(title)

@@ -155,7 +155,7 @@ def maximise(problem: Problem, evaluator: Evaluator, settings: Settings = Settin
     unit, message, score, gradient = _local_stage(
         problem, evaluator, settings, scatter, unit, record,
         tqdm(total=settings.local_maxiter, desc="local (SLSQP)", unit="it", disable=not progress, leave=False))
-    stage, shots, best = zip(*records)
+    stage, shots, best = zip(*records, strict=True)
     failures = evaluator.failures - failures0
     return Optimum(problem=problem, scatter=scatter, settings=settings,
                    values=from_unit(problem, unit), score=score,

@@ -197,13 +197,13 @@ def _fly(design: Design, t0: float, position: np.ndarray, velocity: np.ndarray,
 
 def _slide_history(segment: Segment, p: Params):
     return [(t, Stage.SLIDE, *slide_full_state(y, p), _tension(Stage.SLIDE, y, p))
-            for t, y in zip(segment.t, segment.y)]
+            for t, y in zip(segment.t, segment.y, strict=True)]
 
 
 def _swing_history(segment: Segment, p: Params):
     # The first sample is the lift-off instant, already the slide's last sample.
     return [(t, Stage.SWING, y[:3], y[3:], _tension(Stage.SWING, y, p))
-            for t, y in zip(segment.t[1:], segment.y[1:])]
+            for t, y in zip(segment.t[1:], segment.y[1:], strict=True)]
 
 
 def _tension(stage: Stage, y: np.ndarray, p: Params) -> float:

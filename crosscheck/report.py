@@ -39,7 +39,7 @@ def format_table(comparisons: list[Comparison]) -> str:
             lines.append((c.case, f"{row.quantity} ({unit})" if unit else row.quantity, a, e, d, t,
                           "ok" if row.ok else "FAIL"))
     widths = [max(len(str(r[i])) for r in [header, *lines]) for i in range(len(header))]
-    return "\n".join("  ".join(str(v).ljust(w) for v, w in zip(r, widths)).rstrip()
+    return "\n".join("  ".join(str(v).ljust(w) for v, w in zip(r, widths, strict=True)).rstrip()
                      for r in [header, *lines])
 
 
@@ -80,7 +80,7 @@ def format_summary(comparisons: list[Comparison], study: StepStudy | None) -> st
     if study is not None:
         lines.append(f"engine convergence on {study.design}: order {study.speed_order:.2f} (release speed), "
                      f"{study.range_order:.2f} (range)")
-        for dt, s, r in zip(study.dt, study.speed_error, study.range_error):
+        for dt, s, r in zip(study.dt, study.speed_error, study.range_error, strict=True):
             lines.append(f"  dt {dt:.1e} s   speed error {s:.2e}   range error {r:.2e}")
     return "\n".join(lines)
 
@@ -117,7 +117,7 @@ def agreement_figure(comparisons: list[Comparison]) -> Figure:
     """Engine against analytic for each quantity; points on the diagonal agree."""
     fig = Figure(figsize=(12, 7), layout="constrained")
     axes = fig.subplots(2, 3).ravel()
-    for ax, quantity in zip(axes, _PLOTTED):
+    for ax, quantity in zip(axes, _PLOTTED, strict=True):
         pairs = [(r.analytic, r.engine, r.ok, r.unit) for c in comparisons for r in c.rows if r.quantity == quantity]
         if not pairs:
             ax.set_visible(False)

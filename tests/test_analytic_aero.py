@@ -189,7 +189,7 @@ def test_force_is_finite_and_vanishes_at_zero_speed(model, constant):
     speeds = (1e-3, 1e-6, 1e-9, 1e-300, 0.0)
     factors = [factor(model, v, constant) for v in speeds]
     assert all(math.isfinite(f) and f >= 0.0 for f in factors)
-    forces = [f * v for f, v in zip(factors, speeds)]
+    forces = [f * v for f, v in zip(factors, speeds, strict=True)]
     assert forces[-1] == 0.0
     assert forces[2] <= 1.01e-6 * forces[0]   # falls at least linearly with the speed
 

@@ -44,7 +44,7 @@ def release_angle_problem_dict() -> dict:
     with PROBLEM_FILE.open("rb") as handle:
         data = tomllib.load(handle)
     values = variables_of(default_design().machine)
-    for name, value in zip(VARIABLE_NAMES[:5], values[:5]):
+    for name, value in zip(VARIABLE_NAMES[:5], values[:5], strict=True):
         data["variables"][name] = {"value": math.degrees(value) if name.endswith("angle") else value}
     data["projectile"]["drag"] = "none"
     data["name"] = "release-angle-vacuum"
@@ -70,7 +70,7 @@ def vacuum_range_of_release_angle(problem) -> CubicSpline:
     shot = simulate(design)
     p, g, h = params(design), design.environment.gravity, design.machine.pivot_height
     angles, ranges = [], []
-    for stage, q, qdot in zip(shot.stage, shot.q, shot.qdot):
+    for stage, q, qdot in zip(shot.stage, shot.q, shot.qdot, strict=True):
         (x, y), (vx, vy) = projectile_state(q, qdot, p)
         if stage == Stage.SWING and vx > 0.0:
             angles.append(math.atan2(vy, vx))

@@ -61,7 +61,7 @@ def test_seeds_reach_the_same_optimum(problem, optima):
     for a, b in itertools.combinations(SEEDS, 2):
         first, second = optima[a], optima[b]
         assert first.score == pytest.approx(second.score, rel=SEED_RANGE_AGREEMENT), (a, b)
-        for variable, x, y in zip(problem.variables, first.values, second.values):
+        for variable, x, y in zip(problem.variables, first.values, second.values, strict=True):
             gap = abs(display(variable.name, x) - display(variable.name, y))
             assert gap <= SEED_DESIGN_AGREEMENT, f"seeds {a} and {b}: {variable.name} differs by {gap}"
 

@@ -119,8 +119,8 @@ class MechanicsReference:
         method.form_lagranges_equations()
 
         qd = [q.diff() for q in qs]
-        plain = dict(zip(qd, sp.symbols("Aw Ww Sw", real=True)))
-        plain.update(zip(qs, sp.symbols("Aq Wq Sq", real=True)))
+        plain = dict(zip(qd, sp.symbols("Aw Ww Sw", real=True), strict=True))
+        plain.update(zip(qs, sp.symbols("Aq Wq Sq", real=True), strict=True))
         q_sym = [plain[q] for q in qs]
         qd_sym = [plain[v] for v in qd]
 

@@ -48,7 +48,7 @@ def test_frames_at_fixed_intervals_up_to_the_landing(shot, tmp_path):
 def test_the_same_shot_renders_byte_identical_frames(shot, tmp_path):
     first = render_shot(shot, tmp_path / "a", fps=2.0, gif=True, progress=False)
     second = render_shot(shot, tmp_path / "b", fps=2.0, gif=True, progress=False)
-    for a, b in zip(first + [tmp_path / "a" / "shot.gif"], second + [tmp_path / "b" / "shot.gif"]):
+    for a, b in zip(first + [tmp_path / "a" / "shot.gif"], second + [tmp_path / "b" / "shot.gif"], strict=True):
         assert a.read_bytes() == b.read_bytes(), a.name
 
 
