@@ -32,28 +32,13 @@ from typing import NamedTuple
 
 import numpy as np
 
+from analytic import kernel
 from analytic.design import Design
+from analytic.kernel import Params
 
 
 class OutOfReach(ValueError):
     """Stage-1 state with the long-arm tip higher above the base than the sling is long."""
-
-
-class Params(NamedTuple):
-    """The design's numbers in the symbols above (SI)."""
-
-    La: float
-    Lb: float
-    d: float
-    mA: float
-    IA: float
-    mW: float
-    Lw: float
-    IW: float
-    Ls: float
-    mP: float
-    h: float
-    g: float
 
 
 def params(design: Design) -> Params:
@@ -69,27 +54,11 @@ def params(design: Design) -> Params:
 # Stage 2: three degrees of freedom [3]
 # --------------------------------------------------------------------------- #
 
-def _terms(theta, phi, psi, dtheta, dphi, dpsi, p: Params):
-    """Entries of M (M23 = 0) and f, eqs. (3.3)-(3.4): the one place they are written."""
-    s_phi, c_phi = math.sin(phi), math.cos(phi)
-    s_psi, c_psi = math.sin(psi), math.cos(psi)
-    s_th = math.sin(theta)
-    s_w = math.sin(theta + phi)
-    s_b = math.sin(theta + psi)
-    m12 = p.IW + p.mW * (p.Lw * p.Lw + p.Lb * p.Lw * c_phi)
-    m13 = p.mP * (p.Ls * p.Ls + p.La * p.Ls * c_psi)
-    m22 = p.IW + p.mW * p.Lw * p.Lw
-    m33 = p.mP * p.Ls * p.Ls
-    m11 = (p.IA + p.mA * p.d * p.d + p.IW
-           + p.mW * (p.Lb * p.Lb + p.Lw * p.Lw + 2.0 * p.Lb * p.Lw * c_phi)
-           + p.mP * (p.La * p.La + p.Ls * p.Ls + 2.0 * p.La * p.Ls * c_psi))
-    f1 = (p.g * (p.mA * p.d * s_th - p.mW * (p.Lb * s_th + p.Lw * s_w)
-                 + p.mP * (p.La * s_th + p.Ls * s_b))
-          + p.mW * p.Lb * p.Lw * s_phi * dphi * (2.0 * dtheta + dphi)
-          + p.mP * p.La * p.Ls * s_psi * dpsi * (2.0 * dtheta + dpsi))
-    f2 = -p.mW * p.Lw * (p.g * s_w + p.Lb * s_phi * dtheta * dtheta)
-    f3 = p.mP * p.Ls * (p.g * s_b - p.La * s_psi * dtheta * dtheta)
-    return m11, m12, m13, m22, m33, f1, f2, f3
+#: Entries of M (M23 = 0) and f, eqs. (3.3)-(3.4): written once, in
+#: ``analytic.kernel.terms``; this is its Python source run by CPython (the
+#: fast path runs the same source compiled).
+_terms = kernel.terms.py_func
+_slide_constraint = kernel.slide_constraint.py_func
 
 
 def mass_matrix(q: np.ndarray, p: Params) -> np.ndarray:
@@ -137,18 +106,11 @@ def slide_kinematics(theta: float, dtheta: float, p: Params) -> SlideKinematics:
     Defined while the sling is not vertical (``|sin beta| > 0``); the caller
     stops stage 1 before it gets there (``never_lifts_off``).
     """
-    cos_beta = -(p.h + p.La * math.cos(theta)) / p.Ls
-    if abs(cos_beta) > 1.0 + 1e-12:
+    kin = SlideKinematics(*_slide_constraint(theta, dtheta, p))
+    if math.isnan(kin.psi):
         raise OutOfReach(f"theta = {theta!r}: the long-arm tip is {p.La * math.cos(theta) + p.h:.6g} m "
                          f"above the base, out of the sling's reach ({p.Ls:.6g} m)")
-    # Clamp only round-off, so that acos is defined at the reach's very edge.
-    beta = -math.acos(min(1.0, max(-1.0, cos_beta)))
-    sin_beta = math.sin(beta)
-    s = -(p.La * math.sin(theta) + p.Ls * sin_beta) / (p.Ls * sin_beta)
-    dpsi = s * dtheta
-    dbeta = dtheta + dpsi
-    c = -(p.La * math.cos(theta) * dtheta * dtheta + p.Ls * cos_beta * dbeta * dbeta) / (p.Ls * sin_beta)
-    return SlideKinematics(beta - theta, dpsi, s, c, sin_beta)
+    return kin
 
 
 def _slide(theta, phi, dtheta, dphi, p: Params):

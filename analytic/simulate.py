@@ -47,9 +47,7 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
 
     ddtheta0, _, normal0 = slide_accelerations(q0[0], q0[1], 0.0, 0.0, p)
     if ddtheta0 >= 0.0:
-        return Shot(design, Status.NEVER_FIRES,
-                    f"the counterweight cannot lift the arm: at rest the arm's angular "
-                    f"acceleration is {ddtheta0:+.4g} rad/s^2, not clockwise (negative)",
+        return Shot(design, Status.NEVER_FIRES, never_fires_message(ddtheta0),
                     t=np.zeros(1), stage=np.array([Stage.SLIDE]), q=q0[None, :], qdot=np.zeros((1, 3)))
 
     # Stage 1: slide on the base until the normal force vanishes.
@@ -62,11 +60,8 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
     history = [_slide_history(slide, p)]
     segments = [(Stage.SLIDE, slide)]
     if slide.event != "liftoff":
-        reason = {"under_tip": "it was dragged under the arm tip (the sling turned vertical)",
-                  "arm_back": "the arm swung back down to the base",
-                  None: f"it was still on the base after the time limit of {t_limit:.3g} s"}[slide.event]
         return _finish(design, p, history, segments, Status.NEVER_LIFTS_OFF,
-                       f"the projectile never lifts off: {reason}")
+                       never_lifts_off_message(slide.event, t_limit))
 
     # Stage 2: free swing until release.
     liftoff_time = slide.t_end
@@ -78,14 +73,10 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
     segments.append((Stage.SWING, swing))
     if swing.event == "hits_base":
         return _finish(design, p, history, segments, Status.HITS_BASE_BEFORE_RELEASE,
-                       f"the projectile came back down to the base at t = {swing.t_end:.4f} s "
-                       f"before the release condition was met", liftoff_time=liftoff_time)
+                       hits_base_message(swing.t_end), liftoff_time=liftoff_time)
     if swing.event is None:
-        rule = "velocity direction" if machine.release_rule == "velocity" else "sling-to-arm angle"
         return _finish(design, p, history, segments, Status.NEVER_RELEASES,
-                       f"the {rule} never reached the release angle of "
-                       f"{math.degrees(machine.release_angle):g} deg within the time limit "
-                       f"of {t_limit:.3g} s", liftoff_time=liftoff_time)
+                       never_releases_message(machine, t_limit), liftoff_time=liftoff_time)
 
     # Stage 3: flight.
     release_time = swing.t_end
@@ -93,10 +84,8 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
     flight = _fly(design, release_time, position, velocity, rtol, atol)
     apex = max([position[1]] + [y[1] for _, y in flight.roots["apex"]])
     landing = flight.y_end[:2]
-    message = "thrown"
-    if landing[0] < 0.0:
-        message = "thrown, but the projectile landed behind the pivot"
-    return _finish(design, p, history, segments, Status.OK, message, liftoff_time=liftoff_time,
+    return _finish(design, p, history, segments, Status.OK, thrown_message(landing[0]),
+                   liftoff_time=liftoff_time,
                    release_time=release_time, release_position=position, release_velocity=velocity,
                    landing_time=flight.t_end, landing_position=landing, apex_height=apex + p.h,
                    flight_t=flight.t, flight_path=flight.y[:, :2])
@@ -187,8 +176,44 @@ def _fly(design: Design, t0: float, position: np.ndarray, velocity: np.ndarray,
     flight = integrate(lambda t, y: flight_rhs(t, y, design), t0, np.concatenate([position, velocity]),
                        t_max, events, rtol=rtol, atol=atol, output_step=FLIGHT_OUTPUT_STEP)
     if flight.event != "landing":
-        raise IntegrationError(f"the projectile did not come down within {t_max - t0:.3g} s of flight")
+        raise IntegrationError(no_landing_message(t_max - t0))
     return flight
+
+
+# --------------------------------------------------------------------------- #
+# What each outcome says (shared with the fast path, ``analytic.fast``)
+# --------------------------------------------------------------------------- #
+
+def never_fires_message(ddtheta0: float) -> str:
+    return (f"the counterweight cannot lift the arm: at rest the arm's angular "
+            f"acceleration is {ddtheta0:+.4g} rad/s^2, not clockwise (negative)")
+
+
+def never_lifts_off_message(event: str | None, t_limit: float) -> str:
+    """``event``: the stage-1 event that ended the slide (``under_tip``, ``arm_back``), None at the time limit."""
+    reason = {"under_tip": "it was dragged under the arm tip (the sling turned vertical)",
+              "arm_back": "the arm swung back down to the base",
+              None: f"it was still on the base after the time limit of {t_limit:.3g} s"}[event]
+    return f"the projectile never lifts off: {reason}"
+
+
+def hits_base_message(t: float) -> str:
+    return (f"the projectile came back down to the base at t = {t:.4f} s "
+            f"before the release condition was met")
+
+
+def never_releases_message(machine, t_limit: float) -> str:
+    rule = "velocity direction" if machine.release_rule == "velocity" else "sling-to-arm angle"
+    return (f"the {rule} never reached the release angle of "
+            f"{math.degrees(machine.release_angle):g} deg within the time limit of {t_limit:.3g} s")
+
+
+def thrown_message(range_: float) -> str:
+    return "thrown, but the projectile landed behind the pivot" if range_ < 0.0 else "thrown"
+
+
+def no_landing_message(flight_time_limit: float) -> str:
+    return f"the projectile did not come down within {flight_time_limit:.3g} s of flight"
 
 
 # --------------------------------------------------------------------------- #
