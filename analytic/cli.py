@@ -51,6 +51,11 @@ def build_parser() -> argparse.ArgumentParser:
     sim.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
     sim.add_argument("--plot", metavar="FILE.png", help="write trajectory, machine at release and energy plot")
     sim.set_defaults(func=_simulate)
+    from analytic import bench
+
+    ben = commands.add_parser("bench", help="time the fast path against the scipy reference on the same designs")
+    bench.add_arguments(ben)
+    ben.set_defaults(func=bench.main)
     try:
         from analytic import optimise
     except ImportError:  # pragma: no cover - the optimiser is optional at import time

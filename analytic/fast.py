@@ -32,9 +32,16 @@ from analytic import aero, kernel
 from analytic.design import Design, initial_angles, swing_time_limit
 from analytic.integrate import IntegrationError
 from analytic.result import Shot, Status
-from analytic.simulate import (DEFAULT_ATOL, DEFAULT_RTOL, hits_base_message, never_fires_message,
-                               never_lifts_off_message, never_releases_message, no_landing_message,
-                               thrown_message)
+from analytic.simulate import (
+    DEFAULT_ATOL,
+    DEFAULT_RTOL,
+    hits_base_message,
+    never_fires_message,
+    never_lifts_off_message,
+    never_releases_message,
+    no_landing_message,
+    thrown_message,
+)
 
 _RULES = {"velocity": kernel.RULE_VELOCITY, "sling": kernel.RULE_SLING}
 _DRAGS = {"none": kernel.DRAG_NONE, "constant": kernel.DRAG_CONSTANT,
@@ -110,7 +117,7 @@ def _check_tolerances(rtol: float, atol: float) -> None:
 _compile_seconds: float | None = None
 
 
-def compile() -> float:  # noqa: A001 - the verb is the point
+def compile() -> float:
     """Load the kernel's machine code from the disk cache, or compile and cache it; seconds taken.
 
     Called by the first shot; later calls return the first call's time. In
@@ -119,10 +126,14 @@ def compile() -> float:  # noqa: A001 - the verb is the point
     global _compile_seconds
     if _compile_seconds is None:
         began = time.perf_counter()
-        row = pack_many([_warm_up_design()])
+        rows = pack_many([_warm_up_design()])
         out = np.empty((1, kernel.N_RESULT))
-        kernel.shot(row[0], DRAG_TABLE, COEFFICIENTS, DEFAULT_RTOL, DEFAULT_ATOL, out[0])
-        kernel.shots(row, DRAG_TABLE, COEFFICIENTS, DEFAULT_RTOL, DEFAULT_ATOL, out)
+        args = (rows, DRAG_TABLE, COEFFICIENTS, DEFAULT_RTOL, DEFAULT_ATOL, out)
+        # Compile (or load) without running: running the parallel kernel would
+        # start numba's thread pool, and a process that later forks workers
+        # (the cross-check's pool) must not have one.
+        kernel.shots.compile(tuple(numba.typeof(a) for a in args))
+        kernel.shot.compile(tuple(numba.typeof(a) for a in (rows[0], *args[1:5], out[0])))
         _compile_seconds = time.perf_counter() - began
     return _compile_seconds
 

@@ -74,7 +74,7 @@ ROOT_TIME_TOLERANCE = 1e-14
 
 def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.ndarray,
               t_end: float, events: tuple[Event, ...] = (), *, rtol: float, atol: float,
-              output_step: float) -> Segment:
+              output_step: float | None) -> Segment:
     """Integrate ``y' = fun(t, y)`` from ``t0`` until a terminal event or ``t_end``.
 
     Parameters
@@ -84,12 +84,16 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
     events : watched zero crossings; a crossing counts when the value goes
         from strictly one side of zero to zero or the other side.
     rtol, atol : DOP853 tolerances.
-    output_step : spacing of the returned samples, s.
+    output_step : spacing of the returned samples, s. None: no samples but the
+        two ends and no continuous ``solution``; the step's interpolant is then
+        built only for a step that holds an event's root (3 evaluations saved
+        on every other step).
     """
     solver = DOP853(fun, t0, np.asarray(y0, dtype=float), t_end, rtol=rtol, atol=atol)
     previous = [event.value(t0, solver.y) for event in events]
     times, states = [t0], [solver.y.copy()]
-    next_output = t0 + output_step
+    record = output_step is not None
+    next_output = t0 + output_step if record else np.inf
     roots: dict[str, list[tuple[float, np.ndarray]]] = {e.name: [] for e in events if not e.terminal}
     step_ends, interpolants = [t0], []
 
@@ -99,9 +103,10 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
             raise IntegrationError(f"integration failed at t = {solver.t:.6g} s: {message}")
         if not np.all(np.isfinite(solver.y)):
             raise IntegrationError(f"non-finite state at t = {solver.t:.6g} s")
-        dense = solver.dense_output()
-        step_ends.append(solver.t)
-        interpolants.append(dense)
+        dense = solver.dense_output() if record else _LazyDense(solver)
+        if record:
+            step_ends.append(solver.t)
+            interpolants.append(dense)
         current = [event.value(solver.t, solver.y) for event in events]
 
         hit: tuple[float, Event] | None = None
@@ -130,13 +135,26 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
             for name in roots:
                 roots[name] = [(t, y) for t, y in roots[name] if t <= t_hit]
             return Segment(np.array(times), np.array(states), event.name, t_hit, y_hit, roots,
-                           OdeSolution(step_ends, interpolants))
+                           OdeSolution(step_ends, interpolants) if record else None)
 
     if times[-1] < solver.t:
         times.append(solver.t)
         states.append(solver.y.copy())
     solution = OdeSolution(step_ends, interpolants) if interpolants else None
     return Segment(np.array(times), np.array(states), None, solver.t, solver.y.copy(), roots, solution)
+
+
+class _LazyDense:
+    """The solver's last-step interpolant, built on first use (for root finding)."""
+
+    def __init__(self, solver: DOP853):
+        self._solver = solver
+        self._dense = None
+
+    def __call__(self, t: float) -> np.ndarray:
+        if self._dense is None:
+            self._dense = self._solver.dense_output()
+        return self._dense(t)
 
 
 def _crossings(event: Event, before: float, after: float, dense, t_old: float, t_new: float):

@@ -329,7 +329,7 @@ def event_value(stage, k, y, p, P):
         return p.La * math.cos(y[0]) + p.h
     if stage == SWING:
         if k == 0:
-            x, yy, vx, vy = projectile_state(y[0], y[2], y[3], y[5], p)
+            _, _, vx, vy = projectile_state(y[0], y[2], y[3], y[5], p)
             return release_value(int(P[RULE]), P[ALPHA], y[0], y[2], vx, vy)[0]
         return p.La * math.cos(y[0]) + p.Ls * math.cos(y[0] + y[2]) + p.h
     if k == 0:
@@ -350,7 +350,7 @@ def event_terminal(stage, k):
 @njit(**_JIT)
 def event_armed(stage, k, y, p, P):
     if stage == SWING and k == 0:
-        x, yy, vx, vy = projectile_state(y[0], y[2], y[3], y[5], p)
+        _, _, vx, vy = projectile_state(y[0], y[2], y[3], y[5], p)
         return release_value(int(P[RULE]), P[ALPHA], y[0], y[2], vx, vy)[1]
     return True
 

@@ -9,13 +9,12 @@ from typing import Callable
 import numpy as np
 
 from analytic.design import Design
+from analytic.fast import simulate_fast
 from analytic.result import Shot
-from analytic.simulate import simulate as analytic_simulate
 from crosscheck import tolerances as tol
 from crosscheck.cases import Case
 from engine_model.simulate import DEFAULT_DT, EngineError
 from engine_model.simulate import simulate as simulate_engine
-
 
 
 def engine_simulate(design: Design, dt: float):
@@ -92,8 +91,13 @@ def compare_shots(a: Shot, e: Shot) -> tuple[Row, ...]:
     return tuple(rows)
 
 
-def compare(case: Case, dt: float = DEFAULT_DT, engine: Callable = engine_simulate) -> Comparison:
+def compare(case: Case, dt: float = DEFAULT_DT, engine: Callable = engine_simulate,
+            analytic: Callable[[Design], Shot] = simulate_fast) -> Comparison:
     """Simulate ``case`` in both models and compare.
+
+    The analytic side is the compiled fast path by default (the same numbers as
+    ``analytic.simulate.simulate`` to ~1e-12, ``tests/test_analytic_fast.py``);
+    pass ``analytic=simulate`` for the scipy reference.
 
     The engine runs at ``dt``; where its own diagnostics say the run is not
     accurate enough (energy error above ``ENGINE_ENERGY_TRUST``, or an
@@ -101,7 +105,7 @@ def compare(case: Case, dt: float = DEFAULT_DT, engine: Callable = engine_simula
     ``MAX_STEP_HALVINGS`` times, and the step used is reported. An engine that
     still cannot be trusted is a disagreement, with its message.
     """
-    a = analytic_simulate(case.design)
+    a = analytic(case.design)
     step = dt
     for halvings in range(tol.MAX_STEP_HALVINGS + 1):
         last = halvings == tol.MAX_STEP_HALVINGS
@@ -146,9 +150,10 @@ class StepStudy:
 
 
 def step_study(design: Design, dts: tuple[float, ...] = (4e-4, 2e-4, 1e-4, 5e-5),
-               engine: Callable = engine_simulate) -> StepStudy:
-    """Measure the engine's convergence order against the analytic reference."""
-    reference = analytic_simulate(design)
+               engine: Callable = engine_simulate,
+               analytic: Callable[[Design], Shot] = simulate_fast) -> StepStudy:
+    """Measure the engine's convergence order against the analytic model."""
+    reference = analytic(design)
     speed, rng = [], []
     for dt in dts:
         shot, _ = engine(design, dt)

@@ -95,4 +95,5 @@ def test_benchmark_reports_ratios_to_its_baseline(capsys):
 
     assert benchmark_main(["--repeat", "1"]) == 0
     lines = capsys.readouterr().out.splitlines()
-    assert "1.00 x baseline" in lines[1] and len(lines) == 5
+    assert "1.0000 x baseline" in lines[1] and len(lines) == 7
+    assert any("fast path" in line for line in lines)
