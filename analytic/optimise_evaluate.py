@@ -5,6 +5,13 @@ release-angle scatter the expected range (``analytic.optimise_robust``). A
 candidate that cannot be built (``DesignError``), whose integration fails
 (``IntegrationError``) or that does not throw (``Status`` other than ``OK``)
 scores ``FAILURE_RANGE`` and is counted under that kind, so the search goes on.
+
+Two paths shoot the candidates, with the same answers (to round-off, ~1e-12
+relative in range, except where a machine swings chaotically for seconds before
+it releases; ``tests/test_analytic_optimise_fast.py``): ``"fast"`` (the default)
+hands each batch to the compiled kernel in one call (``analytic.fast.shoot``,
+numba threads on every core); ``"reference"`` runs ``analytic.simulate`` one
+shot at a time in a pool of worker processes, kept to compare against.
 """
 
 from __future__ import annotations
@@ -15,12 +22,15 @@ from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from typing import Self
 
+import numba
 import numpy as np
 
+from analytic import fast
 from analytic.design import DesignError
 from analytic.integrate import IntegrationError
 from analytic.optimise_robust import Scatter, expected, release_scatter
 from analytic.problem import VARIABLE_NAMES, Problem, design_at
+from analytic.result import Status
 from analytic.simulate import simulate
 
 #: Score of a candidate that does not throw, m. Any throw does better: with the
@@ -33,6 +43,14 @@ NO_SCATTER = release_scatter(0.0)
 #: Failure kinds besides ``Status``: cannot be built / the integrator failed /
 #: the simulator raised (e.g. an equation evaluated outside its domain).
 DESIGN_ERROR, INTEGRATION_ERROR, SIMULATOR_ERROR = "design_error", "integration_error", "simulator_error"
+#: The two ways of shooting candidates (module docstring).
+FAST, REFERENCE = "fast", "reference"
+PATHS = (FAST, REFERENCE)
+#: Worker processes of the reference path unless told otherwise.
+DEFAULT_PROCESSES = 2
+#: The fast path's failures that are not a ``Status``, as the reference path counts them:
+#: it raises ``IntegrationError`` both when a step fails and when a flight never lands.
+_FAST_FAILURES = {fast.STEP_FAILED: INTEGRATION_ERROR, fast.NO_LANDING: INTEGRATION_ERROR}
 
 
 @dataclass(frozen=True)
@@ -44,7 +62,10 @@ class Throw:
 
 
 def throw(problem: Problem, values: np.ndarray, tolerance: float) -> Throw:
-    """Simulate the design at ``values`` (shape (6,), m and rad) with rtol = atol = ``tolerance``."""
+    """Simulate the design at ``values`` (shape (6,), m and rad) with rtol = atol = ``tolerance``.
+
+    The reference path: ``analytic.simulate.simulate``.
+    """
     try:
         design = design_at(problem, values)
     except DesignError:
@@ -62,6 +83,31 @@ def throw(problem: Problem, values: np.ndarray, tolerance: float) -> Throw:
     return Throw(shot.range)
 
 
+def fast_throws(problem: Problem, values: np.ndarray, tolerance: float) -> list[Throw]:
+    """``throw`` for every row of ``values`` (shape (S, 6), m and rad) on the fast path, in one batch.
+
+    The designs are built here (``DesignError``: not shot) and every buildable
+    one goes to the kernel in a single ``analytic.fast.shoot`` call, which
+    shares them among numba's threads.
+    """
+    results: list[Throw | None] = [None] * len(values)
+    built, rows = [], []
+    for i, v in enumerate(values):
+        try:
+            design = design_at(problem, v)
+        except DesignError:
+            results[i] = Throw(None, DESIGN_ERROR)
+        else:
+            built.append(i)
+            rows.append(fast.pack(design))
+    if rows:
+        shots = fast.shoot(np.array(rows), rtol=tolerance, atol=tolerance)
+        for i, status, distance in zip(built, shots.status.tolist(), shots.range.tolist(), strict=True):
+            results[i] = (Throw(distance) if status == Status.OK.value
+                          else Throw(None, _FAST_FAILURES.get(status, status)))
+    return results
+
+
 _worker_problem: Problem | None = None
 
 
@@ -75,29 +121,44 @@ def _throw_in_worker(task: tuple[np.ndarray, float]) -> Throw:
 
 
 class Evaluator:
-    """Scores designs of one problem in ``workers`` processes.
+    """Scores designs of one problem on the fast path (numba threads) or the reference path (processes).
 
-    Use as a context manager (it owns a process pool when ``workers > 1``). The
-    workers are spawned, so a script that makes one needs the usual
-    ``if __name__ == "__main__":`` guard.
+    Use as a context manager (on the reference path it owns a process pool
+    when ``workers > 1``). Those workers are spawned, so a script that makes
+    one needs the usual ``if __name__ == "__main__":`` guard.
+
+    Parameters
+    ----------
+    problem : the problem whose designs are scored.
+    path : ``"fast"`` or ``"reference"`` (module docstring).
+    workers : threads (fast path; default, and at most, every one numba has)
+        or worker processes (reference path; default ``DEFAULT_PROCESSES``)
+        shooting at once.
 
     Attributes
     ----------
-    problem : the problem whose designs are scored.
+    problem, path, workers : as given (``workers`` resolved to the number used).
     failures : failure kind -> number of shots that failed so.
     shots : number of shots simulated.
     """
 
-    def __init__(self, problem: Problem, *, workers: int = 2):
+    def __init__(self, problem: Problem, *, path: str = FAST, workers: int | None = None):
+        if path not in PATHS:
+            raise ValueError(f"path = {path!r}: must be one of {', '.join(PATHS)}")
+        if workers is None:
+            workers = numba.config.NUMBA_NUM_THREADS if path == FAST else DEFAULT_PROCESSES
         if workers < 1:
             raise ValueError(f"workers = {workers!r}: need at least one")
+        if path == FAST:
+            workers = min(workers, numba.config.NUMBA_NUM_THREADS)
         self.problem = problem
+        self.path = path
         self.failures: Counter[str] = Counter()
         self.shots = 0
         self._pool = None
-        if workers > 1:
-            # spawn, not fork: the parent may run threads (tqdm's monitor), and
-            # forking a threaded process can deadlock.
+        if path == REFERENCE and workers > 1:
+            # spawn, not fork: the parent may run threads (tqdm's monitor, numba's
+            # pool), and forking a threaded process can deadlock.
             self._pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"),
                                              initializer=_start_worker, initargs=(problem,))
         self.workers = workers
@@ -114,21 +175,32 @@ class Evaluator:
             self._pool = None
 
     def throws(self, values: np.ndarray, tolerance: float) -> list[Throw]:
-        """Shoot each design once, in parallel, counting failures.
+        """Shoot each design once, in parallel (on the fast path in one batch), counting failures.
 
         Parameters
         ----------
         values : (S, 6) design vectors, m and rad.
         """
-        tasks = [(v, tolerance) for v in np.asarray(values, dtype=float).reshape(-1, len(VARIABLE_NAMES))]
-        if self._pool is None:
-            results = [throw(self.problem, *task) for task in tasks]
+        values = np.asarray(values, dtype=float).reshape(-1, len(VARIABLE_NAMES))
+        if self.path == FAST:
+            results = self._fast_throws(values, tolerance)
+        elif self._pool is None:
+            results = [throw(self.problem, v, tolerance) for v in values]
         else:
+            tasks = [(v, tolerance) for v in values]
             chunk = max(1, len(tasks) // (4 * self.workers))
             results = list(self._pool.map(_throw_in_worker, tasks, chunksize=chunk))
         self.shots += len(results)
         self.failures.update(r.failure for r in results if r.failure is not None)
         return results
+
+    def _fast_throws(self, values: np.ndarray, tolerance: float) -> list[Throw]:
+        previous = numba.get_num_threads()
+        numba.set_num_threads(self.workers)
+        try:
+            return fast_throws(self.problem, values, tolerance)
+        finally:
+            numba.set_num_threads(previous)
 
     def node_ranges(self, values: np.ndarray, tolerance: float, scatter: Scatter,
                     failure_range: float = FAILURE_RANGE) -> np.ndarray:

@@ -7,7 +7,8 @@ Lampinen's feasibility rules (a feasible candidate beats an infeasible one,
 two infeasible ones compare by violation), so no penalty weight has to be
 tuned and infeasible candidates are never simulated, and with
 ``vectorized=True`` it hands over each generation whole, which
-``Evaluator`` spreads over the worker processes. It runs a fixed budget of
+``Evaluator`` shoots in one batch (on numba's threads, or on the reference
+path's worker processes). It runs a fixed budget of
 generations (or fewer, once its population's ranges agree): it only has to
 deliver a point in the optimum's basin.
 
@@ -128,7 +129,7 @@ def maximise(problem: Problem, evaluator: Evaluator, settings: Settings = Settin
 
     Parameters
     ----------
-    evaluator : scores designs of ``problem`` (owns the worker processes).
+    evaluator : scores designs of ``problem`` (``optimise_evaluate.Evaluator``, either path).
     start : (6,) skip the global stage and start the local one here. The robust
         variant starts from the nominal optimum: the expected range under a
         scatter of sigma differs from the range by ``sigma^2 / 2 * d2R/dtheta^2 +

@@ -23,7 +23,7 @@ EXIT_AGREE, EXIT_DISAGREE, EXIT_INVALID = 0, 1, 2
 def run_cases(cases: list[Case], dt: float, workers: int, progress: bool = True) -> list[Comparison]:
     """Compare every case, on ``workers`` processes, in the order given."""
     task = partial(compare, dt=dt)
-    fast.compile()   # load or build the analytic fast path once, before the workers start
+    fast.compile(progress=progress)   # load or build the fast path once, before the workers start
     bar = tqdm(total=len(cases), desc="cross-check", unit="design", disable=not progress, file=sys.stderr)
     if workers <= 1:
         results = []

@@ -1,6 +1,8 @@
-"""``python -m analytic optimise``: outputs written and readable, invalid input refused with exit code 2."""
+"""``python -m analytic optimise``: outputs written and readable on either path, invalid input refused with exit code 2."""
 
 from __future__ import annotations
+
+import math
 
 import pytest
 import tomli_w
@@ -12,9 +14,8 @@ from analytic.problem import load_problem, variables_of
 from analytic.simulate import simulate
 
 from conftest import with_machine
-from test_analytic_optimise_known import release_angle_problem_dict
-
-pytestmark = pytest.mark.slow
+from test_analytic_optimise_known import (ANGLE_TOLERANCE_DEG, RANGE_TOLERANCE,
+                                          release_angle_problem_dict)
 
 
 @pytest.fixture(scope="module")
@@ -50,6 +51,20 @@ def test_written_optimum_is_a_design_that_throws_further_than_table3(run):
     table3 = simulate(with_machine(design, release_angle=default_design().machine.release_angle))
     assert simulate(design).range >= table3.range
     assert variables_of(design.machine)[:5] == pytest.approx(variables_of(default_design().machine)[:5])
+
+
+@pytest.mark.slow
+def test_reference_path_writes_the_same_optimum(run, tmp_path):
+    # The fast and reference paths agree to round-off in range (test_analytic_optimise_fast.py), so
+    # both reach the release-angle problem's optimum within its known answer's tolerances.
+    _, problem_file, out = run
+    argv = [str(problem_file), "--path", "reference", "--out", str(tmp_path), "--quiet"]
+    assert optimise.main(argv) == optimise.EXIT_OK
+    assert "(reference path)" in (tmp_path / "report.txt").read_text()
+    fast, reference = load_design(out / "optimum.toml"), load_design(tmp_path / "optimum.toml")
+    assert math.degrees(fast.machine.release_angle) == pytest.approx(
+        math.degrees(reference.machine.release_angle), abs=ANGLE_TOLERANCE_DEG)
+    assert simulate(fast).range == pytest.approx(simulate(reference).range, rel=RANGE_TOLERANCE)
 
 
 @pytest.mark.parametrize("argv", [["missing.toml"], ["--robust", "-1"], ["--robust", "nan"]],

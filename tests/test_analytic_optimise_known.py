@@ -26,7 +26,6 @@ from test_analytic_optimise_problem import PROBLEM_FILE
 #: instead, so these bound the comparison with room to spare.
 RANGE_TOLERANCE = 1e-8
 ANGLE_TOLERANCE_DEG = 1e-3
-pytestmark = pytest.mark.slow
 #: SLSQP stops once a step gains < ftol = 1e-10 of the (scaled) range; with this
 #: problem's curvature (about 2400 m per unit coordinate squared) that leaves a slope
 #: of up to sqrt(2 * 2400 * 6e-9) = 5e-3 m per unit, 1e-4 of the 62 m range.
@@ -103,7 +102,7 @@ def spline(problem):
 @pytest.fixture(scope="module")
 def optima(problem):
     """Nominal and robust (sigma = 2 deg) optima of the release-angle problem."""
-    with Evaluator(problem, workers=2) as evaluator:
+    with Evaluator(problem) as evaluator:
         nominal = maximise(problem, evaluator, Settings(seed=0))
         robust = maximise(problem, evaluator, Settings(seed=0), scatter=release_scatter(SIGMA),
                           start=nominal.values)
@@ -137,7 +136,7 @@ def test_robust_optimiser_finds_the_best_expected_range_in_vacuum(spline, optima
 
 def test_same_seed_same_search(problem, optima):
     # Seeded and reproducible: the parallel evaluation order does not change the answer.
-    with Evaluator(problem, workers=2) as evaluator:
+    with Evaluator(problem) as evaluator:
         again = maximise(problem, evaluator, Settings(seed=0))
     assert again.values.tolist() == optima[0].values.tolist()
     assert again.history.best.tolist() == optima[0].history.best.tolist()

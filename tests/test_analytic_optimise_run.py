@@ -26,8 +26,6 @@ SEED_RANGE_AGREEMENT = 1e-8
 #: paper's Table III (what a builder could tell apart).
 SEED_DESIGN_AGREEMENT = 0.01
 
-pytestmark = pytest.mark.slow
-
 
 @pytest.fixture(scope="module")
 def problem():
@@ -36,8 +34,8 @@ def problem():
 
 @pytest.fixture(scope="module")
 def optima(problem):
-    """The default settings from each seed, sharing one pool of worker processes."""
-    with Evaluator(problem, workers=2) as evaluator:
+    """The default settings from each seed, on the default (fast) path."""
+    with Evaluator(problem) as evaluator:
         return {seed: maximise(problem, evaluator, Settings(seed=seed)) for seed in SEEDS}
 
 
