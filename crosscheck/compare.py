@@ -92,12 +92,15 @@ def compare_shots(a: Shot, e: Shot) -> tuple[Row, ...]:
 
 
 def compare(case: Case, dt: float = DEFAULT_DT, engine: Callable = engine_simulate,
-            analytic: Callable[[Design], Shot] = simulate_fast) -> Comparison:
+            analytic: Callable[[Design], Shot] = simulate_fast,
+            analytic_shot: Shot | Exception | None = None) -> Comparison:
     """Simulate ``case`` in both models and compare.
 
     The analytic side is the compiled fast path by default (the same numbers as
-    ``analytic.simulate.simulate`` to ~1e-12, ``tests/test_analytic_fast.py``);
-    pass ``analytic=simulate`` for the scipy reference.
+    ``analytic.simulate.simulate`` to round-off or the integrator's own error,
+    ``tests/test_analytic_fast.py``); pass ``analytic=simulate`` for the scipy
+    reference, or ``analytic_shot``, already simulated (``run_cases`` shoots
+    all cases in one batch; an exception there is raised here).
 
     The engine runs at ``dt``; where its own diagnostics say the run is not
     accurate enough (energy error above ``ENGINE_ENERGY_TRUST``, or an
@@ -105,7 +108,9 @@ def compare(case: Case, dt: float = DEFAULT_DT, engine: Callable = engine_simula
     ``MAX_STEP_HALVINGS`` times, and the step used is reported. An engine that
     still cannot be trusted is a disagreement, with its message.
     """
-    a = analytic(case.design)
+    if isinstance(analytic_shot, Exception):
+        raise analytic_shot
+    a = analytic(case.design) if analytic_shot is None else analytic_shot
     step = dt
     for halvings in range(tol.MAX_STEP_HALVINGS + 1):
         last = halvings == tol.MAX_STEP_HALVINGS

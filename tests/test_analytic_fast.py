@@ -26,6 +26,7 @@ from analytic.bench import bench_designs
 from analytic.bench import main as bench_main
 from analytic.cli import build_parser
 from analytic.design import DesignError, release_function
+from analytic.integrate import IntegrationError
 from analytic.eom import params
 from analytic.result import Status
 from analytic.simulate import simulate
@@ -253,6 +254,27 @@ def test_batch_equals_single_shots_bit_for_bit():
             assert got == value(expected) or (math.isnan(got) and expected is None)
         if single.ok:
             assert np.array_equal(batch.release_velocity[i], single.release_velocity)
+
+
+def test_many_shots_equal_single_ones_and_keep_errors_in_place(table3, monkeypatch):
+    designs = [table3] + [c.design for c in failure_cases()]
+    many = fast.simulate_fast_many(designs)
+    for design, shot in zip(designs, many, strict=True):
+        single = fast.simulate_fast(design)
+        assert (shot.status, shot.message, shot.range) == (single.status, single.message, single.range)
+    # A step failure in one design (forced: the kernel's code for it) stays in its place.
+    real_to_shot = fast.to_shot
+
+    def failing_second(design, row):
+        if design is designs[1]:
+            row = row.copy()
+            row[kernel.STATUS], row[kernel.END_T] = kernel.STEP_FAILED, 0.25
+        return real_to_shot(design, row)
+
+    monkeypatch.setattr(fast, "to_shot", failing_second)
+    many = fast.simulate_fast_many(designs)
+    assert isinstance(many[1], IntegrationError) and "t = 0.25 s" in str(many[1])
+    assert many[0].ok and many[2].status.value == failure_cases()[1].expected
 
 
 def test_batch_accepts_packed_rows_and_reports_its_work():
