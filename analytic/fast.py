@@ -210,6 +210,21 @@ def to_shot(design: Design, out: np.ndarray) -> Shot:
 # Many designs
 # --------------------------------------------------------------------------- #
 
+def _shoot_rows(rows: np.ndarray, rtol: float, atol: float) -> np.ndarray:
+    """The kernel's result rows (S, N_RESULT) for design rows (S, N_DESIGN), on all threads."""
+    _check_tolerances(rtol, atol)
+    rows = np.ascontiguousarray(rows, dtype=np.float64)
+    if rows.ndim != 2 or rows.shape[1] != kernel.N_DESIGN:
+        raise ValueError(f"designs: expected rows of shape (S, {kernel.N_DESIGN}), got {rows.shape}")
+    compile()
+    out = np.empty((len(rows), kernel.N_RESULT))
+    # Shots differ in cost (by 10x over the paper's bounds): hand them to the
+    # threads a few at a time rather than in one block per thread.
+    with numba.parallel_chunksize(BATCH_CHUNK):
+        kernel.shots(rows, DRAG_TABLE, COEFFICIENTS, rtol, atol, out)
+    return out
+
+
 def simulate_fast_many(designs: Sequence[Design], *, rtol: float = DEFAULT_RTOL,
                        atol: float = DEFAULT_ATOL) -> list[Shot | IntegrationError]:
     """``simulate_fast`` for every design in one batch on all cores.
@@ -217,12 +232,7 @@ def simulate_fast_many(designs: Sequence[Design], *, rtol: float = DEFAULT_RTOL,
     A design whose integration fails gets its ``IntegrationError`` in its
     place in the list (not raised), so one bad design does not lose the rest.
     """
-    _check_tolerances(rtol, atol)
-    rows = pack_many(designs)
-    compile()
-    out = np.empty((len(rows), kernel.N_RESULT))
-    with numba.parallel_chunksize(BATCH_CHUNK):
-        kernel.shots(rows, DRAG_TABLE, COEFFICIENTS, rtol, atol, out)
+    out = _shoot_rows(pack_many(designs), rtol, atol)
     shots: list[Shot | IntegrationError] = []
     for design, row in zip(designs, out, strict=True):
         try:
@@ -281,17 +291,8 @@ def shoot(designs: Sequence[Design] | np.ndarray, *, rtol: float = DEFAULT_RTOL,
     ----------
     designs : a sequence of ``Design``, or their kernel rows (S, N_DESIGN) from ``pack_many``.
     """
-    _check_tolerances(rtol, atol)
     rows = designs if isinstance(designs, np.ndarray) else pack_many(designs)
-    rows = np.ascontiguousarray(rows, dtype=np.float64)
-    if rows.ndim != 2 or rows.shape[1] != kernel.N_DESIGN:
-        raise ValueError(f"designs: expected rows of shape (S, {kernel.N_DESIGN}), got {rows.shape}")
-    compile()
-    out = np.empty((len(rows), kernel.N_RESULT))
-    # Shots differ in cost (by 10x over the paper's bounds): hand them to the
-    # threads a few at a time rather than in one block per thread.
-    with numba.parallel_chunksize(BATCH_CHUNK):
-        kernel.shots(rows, DRAG_TABLE, COEFFICIENTS, rtol, atol, out)
+    out = _shoot_rows(rows, rtol, atol)
     landed = out[:, kernel.STATUS] == kernel.OK
     return Shots(status=_STATUS_NAMES[out[:, kernel.STATUS].astype(int)],
                  liftoff_time=out[:, kernel.LIFTOFF_T],

@@ -125,12 +125,6 @@ def test_compiled_drag_equals_aero_from_creeping_flow_to_past_the_crisis(table3,
         assert _close(kernel.drag_force_factor(speed, row, fast.DRAG_TABLE), expected), re
 
 
-def test_drag_table_is_what_aero_uses():
-    table = fast.drag_table()
-    assert table.shape == (kernel.N_DRAG_TABLE,)
-    assert np.all(np.isfinite(table))
-
-
 # --------------------------------------------------------------------------- #
 # Whole shots against the reference
 # --------------------------------------------------------------------------- #
