@@ -1,8 +1,7 @@
-"""What a shot produced: status, stage instants, release and landing, histories, energy."""
+"""What a shot produced: ``Shot`` (one design, with its histories) and ``Shots`` (many, as arrays)."""
 
 from __future__ import annotations
 
-import enum
 import math
 from dataclasses import dataclass, field
 from typing import Any
@@ -10,24 +9,9 @@ from typing import Any
 import numpy as np
 
 from analytic.design import Design
+from analytic.outcome import Stage, Status
 
-
-class Status(str, enum.Enum):
-    """How a shot ended. Only ``OK`` is a throw; the rest are named failures."""
-
-    OK = "ok"
-    NEVER_FIRES = "never_fires"                            # counterweight cannot lift the arm
-    NEVER_LIFTS_OFF = "never_lifts_off"                    # projectile stays on the base
-    HITS_BASE_BEFORE_RELEASE = "hits_base_before_release"  # projectile back on the base in stage 2
-    NEVER_RELEASES = "never_releases"                      # release condition not met in time
-
-
-class Stage(enum.IntEnum):
-    """The three stages of a shot (``docs/derivation.md``)."""
-
-    SLIDE = 1   # projectile on the base, dragged by the sling (2 DOF)
-    SWING = 2   # free swing in the sling (3 DOF)
-    FLIGHT = 3  # point-mass flight with drag and wind
+__all__ = ["EnergyBudget", "JSON_KEYS", "Shot", "Shots", "Stage", "Status", "ideal_range"]
 
 
 #: Keys of the ``--json`` object, shared by ``analytic`` and ``engine_model``.
@@ -58,10 +42,10 @@ class EnergyBudget:
 class Shot:
     """The outcome of simulating one design.
 
-    Scalars are SI (s, m, m/s, J, N); angles are radians except where a name
-    says ``_deg``. Fields that a failed shot never reached are ``None`` /
-    ``nan``-free: e.g. ``release_time`` is ``None`` when ``status`` is
-    ``NEVER_RELEASES``.
+    Scalars are SI (s, m, m/s, J, N); angles are radians. A field the shot
+    never reached is ``None`` (never NaN): e.g. ``release_time`` is ``None``
+    when ``status`` is ``NEVER_RELEASES``. The history arrays are empty for a
+    summary-only shot (the fast path, or ``simulate(histories=False)``).
 
     Attributes
     ----------
@@ -83,6 +67,8 @@ class Shot:
     path : (n, 2) projectile centre through stages 1 and 2, m from the pivot.
     counterweight_energy_released : J, potential energy given up by counterweight
         and arm between firing and release.
+    diagnostics : how far the model that made the shot can be trusted, or None
+        (the engine model's ``EngineDiagnostics``).
     """
 
     design: Design
@@ -106,10 +92,23 @@ class Shot:
     energy: EnergyBudget | None = None
     flight_t: np.ndarray = field(default_factory=lambda: np.empty(0))
     flight_path: np.ndarray = field(default_factory=lambda: np.empty((0, 2)))
+    diagnostics: Any = None
 
     @property
     def ok(self) -> bool:
         return self.status is Status.OK
+
+    def plot(self, path=None, **options):
+        """The shot's figure (``analytic.plot.shot_figure``); written to ``path`` if given.
+
+        Returns the ``matplotlib.figure.Figure``, which Jupyter shows inline.
+        """
+        from analytic import plot
+
+        figure = plot.shot_figure(self)
+        if path is not None:
+            plot.save_figure(figure, path, **options)
+        return figure
 
     @property
     def release_speed(self) -> float | None:
@@ -201,3 +200,42 @@ def ideal_range(design: Design) -> float:
     start_height = m.arm_short * math.sin(m.starting_angle) - m.counterweight_link
     drop = start_height + m.arm_short + m.counterweight_link
     return 2.0 * m.counterweight_mass * drop / design.projectile.mass
+
+
+@dataclass(frozen=True)
+class Shots:
+    """Results of many shots, one row per design (``analytic.fast.shoot``).
+
+    Every array has the designs along its first axis, of length S; a quantity
+    a shot never reached is NaN.
+
+    Attributes
+    ----------
+    status : (S,) str, each a ``Status`` value.
+    liftoff_time, release_time, landing_time : (S,) s from firing.
+    release_position, release_velocity : (S, 2) m and m/s from the pivot.
+    range : (S,) m from the pivot to the landing point.
+    apex_height : (S,) m above the base.
+    end_time : (S,) s, when the shot ended (the failure's instant for a failure).
+    steps, evaluations : (S,) int, accepted integrator steps and right-hand-side evaluations.
+    """
+
+    status: np.ndarray
+    liftoff_time: np.ndarray
+    release_time: np.ndarray
+    landing_time: np.ndarray
+    release_position: np.ndarray
+    release_velocity: np.ndarray
+    range: np.ndarray
+    apex_height: np.ndarray
+    end_time: np.ndarray
+    steps: np.ndarray
+    evaluations: np.ndarray
+
+    @property
+    def ok(self) -> np.ndarray:
+        """(S,) bool: the design threw."""
+        return self.status == Status.OK.value
+
+    def __len__(self) -> int:
+        return len(self.status)

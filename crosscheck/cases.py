@@ -80,7 +80,12 @@ FAILURE_DESIGNS = {
 def failure_cases() -> list[Case]:
     """One design per named failure, each with the status it is known to end in."""
     weak = _variant(default_design(), "fails-never_fires", machine={"counterweight_mass": 0.2})
-    cases = [Case(weak.name, weak, "failure", "never_fires")]
+    # A 10 mg, 1 m balloon flung 60 deg downward: its terminal speed is about
+    # 1 cm/s, so it takes minutes to fall the metre to the base, far past the
+    # flight bound of 100 vacuum flights plus a minute (about 65 s here).
+    balloon = _variant(default_design(), "fails-no_landing", machine={"release_angle": math.radians(-60.0)},
+                       projectile={"mass": 1e-5, "diameter": 1.0, "drag": "constant", "drag_coefficient": 0.47})
+    cases = [Case(weak.name, weak, "failure", "never_fires"), Case(balloon.name, balloon, "failure", "no_landing")]
     problem = default_problem()
     for status, (*lengths, start, release, rule, mass) in FAILURE_DESIGNS.items():
         values = np.array([*lengths, math.radians(start), math.radians(release)])

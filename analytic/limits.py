@@ -1,0 +1,47 @@
+"""The limits that end a stage or a shot, written once for both analytic paths and the engine.
+
+Plain ``math`` on floats: the reference path runs these functions as they
+are, the compiled path compiles the same source (``analytic.compiled``), and
+the engine model imports them (they hold no dynamics).
+"""
+
+from __future__ import annotations
+
+import math
+
+#: Stage 1 ends as never_lifts_off once the sling is this close to vertical
+#: (|sin beta|, within about 0.57 deg): the projectile is being dragged under
+#: the arm tip, and the reduced stage-1 equations become singular there.
+SLING_VERTICAL_LIMIT = 1e-2
+
+#: Time from firing to release allowed, in pendulum periods of the whole
+#: machine (``swing_time_limit``): a throwing machine releases well within
+#: one; three without lift-off or release mean it never will.
+SWING_PERIODS = 3.0
+
+#: The flight bound is this many times the vacuum flight time, plus
+#: ``FLIGHT_TIME_MARGIN``: drag shortens the climb and at worst stretches the
+#: fall to the terminal speed, so only a broken or absurd flight reaches it.
+FLIGHT_TIME_FACTOR = 100.0
+#: s, added to the flight bound so that a flight starting at rest still gets time.
+FLIGHT_TIME_MARGIN = 60.0
+
+
+def swing_time_limit(largest_length: float, gravity: float) -> float:
+    """Longest time from firing to release, s: ``SWING_PERIODS`` periods ``2 pi sqrt(L / g)``.
+
+    ``largest_length``: arm_long + sling_length + arm_short + counterweight_link, m.
+    """
+    return SWING_PERIODS * 2.0 * math.pi * math.sqrt(largest_length / gravity)
+
+
+def flight_time_limit(height_above_base: float, vertical_velocity: float, gravity: float) -> float:
+    """Longest flight allowed from release, s: ``FLIGHT_TIME_FACTOR`` vacuum flights plus a margin.
+
+    The vacuum flight time from ``height_above_base`` (m) with upward speed
+    ``vertical_velocity`` (m/s) is ``(vy + sqrt(vy^2 + 2 g y)) / g``.
+    """
+    vacuum = (vertical_velocity
+              + math.sqrt(max(vertical_velocity * vertical_velocity + 2.0 * gravity * height_above_base, 0.0))
+              ) / gravity
+    return FLIGHT_TIME_FACTOR * vacuum + FLIGHT_TIME_MARGIN

@@ -1,0 +1,97 @@
+"""How a shot can end: the statuses, the stages, and what each outcome says to the user.
+
+Shared by both analytic paths and the engine model (which may import this
+module: it holds no dynamics), so a design that fails is named and explained
+the same way whichever model ran it. A valid design that does not throw is a
+result with a ``Status`` and a message, never an exception.
+"""
+
+from __future__ import annotations
+
+import enum
+import math
+
+
+class Status(str, enum.Enum):
+    """How a shot ended. Only ``OK`` is a throw; the rest are named failures of a valid design."""
+
+    OK = "ok"
+    NEVER_FIRES = "never_fires"                            # the counterweight cannot lift the arm
+    NEVER_LIFTS_OFF = "never_lifts_off"                    # the projectile stays on the base
+    HITS_BASE_BEFORE_RELEASE = "hits_base_before_release"  # back on the base before release
+    NEVER_RELEASES = "never_releases"                      # release condition not met in time
+    NO_LANDING = "no_landing"                              # the flight never comes down in time
+    STEP_FAILED = "step_failed"                            # the integrator could not take a step
+
+    @property
+    def code(self) -> int:
+        """The integer the compiled path reports for this status (its position in the enum)."""
+        return _CODES[self]
+
+    @classmethod
+    def from_code(cls, code: int) -> Status:
+        return _STATUSES[code]
+
+
+_STATUSES = tuple(Status)
+_CODES = {status: i for i, status in enumerate(_STATUSES)}
+
+
+class Stage(enum.IntEnum):
+    """The three stages of a shot (``docs/derivation.md``)."""
+
+    SLIDE = 1   # projectile on the base, dragged by the sling
+    SWING = 2   # free swing in the sling
+    FLIGHT = 3  # point-mass flight with drag and wind
+
+
+class LiftoffFailure(enum.IntEnum):
+    """Why the projectile never left the base (the detail of ``Status.NEVER_LIFTS_OFF``)."""
+
+    UNDER_TIP = 1   # dragged under the arm tip: the sling turned vertical
+    ARM_BACK = 2    # the arm swung back down to the base
+    TIME_LIMIT = 3  # still on the base at the time limit
+
+
+# --------------------------------------------------------------------------- #
+# What each outcome says
+# --------------------------------------------------------------------------- #
+
+def never_fires_message(arm_acceleration: float) -> str:
+    """``arm_acceleration``: the arm's angular acceleration at rest, rad/s^2 (clockwise is negative)."""
+    return (f"the counterweight cannot lift the arm: at rest the arm's angular "
+            f"acceleration is {arm_acceleration:+.4g} rad/s^2, not clockwise (negative)")
+
+
+def never_lifts_off_message(reason: LiftoffFailure, time_limit: float) -> str:
+    text = {LiftoffFailure.UNDER_TIP: "it was dragged under the arm tip (the sling turned vertical)",
+            LiftoffFailure.ARM_BACK: "the arm swung back down to the base",
+            LiftoffFailure.TIME_LIMIT: f"it was still on the base after the time limit of {time_limit:.3g} s"}
+    return f"the projectile never lifts off: {text[LiftoffFailure(reason)]}"
+
+
+def hits_base_message(time: float) -> str:
+    return (f"the projectile came back down to the base at t = {time:.4f} s "
+            f"before the release condition was met")
+
+
+def never_releases_message(release_rule: str, release_angle: float, time_limit: float) -> str:
+    """``release_angle`` in rad; the message gives it in degrees, as design files do."""
+    rule = "velocity direction" if release_rule == "velocity" else "sling-to-arm angle"
+    return (f"the {rule} never reached the release angle of {math.degrees(release_angle):g} deg "
+            f"within the time limit of {time_limit:.3g} s")
+
+
+def no_landing_message(flight_time_limit: float) -> str:
+    return (f"the projectile did not come down within {flight_time_limit:.3g} s of flight "
+            f"(is the wind or the drag far outside anything real?)")
+
+
+def step_failed_message(time: float, stage: Stage) -> str:
+    return (f"the integrator could not continue at t = {time:.6g} s in stage {int(stage)} "
+            f"({Stage(stage).name.lower()}): the step size fell below the resolution of t "
+            f"or the state became non-finite; the design is probably far outside anything buildable")
+
+
+def thrown_message(range_: float) -> str:
+    return "thrown, but the projectile landed behind the pivot" if range_ < 0.0 else "thrown"
