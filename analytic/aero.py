@@ -43,7 +43,6 @@
 
 from __future__ import annotations
 
-import bisect
 import math
 
 import numpy as np
@@ -51,45 +50,112 @@ from scipy.interpolate import PchipInterpolator
 from scipy.optimize import brentq
 
 DRAG_MODELS = ("none", "constant", "smooth-sphere", "golf-ball")
+#: Codes of the drag models in the compiled path (their positions in ``DRAG_MODELS``).
+NO_DRAG, CONSTANT_DRAG, SMOOTH_SPHERE, GOLF_BALL = range(4)
 
 # Lyu et al. (2018) Fig. 3a, non-spinning 13-ball average (see above).
 GOLF_BALL_REYNOLDS = (5.0e4, 7.5e4, 1.0e5, 1.26e5, 1.5e5, 1.75e5, 2.2e5, 2.5e5)
 GOLF_BALL_DRAG_COEFFICIENT = (0.477, 0.302, 0.215, 0.205, 0.196, 0.199, 0.199, 0.210)
 
-
 # --------------------------------------------------------------------------- #
-# Smooth sphere: Clift, Grace & Weber (1978), Table 5.2
+# The curves, written once
 # --------------------------------------------------------------------------- #
-# The first three pieces are written as Cd Re / 24, which is finite at Re = 0,
-# so that the drag force factor Cd |v| = (24 mu / rho d) (Cd Re / 24) needs no
-# division by the speed.
+# Plain math on floats and a table of constants (``DRAG_TABLE``, built below):
+# the reference path runs these functions, the compiled path compiles the
+# same source and receives the table as an argument, so a cached build can
+# never keep an old constant. Layout of the table: the smooth sphere's
+# [Oseen end, low end, intermediate end, 6 piece breaks], then the golf
+# ball's [Re and Cd at its table's two ends, 8 log10 Re nodes, 7 x 4 cubic
+# coefficients, highest power first].
+OSEEN_END, LOW_END, INTERMEDIATE_END, SMOOTH_BREAKS = 0, 1, 2, 3
+N_SMOOTH_BREAKS = 6
+GOLF_RE_MIN, GOLF_RE_MAX, GOLF_CD_LOW, GOLF_CD_HIGH = range(9, 13)
+GOLF_NODES = 13
+N_GOLF_NODES = len(GOLF_BALL_REYNOLDS)
+GOLF_COEFFS = GOLF_NODES + N_GOLF_NODES
+N_DRAG_TABLE = GOLF_COEFFS + 4 * (N_GOLF_NODES - 1)
 
-def _stokes_ratio_oseen(re: float) -> float:
-    return 1.0 + 3.0 * re / 16.0                 # Oseen: Cd = 24/Re + 9/2
 
+def stokes_ratio(re, table):
+    """Cd Re / 24 of a smooth sphere below the intermediate range's end (finite at Re = 0).
 
-def _stokes_ratio_low(re: float) -> float:
-    return 1.0 + 0.1315 * re ** (0.82 - 0.05 * math.log10(re))
-
-
-def _stokes_ratio_intermediate(re: float) -> float:
+    Clift, Grace & Weber Table 5.2: Oseen's 24/Re (1 + 3 Re/16), then the
+    low and intermediate correlations.
+    """
+    if re < table[OSEEN_END]:
+        return 1.0 + 3.0 * re / 16.0
+    if re < table[LOW_END]:
+        return 1.0 + 0.1315 * re ** (0.82 - 0.05 * math.log10(re))
     return 1.0 + 0.1935 * re ** 0.6305
 
 
-# The remaining pieces give Cd itself as a function of w = log10 Re.
-_CD_PIECES = (
-    lambda w: 10.0 ** (1.6435 - 1.1242 * w + 0.1558 * w * w),
-    lambda w: 10.0 ** (-2.4571 + 2.5558 * w - 0.9295 * w * w + 0.1049 * w * w * w),
-    lambda w: 10.0 ** (-1.9181 + 0.6370 * w - 0.0636 * w * w),
-    lambda w: 10.0 ** (-4.3390 + 1.5809 * w - 0.1546 * w * w),
-    lambda w: 29.78 - 5.3 * w,
-    lambda w: 0.1 * w - 0.49,
-    lambda w: 0.19 - 8.0e4 / 10.0 ** w,
-)
-_TABLE_BREAKS = (1.5e3, 1.2e4, 4.4e4, 3.38e5, 4.0e5, 1.0e6)   # between the pieces above
+def smooth_sphere_cd_above(re, table):
+    """Cd of a smooth sphere from the intermediate range's end on (pieces in w = log10 Re)."""
+    i = 0
+    while i < N_SMOOTH_BREAKS and table[SMOOTH_BREAKS + i] <= re:
+        i += 1
+    w = math.log10(re)
+    if i == 0:
+        return 10.0 ** (1.6435 - 1.1242 * w + 0.1558 * w * w)
+    if i == 1:
+        return 10.0 ** (-2.4571 + 2.5558 * w - 0.9295 * w * w + 0.1049 * w * w * w)
+    if i == 2:
+        return 10.0 ** (-1.9181 + 0.6370 * w - 0.0636 * w * w)
+    if i == 3:
+        return 10.0 ** (-4.3390 + 1.5809 * w - 0.1546 * w * w)
+    if i == 4:
+        return 29.78 - 5.3 * w
+    if i == 5:
+        return 0.1 * w - 0.49
+    return 0.19 - 8.0e4 / 10.0 ** w
 
-_OSEEN_END = 0.01
-_LOW_END = 20.0
+
+def smooth_sphere_cd(re, table):
+    """Cd of a smooth sphere for re > 0."""
+    if re < table[INTERMEDIATE_END]:
+        return 24.0 / re * stokes_ratio(re, table)
+    return smooth_sphere_cd_above(re, table)
+
+
+def golf_ball_cd(re, table):
+    """Cd of a non-spinning golf ball: PCHIP in log10 Re, clamped to the end values outside."""
+    if re <= table[GOLF_RE_MIN]:
+        return table[GOLF_CD_LOW]
+    if re >= table[GOLF_RE_MAX]:
+        return table[GOLF_CD_HIGH]
+    w = math.log10(re)
+    # The last interval also takes a w that rounds onto the last node.
+    i = 0
+    while i + 2 < N_GOLF_NODES and table[GOLF_NODES + i + 1] <= w:
+        i += 1
+    k = GOLF_COEFFS + 4 * i
+    dw = w - table[GOLF_NODES + i]
+    return ((table[k] * dw + table[k + 1]) * dw + table[k + 2]) * dw + table[k + 3]
+
+
+def force_factor(model, speed, diameter, air_density, air_viscosity, constant, table):
+    """``Cd(Re) |v|`` of drag model code ``model`` (``NO_DRAG`` ...): finite as the speed goes to 0.
+
+    For the smooth sphere the Stokes term is ``24 mu / (rho d)`` times the
+    Stokes ratio rather than ``24/Re |v|``, so at zero speed the factor is
+    finite and the force ``3 pi mu d v`` goes to zero linearly.
+    """
+    if model == NO_DRAG or air_density == 0.0:
+        return 0.0
+    if model == CONSTANT_DRAG:
+        return constant * speed
+    re = air_density * speed * diameter / air_viscosity
+    if model == GOLF_BALL:
+        return golf_ball_cd(re, table) * speed
+    if re < table[INTERMEDIATE_END]:
+        return 24.0 * air_viscosity / (air_density * diameter) * stokes_ratio(re, table)
+    return smooth_sphere_cd_above(re, table) * speed
+
+
+# --------------------------------------------------------------------------- #
+# The table of constants
+# --------------------------------------------------------------------------- #
+_TABLE_BREAKS = (1.5e3, 1.2e4, 4.4e4, 3.38e5, 4.0e5, 1.0e6)   # tabulated breaks between pieces
 
 
 def _crossing(left, right, nominal: float) -> float:
@@ -100,56 +166,38 @@ def _crossing(left, right, nominal: float) -> float:
     return 10.0 ** brentq(lambda w: left(w) - right(w), w0 - 0.04, w0 + 0.04, xtol=1e-13)
 
 
-_INTERMEDIATE_END = _crossing(lambda w: 24.0 / 10.0 ** w * _stokes_ratio_intermediate(10.0 ** w),
-                              _CD_PIECES[0], 260.0)
-_CD_BREAKS = tuple(_crossing(_CD_PIECES[i], _CD_PIECES[i + 1], b) for i, b in enumerate(_TABLE_BREAKS))
+def _build_table() -> np.ndarray:
+    table = np.zeros(N_DRAG_TABLE)
+    table[OSEEN_END], table[LOW_END] = 0.01, 20.0
+    table[INTERMEDIATE_END] = math.inf
+    # Each piece as a function of w, evaluated by the curve itself away from every break.
+    def piece(i):
+        return lambda w: _piece_cd(i, w)
+    table[INTERMEDIATE_END] = _crossing(lambda w: 24.0 / 10.0 ** w * stokes_ratio(10.0 ** w, table),
+                                        piece(0), 260.0)
+    for i, nominal in enumerate(_TABLE_BREAKS):
+        table[SMOOTH_BREAKS + i] = _crossing(piece(i), piece(i + 1), nominal)
+    log_re = np.log10(GOLF_BALL_REYNOLDS)
+    pchip = PchipInterpolator(log_re, np.array(GOLF_BALL_DRAG_COEFFICIENT))
+    table[GOLF_RE_MIN], table[GOLF_RE_MAX] = GOLF_BALL_REYNOLDS[0], GOLF_BALL_REYNOLDS[-1]
+    table[GOLF_CD_LOW], table[GOLF_CD_HIGH] = GOLF_BALL_DRAG_COEFFICIENT[0], GOLF_BALL_DRAG_COEFFICIENT[-1]
+    table[GOLF_NODES:GOLF_COEFFS] = [math.log10(r) for r in GOLF_BALL_REYNOLDS]
+    table[GOLF_COEFFS:] = np.ravel(pchip.c.T)
+    return table
 
 
-def _smooth_sphere_stokes_ratio(re: float) -> float:
-    """Cd Re / 24 for 0 <= re < _INTERMEDIATE_END (finite at re = 0)."""
-    if re < _OSEEN_END:
-        return _stokes_ratio_oseen(re)
-    if re < _LOW_END:
-        return _stokes_ratio_low(re)
-    return _stokes_ratio_intermediate(re)
+def _piece_cd(i: int, w: float) -> float:
+    """Piece ``i`` of ``smooth_sphere_cd_above`` at w, whatever the breaks: the table whose
+    breaks put every Re in piece ``i`` (all breaks at 0 up to it, infinite after it)."""
+    selector = np.zeros(N_DRAG_TABLE)
+    selector[SMOOTH_BREAKS:SMOOTH_BREAKS + N_SMOOTH_BREAKS] = [0.0 if j < i else math.inf
+                                                             for j in range(N_SMOOTH_BREAKS)]
+    return smooth_sphere_cd_above(10.0 ** w, selector)
 
 
-def _smooth_sphere_cd(re: float) -> float:
-    """Cd of a smooth sphere for re > 0."""
-    if re < _INTERMEDIATE_END:
-        return 24.0 / re * _smooth_sphere_stokes_ratio(re)
-    w = math.log10(re)
-    return _CD_PIECES[bisect.bisect_right(_CD_BREAKS, re)](w)
-
-
-# --------------------------------------------------------------------------- #
-# Golf ball: shape-preserving cubic (PCHIP) in log10 Re through the table
-# --------------------------------------------------------------------------- #
-# scipy builds the interpolant once; calling it costs ~4 us per scalar, and this
-# runs in every flight right-hand side, so its breakpoints and cubic
-# coefficients are copied into plain floats and evaluated by hand (same
-# numbers, ~0.2 us; a whole drag_force_factor call measures ~0.8 us).
-
-_GOLF_LOG_RE = tuple(math.log10(r) for r in GOLF_BALL_REYNOLDS)
-_golf_pchip = PchipInterpolator(np.array(_GOLF_LOG_RE), np.array(GOLF_BALL_DRAG_COEFFICIENT))
-_GOLF_COEFFS = tuple(tuple(float(c) for c in _golf_pchip.c[:, i]) for i in range(len(_GOLF_LOG_RE) - 1))
-_GOLF_RE_MIN, _GOLF_RE_MAX = GOLF_BALL_REYNOLDS[0], GOLF_BALL_REYNOLDS[-1]
-_GOLF_CD_MIN_RE, _GOLF_CD_MAX_RE = GOLF_BALL_DRAG_COEFFICIENT[0], GOLF_BALL_DRAG_COEFFICIENT[-1]
-del _golf_pchip
-
-
-def _golf_ball_cd(re: float) -> float:
-    """Cd of a non-spinning golf ball, clamped to the table's end values outside it."""
-    if re <= _GOLF_RE_MIN:
-        return _GOLF_CD_MIN_RE
-    if re >= _GOLF_RE_MAX:
-        return _GOLF_CD_MAX_RE
-    w = math.log10(re)
-    # min(): log10 may round a Re just below the last node onto it.
-    i = min(bisect.bisect_right(_GOLF_LOG_RE, w) - 1, len(_GOLF_COEFFS) - 1)
-    c3, c2, c1, c0 = _GOLF_COEFFS[i]
-    dw = w - _GOLF_LOG_RE[i]
-    return ((c3 * dw + c2) * dw + c1) * dw + c0
+#: The drag curves' constants (``N_DRAG_TABLE``,), in the layout above.
+DRAG_TABLE = _build_table()
+DRAG_TABLE.flags.writeable = False
 
 
 # --------------------------------------------------------------------------- #
@@ -242,10 +290,10 @@ def drag_coefficient(model: str, reynolds: float, constant: float | None = None)
     if model == "constant":
         return float(constant)
     if model == "golf-ball":
-        return _golf_ball_cd(reynolds)
+        return golf_ball_cd(reynolds, DRAG_TABLE)
     if reynolds == 0.0:
         return math.inf
-    return _smooth_sphere_cd(reynolds)
+    return smooth_sphere_cd(reynolds, DRAG_TABLE)
 
 
 def drag_force_factor(model: str, speed: float, projectile_diameter: float, air_density: float,
@@ -286,13 +334,6 @@ def drag_force_factor(model: str, speed: float, projectile_diameter: float, air_
         For an unknown model, an invalid argument or a missing or superfluous ``constant``.
     """
     _check_model(model, constant)
-    re = reynolds_number(speed, projectile_diameter, air_density, air_viscosity)
-    if model == "none" or air_density == 0.0:
-        return 0.0
-    if model == "constant":
-        return constant * speed
-    if model == "golf-ball":
-        return _golf_ball_cd(re) * speed
-    if re < _INTERMEDIATE_END:
-        return 24.0 * air_viscosity / (air_density * projectile_diameter) * _smooth_sphere_stokes_ratio(re)
-    return _smooth_sphere_cd(re) * speed
+    reynolds_number(speed, projectile_diameter, air_density, air_viscosity)   # validates the inputs
+    return force_factor(DRAG_MODELS.index(model), speed, projectile_diameter, air_density, air_viscosity,
+                        math.nan if constant is None else constant, DRAG_TABLE)

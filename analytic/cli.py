@@ -20,7 +20,7 @@ def load_or_default(path: str | None) -> Design:
 
 
 def _simulate(args: argparse.Namespace) -> int:
-    from analytic.simulate import simulate
+    from analytic.reference import simulate
 
     try:
         design = load_or_default(args.design)

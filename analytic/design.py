@@ -29,9 +29,10 @@ from typing import Any
 
 import numpy as np
 
+from analytic import limits
 from analytic.aero import DRAG_MODELS
+from analytic.geometry import RELEASE_RULES
 
-RELEASE_RULES = ("velocity", "sling")
 
 #: Largest |release angle| for the ``velocity`` rule: the velocity must point forward.
 MAX_VELOCITY_RELEASE_ANGLE = math.radians(90.0)
@@ -68,7 +69,7 @@ class Machine:
     sling_length : long-arm tip to projectile centre, m.
     release_angle : rad; the velocity direction above horizontal (rule
         ``velocity``) or the sling-to-arm angle (rule ``sling``, see
-        ``analytic.eom.sling_arm_angle``).
+        ``analytic.geometry.sling_arm_angle``).
     release_rule : ``"velocity"`` or ``"sling"``.
     """
 
@@ -238,64 +239,16 @@ def initial_angles(machine: Machine) -> np.ndarray:
     return np.array([theta, -theta, -math.pi / 2 - theta])
 
 
-def characteristic_time(machine: Machine, gravity: float) -> float:
-    """Pendulum time scale ``2 pi sqrt(L / g)`` of the whole machine, s.
-
-    ``L = arm_long + sling_length + arm_short + counterweight_link`` is the
-    largest length in the machine; time limits are multiples of this, so they
-    scale with the machine instead of being magic numbers.
-    """
+def largest_length(machine: Machine) -> float:
+    """``arm_long + sling_length + arm_short + counterweight_link``, m: the machine's largest
+    length, which sets its time and speed scales."""
     m = machine
-    length = m.arm_long + m.sling_length + m.arm_short + m.counterweight_link
-    return 2.0 * math.pi * math.sqrt(length / gravity)
+    return m.arm_long + m.sling_length + m.arm_short + m.counterweight_link
 
 
 def swing_time_limit(machine: Machine, gravity: float) -> float:
-    """Longest time allowed from firing to release, s: ``3 * characteristic_time``.
-
-    A throwing machine releases well within one pendulum period of its own
-    size; three periods without lift-off or release mean it never will.
-    """
-    return 3.0 * characteristic_time(machine, gravity)
-
-
-def sling_arm_angle(arm_direction: np.ndarray, sling_direction: np.ndarray) -> float:
-    """Sling-to-arm angle, rad in (-pi, pi]: the clockwise angle from the long arm
-    (pivot to tip) to the sling (tip to projectile).
-
-    Zero with the sling straight in line with the arm; negative while the sling
-    trails the clockwise-swinging arm (it starts at ``starting_angle - pi``),
-    positive once it has whipped ahead. In the paper's coordinates it is ``-psi``
-    wrapped to (-pi, pi].
-    """
-    ax, ay = arm_direction
-    sx, sy = sling_direction
-    return -math.atan2(ax * sy - ay * sx, ax * sx + ay * sy)
-
-
-def release_function(machine: Machine, arm_direction: np.ndarray, sling_direction: np.ndarray,
-                     velocity: np.ndarray) -> tuple[float, bool]:
-    """The release rule as an event: ``(value, armed)``.
-
-    Release happens when ``value`` rises through zero while ``armed`` is true.
-
-    * ``velocity`` rule: ``value = sin(alpha - angle(v))`` times ``|v|`` (smooth
-      in the state). The projectile's velocity direction sweeps clockwise
-      (decreasing elevation) through the swing, so it rises through zero when
-      the direction passes the release angle alpha going clockwise, and also
-      when it passes ``alpha + 180 deg`` going anticlockwise; ``armed`` (the
-      velocity has a positive component along alpha) rejects the latter.
-    * ``sling`` rule: ``value = sin(gamma - alpha)`` with gamma the
-      ``sling_arm_angle``, rising as the sling whips ahead; ``armed`` is
-      ``cos(gamma - alpha) > 0``.
-    """
-    alpha = machine.release_angle
-    if machine.release_rule == "velocity":
-        vx, vy = velocity
-        along = math.cos(alpha) * vx + math.sin(alpha) * vy
-        return math.sin(alpha) * vx - math.cos(alpha) * vy, along > 0.0
-    gamma = sling_arm_angle(arm_direction, sling_direction)
-    return math.sin(gamma - alpha), math.cos(gamma - alpha) > 0.0
+    """Longest time allowed from firing to release, s (``analytic.limits.swing_time_limit``)."""
+    return limits.swing_time_limit(largest_length(machine), gravity)
 
 
 # --------------------------------------------------------------------------- #

@@ -18,9 +18,15 @@ import numpy as np
 from scipy.integrate import DOP853, OdeSolution
 from scipy.optimize import brentq
 
+from analytic.stages import ROOT_TIME_TOLERANCE
+
 
 class IntegrationError(RuntimeError):
-    """The solver failed (step size underflow, non-finite state)."""
+    """The solver failed (step size underflow, non-finite state) at ``time``, s."""
+
+    def __init__(self, message: str, time: float):
+        super().__init__(message)
+        self.time = time
 
 
 @dataclass(frozen=True)
@@ -53,7 +59,7 @@ class Segment:
     t : (n,) output times (a fixed grid of spacing ``output_step`` plus the end), s.
     y : (n, m) states at ``t``.
     event : name of the terminal event that ended it, or None if ``t_end`` was reached.
-    t_end, y_end : (m,) where it ended.
+    t_end : float, where it ended, s; y_end : (m,) the state there.
     roots : name -> list of (t, y) for non-terminal events that were counted.
     solution : the continuous solution on [t[0], t_end] (``OdeSolution``; None
         for a segment of zero length).
@@ -67,9 +73,6 @@ class Segment:
     roots: dict[str, list[tuple[float, np.ndarray]]]
     solution: OdeSolution | None = None
 
-
-#: Event roots are located to this absolute time tolerance, s.
-ROOT_TIME_TOLERANCE = 1e-14
 
 
 def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.ndarray,
@@ -100,9 +103,9 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
     while solver.status == "running":
         message = solver.step()
         if solver.status == "failed":
-            raise IntegrationError(f"integration failed at t = {solver.t:.6g} s: {message}")
+            raise IntegrationError(f"integration failed at t = {solver.t:.6g} s: {message}", solver.t)
         if not np.all(np.isfinite(solver.y)):
-            raise IntegrationError(f"non-finite state at t = {solver.t:.6g} s")
+            raise IntegrationError(f"non-finite state at t = {solver.t:.6g} s", solver.t)
         dense = solver.dense_output() if record else _LazyDense(solver)
         if record:
             step_ends.append(solver.t)

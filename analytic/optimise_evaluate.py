@@ -2,15 +2,15 @@
 
 The optimiser only ever sees a number per candidate: its range, or with a
 release-angle scatter the expected range (``analytic.optimise_robust``). A
-candidate that cannot be built (``DesignError``), whose integration fails
-(``IntegrationError``) or that does not throw (``Status`` other than ``OK``)
-scores ``FAILURE_RANGE`` and is counted under that kind, so the search goes on.
+candidate that cannot be built (``DesignError``) or that does not throw
+(``Status`` other than ``OK``) scores ``FAILURE_RANGE`` and is counted under
+that kind, so the search goes on.
 
 Two paths shoot the candidates, with the same answers (to round-off, ~1e-12
 relative in range, except where a machine swings chaotically for seconds before
 it releases; ``tests/test_analytic_optimise_fast.py``): ``"fast"`` (the default)
 hands each batch to the compiled kernel in one call (``analytic.fast.shoot``,
-numba threads on every core); ``"reference"`` runs ``analytic.simulate`` one
+numba threads on every core); ``"reference"`` runs ``analytic.reference`` one
 shot at a time in a pool of worker processes, kept to compare against.
 """
 
@@ -27,11 +27,10 @@ import numpy as np
 
 from analytic import fast
 from analytic.design import DesignError
-from analytic.integrate import IntegrationError
 from analytic.optimise_robust import Scatter, expected, release_scatter
 from analytic.problem import VARIABLE_NAMES, Problem, design_at
 from analytic.result import Status
-from analytic.simulate import simulate
+from analytic.reference import simulate
 
 #: Score of a candidate that does not throw, m. Any throw does better: with the
 #: velocity release rule and |release angle| < 90 deg the projectile leaves
@@ -40,17 +39,14 @@ from analytic.simulate import simulate
 FAILURE_RANGE = -10.0
 #: The nominal problem: one node at the set release angle.
 NO_SCATTER = release_scatter(0.0)
-#: Failure kinds besides ``Status``: cannot be built / the integrator failed /
-#: the simulator raised (e.g. an equation evaluated outside its domain).
-DESIGN_ERROR, INTEGRATION_ERROR, SIMULATOR_ERROR = "design_error", "integration_error", "simulator_error"
+#: Failure kinds besides ``Status``: cannot be built / the simulator raised
+#: (it promises a ``Status`` for every valid design; counted, should it break that).
+DESIGN_ERROR, SIMULATOR_ERROR = "design_error", "simulator_error"
 #: The two ways of shooting candidates (module docstring).
 FAST, REFERENCE = "fast", "reference"
 PATHS = (FAST, REFERENCE)
 #: Worker processes of the reference path unless told otherwise.
 DEFAULT_PROCESSES = 2
-#: The fast path's failures that are not a ``Status``, as the reference path counts them:
-#: it raises ``IntegrationError`` both when a step fails and when a flight never lands.
-_FAST_FAILURES = {fast.STEP_FAILED: INTEGRATION_ERROR, fast.NO_LANDING: INTEGRATION_ERROR}
 
 
 @dataclass(frozen=True)
@@ -64,16 +60,14 @@ class Throw:
 def throw(problem: Problem, values: np.ndarray, tolerance: float) -> Throw:
     """Simulate the design at ``values`` (shape (6,), m and rad) with rtol = atol = ``tolerance``.
 
-    The reference path: ``analytic.simulate.simulate``.
+    The reference path: ``analytic.reference.simulate``.
     """
     try:
         design = design_at(problem, values)
     except DesignError:
         return Throw(None, DESIGN_ERROR)
     try:
-        shot = simulate(design, rtol=tolerance, atol=tolerance)
-    except IntegrationError:
-        return Throw(None, INTEGRATION_ERROR)
+        shot = simulate(design, rtol=tolerance, atol=tolerance, histories=False)
     except ValueError:
         # simulate promises a Status for every valid design; count the ones where
         # it raises instead, so the search goes on and the report shows them.
@@ -104,7 +98,7 @@ def fast_throws(problem: Problem, values: np.ndarray, tolerance: float) -> list[
         shots = fast.shoot(np.array(rows), rtol=tolerance, atol=tolerance)
         for i, status, distance in zip(built, shots.status.tolist(), shots.range.tolist(), strict=True):
             results[i] = (Throw(distance) if status == Status.OK.value
-                          else Throw(None, _FAST_FAILURES.get(status, status)))
+                          else Throw(None, status))
     return results
 
 

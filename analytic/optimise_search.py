@@ -36,7 +36,7 @@ from analytic.optimise_kkt import (FirstOrder, constraint_jacobian, first_order,
                                    unit_constraints)
 from analytic.optimise_robust import Scatter
 from analytic.problem import Problem, from_unit, to_unit
-from analytic.simulate import DEFAULT_RTOL
+from analytic.reference import DEFAULT_RTOL
 
 #: SLSQP stops once a step changes the objective (range / its starting value) by
 #: less than this: 1e-10 of ~50 m is 5 nm, just above the range's noise at the

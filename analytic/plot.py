@@ -9,25 +9,15 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
+from analytic.geometry import machine_points
 from analytic.result import Shot, Stage
-
-
-def machine_points(shot: Shot, index: int) -> dict[str, np.ndarray]:
-    """Positions (2,) of the machine's joints at history sample ``index``, m from the pivot."""
-    m = shot.design.machine
-    theta, phi, psi = shot.q[index]
-    long_tip = m.arm_long * np.array([-math.sin(theta), math.cos(theta)])
-    short_tip = m.arm_short * np.array([math.sin(theta), -math.cos(theta)])
-    weight = short_tip + m.counterweight_link * np.array([math.sin(theta + phi), -math.cos(theta + phi)])
-    projectile = long_tip + m.sling_length * np.array([-math.sin(theta + psi), math.cos(theta + psi)])
-    return {"pivot": np.zeros(2), "long_tip": long_tip, "short_tip": short_tip,
-            "weight": weight, "projectile": projectile}
 
 
 def draw_machine(ax, shot: Shot, index: int, alpha: float = 1.0) -> None:
     """Draw frame, arm, counterweight link and mass, sling and projectile at sample ``index``."""
     h = shot.design.machine.pivot_height
-    pts = machine_points(shot, index)
+    pts = machine_points(shot.q[index], shot.design.machine)
+    pts["weight"] = pts["counterweight"]
     ax.plot([-0.3 * h, 0.0, 0.3 * h], [-h, 0.0, -h], color="0.4", lw=2, alpha=alpha)
     ax.plot(*np.c_[pts["short_tip"], pts["long_tip"]], color="saddlebrown", lw=3, alpha=alpha)
     ax.plot(*np.c_[pts["short_tip"], pts["weight"]], color="0.2", lw=1.5, alpha=alpha)
@@ -39,6 +29,9 @@ def draw_machine(ax, shot: Shot, index: int, alpha: float = 1.0) -> None:
 
 def shot_figure(shot: Shot) -> Figure:
     """Three panels: the flight, the machine at release (or at the end), the energy over time."""
+    if len(shot.t) == 0:
+        raise ValueError(f"shot of {shot.design.name!r} has no histories to plot (a summary from the "
+                         f"fast path or simulate(histories=False)): simulate it with histories")
     fig = Figure(figsize=(13, 4.2), layout="constrained")
     ax_flight, ax_machine, ax_energy = fig.subplots(1, 3, gridspec_kw={"width_ratios": [1.6, 1, 1.1]})
     h = shot.design.machine.pivot_height
@@ -79,8 +72,12 @@ def shot_figure(shot: Shot) -> Figure:
     return fig
 
 
+def save_figure(figure: Figure, path: str | Path, dpi: int = 110) -> None:
+    """Render ``figure`` to ``path`` through the Agg canvas (the format follows the suffix)."""
+    FigureCanvasAgg(figure)
+    figure.savefig(path, dpi=dpi)
+
+
 def save_shot_figure(shot: Shot, path: str | Path, dpi: int = 110) -> None:
-    """Render ``shot_figure`` to a PNG file."""
-    fig = shot_figure(shot)
-    FigureCanvasAgg(fig)
-    fig.savefig(path, dpi=dpi)
+    """Render ``shot_figure`` to a file."""
+    save_figure(shot_figure(shot), path, dpi)

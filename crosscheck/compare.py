@@ -97,7 +97,7 @@ def compare(case: Case, dt: float = DEFAULT_DT, engine: Callable = engine_simula
     """Simulate ``case`` in both models and compare.
 
     The analytic side is the compiled fast path by default (the same numbers as
-    ``analytic.simulate.simulate`` to round-off or the integrator's own error,
+    ``analytic.reference.simulate`` to round-off or the integrator's own error,
     ``tests/test_analytic_fast.py``); pass ``analytic=simulate`` for the scipy
     reference, or ``analytic_shot``, already simulated (``run_cases`` shoots
     all cases in one batch; an exception there is raised here).

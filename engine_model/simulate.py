@@ -14,7 +14,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from analytic.design import Design, Machine, initial_angles, release_function, swing_time_limit
+from analytic.design import Design, Machine, initial_angles, swing_time_limit
+from analytic.geometry import RELEASE_RULES, release_value
 from analytic.result import EnergyBudget, Shot, Stage, Status
 from engine_model import kinematics as kin
 from engine_model.build import DEFAULT_ITERATIONS, EngineError, Rig, build, machine_length
@@ -310,14 +311,15 @@ def _forces(before: tuple, row: tuple, geometry: tuple, on_base: bool, design: D
 
 
 def _release(before: tuple, row: tuple, geometry: tuple, machine: Machine) -> tuple[float, bool]:
-    """``analytic.design.release_function`` at the row's instant (mean of the half-step velocities)."""
+    """``analytic.geometry.release_value`` at the row's instant (mean of the half-step velocities)."""
     p = kin.PROJECTILE
     if before is row:
         velocity = (0.0, 0.0)
     else:
         velocity = (0.5 * (before[p + kin.VX] + row[p + kin.VX]), 0.5 * (before[p + kin.VY] + row[p + kin.VY]))
     theta = row[kin.ARM + kin.ANGLE]
-    return release_function(machine, (-math.sin(theta), math.cos(theta)), geometry[2:4], velocity)
+    return release_value(RELEASE_RULES.index(machine.release_rule), machine.release_angle,
+                         -math.sin(theta), math.cos(theta), *geometry[2:4], *velocity)
 
 
 def _assemble(design: Design, run: _Run, times: np.ndarray, sync: np.ndarray,

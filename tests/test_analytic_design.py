@@ -8,7 +8,7 @@ import pytest
 
 from analytic.design import (BeamArm, DesignError, design_from_dict, default_design,
                              design_to_dict, dumps_design, initial_angles, load_design,
-                             paper_geometry, save_design, sling_arm_angle)
+                             paper_geometry, save_design)
 
 from conftest import with_machine, with_projectile
 
@@ -46,13 +46,6 @@ def test_start_state_puts_tip_and_projectile_on_the_base(table3):
     assert m.arm_long * math.cos(theta) == pytest.approx(-m.pivot_height, abs=1e-15)
     assert theta + phi == 0.0                          # counterweight plumb
     assert -math.sin(theta + psi) == pytest.approx(1.0)  # sling points forward along the base
-
-
-def test_sling_arm_angle_sign_convention():
-    # Sling straight in line with the arm: 0; sling a quarter turn clockwise ahead: +90 deg.
-    assert sling_arm_angle((0.0, 1.0), (0.0, 1.0)) == 0.0
-    assert sling_arm_angle((0.0, 1.0), (1.0, 0.0)) == pytest.approx(math.pi / 2)
-    assert sling_arm_angle((0.0, 1.0), (-1.0, 0.0)) == pytest.approx(-math.pi / 2)
 
 
 @pytest.mark.parametrize("field, value, reason", [

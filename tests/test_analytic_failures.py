@@ -8,14 +8,19 @@ import numpy as np
 import pytest
 
 from analytic.result import Status
-from analytic.simulate import simulate
+from analytic.reference import simulate
 from crosscheck.cases import failure_cases
 
 from conftest import with_machine
 
 PHRASES = {Status.NEVER_FIRES: "cannot lift the arm", Status.NEVER_LIFTS_OFF: "never lifts off",
            Status.HITS_BASE_BEFORE_RELEASE: "came back down to the base",
-           Status.NEVER_RELEASES: "never reached the release angle"}
+           Status.NEVER_RELEASES: "never reached the release angle",
+           Status.NO_LANDING: "did not come down"}
+#: No real design is known to make the integrator fail a step (a rejected step
+#: shrinks until it succeeds); its record and message are tested with the
+#: kernel's own record of one (``test_analytic_fast``).
+NO_KNOWN_DESIGN = {Status.STEP_FAILED}
 
 
 @pytest.mark.parametrize("case", failure_cases(), ids=lambda c: c.name)
@@ -24,12 +29,14 @@ def test_failure_is_named(case):
     expected = Status(case.expected)
     assert shot.status is expected, shot.message
     assert PHRASES[expected] in shot.message
-    assert shot.release_time is None and shot.range is None and shot.to_json()["range"] is None
+    assert shot.range is None and shot.to_json()["range"] is None and shot.landing_time is None
+    # Released only if the failure came after release.
+    assert (shot.release_time is not None) == (expected is Status.NO_LANDING)
     assert np.all(np.isfinite(shot.q)) and len(shot.t) >= 1
 
 
 def test_every_failure_kind_has_a_case():
-    assert {Status(c.expected) for c in failure_cases()} == set(Status) - {Status.OK}
+    assert {Status(c.expected) for c in failure_cases()} == set(Status) - {Status.OK} - NO_KNOWN_DESIGN
 
 
 def test_never_fires_exactly_below_the_static_threshold(table3):

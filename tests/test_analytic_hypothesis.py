@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 
 from analytic.design import BeamArm, Design, Machine, Projectile, paper_geometry
 from analytic.result import Status
-from analytic.simulate import simulate
+from analytic.reference import simulate
 
 #: A hang guard, not a speed claim: a typical shot takes ~0.05 s, the slowest
 #: seen in a 1500-design scan under 1 s; 30 s means something looped.

@@ -11,7 +11,7 @@ from analytic import optimise
 from analytic.design import default_design, load_design
 from analytic.optimise_constraints import feasible
 from analytic.problem import load_problem, variables_of
-from analytic.simulate import simulate
+from analytic.reference import simulate
 
 from conftest import with_machine
 from test_analytic_optimise_known import (ANGLE_TOLERANCE_DEG, RANGE_TOLERANCE,

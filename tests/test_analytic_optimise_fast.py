@@ -8,8 +8,9 @@ import numpy as np
 import pytest
 
 from analytic import fast, optimise
+from analytic.result import Shots, Status
 from analytic.optimise_evaluate import (DEFAULT_PROCESSES, DESIGN_ERROR, FAILURE_RANGE, FAST,
-                                        INTEGRATION_ERROR, PATHS, REFERENCE, Evaluator)
+                                        PATHS, REFERENCE, Evaluator)
 from analytic.optimise_report import display
 from analytic.optimise_robust import release_scatter
 from analytic.optimise_search import Settings, maximise
@@ -95,20 +96,19 @@ def test_paths_give_the_same_ranges_at_scatter_nodes(problem, table3):
     assert fast_nodes == pytest.approx(reference_nodes, rel=SCORE_AGREEMENT, nan_ok=True)
 
 
-@pytest.mark.parametrize("status", [fast.STEP_FAILED, fast.NO_LANDING], ids=["step-failed", "no-landing"])
-def test_fast_failures_beyond_status_count_as_the_reference_counts_them(problem, values, monkeypatch, status):
-    # The reference path raises IntegrationError both when a step fails
-    # (analytic.integrate) and when a flight never lands (analytic.simulate), so
-    # both count as integration errors; none of the candidates above does either.
+@pytest.mark.parametrize("status", [Status.STEP_FAILED, Status.NO_LANDING], ids=lambda s: s.value)
+def test_a_failure_the_candidates_never_reach_is_counted_under_its_status(problem, values, monkeypatch, status):
+    # None of the candidates above fails a step or never lands: the batch is
+    # stood in for, to show that every status is counted under its own name.
     def shoot(rows, *, rtol, atol):
-        return fast.Shots(status=np.array([status] * len(rows)), **{
-            name: np.full(len(rows), math.nan) for name in fast.Shots.__dataclass_fields__ if name != "status"})
+        return Shots(status=np.array([status.value] * len(rows)), **{
+            name: np.full(len(rows), math.nan) for name in Shots.__dataclass_fields__ if name != "status"})
 
     monkeypatch.setattr(fast, "shoot", shoot)
     evaluator = Evaluator(problem)
     (result,) = evaluator.throws(values[0], 1e-7)
-    assert result.range is None and result.failure == INTEGRATION_ERROR
-    assert evaluator.failures == {INTEGRATION_ERROR: 1}
+    assert result.range is None and result.failure == status.value
+    assert evaluator.failures == {status.value: 1}
 
 
 def test_default_search_on_the_fast_path_reaches_the_reference_optimum(problem):

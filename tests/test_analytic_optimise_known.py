@@ -11,13 +11,14 @@ from scipy.interpolate import CubicSpline
 from scipy.optimize import minimize_scalar
 
 from analytic.design import default_design
-from analytic.eom import params, projectile_state
+from analytic.geometry import projectile_state
+from analytic.parameters import params
 from analytic.optimise_evaluate import Evaluator
 from analytic.optimise_robust import release_scatter
 from analytic.optimise_search import Settings, maximise
 from analytic.problem import VARIABLE_NAMES, design_at, problem_from_dict, variables_of
 from analytic.result import Stage
-from analytic.simulate import simulate
+from analytic.reference import simulate
 
 from test_analytic_optimise_problem import PROBLEM_FILE
 
@@ -70,7 +71,7 @@ def vacuum_range_of_release_angle(problem) -> CubicSpline:
     p, g, h = params(design), design.environment.gravity, design.machine.pivot_height
     angles, ranges = [], []
     for stage, q, qdot in zip(shot.stage, shot.q, shot.qdot, strict=True):
-        (x, y), (vx, vy) = projectile_state(q, qdot, p)
+        x, y, vx, vy = projectile_state(q[0], q[2], qdot[0], qdot[2], p.La, p.Ls)
         if stage == Stage.SWING and vx > 0.0:
             angles.append(math.atan2(vy, vx))
             ranges.append(x + vx * (vy + math.sqrt(vy * vy + 2.0 * g * (y + h))) / g)

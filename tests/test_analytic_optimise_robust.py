@@ -10,7 +10,7 @@ import pytest
 from analytic.optimise_evaluate import Evaluator
 from analytic.optimise_robust import DEFAULT_NODES, expected, release_scatter, spread
 from analytic.problem import default_problem, variables_of
-from analytic.simulate import DEFAULT_RTOL
+from analytic.reference import DEFAULT_RTOL
 
 SIGMA = math.radians(2.0)
 

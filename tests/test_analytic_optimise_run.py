@@ -12,7 +12,7 @@ from analytic.optimise_evaluate import Evaluator, throw
 from analytic.optimise_report import display
 from analytic.optimise_search import Settings, maximise
 from analytic.problem import default_problem, design_at, variables_of
-from analytic.simulate import DEFAULT_RTOL
+from analytic.reference import DEFAULT_RTOL
 
 from test_analytic_optimise_known import RESIDUAL_LIMIT
 

@@ -24,9 +24,12 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from analytic import eom
-from analytic.design import default_design, initial_angles
-from analytic.eom import Params
+from analytic import eom, stages
+from analytic.aero import DRAG_TABLE
+from analytic.design import initial_angles
+from analytic.design import default_design
+from analytic.geometry import part_positions, projectile_state
+from analytic.parameters import Params, params
 
 #: Agreement asked of analytic.eom and the sympy reference, relative to the
 #: largest entry of the quantity compared. Both sides evaluate the same closed
@@ -34,6 +37,9 @@ from analytic.eom import Params
 #: they differ by round-off (~1e-14); 1e-10 leaves room for the cancellation in
 #: solving the 4x4 constrained system while still catching any wrong term.
 REL_TOL = 1e-10
+
+#: The machine's numbers in ``Params``, the only ones the equations of motion read.
+MECHANICS = ("La", "Lb", "d", "mA", "IA", "mW", "Lw", "IW", "Ls", "mP", "h", "g")
 
 #: Seed of the random states and parameters (any fixed value; fixed so a
 #: failure reproduces).
@@ -55,7 +61,7 @@ class Reference:
         qdd = sp.symbols("ddtheta ddphi ddpsi", real=True)
         normal = sp.Symbol("N", real=True)
         prm = sp.symbols(Params._fields, real=True)
-        La, Lb, d, mA, IA, mW, Lw, IW, Ls, mP, h, g = prm
+        La, Lb, d, mA, IA, mW, Lw, IW, Ls, mP, h, g = (prm[Params._fields.index(name)] for name in MECHANICS)
         qv, qdv, qddv = sp.Matrix(q), sp.Matrix(qd), sp.Matrix(qdd)
 
         along_arm = sp.Matrix([-sp.sin(theta), sp.cos(theta)])
@@ -170,12 +176,15 @@ def random_params(rng: np.random.Generator) -> Params:
     h = La * rng.uniform(0.4, 0.9)
     mA = math.exp(rng.uniform(math.log(0.3), math.log(50.0)))
     mW = math.exp(rng.uniform(math.log(5.0), math.log(2000.0)))
+    # The equations read only the machine's numbers: the rest stay NaN, so a term
+    # that wrongly reads one of them shows up as NaN.
+    rest = dict.fromkeys(set(Params._fields) - set(MECHANICS), math.nan)
     return Params(La=La, Lb=Lb, d=rng.uniform(-Lb, La), mA=mA,
                   IA=mA * (La + Lb) ** 2 / 12.0 * rng.uniform(0.5, 1.5), mW=mW,
                   Lw=h * rng.uniform(0.2, 0.8), IW=mW * rng.uniform(0.0, 0.05),
                   Ls=La * rng.uniform(0.5, 1.3),
                   mP=math.exp(rng.uniform(math.log(0.04), math.log(20.0))), h=h,
-                  g=rng.uniform(1.0, 25.0))
+                  g=rng.uniform(1.0, 25.0), **rest)
 
 
 def swing_samples():
@@ -259,26 +268,29 @@ def test_reference_newton_across_the_sling_matches_the_lagrangian(ref, sample):
 @pytest.mark.parametrize("sample", SWING, ids=SWING_IDS)
 def test_mass_matrix(ref, sample):
     p, q, qd = sample
-    assert_close(eom.mass_matrix(q, p), ref.swing(q, qd, p)[0], "M(q)")
+    m11, m12, m13, m22, m33, *_ = eom.terms(*q, *qd, p)
+    mass_matrix = [[m11, m12, m13], [m12, m22, 0.0], [m13, 0.0, m33]]
+    assert_close(mass_matrix, ref.swing(q, qd, p)[0], "M(q)")
 
 
 @pytest.mark.parametrize("sample", SWING, ids=SWING_IDS)
 def test_forcing(ref, sample):
     p, q, qd = sample
-    assert_close(eom.forcing(q, qd, p), ref.swing(q, qd, p)[1], "f(q, q')")
+    assert_close(eom.terms(*q, *qd, p)[5:], ref.swing(q, qd, p)[1], "f(q, q')")
 
 
 @pytest.mark.parametrize("sample", SWING, ids=SWING_IDS)
 def test_swing_accelerations(ref, sample):
     p, q, qd = sample
-    assert_close(eom.swing_accelerations(q, qd, p), ref.swing(q, qd, p)[2], "q''")
+    assert_close(eom.swing_accelerations(*q, *qd, p), ref.swing(q, qd, p)[2], "q''")
 
 
 @pytest.mark.parametrize("sample", SWING, ids=SWING_IDS)
-def test_swing_rhs_stacks_rates_and_accelerations(ref, sample):
+def test_swing_derivative_stacks_rates_and_accelerations(ref, sample):
     p, q, qd = sample
-    y = np.concatenate([q, qd])
-    assert_close(eom.swing_rhs(0.0, y, p), np.concatenate([qd, ref.swing(q, qd, p)[2]]), "swing_rhs")
+    out = np.empty(6)
+    stages.derivative(stages.SWING, np.concatenate([q, qd]), p, DRAG_TABLE, out)
+    assert_close(out, np.concatenate([qd, ref.swing(q, qd, p)[2]]), "stage-2 derivative")
 
 
 # --------------------------------------------------------------------------- #
@@ -289,22 +301,22 @@ def test_swing_rhs_stacks_rates_and_accelerations(ref, sample):
 def test_slide_kinematics(ref, sample):
     p, theta, phi, dtheta, dphi = sample
     sol = ref.slide(theta, phi, dtheta, dphi, p)
-    kin = eom.slide_kinematics(theta, dtheta, p)
-    assert_close(kin.psi, sol["q"][2], "psi", scale=math.pi)
-    assert_close(kin.s, sol["s"], "s = dpsi/dtheta", scale=max(1.0, abs(sol["s"])))
-    assert_close(kin.dpsi, sol["qd"][2], "psi'", scale=max(abs(dtheta), abs(sol["qd"][2])))
-    assert_close(kin.c, sol["c"], "c", scale=max(dtheta**2, abs(sol["c"])))
-    assert_close(kin.sin_beta, math.sin(theta + sol["q"][2]), "sin beta", scale=1.0)
-    assert kin.sin_beta < 0.0
+    psi, dpsi, s, c, sin_beta = eom.slide_constraint(theta, dtheta, p)
+    assert_close(psi, sol["q"][2], "psi", scale=math.pi)
+    assert_close(s, sol["s"], "s = dpsi/dtheta", scale=max(1.0, abs(sol["s"])))
+    assert_close(dpsi, sol["qd"][2], "psi'", scale=max(abs(dtheta), abs(sol["qd"][2])))
+    assert_close(c, sol["c"], "c", scale=max(dtheta**2, abs(sol["c"])))
+    assert_close(sin_beta, math.sin(theta + sol["q"][2]), "sin beta", scale=1.0)
+    assert sin_beta < 0.0
 
 
 @pytest.mark.parametrize("sample", SLIDE, ids=SLIDE_IDS)
 def test_slide_system_is_the_reduced_lagrangian(ref, sample):
     p, theta, phi, dtheta, dphi = sample
     sol = ref.slide(theta, phi, dtheta, dphi, p)
-    m_r, r, _ = eom.slide_system(theta, phi, dtheta, dphi, p)
-    assert_close(m_r, sol["m_r"], "M_r = B^T M B")
-    assert_close(r, sol["r"], "r = B^T (f - M [0, 0, c])")
+    a, b, e, r1, r2, *_ = eom.slide_system(theta, phi, dtheta, dphi, p)
+    assert_close([[a, b], [b, e]], sol["m_r"], "M_r = B^T M B")
+    assert_close([r1, r2], sol["r"], "r = B^T (f - M [0, 0, c])")
 
 
 @pytest.mark.parametrize("sample", SLIDE, ids=SLIDE_IDS)
@@ -320,23 +332,24 @@ def test_slide_accelerations_and_normal_force(ref, sample):
 
 
 @pytest.mark.parametrize("sample", SLIDE, ids=SLIDE_IDS)
-def test_slide_rhs_and_full_state(ref, sample):
+def test_slide_derivative_and_full_state(ref, sample):
     p, theta, phi, dtheta, dphi = sample
     sol = ref.slide(theta, phi, dtheta, dphi, p)
-    y = np.array([theta, phi, dtheta, dphi])
-    assert_close(eom.slide_rhs(0.0, y, p), [dtheta, dphi, *sol["qdd"][:2]], "slide_rhs")
-    q, qd = eom.slide_full_state(y, p)
-    assert_close(q, sol["q"], "q", scale=math.pi)
-    assert_close(qd, sol["qd"], "q'")
+    out = np.empty(4)
+    stages.derivative(stages.SLIDE, np.array([theta, phi, dtheta, dphi]), p, DRAG_TABLE, out)
+    assert_close(out, [dtheta, dphi, *sol["qdd"][:2]], "stage-1 derivative")
+    full = eom.slide_state(theta, phi, dtheta, dphi, p)
+    assert_close(full[:3], sol["q"], "q", scale=math.pi)
+    assert_close(full[3:], sol["qd"], "q'")
 
 
 def test_normal_force_is_the_projectiles_weight_at_rest_with_the_sling_flat():
     # Closed-form limit: at rest with the sling along the base (theta + psi = -pi/2)
     # the projectile has no vertical acceleration and the sling pulls horizontally,
     # so the base carries exactly mP g (design.initial_angles, Table III design).
-    p = eom.params(default_design())
+    p = params(default_design())
     theta, phi, psi = initial_angles(default_design().machine)
-    assert eom.slide_kinematics(theta, 0.0, p).psi == pytest.approx(psi, abs=REL_TOL)
+    assert eom.slide_constraint(theta, 0.0, p)[0] == pytest.approx(psi, abs=REL_TOL)
     _, _, normal = eom.slide_accelerations(theta, phi, 0.0, 0.0, p)
     assert normal == pytest.approx(p.mP * p.g, rel=REL_TOL)
 
@@ -351,26 +364,30 @@ def test_energies(ref, sample):
     t_machine, t_proj, v_machine, v_proj = ref.energies(q, qd, p)
     t_scale = float(np.max(np.abs(ref.mass(q, qd, p)))) * float(np.max(qd**2))
     v_scale = p.g * (p.mA * abs(p.d) + p.mW * (p.Lb + p.Lw) + p.mP * (p.La + p.Ls))
-    assert_close(eom.kinetic_energy(q, qd, p), [t_machine, t_proj], "kinetic (machine, projectile)", t_scale)
-    assert_close(eom.potential_energy(q, p), [v_machine, v_proj], "potential (machine, projectile)", v_scale)
+    assert_close(eom.kinetic_energy(*q, *qd, p), [t_machine, t_proj], "kinetic (machine, projectile)", t_scale)
+    assert_close(eom.potential_energy(*q, p), [v_machine, v_proj], "potential (machine, projectile)", v_scale)
 
 
 @pytest.mark.parametrize("sample", SWING, ids=SWING_IDS)
 def test_projectile_state(ref, sample):
     p, q, qd = sample
     position, velocity = ref.projectile(q, qd, p)
-    pos, vel = eom.projectile_state(q, qd, p)
+    x, y, vx, vy = projectile_state(q[0], q[2], qd[0], qd[2], p.La, p.Ls)
+    pos, vel = (x, y), (vx, vy)
     assert_close(pos, np.ravel(position), "projectile position", scale=p.La + p.Ls)
     assert_close(vel, np.ravel(velocity), "projectile velocity",
                  scale=(p.La + p.Ls) * float(np.max(np.abs(qd))))
 
 
-def test_direction_helpers_are_unit_vectors_along_arm_and_sling():
-    p = SWING[0][0]
-    q, qd = SWING[0][1], np.zeros(3)
-    pos, _ = eom.projectile_state(q, qd, p)
-    tip = p.La * eom.arm_direction(q)
-    assert_close(tip + p.Ls * eom.sling_direction(q), pos, "tip + Ls * sling_direction", scale=p.La)
+@pytest.mark.parametrize("sample", SWING, ids=SWING_IDS)
+def test_part_positions_match_the_lagrangians_points(ref, sample):
+    p, q, qd = sample
+    position, _ = ref.projectile(q, qd, p)
+    parts = part_positions(*q, p.La, p.Lb, p.d, p.Lw, p.Ls)
+    assert_close(parts[8:10], np.ravel(position), "projectile from part_positions", scale=p.La + p.Ls)
+    # The long tip is La from the pivot and the projectile Ls from the tip.
+    assert math.hypot(*parts[0:2]) == pytest.approx(p.La, rel=REL_TOL)
+    assert math.hypot(parts[8] - parts[0], parts[9] - parts[1]) == pytest.approx(p.Ls, rel=REL_TOL)
 
 
 @pytest.mark.parametrize("sample", SWING, ids=SWING_IDS)
@@ -379,7 +396,7 @@ def test_sling_tension_in_the_swing(ref, sample):
     _, _, qdd = ref.swing(q, qd, p)
     expected = float(ref.tension(q, qd, qdd, 0.0, p))
     scale = p.mP * (p.g + (p.La + p.Ls) * max(float(np.max(qd**2)), float(np.max(np.abs(qdd)))))
-    assert_close(eom.sling_tension(q, qd, qdd, 0.0, p), expected, "T (stage 2)", scale)
+    assert_close(eom.sling_tension(q[0], q[2], qd[0], qd[2], qdd[0], 0.0, p), expected, "T (stage 2)", scale)
 
 
 @pytest.mark.parametrize("sample", SLIDE, ids=SLIDE_IDS)
@@ -389,6 +406,6 @@ def test_sling_tension_on_the_base(ref, sample):
     q, qd, qdd, normal = sol["q"], sol["qd"], sol["qdd"], sol["normal"]
     expected = float(ref.tension(q, qd, qdd, normal, p))
     scale = p.mP * (p.g + (p.La + p.Ls) * max(float(np.max(qd**2)), float(np.max(np.abs(qdd))))) + abs(normal)
-    assert_close(eom.sling_tension(q, qd, qdd, normal, p), expected, "T (stage 1)", scale)
+    assert_close(eom.sling_tension(q[0], q[2], qd[0], qd[2], qdd[0], normal, p), expected, "T (stage 1)", scale)
     # Newton across the sling holds too with the reference's N and q''.
     assert abs(ref.newton_across(q, qd, qdd, normal, p)) <= REL_TOL * scale

@@ -12,7 +12,7 @@ from test_analytic_failures import PHRASES
 
 from analytic.design import Design, default_design
 from analytic.result import Stage, Status
-from analytic.simulate import simulate as analytic_simulate
+from analytic.reference import simulate as analytic_simulate
 from conftest import with_machine, with_projectile
 from engine_model import kinematics as kin
 from engine_model.build import build

@@ -1,0 +1,89 @@
+"""The design as the model's numbers: one tuple of floats in the equations' symbols.
+
+``Params`` is what every function of the model takes (``analytic.eom``,
+``analytic.stages``); its field order is also the layout of a design row, the
+form in which the compiled path receives designs (``analytic.fast.pack``):
+the order is written here once, and both paths read it by name.
+
+Symbols (``docs/derivation.md``):
+
+==========  ===================================================  ==========================
+field       meaning                                              design field
+==========  ===================================================  ==========================
+La, Lb      long and short arm, m                                machine.arm_long, arm_short
+d           pivot to arm centre of mass (long side positive), m  machine.arm_cg
+mA, IA      arm mass (kg), inertia about its centre (kg m^2)     machine.arm_mass, arm_inertia
+mW, Lw, IW  counterweight mass, link, inertia about its centre   machine.counterweight_*
+Ls          sling, m                                             machine.sling_length
+mP          projectile mass, kg                                  projectile.mass
+h, g        pivot height (m), gravity (m/s^2)                    machine.pivot_height, environment.gravity
+alpha       release angle, rad                                   machine.release_angle
+rule        release rule code (``geometry.RELEASE_RULES``)       machine.release_rule
+drag        drag model code (``aero.DRAG_MODELS``)               projectile.drag
+cd          constant drag coefficient (NaN unless "constant")    projectile.drag_coefficient
+diameter    projectile diameter, m; area its frontal area, m^2   projectile.diameter
+rho, mu     air density (kg/m^3), viscosity (Pa s)               environment.air_*
+wind        wind speed, m/s, positive = tailwind                 environment.wind_speed
+t_limit     firing-to-release time limit, s                      (``limits.swing_time_limit``)
+theta0      arm angle at rest, rad                               (``design.initial_angles``)
+phi0        counterweight angle at rest, rad                     (``design.initial_angles``)
+==========  ===================================================  ==========================
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+from analytic.aero import DRAG_MODELS
+from analytic.design import initial_angles, swing_time_limit
+from analytic.geometry import RELEASE_RULES
+
+
+class Params(NamedTuple):
+    """A design's numbers in the model's symbols (SI, radians; the table above)."""
+
+    La: float
+    Lb: float
+    d: float
+    mA: float
+    IA: float
+    mW: float
+    Lw: float
+    IW: float
+    Ls: float
+    mP: float
+    h: float
+    g: float
+    alpha: float
+    rule: float
+    drag: float
+    cd: float
+    diameter: float
+    area: float
+    rho: float
+    mu: float
+    wind: float
+    t_limit: float
+    theta0: float
+    phi0: float
+
+
+#: Length of a design row (``Params`` in order).
+N_PARAMS = len(Params._fields)
+
+
+def params(design) -> Params:
+    """The ``Params`` of an ``analytic.design.Design``."""
+    m, proj, env = design.machine, design.projectile, design.environment
+    theta0, phi0, _ = initial_angles(m)
+    return Params(
+        La=m.arm_long, Lb=m.arm_short, d=m.arm_cg, mA=m.arm_mass, IA=m.arm_inertia,
+        mW=m.counterweight_mass, Lw=m.counterweight_link, IW=m.counterweight_inertia,
+        Ls=m.sling_length, mP=proj.mass, h=m.pivot_height, g=env.gravity,
+        alpha=m.release_angle, rule=float(RELEASE_RULES.index(m.release_rule)),
+        drag=float(DRAG_MODELS.index(proj.drag)),
+        cd=math.nan if proj.drag_coefficient is None else proj.drag_coefficient,
+        diameter=proj.diameter, area=math.pi * proj.diameter**2 / 4.0,
+        rho=env.air_density, mu=env.air_viscosity, wind=env.wind_speed,
+        t_limit=swing_time_limit(m, env.gravity), theta0=theta0, phi0=phi0)
