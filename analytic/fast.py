@@ -89,8 +89,8 @@ def compile(*, progress: bool = False) -> float:
         rows = np.zeros((1, N_PARAMS))
         out = np.empty((1, kernel.N_RESULT))
         args = (rows, DRAG_TABLE, COEFFICIENTS, DEFAULT_RTOL, DEFAULT_ATOL, out)
-        # Compile (or load) without running: running the parallel kernel would
-        # start numba's thread pool before a caller may want to fork.
+        # Compile (or load) without running, so that loading starts no threads
+        # (see ``shoot`` on processes and threads).
         kernel.shots.compile(tuple(numba.typeof(a) for a in args))
         kernel.shot.compile(tuple(numba.typeof(a) for a in (rows[0], *args[1:5], out[0])))
         _compile_seconds = time.perf_counter() - began
@@ -198,8 +198,14 @@ def shoot(designs: Sequence[Design] | np.ndarray, *, rtol: float = DEFAULT_RTOL,
           atol: float = DEFAULT_ATOL) -> Shots:
     """Simulate many designs on all cores (numba threads; ``numba.set_num_threads`` limits them).
 
-    Call it from one Python thread at a time: numba's default thread pool is
-    not re-entrant. Separate processes are fine.
+    Threads and processes, as measured: numba runs the batch on GNU OpenMP
+    where libgomp is installed (as on our machines; ``numba.threading_layer()``
+    says which), else on its own workqueue, which must be called from one
+    Python thread at a time. A process that has run a batch may fork workers,
+    but a forked worker that runs a batch itself is terminated by GNU OpenMP
+    ("fork() called from a process already using GNU OpenMP"): forked workers
+    must not shoot (the cross-check's run only the engine), and workers that
+    shoot are spawned (Dask's are).
 
     Parameters
     ----------

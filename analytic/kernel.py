@@ -32,8 +32,10 @@ from numba.np.unsafe.ndarray import to_fixed_tuple
 from analytic.compiled import OPTIONS, limits_, stages_
 from analytic.outcome import LiftoffFailure, Status
 from analytic.parameters import N_PARAMS, Params
+from analytic.stages import EVENT_NAMES, FLIGHT, ROOT_TIME_TOLERANCE, SLIDE, SWING
 
 _JIT = OPTIONS
+# The model's functions, compiled (``analytic.compiled``).
 derivative = stages_.derivative
 event_value = stages_.event_value
 event_direction = stages_.event_direction
@@ -43,7 +45,6 @@ fires = stages_.fires
 swing_start = stages_.swing_start
 flight_start = stages_.flight_start
 flight_time_limit = limits_.flight_time_limit
-from analytic.stages import EVENT_NAMES, FLIGHT, ROOT_TIME_TOLERANCE, SLIDE, STATE_SIZE, SWING  # noqa: E402
 
 N_EVENTS = tuple(len(names) for names in EVENT_NAMES)
 

@@ -2,8 +2,8 @@
 
 Scale of the engine's own error, for reference: on the paper's Table III design
 at the default 0.05 ms step it is about 1.6e-6 relative in release speed and
-2.7e-6 in range, falling 4x per halving of the step (issue 3's closing note;
-``python -m crosscheck --report`` re-measures it). The limits below leave
+2.7e-6 in range, falling 4x per halving of the step (``python -m crosscheck
+--report`` measures it again, and ``tests/test_crosscheck.py`` holds it to order 2). The limits below leave
 room for designs that whip harder than Table III, while a modelling mistake
 (a wrong inertia, pymunk's default soft joints) still shows up as a failure:
 those cost 1e-3 to 5e-2 (``tests/test_crosscheck.py``).

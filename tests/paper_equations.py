@@ -2,7 +2,7 @@
 
 Source: T. Corie, J. Park, D. Standring, "Here Comes Trebuchet - Optimizing the
 Counterweight Trebuchet for Maximum Range", section II, eqs. (8)-(43)
-(``/work/shared/seed/trebuchet-paper.md``). Each function is named after its
+(the project's copy: ``shared/seed/trebuchet-paper.md`` beside the repository). Each function is named after its
 equation number and its body follows the printed text token by token, in the
 paper's own symbols, so a reader can hold the two side by side. Nothing is
 corrected here; ``tests/test_analytic_paper_errata.py`` holds the corrections

@@ -299,7 +299,7 @@ def test_bad_tolerance_is_named(table3, name, value):
 
 
 def test_looser_tolerance_stays_within_the_target(table3):
-    """The fast path's tolerance is a real knob: 1e-8 still agrees to the issue's 1e-7."""
+    """The fast path's tolerance is a real knob: 1e-8 still agrees with the reference to 1e-7."""
     reference = simulate(table3, histories=False)
     loose = fast.simulate_fast(table3, rtol=1e-8, atol=1e-8)
     assert abs(loose.range / reference.range - 1.0) < RANGE_REL

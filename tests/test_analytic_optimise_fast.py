@@ -41,8 +41,8 @@ CANDIDATES = {
 #: Outside the box: a negative sling cannot be built (m and rad).
 UNBUILDABLE = [0.2, 0.2, 0.16, -0.1, 1.0, 0.5]
 
-#: The default run's optimum before the fast path: ``python -m analytic optimise`` at commit
-#: 70acbdd (the reference path, seed 0), its optimum.toml re-simulated at the default tolerance.
+#: The default run's optimum found on the reference path alone (``python -m analytic optimise
+#: --path reference``, seed 0), its optimum.toml re-simulated at the default tolerance.
 #: Variables in m and rad, as ``VARIABLE_NAMES``; the report shows 50.07 m, L_As 19.29, L_W 24.32,
 #: clearance 16.00, L_S 61.00 cm, start 62.3 deg, release 35.3 deg.
 REFERENCE_OPTIMUM = np.array([0.19286404835432258, 0.24323533750197135, 0.16, 0.61,

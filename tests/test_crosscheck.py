@@ -88,7 +88,7 @@ def test_cli_on_a_user_file_prints_json_and_exit_code(tmp_path, capsys):
 @pytest.mark.slow
 def test_engine_converges_with_order_two():
     # Symplectic Euler with error_bias = 0 is second-order in positions at events
-    # (issue 3's measurement: ~4x per halving); a fit over 4 steps must show it.
+    # (measured: ~4x per halving); a fit over 4 steps must show it.
     study = step_study(paper_cases()[0].design)
     assert 1.8 < study.speed_order < 2.2 and 1.8 < study.range_order < 2.2
 

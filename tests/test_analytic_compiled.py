@@ -1,0 +1,92 @@
+"""The compiled model's disk cache follows every source it was built from (``analytic.compiled``).
+
+numba keys its cache on each function's own file: a kernel that calls into
+another file keeps the old machine code after that file changes. These tests
+build a miniature model the way ``analytic.compiled`` builds the real one, in
+fresh processes (as a user's next command would), and edit the callee.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+
+from analytic import compiled
+
+_MODEL = {
+    "geo.py": "def lever(x, p):\n    return {factor} * p[0] * x\n",
+    "eqs.py": "from toy.geo import lever\n\ndef force(x, p):\n    return lever(x, p) + p[1]\n",
+    "kernel.py": textwrap.dedent("""\
+        import numba
+        from analytic.compiled import compile_modules, drop_stale_cache, cache_directory, OPTIONS
+        from toy import eqs, geo
+        modules = compile_modules((geo, eqs), OPTIONS)
+        if {stamped}:
+            drop_stale_cache(cache_directory(modules["eqs"].force), [geo.__file__, eqs.__file__, __file__])
+        force = modules["eqs"].force
+
+        @numba.njit(**OPTIONS)
+        def total(n, p):
+            s = 0.0
+            for i in range(n):
+                s += force(float(i), p)
+            return s
+        """),
+}
+
+
+def _write_model(root: Path, factor: float, stamped: bool) -> None:
+    package = root / "toy"
+    package.mkdir(exist_ok=True)
+    (package / "__init__.py").write_text("")
+    for name, text in _MODEL.items():
+        (package / name).write_text(text.format(factor=factor, stamped=stamped))
+
+
+def _run(root: Path) -> tuple[float, int]:
+    """``total(4, (1.0, 0.5))`` and the kernel's cache hits, in a fresh process."""
+    code = ("from toy import kernel; v = kernel.total(4, (1.0, 0.5)); "
+            "print(v, sum(kernel.total.stats.cache_hits.values()))")
+    done = subprocess.run([sys.executable, "-c", code], cwd=root, check=True, capture_output=True, text=True,
+                          env={"PYTHONPATH": f"{root}:{Path(compiled.__file__).parents[1]}", "PATH": ""})
+    value, hits = done.stdout.split()
+    return float(value), int(hits)
+
+
+@pytest.mark.parametrize("stamped", [True, False], ids=["stamped", "unstamped"])
+def test_editing_a_callee_file_reaches_the_cached_kernel_only_with_the_stamp(tmp_path, stamped):
+    _write_model(tmp_path, factor=2.0, stamped=stamped)
+    assert _run(tmp_path) == (2.0 * (0 + 1 + 2 + 3) + 4 * 0.5, 0)   # compiled and cached
+    assert _run(tmp_path) == (14.0, 1)                               # loaded from the cache
+    _write_model(tmp_path, factor=3.0, stamped=stamped)              # edit geo.py only
+    value, _ = _run(tmp_path)
+    if stamped:
+        assert value == 3.0 * 6 + 2.0     # the edit reached the kernel
+    else:
+        assert value == 14.0              # numba alone keeps the stale machine code
+
+
+def test_the_real_model_is_stamped_with_its_sources():
+    directory = compiled.cache_directory(compiled.eom_.terms)
+    stamp = (directory / compiled.STAMP_NAME).read_text()
+    assert stamp == compiled.source_fingerprint(compiled.SOURCES)
+    names = {path.name for path in compiled.SOURCES}
+    assert {"eom.py", "stages.py", "aero.py", "geometry.py", "limits.py", "kernel.py"} <= names
+
+
+def test_every_analytic_module_the_model_imports_is_a_source_of_the_stamp():
+    """A constant the compiled code reads from another module freezes into the machine code."""
+    import ast
+
+    sources = {path.stem for path in compiled.SOURCES}
+    compiled_code = [Path(module.__file__) for module in compiled.MODEL_MODULES] + [
+        Path(compiled.__file__).with_name("kernel.py")]
+    for path in compiled_code:
+        tree = ast.parse(path.read_text())
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom) and node.module and node.module.startswith("analytic."):
+                assert node.module.split(".")[1] in sources, f"{path.name} imports {node.module}"
