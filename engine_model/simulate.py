@@ -14,7 +14,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from analytic.design import Design, Machine, initial_angles, release_function, swing_time_limit
+from analytic.design import Design, Machine, initial_angles, swing_time_limit
+from analytic.geometry import RELEASE_RULES, release_value
 from analytic.result import EnergyBudget, Shot, Stage, Status
 from engine_model import kinematics as kin
 from engine_model.build import DEFAULT_ITERATIONS, EngineError, Rig, build, machine_length
@@ -185,6 +186,7 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tupl
     m = design.machine
     h, g = m.pivot_height, design.environment.gravity
     t_limit = swing_time_limit(m, g)
+    rule = RELEASE_RULES.index(m.release_rule)
     run = _Run()
 
     rig = build(design, sling=sling, iterations=iterations)
@@ -212,7 +214,7 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tupl
     run.on_base.append(on_base)
     run.tension.append(tension)
     run.normal.append(normal)
-    run.release_value.append(_release(row, row, geometry, m)[0])
+    run.release_value.append(_release(row, row, geometry, rule, m.release_angle)[0])
 
     step = rig.space.step
     previous = row
@@ -227,7 +229,7 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tupl
                               f"or more iterations")
         geometry = _row_geometry(row, m)
         tension, normal = _forces(previous, row, geometry, on_base, design, dt)
-        value, armed = _release(previous, row, geometry, m)
+        value, armed = _release(previous, row, geometry, rule, m.release_angle)
         run.raw.append(row)
         run.on_base.append(on_base)
         run.tension.append(tension)
@@ -309,15 +311,15 @@ def _forces(before: tuple, row: tuple, geometry: tuple, on_base: bool, design: D
                               (row[p + kin.X], row[p + kin.Y]), on_base, design, dt)
 
 
-def _release(before: tuple, row: tuple, geometry: tuple, machine: Machine) -> tuple[float, bool]:
-    """``analytic.design.release_function`` at the row's instant (mean of the half-step velocities)."""
+def _release(before: tuple, row: tuple, geometry: tuple, rule: int, release_angle: float) -> tuple[float, bool]:
+    """``analytic.geometry.release_value`` at the row's instant (mean of the half-step velocities)."""
     p = kin.PROJECTILE
     if before is row:
         velocity = (0.0, 0.0)
     else:
         velocity = (0.5 * (before[p + kin.VX] + row[p + kin.VX]), 0.5 * (before[p + kin.VY] + row[p + kin.VY]))
     theta = row[kin.ARM + kin.ANGLE]
-    return release_function(machine, (-math.sin(theta), math.cos(theta)), geometry[2:4], velocity)
+    return release_value(rule, release_angle, -math.sin(theta), math.cos(theta), *geometry[2:4], *velocity)
 
 
 def _assemble(design: Design, run: _Run, times: np.ndarray, sync: np.ndarray,
