@@ -14,8 +14,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from analytic.design import Design, Machine, initial_angles, swing_time_limit
+from analytic import outcome
+from analytic.design import Design, Machine, initial_angles
 from analytic.geometry import RELEASE_RULES, release_value
+from analytic.limits import SLING_VERTICAL_LIMIT, swing_time_limit
+from analytic.outcome import LiftoffFailure
 from analytic.result import EnergyBudget, Shot, Stage, Status
 from engine_model import kinematics as kin
 from engine_model.build import DEFAULT_ITERATIONS, EngineError, Rig, build, machine_length
@@ -28,11 +31,6 @@ from engine_model.flight import fly
 #: under 1e-6 m (8.5e-7 m); at 1e-4 s the agreement is 7e-6 / 1.1e-5 but the
 #: chord error is 3.4e-6 m. A whole shot takes about 0.8 s.
 DEFAULT_DT = 5e-5
-#: Stage 1 ends as never_lifts_off once the sling's forward component falls
-#: below this (within about 0.57 deg of vertical): the projectile is being
-#: dragged under the arm tip. The same convention as the analytic model, so
-#: both name such a design the same way.
-SLING_VERTICAL_LIMIT = 1e-2
 #: The projectile (in stage 2) or the long-arm tip (in stage 1) counts as back
 #: on the base once this far below base level, m: far above the round-off
 #: (1e-15 m) they leave it with, far below any real dip.
@@ -185,19 +183,21 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tupl
     """Step stages 1 and 2 until release or a failure; the loop behind ``simulate``."""
     m = design.machine
     h, g = m.pivot_height, design.environment.gravity
-    t_limit = swing_time_limit(m, g)
+    t_limit = swing_time_limit(machine_length(design), g)
     rule = RELEASE_RULES.index(m.release_rule)
     run = _Run()
 
     rig = build(design, sling=sling, iterations=iterations)
     row = _opening_step(rig, dt, iterations)
-    if not row[kin.ARM + kin.W] < 0.0:
+    # From rest the opening half step gives the arm omega = alpha dt/2 (pymunk
+    # updates velocities first), so this is its angular acceleration at rest.
+    arm_acceleration = row[kin.ARM + kin.W] / (0.5 * dt)
+    if not arm_acceleration < 0.0:
         run.raw.append(row)
         run.on_base.append(True)
         run.tension.append(0.0)
         run.status = Status.NEVER_FIRES
-        run.message = ("the counterweight cannot lift the arm: at rest the arm does not start "
-                       "to turn clockwise")
+        run.message = outcome.never_fires_message(arm_acceleration)
         return run, rig
     geometry = _row_geometry(row, m)
     tension, normal = _forces(row, row, geometry, True, design, dt)
@@ -246,29 +246,25 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tupl
                 rig.space.remove(rig.groove)
                 on_base = False
             elif sling_forward < SLING_VERTICAL_LIMIT:
-                return _fail(run, rig, Status.NEVER_LIFTS_OFF, "the projectile never lifts off: it was "
-                             "dragged under the arm tip (the sling turned vertical)")
+                return _fail(run, rig, Status.NEVER_LIFTS_OFF,
+                             outcome.never_lifts_off_message(LiftoffFailure.UNDER_TIP, t_limit))
             elif tip_height < -BASE_TOLERANCE:
-                return _fail(run, rig, Status.NEVER_LIFTS_OFF, "the projectile never lifts off: "
-                             "the arm swung back down to the base")
+                return _fail(run, rig, Status.NEVER_LIFTS_OFF,
+                             outcome.never_lifts_off_message(LiftoffFailure.ARM_BACK, t_limit))
             elif t > t_limit:
-                return _fail(run, rig, Status.NEVER_LIFTS_OFF, f"the projectile never lifts off: it "
-                             f"was still on the base after the time limit of {t_limit:.3g} s")
+                return _fail(run, rig, Status.NEVER_LIFTS_OFF,
+                             outcome.never_lifts_off_message(LiftoffFailure.TIME_LIMIT, t_limit))
             continue
 
         if centre_height < -BASE_TOLERANCE and row[kin.PROJECTILE + kin.VY] < 0.0:
-            return _fail(run, rig, Status.HITS_BASE_BEFORE_RELEASE,
-                         f"the projectile came back down to the base at t = {t:.4f} s before the "
-                         f"release condition was met")
+            return _fail(run, rig, Status.HITS_BASE_BEFORE_RELEASE, outcome.hits_base_message(t))
         values = run.release_value
         if values[-2] < 0.0 <= values[-1] and armed:
             run.release_fraction = crossing_fraction(tuple(values[-3:]))
             return run, rig
         if t > t_limit:
-            rule = "velocity direction" if m.release_rule == "velocity" else "sling-to-arm angle"
             return _fail(run, rig, Status.NEVER_RELEASES,
-                         f"the {rule} never reached the release angle of "
-                         f"{math.degrees(m.release_angle):g} deg within the time limit of {t_limit:.3g} s")
+                         outcome.never_releases_message(m.release_rule, m.release_angle, t_limit))
 
 
 def _opening_step(rig: Rig, dt: float, iterations: int) -> tuple[float, ...]:
@@ -335,9 +331,7 @@ def _assemble(design: Design, run: _Run, times: np.ndarray, sync: np.ndarray,
     message = run.message
     released = None
     if status is Status.OK:
-        message = "thrown"
-        if fields["landing_position"][0] < 0.0:
-            message = "thrown, but the projectile landed behind the pivot"
+        message = outcome.thrown_message(float(fields["landing_position"][0]))
         potential = kin.potential_energies(sync[[0, -1]], design)[0]
         released = float(potential[0] - potential[1])
     return Shot(design, status, message, t=times, stage=stage.astype(int), q=q, qdot=qdot,

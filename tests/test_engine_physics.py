@@ -142,6 +142,16 @@ def test_failures_are_named_as_the_analytic_model_names_them(case):
     assert len(shot.t) >= 1 and np.all(np.isfinite(shot.q))
 
 
+def test_never_fires_reports_the_arm_acceleration_at_rest_as_the_analytic_model_does():
+    # The engine measures it from its opening half step from rest; the analytic
+    # model solves its equations at rest (+1.842 rad/s^2 for this design). Both
+    # messages come from analytic.outcome, to four significant digits.
+    design = next(c.design for c in failure_cases() if c.expected == Status.NEVER_FIRES.value)
+    shot, _ = simulate(design)
+    assert shot.status is Status.NEVER_FIRES
+    assert shot.message == analytic_simulate(design).message
+
+
 def test_a_throw_behind_the_pivot_is_a_flagged_result():
     # The lead's case: the sling let go 170 deg ahead of the arm flings the projectile backwards.
     design = with_machine(default_design(), release_rule="sling", release_angle=math.radians(170.0))
