@@ -168,10 +168,12 @@ def simulate(design: Design, *, dt: float = DEFAULT_DT, iterations: int = DEFAUL
         flight = fly(design, release_time, position, velocity, dt)
         flight_steps = flight.steps
         fields.update(release_time=release_time, release_position=position,
-                      release_velocity=velocity, landing_time=flight.landing_time,
-                      landing_position=flight.landing_position,
-                      apex_height=float(flight.path[:, 1].max() + design.machine.pivot_height),
-                      flight_t=flight.t, flight_path=flight.path)
+                      release_velocity=velocity, flight_t=flight.t, flight_path=flight.path)
+        if flight.landed:
+            fields.update(landing_time=flight.landing_time, landing_position=flight.landing_position,
+                          apex_height=float(flight.path[:, 1].max() + design.machine.pivot_height))
+        else:
+            run.status, run.message = Status.NO_LANDING, outcome.no_landing_message(flight.limit)
     fields["min_sling_tension"] = (smallest_sample(tension) if sling == "rigid"
                                    else float(tension.min()))
     shot = _assemble(design, run, times, sync, tension, fields)
@@ -332,6 +334,7 @@ def _assemble(design: Design, run: _Run, times: np.ndarray, sync: np.ndarray,
     released = None
     if status is Status.OK:
         message = outcome.thrown_message(float(fields["landing_position"][0]))
+    if "release_time" in fields:
         potential = kin.potential_energies(sync[[0, -1]], design)[0]
         released = float(potential[0] - potential[1])
     return Shot(design, status, message, t=times, stage=stage.astype(int), q=q, qdot=qdot,

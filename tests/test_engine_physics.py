@@ -10,7 +10,9 @@ import pytest
 from crosscheck.cases import failure_cases
 from test_analytic_failures import PHRASES
 
+from analytic import outcome
 from analytic.design import Design, default_design
+from analytic.limits import flight_time_limit
 from analytic.result import Stage, Status
 from analytic.simulate import simulate as analytic_simulate
 from conftest import with_machine, with_projectile
@@ -137,9 +139,23 @@ def test_failures_are_named_as_the_analytic_model_names_them(case):
     assert analytic_simulate(design).status is expected  # the reference classification
     shot, _ = simulate(design)
     assert shot.status is expected, shot.message
-    assert PHRASES[expected] in shot.message
-    assert shot.release_time is None and shot.range is None and shot.to_json()["range"] is None
+    assert {**PHRASES, Status.NO_LANDING: "did not come down"}[expected] in shot.message
+    assert shot.range is None and shot.to_json()["range"] is None
+    assert (shot.release_time is not None) is (expected is Status.NO_LANDING)  # only it was released
     assert len(shot.t) >= 1 and np.all(np.isfinite(shot.q))
+
+
+def test_a_flight_that_never_lands_is_a_result_with_the_bound_in_its_message():
+    design = next(c.design for c in failure_cases() if c.expected == Status.NO_LANDING.value)
+    shot, diagnostics = simulate(design)
+    assert shot.status is Status.NO_LANDING
+    height, vertical_velocity = shot.release_position[1] + design.machine.pivot_height, shot.release_velocity[1]
+    limit = flight_time_limit(height, vertical_velocity, design.environment.gravity)
+    assert shot.message == outcome.no_landing_message(limit)  # "... within 64.9 s of flight ..."
+    assert shot.landing_time is None and shot.apex_height is None and shot.flight_time is None
+    assert shot.flight_path.shape == (len(shot.flight_t), 2) and shot.flight_t[0] == shot.release_time
+    # Ended as soon as a landing in time was impossible (183 steps), not after 1.3e6.
+    assert diagnostics.flight_steps < 1000
 
 
 def test_never_fires_reports_the_arm_acceleration_at_rest_as_the_analytic_model_does():
