@@ -1,4 +1,4 @@
-"""Simulate one shot in pymunk: fire, slide, swing, release, fly -> (Shot, EngineDiagnostics).
+"""Simulate one shot in pymunk: fire, slide, swing, release, fly -> ``Shot`` (with ``EngineDiagnostics``).
 
 The machine is stepped at a fixed ``dt`` from rest. Events (lift-off, release,
 landing, failures) are watched after every step and located between steps by
@@ -9,6 +9,7 @@ with the velocity of the same instant (``engine_model.kinematics.synchronise``).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
@@ -114,11 +115,12 @@ def read_state(rig: Rig) -> tuple[float, ...]:
 
 
 def simulate(design: Design, *, dt: float = DEFAULT_DT, iterations: int = DEFAULT_ITERATIONS,
-             sling: str = "rigid") -> tuple[Shot, EngineDiagnostics]:
+             sling: str = "rigid") -> Shot:
     """Simulate a shot of ``design`` in pymunk through all three stages.
 
     A valid design that fails to throw is not an error: ``Shot.status`` names
-    the failure and ``Shot.message`` explains it.
+    the failure and ``Shot.message`` explains it (a flight that does not come
+    down within ``analytic.limits.flight_time_limit`` is ``NO_LANDING``).
 
     Parameters
     ----------
@@ -129,7 +131,12 @@ def simulate(design: Design, *, dt: float = DEFAULT_DT, iterations: int = DEFAUL
 
     Returns
     -------
-    (shot, diagnostics)
+    Shot
+        As the analytic model's, with histories: ``t`` (n,), ``q`` and ``qdot``
+        (n, 3), ``path`` (n, 2), ``sling_tension`` (n,) and ``energy`` on the
+        steps of stages 1-2 (the last sample is the release instant, if any);
+        ``flight_t`` (k,) and ``flight_path`` (k, 2) on the flight's steps.
+        ``shot.diagnostics`` is the run's ``EngineDiagnostics``.
 
     Raises
     ------
@@ -178,7 +185,7 @@ def simulate(design: Design, *, dt: float = DEFAULT_DT, iterations: int = DEFAUL
                                    else float(tension.min()))
     shot = _assemble(design, run, times, sync, tension, fields)
     diagnostics = _diagnose(design, dt, iterations, sling, len(raw), flight_steps, drift, residual, shot)
-    return shot, diagnostics
+    return dataclasses.replace(shot, diagnostics=diagnostics)
 
 
 def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tuple[_Run, Rig]:
