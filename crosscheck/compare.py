@@ -93,23 +93,30 @@ def compare_shots(a: Shot, e: Shot) -> tuple[Row, ...]:
 
 def compare(case: Case, dt: float = DEFAULT_DT, engine: Callable[[Design, float], Shot] = engine_simulate,
             analytic: Callable[[Design], Shot] = simulate_fast,
-            analytic_shot: Shot | Exception | None = None) -> Comparison:
+            analytic_shot: Shot | None = None) -> Comparison:
     """Simulate ``case`` in both models and compare.
 
     The analytic side is the compiled fast path by default (the same numbers as
     ``analytic.simulate.simulate`` to round-off or the integrator's own error,
     ``tests/test_analytic_fast.py``); pass ``analytic=simulate`` for the scipy
     reference, or ``analytic_shot``, already simulated (``run_cases`` shoots
-    all cases in one batch; an exception there is raised here).
+    all cases in one batch). Either way a valid design gives a ``Shot``, whose
+    status names any failure.
 
     The engine runs at ``dt``; where its own diagnostics say the run is not
     accurate enough (energy error above ``ENGINE_ENERGY_TRUST``, or an
-    ``EngineError``: unstable, joints apart), the step is halved, at most
-    ``MAX_STEP_HALVINGS`` times, and the step used is reported. An engine that
-    still cannot be trusted is a disagreement, with its message.
+    ``EngineError``: unstable, joints apart, a flight gone non-finite), the step
+    is halved, at most ``MAX_STEP_HALVINGS`` times, and the step used is
+    reported. An engine that still cannot be trusted is a disagreement with its
+    message (``Comparison.error``), not an exception.
+
+    Parameters
+    ----------
+    case : the design, its name and group.
+    dt : the engine's first step, s.
+    engine : ``(design, dt) -> Shot`` with ``EngineDiagnostics`` in ``shot.diagnostics``.
+    analytic : ``design -> Shot``, used when ``analytic_shot`` is None.
     """
-    if isinstance(analytic_shot, Exception):
-        raise analytic_shot
     a = analytic(case.design) if analytic_shot is None else analytic_shot
     step = dt
     for halvings in range(tol.MAX_STEP_HALVINGS + 1):
