@@ -18,8 +18,8 @@ from analytic.design import Design, default_design, load_design
 from analytic.fast import simulate_fast
 from analytic.reference import DEFAULT_ATOL, DEFAULT_RTOL
 from analytic.reference import simulate as analytic_simulate
-from engine_model.simulate import DEFAULT_DT
-from engine_model.simulate import simulate as engine_simulate
+from engine_model import DEFAULT_DT
+from engine_model import simulate as engine_simulate
 
 
 def best_time(run: Callable[[], object], repeat: int) -> float:

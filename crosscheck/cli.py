@@ -13,6 +13,7 @@ from tqdm import tqdm
 
 from analytic import fast
 from analytic.design import DesignError
+from analytic.result import Shot
 from crosscheck.cases import Case, default_suite, file_cases, sample_cases
 from crosscheck.compare import DEFAULT_DT, Comparison, compare, step_study
 from crosscheck.report import format_summary, format_table, write_report
@@ -48,7 +49,7 @@ def run_cases(cases: list[Case], dt: float, workers: int, progress: bool = True)
     return results
 
 
-def _compare_shot(case: Case, shot, dt: float) -> Comparison:
+def _compare_shot(case: Case, shot: Shot, dt: float) -> Comparison:
     return compare(case, dt=dt, analytic_shot=shot)
 
 

@@ -13,13 +13,13 @@ from analytic.fast import simulate_fast
 from analytic.result import Shot
 from crosscheck import tolerances as tol
 from crosscheck.cases import Case
-from engine_model.simulate import DEFAULT_DT, EngineError
-from engine_model.simulate import simulate as simulate_engine
+import engine_model
+from engine_model import DEFAULT_DT, EngineError
 
 
-def engine_simulate(design: Design, dt: float):
-    """The pymunk model's ``(shot, EngineDiagnostics)``."""
-    return simulate_engine(design, dt=dt)
+def engine_simulate(design: Design, dt: float) -> Shot:
+    """The pymunk model's shot at step ``dt`` (s), its ``EngineDiagnostics`` in ``shot.diagnostics``."""
+    return engine_model.simulate(design, dt=dt)
 
 
 @dataclass(frozen=True)
@@ -91,43 +91,50 @@ def compare_shots(a: Shot, e: Shot) -> tuple[Row, ...]:
     return tuple(rows)
 
 
-def compare(case: Case, dt: float = DEFAULT_DT, engine: Callable = engine_simulate,
+def compare(case: Case, dt: float = DEFAULT_DT, engine: Callable[[Design, float], Shot] = engine_simulate,
             analytic: Callable[[Design], Shot] = simulate_fast,
-            analytic_shot: Shot | Exception | None = None) -> Comparison:
+            analytic_shot: Shot | None = None) -> Comparison:
     """Simulate ``case`` in both models and compare.
 
     The analytic side is the compiled fast path by default (the same numbers as
     ``analytic.reference.simulate`` to round-off or the integrator's own error,
     ``tests/test_analytic_fast.py``); pass ``analytic=simulate`` for the scipy
     reference, or ``analytic_shot``, already simulated (``run_cases`` shoots
-    all cases in one batch; an exception there is raised here).
+    all cases in one batch). Either way a valid design gives a ``Shot``, whose
+    status names any failure.
 
     The engine runs at ``dt``; where its own diagnostics say the run is not
     accurate enough (energy error above ``ENGINE_ENERGY_TRUST``, or an
-    ``EngineError``: unstable, joints apart), the step is halved, at most
-    ``MAX_STEP_HALVINGS`` times, and the step used is reported. An engine that
-    still cannot be trusted is a disagreement, with its message.
+    ``EngineError``: unstable, joints apart, a flight gone non-finite), the step
+    is halved, at most ``MAX_STEP_HALVINGS`` times, and the step used is
+    reported. An engine that still cannot be trusted is a disagreement with its
+    message (``Comparison.error``), not an exception.
+
+    Parameters
+    ----------
+    case : the design, its name and group.
+    dt : the engine's first step, s.
+    engine : ``(design, dt) -> Shot`` with ``EngineDiagnostics`` in ``shot.diagnostics``.
+    analytic : ``design -> Shot``, used when ``analytic_shot`` is None.
     """
-    if isinstance(analytic_shot, Exception):
-        raise analytic_shot
     a = analytic(case.design) if analytic_shot is None else analytic_shot
     step = dt
     for halvings in range(tol.MAX_STEP_HALVINGS + 1):
         last = halvings == tol.MAX_STEP_HALVINGS
         try:
-            e, diagnostics = engine(case.design, step)
+            e = engine(case.design, step)
         except EngineError as error:
             if last:
                 return Comparison(case.name, case.group, a.status.value, "error", (), None,
                                   f"{type(error).__name__}: {error}", engine_dt=step)
             step /= 2.0
             continue
-        if diagnostics.energy_error <= tol.ENGINE_ENERGY_TRUST or last:
+        if e.diagnostics.energy_error <= tol.ENGINE_ENERGY_TRUST or last:
             break
         step /= 2.0
     return Comparison(case.name, case.group, a.status.value, e.status.value, compare_shots(a, e),
-                      float(diagnostics.max_joint_drift), engine_dt=step,
-                      engine_energy_error=float(diagnostics.energy_error))
+                      float(e.diagnostics.max_joint_drift), engine_dt=step,
+                      engine_energy_error=float(e.diagnostics.energy_error))
 
 
 @dataclass(frozen=True)
@@ -155,13 +162,13 @@ class StepStudy:
 
 
 def step_study(design: Design, dts: tuple[float, ...] = (4e-4, 2e-4, 1e-4, 5e-5),
-               engine: Callable = engine_simulate,
+               engine: Callable[[Design, float], Shot] = engine_simulate,
                analytic: Callable[[Design], Shot] = simulate_fast) -> StepStudy:
     """Measure the engine's convergence order against the analytic model."""
     reference = analytic(design)
     speed, rng = [], []
     for dt in dts:
-        shot, _ = engine(design, dt)
+        shot = engine(design, dt)
         speed.append(abs(shot.release_speed / reference.release_speed - 1.0))
         rng.append(abs(shot.range / reference.range - 1.0))
     log_dt = np.log(dts)

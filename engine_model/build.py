@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import pymunk
 
 from analytic.design import Design, initial_angles
-from engine_model.kinematics import points_from_coordinates
+from analytic.geometry import machine_points
 
 #: Default solver iterations per step. With ``error_bias = 0`` pymunk needs at
 #: least about 20 to stay stable on a machine with a counterweight 140 times
@@ -98,8 +98,8 @@ def machine_length(design: Design) -> float:
 
 def start_positions(design: Design) -> dict[str, tuple[float, float]]:
     """World positions at rest (``analytic.design.initial_angles``), m: see
-    ``engine_model.kinematics.points_from_coordinates``."""
-    points = points_from_coordinates(initial_angles(design.machine), design)
+    ``analytic.geometry.machine_points``."""
+    points = machine_points(initial_angles(design.machine), design.machine)
     return {name: (float(p[0]), float(p[1])) for name, p in points.items()}
 
 

@@ -7,8 +7,9 @@ import json
 import sys
 
 from analytic.design import Design, DesignError, default_design, load_design
+from analytic.result import Shot
+from engine_model import DEFAULT_DT, EngineError, simulate
 from engine_model.build import DEFAULT_ITERATIONS, SLINGS
-from engine_model.simulate import DEFAULT_DT, EngineError, simulate
 
 #: Exit codes: a throw; an engine run that could not be trusted (unstable, joints
 #: apart); an invalid design; a valid design that does not throw.
@@ -26,8 +27,8 @@ def _positive(text: str) -> float:
     return value
 
 
-def _run(args: argparse.Namespace):
-    """Load the design and simulate it; returns (shot, diagnostics) or an exit code."""
+def _run(args: argparse.Namespace) -> Shot | int:
+    """Load the design and simulate it; returns the shot or an exit code."""
     try:
         design = _design(args.design)
     except DesignError as error:
@@ -43,24 +44,22 @@ def _run(args: argparse.Namespace):
 def _simulate(args: argparse.Namespace) -> int:
     from engine_model.report import format_shot
 
-    result = _run(args)
-    if isinstance(result, int):
-        return result
-    shot, diagnostics = result
+    shot = _run(args)
+    if isinstance(shot, int):
+        return shot
     if args.json:
-        print(json.dumps({**shot.to_json(), "max_joint_drift": diagnostics.max_joint_drift}, indent=2))
+        print(json.dumps({**shot.to_json(), "max_joint_drift": shot.diagnostics.max_joint_drift}, indent=2))
     else:
-        print(format_shot(shot, diagnostics))
+        print(format_shot(shot))
     return EXIT_OK if shot.ok else EXIT_NO_THROW
 
 
 def _render(args: argparse.Namespace) -> int:
     from engine_model.render import render_shot
 
-    result = _run(args)
-    if isinstance(result, int):
-        return result
-    shot, _ = result
+    shot = _run(args)
+    if isinstance(shot, int):
+        return shot
     frames = render_shot(shot, args.out, fps=args.fps, slow_motion=args.slow_motion,
                          gif=args.gif, progress=not args.quiet)
     print(f"{len(frames)} frames written to {args.out}" + (" (and shot.gif)" if args.gif else ""))

@@ -54,30 +54,6 @@ def synchronise(raw: np.ndarray) -> np.ndarray:
     return sync
 
 
-def points_from_coordinates(q: np.ndarray, design: Design) -> dict[str, np.ndarray]:
-    """Where the machine's parts are for coordinates [theta, phi, psi] (the design's conventions).
-
-    Parameters
-    ----------
-    q : (3,) or (n, 3) coordinates, rad.
-
-    Returns
-    -------
-    dict of positions, m, each (2,) or (n, 2): ``long_tip``, ``short_tip``,
-    ``arm_centre``, ``counterweight`` (its centre) and ``projectile`` (its centre).
-    """
-    m = design.machine
-    q = np.asarray(q, dtype=float)
-    theta, link, sling = q[..., 0], q[..., 0] + q[..., 1], q[..., 0] + q[..., 2]
-    along_arm = np.stack([-np.sin(theta), np.cos(theta)], axis=-1)
-    long = m.arm_long * along_arm
-    short = -m.arm_short * along_arm
-    counterweight = short + m.counterweight_link * np.stack([np.sin(link), -np.cos(link)], axis=-1)
-    projectile = long + m.sling_length * np.stack([-np.sin(sling), np.cos(sling)], axis=-1)
-    return {"long_tip": long, "short_tip": short, "arm_centre": m.arm_cg * along_arm,
-            "counterweight": counterweight, "projectile": projectile}
-
-
 def arm_point(states: np.ndarray, distance: float) -> np.ndarray:
     """Position of the arm's point ``distance`` from the pivot along the long arm
     (negative: along the short arm), shape (n, 2), m."""

@@ -20,8 +20,8 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Circle
 
 from analytic.design import Design
+from analytic.geometry import machine_points
 from analytic.result import Shot, Stage
-from engine_model.kinematics import points_from_coordinates
 
 #: Frame size, px (FRAME_INCHES at FRAME_DPI).
 FRAME_DPI = 100
@@ -89,7 +89,7 @@ def frame_state(shot: Shot, time: float) -> FrameState:
     in_flight = release is not None and time > release
     swing_time = min(time, float(shot.t[-1]))
     q = np.array([np.interp(swing_time, shot.t, shot.q[:, i]) for i in range(3)])
-    points = points_from_coordinates(q, shot.design)
+    points = machine_points(q, shot.design.machine)
     on_machine = shot.t <= swing_time
     trace = [shot.path[on_machine]]
     if in_flight:

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from analytic.result import Shot
-from engine_model.simulate import EngineDiagnostics
 
 #: (JSON key, label, unit, format) in the order printed; values are as in ``Shot.to_json``.
 _FIELDS = (
@@ -24,12 +23,14 @@ _FIELDS = (
 )
 
 
-def format_shot(shot: Shot, diagnostics: EngineDiagnostics) -> str:
-    """A two-column table of what the shot reached (fields it never reached are left out)."""
+def format_shot(shot: Shot) -> str:
+    """A two-column table of what the engine's shot reached (fields it never reached are left
+    out) and its ``shot.diagnostics``."""
     data = shot.to_json()
     rows = [("design", data["design"], ""), ("status", data["status"], data["message"])]
     rows += [(label, fmt.format(data[key]), unit)
              for key, label, unit, fmt in _FIELDS if data[key] is not None]
+    diagnostics = shot.diagnostics
     rows += [("engine", f"dt {diagnostics.dt:g} s, {diagnostics.iterations} iterations",
               f"{diagnostics.sling} sling"),
              ("max joint drift", f"{diagnostics.max_joint_drift:.3g}", "m"),

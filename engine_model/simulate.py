@@ -1,4 +1,4 @@
-"""Simulate one shot in pymunk: fire, slide, swing, release, fly -> (Shot, EngineDiagnostics).
+"""Simulate one shot in pymunk: fire, slide, swing, release, fly -> ``Shot`` (with ``EngineDiagnostics``).
 
 The machine is stepped at a fixed ``dt`` from rest. Events (lift-off, release,
 landing, failures) are watched after every step and located between steps by
@@ -9,13 +9,17 @@ with the velocity of the same instant (``engine_model.kinematics.synchronise``).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from analytic.design import Design, Machine, initial_angles, swing_time_limit
+from analytic import outcome
+from analytic.design import Design, Machine, initial_angles
 from analytic.geometry import RELEASE_RULES, release_value
+from analytic.limits import SLING_VERTICAL_LIMIT, swing_time_limit
+from analytic.outcome import LiftoffFailure
 from analytic.result import EnergyBudget, Shot, Stage, Status
 from engine_model import kinematics as kin
 from engine_model.build import DEFAULT_ITERATIONS, EngineError, Rig, build, machine_length
@@ -28,11 +32,6 @@ from engine_model.flight import fly
 #: under 1e-6 m (8.5e-7 m); at 1e-4 s the agreement is 7e-6 / 1.1e-5 but the
 #: chord error is 3.4e-6 m. A whole shot takes about 0.8 s.
 DEFAULT_DT = 5e-5
-#: Stage 1 ends as never_lifts_off once the sling's forward component falls
-#: below this (within about 0.57 deg of vertical): the projectile is being
-#: dragged under the arm tip. The same convention as the analytic model, so
-#: both name such a design the same way.
-SLING_VERTICAL_LIMIT = 1e-2
 #: The projectile (in stage 2) or the long-arm tip (in stage 1) counts as back
 #: on the base once this far below base level, m: far above the round-off
 #: (1e-15 m) they leave it with, far below any real dip.
@@ -116,11 +115,12 @@ def read_state(rig: Rig) -> tuple[float, ...]:
 
 
 def simulate(design: Design, *, dt: float = DEFAULT_DT, iterations: int = DEFAULT_ITERATIONS,
-             sling: str = "rigid") -> tuple[Shot, EngineDiagnostics]:
+             sling: str = "rigid") -> Shot:
     """Simulate a shot of ``design`` in pymunk through all three stages.
 
     A valid design that fails to throw is not an error: ``Shot.status`` names
-    the failure and ``Shot.message`` explains it.
+    the failure and ``Shot.message`` explains it (a flight that does not come
+    down within ``analytic.limits.flight_time_limit`` is ``NO_LANDING``).
 
     Parameters
     ----------
@@ -131,7 +131,12 @@ def simulate(design: Design, *, dt: float = DEFAULT_DT, iterations: int = DEFAUL
 
     Returns
     -------
-    (shot, diagnostics)
+    Shot
+        As the analytic model's, with histories: ``t`` (n,), ``q`` and ``qdot``
+        (n, 3), ``path`` (n, 2), ``sling_tension`` (n,) and ``energy`` on the
+        steps of stages 1-2 (the last sample is the release instant, if any);
+        ``flight_t`` (k,) and ``flight_path`` (k, 2) on the flight's steps.
+        ``shot.diagnostics`` is the run's ``EngineDiagnostics``.
 
     Raises
     ------
@@ -170,33 +175,38 @@ def simulate(design: Design, *, dt: float = DEFAULT_DT, iterations: int = DEFAUL
         flight = fly(design, release_time, position, velocity, dt)
         flight_steps = flight.steps
         fields.update(release_time=release_time, release_position=position,
-                      release_velocity=velocity, landing_time=flight.landing_time,
-                      landing_position=flight.landing_position,
-                      apex_height=float(flight.path[:, 1].max() + design.machine.pivot_height),
-                      flight_t=flight.t, flight_path=flight.path)
+                      release_velocity=velocity, flight_t=flight.t, flight_path=flight.path)
+        if flight.landed:
+            fields.update(landing_time=flight.landing_time, landing_position=flight.landing_position,
+                          apex_height=float(flight.path[:, 1].max() + design.machine.pivot_height))
+        else:
+            run.status, run.message = Status.NO_LANDING, outcome.no_landing_message(flight.limit)
     fields["min_sling_tension"] = (smallest_sample(tension) if sling == "rigid"
                                    else float(tension.min()))
     shot = _assemble(design, run, times, sync, tension, fields)
     diagnostics = _diagnose(design, dt, iterations, sling, len(raw), flight_steps, drift, residual, shot)
-    return shot, diagnostics
+    return dataclasses.replace(shot, diagnostics=diagnostics)
 
 
 def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tuple[_Run, Rig]:
     """Step stages 1 and 2 until release or a failure; the loop behind ``simulate``."""
     m = design.machine
     h, g = m.pivot_height, design.environment.gravity
-    t_limit = swing_time_limit(m, g)
+    t_limit = swing_time_limit(machine_length(design), g)
+    rule = RELEASE_RULES.index(m.release_rule)
     run = _Run()
 
     rig = build(design, sling=sling, iterations=iterations)
     row = _opening_step(rig, dt, iterations)
-    if not row[kin.ARM + kin.W] < 0.0:
+    # From rest the opening half step gives the arm omega = alpha dt/2 (pymunk
+    # updates velocities first), so this is its angular acceleration at rest.
+    arm_acceleration = row[kin.ARM + kin.W] / (0.5 * dt)
+    if not arm_acceleration < 0.0:
         run.raw.append(row)
         run.on_base.append(True)
         run.tension.append(0.0)
         run.status = Status.NEVER_FIRES
-        run.message = ("the counterweight cannot lift the arm: at rest the arm does not start "
-                       "to turn clockwise")
+        run.message = outcome.never_fires_message(arm_acceleration)
         return run, rig
     geometry = _row_geometry(row, m)
     tension, normal = _forces(row, row, geometry, True, design, dt)
@@ -213,7 +223,7 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tupl
     run.on_base.append(on_base)
     run.tension.append(tension)
     run.normal.append(normal)
-    run.release_value.append(_release(row, row, geometry, m)[0])
+    run.release_value.append(_release(row, row, geometry, rule, m.release_angle)[0])
 
     step = rig.space.step
     previous = row
@@ -228,7 +238,7 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tupl
                               f"or more iterations")
         geometry = _row_geometry(row, m)
         tension, normal = _forces(previous, row, geometry, on_base, design, dt)
-        value, armed = _release(previous, row, geometry, m)
+        value, armed = _release(previous, row, geometry, rule, m.release_angle)
         run.raw.append(row)
         run.on_base.append(on_base)
         run.tension.append(tension)
@@ -245,29 +255,25 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tupl
                 rig.space.remove(rig.groove)
                 on_base = False
             elif sling_forward < SLING_VERTICAL_LIMIT:
-                return _fail(run, rig, Status.NEVER_LIFTS_OFF, "the projectile never lifts off: it was "
-                             "dragged under the arm tip (the sling turned vertical)")
+                return _fail(run, rig, Status.NEVER_LIFTS_OFF,
+                             outcome.never_lifts_off_message(LiftoffFailure.UNDER_TIP, t_limit))
             elif tip_height < -BASE_TOLERANCE:
-                return _fail(run, rig, Status.NEVER_LIFTS_OFF, "the projectile never lifts off: "
-                             "the arm swung back down to the base")
+                return _fail(run, rig, Status.NEVER_LIFTS_OFF,
+                             outcome.never_lifts_off_message(LiftoffFailure.ARM_BACK, t_limit))
             elif t > t_limit:
-                return _fail(run, rig, Status.NEVER_LIFTS_OFF, f"the projectile never lifts off: it "
-                             f"was still on the base after the time limit of {t_limit:.3g} s")
+                return _fail(run, rig, Status.NEVER_LIFTS_OFF,
+                             outcome.never_lifts_off_message(LiftoffFailure.TIME_LIMIT, t_limit))
             continue
 
         if centre_height < -BASE_TOLERANCE and row[kin.PROJECTILE + kin.VY] < 0.0:
-            return _fail(run, rig, Status.HITS_BASE_BEFORE_RELEASE,
-                         f"the projectile came back down to the base at t = {t:.4f} s before the "
-                         f"release condition was met")
+            return _fail(run, rig, Status.HITS_BASE_BEFORE_RELEASE, outcome.hits_base_message(t))
         values = run.release_value
         if values[-2] < 0.0 <= values[-1] and armed:
             run.release_fraction = crossing_fraction(tuple(values[-3:]))
             return run, rig
         if t > t_limit:
-            rule = "velocity direction" if m.release_rule == "velocity" else "sling-to-arm angle"
             return _fail(run, rig, Status.NEVER_RELEASES,
-                         f"the {rule} never reached the release angle of "
-                         f"{math.degrees(m.release_angle):g} deg within the time limit of {t_limit:.3g} s")
+                         outcome.never_releases_message(m.release_rule, m.release_angle, t_limit))
 
 
 def _opening_step(rig: Rig, dt: float, iterations: int) -> tuple[float, ...]:
@@ -310,7 +316,7 @@ def _forces(before: tuple, row: tuple, geometry: tuple, on_base: bool, design: D
                               (row[p + kin.X], row[p + kin.Y]), on_base, design, dt)
 
 
-def _release(before: tuple, row: tuple, geometry: tuple, machine: Machine) -> tuple[float, bool]:
+def _release(before: tuple, row: tuple, geometry: tuple, rule: int, release_angle: float) -> tuple[float, bool]:
     """``analytic.geometry.release_value`` at the row's instant (mean of the half-step velocities)."""
     p = kin.PROJECTILE
     if before is row:
@@ -318,8 +324,7 @@ def _release(before: tuple, row: tuple, geometry: tuple, machine: Machine) -> tu
     else:
         velocity = (0.5 * (before[p + kin.VX] + row[p + kin.VX]), 0.5 * (before[p + kin.VY] + row[p + kin.VY]))
     theta = row[kin.ARM + kin.ANGLE]
-    return release_value(RELEASE_RULES.index(machine.release_rule), machine.release_angle,
-                         -math.sin(theta), math.cos(theta), *geometry[2:4], *velocity)
+    return release_value(rule, release_angle, -math.sin(theta), math.cos(theta), *geometry[2:4], *velocity)
 
 
 def _assemble(design: Design, run: _Run, times: np.ndarray, sync: np.ndarray,
@@ -335,9 +340,8 @@ def _assemble(design: Design, run: _Run, times: np.ndarray, sync: np.ndarray,
     message = run.message
     released = None
     if status is Status.OK:
-        message = "thrown"
-        if fields["landing_position"][0] < 0.0:
-            message = "thrown, but the projectile landed behind the pivot"
+        message = outcome.thrown_message(float(fields["landing_position"][0]))
+    if "release_time" in fields:
         potential = kin.potential_energies(sync[[0, -1]], design)[0]
         released = float(potential[0] - potential[1])
     return Shot(design, status, message, t=times, stage=stage.astype(int), q=q, qdot=qdot,

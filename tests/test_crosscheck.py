@@ -9,11 +9,15 @@ from pathlib import Path
 
 import pytest
 
+from analytic import outcome
 from analytic.design import save_design
+from analytic.result import Shot, Status
+from conftest import with_machine
 from crosscheck import tolerances
 from crosscheck.cases import exercise_cases, failure_cases, paper_cases, sample_cases
-from crosscheck.cli import EXIT_AGREE, main
+from crosscheck.cli import EXIT_AGREE, EXIT_DISAGREE, main
 from crosscheck.compare import compare, engine_simulate, step_study
+from engine_model import EngineError
 
 FAST = {"table3", "sling-rule", "constant-drag", "fails-never_fires", "fails-never_lifts_off"}
 
@@ -40,6 +44,40 @@ def test_the_reference_path_can_stand_in_for_the_fast_one():
         assert a.quantity == b.quantity and a.engine == b.engine
         if isinstance(a.analytic, float):   # the paths agree far inside the cross-check's tolerances
             assert a.analytic == pytest.approx(b.analytic, rel=1e-9, abs=1e-12)
+
+
+def test_an_engine_that_cannot_be_trusted_is_a_disagreement_with_its_message():
+    steps = []
+
+    def untrusted(design, dt):
+        steps.append(dt)
+        raise EngineError(f"joints apart at dt = {dt:g} s")
+
+    table3 = paper_cases()[0]
+    result = compare(table3, dt=1e-4, engine=untrusted, analytic_shot=Shot(table3.design, Status.OK, "thrown"))
+    assert steps == [1e-4, 5e-5, 2.5e-5]  # halved MAX_STEP_HALVINGS times, then given up
+    assert not result.agree and result.engine_status == "error" and result.engine_dt == 2.5e-5
+    assert result.error == "EngineError: joints apart at dt = 2.5e-05 s"
+
+
+def test_a_design_the_engine_cannot_model_exits_1_with_the_reason(tmp_path, capsys):
+    path = tmp_path / "lever.toml"  # the analytic model throws it; a pymunk body needs inertia
+    save_design(with_machine(paper_cases()[0].design, arm_inertia=0.0, arm_cg=0.0), path)
+    assert main([str(path), "--json", "--workers", "1", "--no-progress"]) == EXIT_DISAGREE
+    comparison = json.loads(capsys.readouterr().out)["comparisons"][0]
+    assert comparison["engine_status"] == "error" and "massless lever" in comparison["error"]
+
+
+def test_a_flight_that_never_lands_is_compared_like_any_outcome():
+    # A flight past its bound used to raise in the engine, uncaught, ending the
+    # whole cross-check (this design even came out "thrown": its explicit drag
+    # overshot in one step). The analytic side stands in with its verdict on
+    # this design (no_landing within 64.9 s: tests/test_analytic_failures.py).
+    case = next(c for c in failure_cases() if c.expected == Status.NO_LANDING.value)
+    verdict = Shot(case.design, Status.NO_LANDING, outcome.no_landing_message(64.9))
+    result = compare(case, analytic_shot=verdict)
+    assert result.agree, result.error or result.rows
+    assert (result.analytic_status, result.engine_status) == ("no_landing", "no_landing")
 
 
 @pytest.mark.parametrize("mistake", [

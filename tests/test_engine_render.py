@@ -11,13 +11,13 @@ import pytest
 from analytic.design import default_design
 from engine_model.render import (FRAME_SIZE, PROJECTILE_COLOUR, FrameState, draw_frame, frame_times,
                                  render_shot)
-from engine_model.simulate import simulate
+from engine_model import simulate
 
 
 @pytest.fixture(scope="module")
 def shot():
     # A coarser step than the default keeps this quick; the frames do not care.
-    return simulate(default_design(), dt=4e-4)[0]
+    return simulate(default_design(), dt=4e-4)
 
 
 def _png_size_and_chunks(path) -> tuple[tuple[int, int], list[bytes]]:
