@@ -39,7 +39,7 @@ BENCH_KEYS = ("reference_median_shot_s", "fast_median_shot_s", "speedup", "batch
 
 def bench_designs(count: int, seed: int):
     """The paper's optimum and ``count`` designs drawn uniformly over the paper's problem box."""
-    from analytic.design import default_design
+    from analytic.design_file import default_design
     from analytic.problem import default_problem, design_at, from_unit
 
     problem = default_problem()

@@ -7,7 +7,8 @@ import json
 import sys
 from pathlib import Path
 
-from analytic.design import Design, DesignError, default_design, load_design
+from analytic.design import Design, DesignError
+from analytic.design_file import default_design, load_design
 from analytic.report import format_shot
 
 #: Exit codes: a throw, an unbuildable design, a valid design that does not throw.

@@ -147,7 +147,7 @@ def compile(*, progress: bool = False) -> float:
 
 
 def _warm_up_design() -> Design:
-    from analytic.design import default_design
+    from analytic.design_file import default_design
 
     return default_design()
 

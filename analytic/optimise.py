@@ -97,7 +97,7 @@ def optimise_and_report(problem, out: Path, *, seed: int, robust_sigma: float | 
     -------
     The report's text (also written to ``out/report.txt``).
     """
-    from analytic.design import default_design, save_design
+    from analytic.design_file import default_design, save_design
     from analytic.optimise_evaluate import Evaluator
     from analytic.optimise_plot import (
         convergence_figure,

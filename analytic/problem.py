@@ -21,7 +21,8 @@ from typing import Any
 import numpy as np
 
 from analytic.design import (RELEASE_RULES, BeamArm, Design, DesignError, Environment, Machine,
-                             Projectile, paper_geometry, reject_unknown_keys)
+                             Projectile, paper_geometry)
+from analytic.design_file import reject_unknown_keys
 
 #: The design variables in the paper's order (Table II), the order of every vector here.
 VARIABLE_NAMES = ("arm_short", "counterweight_link", "clearance", "sling_length",

@@ -8,7 +8,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from analytic.design import BeamArm, Design, Projectile, default_design, load_design
+from analytic.design import BeamArm, Design, Projectile
+from analytic.design_file import default_design, load_design
 from analytic.problem import default_problem, design_at, from_unit
 
 

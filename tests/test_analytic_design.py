@@ -6,9 +6,9 @@ import math
 
 import pytest
 
-from analytic.design import (BeamArm, DesignError, design_from_dict, default_design,
-                             design_to_dict, dumps_design, initial_angles, load_design,
-                             paper_geometry, save_design, sling_arm_angle)
+from analytic.design import BeamArm, DesignError, initial_angles, paper_geometry, sling_arm_angle
+from analytic.design_file import (default_design, design_from_dict, design_to_dict, dumps_design,
+                                  load_design, save_design)
 
 from conftest import with_machine, with_projectile
 

@@ -8,7 +8,7 @@ import pytest
 import tomli_w
 
 from analytic import optimise
-from analytic.design import default_design, load_design
+from analytic.design_file import default_design, load_design
 from analytic.optimise_constraints import feasible
 from analytic.problem import load_problem, variables_of
 from analytic.simulate import simulate

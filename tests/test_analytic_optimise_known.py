@@ -10,7 +10,7 @@ import pytest
 from scipy.interpolate import CubicSpline
 from scipy.optimize import minimize_scalar
 
-from analytic.design import default_design
+from analytic.design_file import default_design
 from analytic.eom import params, projectile_state
 from analytic.optimise_evaluate import Evaluator
 from analytic.optimise_robust import release_scatter

@@ -25,7 +25,8 @@ import pytest
 import sympy as sp
 
 from analytic import eom
-from analytic.design import default_design, initial_angles
+from analytic.design import initial_angles
+from analytic.design_file import default_design
 from analytic.eom import Params
 
 #: Agreement asked of analytic.eom and the sympy reference, relative to the

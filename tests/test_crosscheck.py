@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from analytic.design import save_design
+from analytic.design_file import save_design
 from crosscheck import tolerances
 from crosscheck.cases import exercise_cases, failure_cases, paper_cases, sample_cases
 from crosscheck.cli import EXIT_AGREE, main

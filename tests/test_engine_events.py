@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from analytic.design import default_design
+from analytic.design_file import default_design
 from conftest import with_environment, with_projectile
 from engine_model.events import crossing_fraction, interpolate
 from engine_model.flight import drag_acceleration, fly

@@ -10,7 +10,8 @@ import pytest
 from crosscheck.cases import failure_cases
 from test_analytic_failures import PHRASES
 
-from analytic.design import Design, default_design
+from analytic.design import Design
+from analytic.design_file import default_design
 from analytic.result import Stage, Status
 from analytic.simulate import simulate as analytic_simulate
 from conftest import with_machine, with_projectile
