@@ -21,6 +21,7 @@ Geometry and angle conventions (the same symbols as ``docs/derivation.md``):
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -34,16 +35,44 @@ RELEASE_RULES = ("velocity", "sling")
 MAX_VELOCITY_RELEASE_ANGLE = math.radians(90.0)
 #: Largest |release angle| for the ``sling`` rule (sling-to-arm angle).
 MAX_SLING_RELEASE_ANGLE = math.radians(180.0)
+#: Largest magnitude of any number in a design, SI units. Far beyond any machine
+#: this models (a 20 t counterweight, a 20 m arm), and it keeps the squares and
+#: products the model forms of its inputs far from overflowing.
+MAX_MAGNITUDE = 1e6
 
 
 class DesignError(ValueError):
-    """A design that cannot be built: names the field, its value and the reason."""
+    """A design that cannot be built: ``table.field = value: reason``.
+
+    Attributes
+    ----------
+    field : the value's place in a design file, table first (``machine.arm_short``).
+    value : the offending value (``None`` when it is missing).
+    reason : why it is refused.
+    """
 
     def __init__(self, field_name: str, value: Any, reason: str):
         self.field = field_name
         self.value = value
         self.reason = reason
-        super().__init__(f"{field_name} = {value!r}: {reason}")
+        super().__init__(self._message())
+
+    def _message(self) -> str:
+        return f"{self.field} = {self.value!r}: {self.reason}"
+
+    def __reduce__(self):
+        # Rebuilt from its parts, so it survives a process pool.
+        return type(self), (self.field, self.value, self.reason)
+
+
+class MissingValueError(DesignError):
+    """A required value or table that is absent: ``machine.sling_length: required value is missing``."""
+
+    def __init__(self, field_name: str, value: Any = None, reason: str = "required value is missing"):
+        super().__init__(field_name, value, reason)
+
+    def _message(self) -> str:
+        return f"{self.field}: {self.reason}"
 
 
 @dataclass(frozen=True)
@@ -85,31 +114,29 @@ class Machine:
     def __post_init__(self) -> None:
         for name in ("pivot_height", "arm_long", "arm_short", "arm_mass",
                      "counterweight_mass", "counterweight_link", "sling_length"):
-            _require_positive(name, getattr(self, name))
+            require_positive(f"machine.{name}", getattr(self, name))
         for name in ("arm_inertia", "counterweight_inertia"):
-            _require_non_negative(name, getattr(self, name))
-        _require_finite("arm_cg", self.arm_cg)
-        _require_finite("release_angle", self.release_angle)
-        if self.release_rule not in RELEASE_RULES:
-            raise DesignError("release_rule", self.release_rule,
-                              f"must be one of {', '.join(RELEASE_RULES)}")
+            require_non_negative(f"machine.{name}", getattr(self, name))
+        require_number("machine.arm_cg", self.arm_cg)
+        require_number("machine.release_angle", self.release_angle)
+        require_choice("machine.release_rule", self.release_rule, RELEASE_RULES)
         if not -self.arm_short <= self.arm_cg <= self.arm_long:
-            raise DesignError("arm_cg", self.arm_cg,
+            raise DesignError("machine.arm_cg", self.arm_cg,
                               f"the arm's centre of mass must lie on the arm, between "
                               f"-arm_short ({-self.arm_short:g} m) and arm_long ({self.arm_long:g} m)")
         if self.arm_long <= self.pivot_height:
-            raise DesignError("arm_long", self.arm_long,
+            raise DesignError("machine.arm_long", self.arm_long,
                               f"the long arm cannot reach the base: it must be longer than "
                               f"pivot_height ({self.pivot_height:g} m)")
         if self.arm_short + self.counterweight_link >= self.pivot_height:
-            raise DesignError("counterweight_link", self.counterweight_link,
+            raise DesignError("machine.counterweight_link", self.counterweight_link,
                               f"the counterweight would strike the base: arm_short + "
                               f"counterweight_link ({self.arm_short + self.counterweight_link:g} m) "
                               f"must be less than pivot_height ({self.pivot_height:g} m)")
         limit = (MAX_VELOCITY_RELEASE_ANGLE if self.release_rule == "velocity"
                  else MAX_SLING_RELEASE_ANGLE)
         if not -limit < self.release_angle < limit:
-            raise DesignError("release_angle", f"{math.degrees(self.release_angle):g} deg",
+            raise DesignError("machine.release_angle", f"{math.degrees(self.release_angle):g} deg",
                               f"with release_rule {self.release_rule!r} it must lie strictly "
                               f"between {-math.degrees(limit):g} and {math.degrees(limit):g} deg")
 
@@ -129,16 +156,15 @@ class Projectile:
     drag_coefficient: float | None = None
 
     def __post_init__(self) -> None:
-        _require_positive("mass", self.mass)
-        _require_positive("diameter", self.diameter)
-        if self.drag not in DRAG_MODELS:
-            raise DesignError("drag", self.drag, f"must be one of {', '.join(DRAG_MODELS)}")
+        require_positive("projectile.mass", self.mass)
+        require_positive("projectile.diameter", self.diameter)
+        require_choice("projectile.drag", self.drag, DRAG_MODELS)
         if self.drag == "constant":
             if self.drag_coefficient is None:
-                raise DesignError("drag_coefficient", None, 'required with drag = "constant"')
-            _require_positive("drag_coefficient", self.drag_coefficient)
+                raise MissingValueError("projectile.drag_coefficient", reason='required with drag = "constant"')
+            require_positive("projectile.drag_coefficient", self.drag_coefficient)
         elif self.drag_coefficient is not None:
-            raise DesignError("drag_coefficient", self.drag_coefficient,
+            raise DesignError("projectile.drag_coefficient", self.drag_coefficient,
                               f'only used with drag = "constant", not {self.drag!r}; remove it')
 
     @property
@@ -157,10 +183,10 @@ class Environment:
     wind_speed: float = 0.0
 
     def __post_init__(self) -> None:
-        _require_positive("gravity", self.gravity)
-        _require_non_negative("air_density", self.air_density)
-        _require_positive("air_viscosity", self.air_viscosity)
-        _require_finite("wind_speed", self.wind_speed)
+        require_positive("environment.gravity", self.gravity)
+        require_non_negative("environment.air_density", self.air_density)
+        require_positive("environment.air_viscosity", self.air_viscosity)
+        require_number("environment.wind_speed", self.wind_speed)
 
 
 @dataclass(frozen=True)
@@ -171,6 +197,10 @@ class Design:
     projectile: Projectile
     environment: Environment = field(default_factory=Environment)
     name: str = "design"
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str):
+            raise DesignError("name", self.name, "must be text")
 
 
 # --------------------------------------------------------------------------- #
@@ -189,9 +219,11 @@ def paper_geometry(arm_short: float, counterweight_link: float, clearance: float
     -------
     (pivot_height, arm_long) : m
     """
-    _require_positive("clearance", clearance)
-    if not 0.0 < starting_angle < math.pi / 2:
-        raise DesignError("starting_angle", f"{math.degrees(starting_angle):g} deg",
+    for name, value in (("arm_short", arm_short), ("counterweight_link", counterweight_link),
+                        ("clearance", clearance)):
+        require_positive(f"machine.{name}", value)
+    if not 0.0 < require_number("machine.starting_angle", starting_angle) < math.pi / 2:
+        raise DesignError("machine.starting_angle", f"{math.degrees(starting_angle):g} deg",
                           "must lie strictly between 0 and 90 deg")
     pivot_height = arm_short + counterweight_link + clearance
     return pivot_height, pivot_height / math.sin(starting_angle)
@@ -207,7 +239,7 @@ class BeamArm:
 
     def __post_init__(self) -> None:
         for name in ("width", "depth", "density"):
-            _require_positive(name, getattr(self, name))
+            require_positive(f"machine.arm_beam.{name}", getattr(self, name))
 
     def properties(self, arm_long: float, arm_short: float) -> tuple[float, float, float]:
         """Mass (kg), centre-of-mass distance toward the long end (m), inertia about it (kg m^2).
@@ -299,20 +331,50 @@ def release_function(machine: Machine, arm_direction: np.ndarray, sling_directio
 # Validation helpers
 # --------------------------------------------------------------------------- #
 
-def _require_finite(name: str, value: Any) -> None:
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
+def require_number(name: str, value: Any) -> float:
+    """``value`` as a float if it is a real number, finite and within ``MAX_MAGNITUDE``.
+
+    Parameters
+    ----------
+    name : the field, table first, for the error.
+    value : anything read from a file or given by a caller.
+
+    Raises
+    ------
+    DesignError
+        for text, booleans, lists, tables, dates, nan, infinities and huge numbers.
+    """
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise DesignError(name, value, "must be a number")
-    if not math.isfinite(value):
+    try:
+        number = float(value)
+    except OverflowError:  # an integer beyond any float: out of range, below
+        number = math.inf
+    if math.isnan(number) or (math.isinf(number) and not isinstance(value, numbers.Integral)):
         raise DesignError(name, value, "must be finite")
+    if not abs(number) <= MAX_MAGNITUDE:
+        raise DesignError(name, value, f"must lie between {-MAX_MAGNITUDE:g} and {MAX_MAGNITUDE:g} (SI units)")
+    return number
 
 
-def _require_positive(name: str, value: Any) -> None:
-    _require_finite(name, value)
-    if value <= 0:
+def require_positive(name: str, value: Any) -> float:
+    """``require_number``, and greater than zero."""
+    number = require_number(name, value)
+    if number <= 0:
         raise DesignError(name, value, "must be positive")
+    return number
 
 
-def _require_non_negative(name: str, value: Any) -> None:
-    _require_finite(name, value)
-    if value < 0:
+def require_non_negative(name: str, value: Any) -> float:
+    """``require_number``, and not below zero."""
+    number = require_number(name, value)
+    if number < 0:
         raise DesignError(name, value, "must not be negative")
+    return number
+
+
+def require_choice(name: str, value: Any, choices: tuple[str, ...]) -> str:
+    """``value`` if it is one of the texts ``choices``."""
+    if not (isinstance(value, str) and value in choices):
+        raise DesignError(name, value, f"must be one of {', '.join(choices)}")
+    return value

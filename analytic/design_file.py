@@ -8,15 +8,17 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
-from analytic.design import (BeamArm, Design, DesignError, Environment, Machine, Projectile,
-                             paper_geometry)
+from analytic.design import (BeamArm, Design, DesignError, Environment, Machine, MissingValueError,
+                             Projectile, paper_geometry, require_number)
 
-_MACHINE_KEYS = tuple(f.name for f in dataclasses.fields(Machine))
-_PROJECTILE_KEYS = tuple(f.name for f in dataclasses.fields(Projectile))
+_MACHINE_NUMBERS = tuple(f.name for f in dataclasses.fields(Machine) if f.name != "release_rule")
 _ENVIRONMENT_KEYS = tuple(f.name for f in dataclasses.fields(Environment))
+_BEAM_KEYS = tuple(f.name for f in dataclasses.fields(BeamArm))
 _ANGLE_KEYS = ("release_angle", "starting_angle")  # degrees in files
 _ARM_KEYS = ("arm_mass", "arm_cg", "arm_inertia")
 _PAPER_KEYS = ("clearance", "starting_angle")
+#: Where a design file keeps the beam, and so where ``BeamArm`` says its fields are.
+BEAM_TABLE = "machine.arm_beam"
 
 
 def design_from_dict(data: dict[str, Any], name: str = "design") -> Design:
@@ -28,15 +30,33 @@ def design_from_dict(data: dict[str, Any], name: str = "design") -> Design:
       ``pivot_height`` and ``arm_long`` (see ``paper_geometry``);
     * ``[machine.arm_beam]`` with ``width``, ``depth``, ``density`` instead of
       ``arm_mass``, ``arm_cg``, ``arm_inertia`` (see ``BeamArm``).
+
+    Every value is checked (its table, presence and type) before any
+    arithmetic uses it.
+
+    Parameters
+    ----------
+    data : the file's tables, as ``tomllib`` reads them.
+    name : the design's name unless the file gives one.
+
+    Raises
+    ------
+    DesignError
+        naming the field as ``table.key``, its value and the reason.
     """
-    reject_unknown_keys("design", data, ("machine", "projectile", "environment", "name"))
-    for table in ("machine", "projectile"):
-        if not isinstance(data.get(table), dict):
-            raise DesignError(f"[{table}]", data.get(table), "required table is missing")
-    machine_data = dict(data["machine"])
-    beam_data = machine_data.pop("arm_beam", None)
-    reject_unknown_keys("machine", machine_data, _MACHINE_KEYS + _PAPER_KEYS)
-    values = {key: _number_or_text(f"machine.{key}", value) for key, value in machine_data.items()}
+    reject_unknown_keys("", require_table("design", data), ("machine", "projectile", "environment", "name"))
+    machine = machine_from_dict(data.get("machine"))
+    projectile = projectile_from_dict(data.get("projectile"))
+    environment = environment_from_dict(data.get("environment"))
+    return Design(machine, projectile, environment, name=data.get("name", name))
+
+
+def machine_from_dict(data: Any, table: str = "machine") -> Machine:
+    """The ``[machine]`` table of a design file (any of its forms, see ``design_from_dict``)."""
+    values = dict(require_table(table, data))
+    beam_data = values.pop("arm_beam", None)
+    values = read_values(table, values, numbers=_MACHINE_NUMBERS + _PAPER_KEYS, texts=("release_rule",),
+                         also_allowed=("arm_beam",))
     for key in _ANGLE_KEYS:
         if key in values:
             values[key] = math.radians(values[key])
@@ -44,46 +64,52 @@ def design_from_dict(data: dict[str, Any], name: str = "design") -> Design:
     if any(key in values for key in _PAPER_KEYS):
         for key in ("pivot_height", "arm_long"):
             if key in values:
-                raise DesignError(f"machine.{key}", values[key],
+                raise DesignError(f"{table}.{key}", values[key],
                                   "give either pivot_height and arm_long, or the paper's "
                                   "clearance and starting_angle, not both")
-        for key in _PAPER_KEYS + ("arm_short", "counterweight_link"):
-            _require_present("machine", key, values)
+        require_keys(table, values, _PAPER_KEYS + ("arm_short", "counterweight_link"))
         values["pivot_height"], values["arm_long"] = paper_geometry(
             values["arm_short"], values["counterweight_link"],
             values.pop("clearance"), values.pop("starting_angle"))
 
     if beam_data is not None:
-        if not isinstance(beam_data, dict):
-            raise DesignError("machine.arm_beam", beam_data, "must be a table")
         for key in _ARM_KEYS:
             if key in values:
-                raise DesignError(f"machine.{key}", values[key],
-                                  "give either arm_mass, arm_cg and arm_inertia, or [machine.arm_beam], not both")
-        reject_unknown_keys("machine.arm_beam", beam_data, ("width", "depth", "density"))
-        for key in ("width", "depth", "density"):
-            _require_present("machine.arm_beam", key, beam_data)
-        for key in ("pivot_height", "arm_long", "arm_short"):
-            _require_present("machine", key, values)
-        beam = BeamArm(**{k: _number_or_text(f"machine.arm_beam.{k}", v) for k, v in beam_data.items()})
+                raise DesignError(f"{table}.{key}", values[key],
+                                  f"give either arm_mass, arm_cg and arm_inertia, or [{table}.arm_beam], "
+                                  f"not both")
+        beam = beam_arm_from_dict(beam_data, f"{table}.arm_beam")
+        require_keys(table, values, ("pivot_height", "arm_long", "arm_short"))
         values["arm_mass"], values["arm_cg"], values["arm_inertia"] = beam.properties(
             values["arm_long"], values["arm_short"])
 
-    for key in _MACHINE_KEYS:
-        if key != "release_rule":
-            _require_present("machine", key, values)
-    machine = Machine(**values)
+    require_keys(table, values, _MACHINE_NUMBERS)
+    return Machine(**values)
 
-    reject_unknown_keys("projectile", data["projectile"], _PROJECTILE_KEYS)
-    for key in ("mass", "diameter", "drag"):
-        _require_present("projectile", key, data["projectile"])
-    projectile = Projectile(**{k: _number_or_text(f"projectile.{k}", v)
-                               for k, v in data["projectile"].items()})
 
-    env_data = data.get("environment", {})
-    reject_unknown_keys("environment", env_data, _ENVIRONMENT_KEYS)
-    environment = Environment(**{k: _number_or_text(f"environment.{k}", v) for k, v in env_data.items()})
-    return Design(machine, projectile, environment, name=str(data.get("name", name)))
+def projectile_from_dict(data: Any, table: str = "projectile") -> Projectile:
+    """The ``[projectile]`` table of a design (or problem) file; ``mass``, ``diameter`` and ``drag`` required."""
+    values = read_values(table, require_table(table, data), numbers=("mass", "diameter", "drag_coefficient"),
+                         texts=("drag",), required=("mass", "diameter", "drag"))
+    return Projectile(**values)
+
+
+def environment_from_dict(data: Any, table: str = "environment") -> Environment:
+    """The optional ``[environment]`` table of a design (or problem) file; what it omits takes the defaults."""
+    values = read_values(table, {} if data is None else require_table(table, data), numbers=_ENVIRONMENT_KEYS)
+    return Environment(**values)
+
+
+def beam_arm_from_dict(data: Any, table: str = BEAM_TABLE) -> BeamArm:
+    """A beam table (``width``, ``depth``, ``density``, all required): ``[machine.arm_beam]`` in design files."""
+    values = read_values(table, require_table(table, data), numbers=_BEAM_KEYS, required=_BEAM_KEYS)
+    try:
+        return BeamArm(**values)
+    except DesignError as error:
+        if table == BEAM_TABLE or not error.field.startswith(BEAM_TABLE):
+            raise
+        # A problem file keeps its beam elsewhere: name the field where this file has it.
+        raise DesignError(table + error.field.removeprefix(BEAM_TABLE), error.value, error.reason) from None
 
 
 def design_to_dict(design: Design) -> dict[str, Any]:
@@ -97,15 +123,7 @@ def design_to_dict(design: Design) -> dict[str, Any]:
 
 def load_design(path: str | Path) -> Design:
     """Read a design TOML file; errors name the file, the field, the value and the reason."""
-    path = Path(path)
-    try:
-        with path.open("rb") as handle:
-            data = tomllib.load(handle)
-    except tomllib.TOMLDecodeError as error:
-        raise DesignError("file", str(path), f"not valid TOML: {error}") from None
-    except OSError as error:
-        raise DesignError("file", str(path), f"cannot be read: {error.strerror}") from None
-    return design_from_dict(data, name=path.stem)
+    return design_from_dict(read_toml(path), name=Path(path).stem)
 
 
 def dumps_design(design: Design) -> str:
@@ -125,22 +143,73 @@ def default_design() -> Design:
     return load_design(Path(__file__).with_name("data") / "paper_table3.toml")
 
 
-def _require_present(table: str, key: str, values: dict[str, Any]) -> None:
-    if key not in values:
-        raise DesignError(f"{table}.{key}", None, "required value is missing")
+# --------------------------------------------------------------------------- #
+# Checks shared by every file (design and problem)
+# --------------------------------------------------------------------------- #
+
+def require_table(name: str, value: Any) -> dict[str, Any]:
+    """``value`` if it is a table; ``MissingValueError`` if absent, ``DesignError`` if something else."""
+    if value is None:
+        raise MissingValueError(name, reason="required table is missing")
+    if not isinstance(value, dict):
+        raise DesignError(name, value, "must be a table")
+    return value
+
+
+def require_keys(table: str, values: dict[str, Any], keys: tuple[str, ...]) -> None:
+    """Raise ``MissingValueError`` naming the first of ``keys`` absent from the table ``values``."""
+    for key in keys:
+        if key not in values:
+            raise MissingValueError(f"{table}.{key}")
+
+
+def read_values(table: str, values: dict[str, Any], *, numbers: tuple[str, ...], texts: tuple[str, ...] = (),
+                required: tuple[str, ...] = (), also_allowed: tuple[str, ...] = ()) -> dict[str, Any]:
+    """A table's values, checked before anything computes with them.
+
+    Parameters
+    ----------
+    table : the table's name (``machine``), for the errors.
+    values : the table as read.
+    numbers : keys whose values must be numbers (returned as float; ``require_number``).
+    texts : keys whose values are passed on as they are, for the design to check as choices.
+    required : keys that must be present.
+    also_allowed : further keys the caller has taken out of ``values`` (nested tables).
+
+    Returns
+    -------
+    The checked values, keyed as ``values``.
+
+    Raises
+    ------
+    DesignError
+        for an unknown key, a wrong type or a value out of range; ``MissingValueError``
+        for a missing required key.
+    """
+    reject_unknown_keys(table, values, numbers + texts + also_allowed)
+    require_keys(table, values, required)
+    return {key: value if key in texts else require_number(f"{table}.{key}", value)
+            for key, value in values.items()}
 
 
 def reject_unknown_keys(table: str, values: dict[str, Any], allowed: tuple[str, ...]) -> None:
-    """Raise ``DesignError`` naming the first key of ``values`` not in ``allowed`` (typo guard for files)."""
+    """Raise ``DesignError`` naming the first key of ``values`` not in ``allowed`` (typo guard for files).
+
+    ``table`` is ``""`` for the file's top level.
+    """
     for key in values:
         if key not in allowed:
-            raise DesignError(f"{table}.{key}", values[key],
+            raise DesignError(f"{table}.{key}" if table else key, values[key],
                               f"unknown key; expected one of {', '.join(allowed)}")
 
 
-def _number_or_text(name: str, value: Any) -> Any:
-    if isinstance(value, bool):
-        raise DesignError(name, value, "must be a number")
-    if isinstance(value, int):
-        return float(value)
-    return value
+def read_toml(path: str | Path) -> dict[str, Any]:
+    """The tables of a TOML file; ``DesignError`` (field ``file``) if it cannot be read or parsed."""
+    path = Path(path)
+    try:
+        with path.open("rb") as handle:
+            return tomllib.load(handle)
+    except tomllib.TOMLDecodeError as error:
+        raise DesignError("file", str(path), f"not valid TOML: {error}") from None
+    except OSError as error:
+        raise DesignError("file", str(path), f"cannot be read: {error.strerror}") from None
