@@ -7,13 +7,14 @@ import math
 import numpy as np
 import pytest
 
-from analytic import fast, optimise
-from analytic.optimise_evaluate import (DEFAULT_PROCESSES, DESIGN_ERROR, FAILURE_RANGE, FAST,
+from analytic import fast
+from analytic.optimise import cli
+from analytic.optimise.evaluate import (DEFAULT_PROCESSES, DESIGN_ERROR, FAILURE_RANGE, FAST,
                                         INTEGRATION_ERROR, PATHS, REFERENCE, Evaluator)
-from analytic.optimise_report import display
-from analytic.optimise_robust import release_scatter
-from analytic.optimise_search import Settings, maximise
-from analytic.problem import default_problem, from_unit, variables_of
+from analytic.optimise.report import display
+from analytic.optimise.robust import release_scatter
+from analytic.optimise.search import Settings, maximise
+from analytic.optimise.problem import default_problem, from_unit, variables_of
 
 from test_analytic_optimise_run import SEED_DESIGN_AGREEMENT, SEED_RANGE_AGREEMENT
 
@@ -128,6 +129,6 @@ def test_evaluator_refuses_an_unknown_path_or_no_workers(problem):
 
 
 def test_command_line_offers_the_evaluators_paths():
-    # optimise.py spells them out so that building the command line does not import numba.
-    assert optimise.PATHS == PATHS and optimise.PATHS[0] == FAST
-    assert optimise.DEFAULT_PROCESSES == DEFAULT_PROCESSES
+    # cli.py spells them out so that building the command line does not import numba.
+    assert cli.PATHS == PATHS and cli.PATHS[0] == FAST
+    assert cli.DEFAULT_PROCESSES == DEFAULT_PROCESSES

@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 from analytic.design import DesignError
-from analytic.optimise_constraints import (CONSTRAINT_NAMES, axle_distance, constraint_values,
+from analytic.optimise.constraints import (CONSTRAINT_NAMES, axle_distance, constraint_values,
                                            feasible, footprint, rest_points)
-from analytic.optimise_report import PAPER_RATIOS, ratios
-from analytic.problem import (VARIABLE_NAMES, default_problem, design_at, from_unit,
+from analytic.optimise.report import PAPER_RATIOS, ratios
+from analytic.optimise.problem import (VARIABLE_NAMES, default_problem, design_at, from_unit,
                               problem_from_dict, to_unit, variables_of)
 
 PROBLEM_FILE = Path(__file__).parents[1] / "analytic" / "data" / "paper_problem.toml"

@@ -20,16 +20,16 @@ from pathlib import Path
 EXIT_OK, EXIT_INVALID = 0, 2
 #: Release-angle standard deviation of ``--robust`` given without a value, deg.
 DEFAULT_ROBUST_SIGMA_DEG = 2.0
-#: ``--path`` choices, the first the default: ``optimise_evaluate.PATHS``, spelled out so that
+#: ``--path`` choices, the first the default: ``evaluate.PATHS``, spelled out so that
 #: building the command line does not import numba (a test keeps the two equal).
 PATHS = ("fast", "reference")
-#: Worker processes of the reference path by default: ``optimise_evaluate.DEFAULT_PROCESSES``.
+#: Worker processes of the reference path by default: ``evaluate.DEFAULT_PROCESSES``.
 DEFAULT_PROCESSES = 2
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The ``optimise`` subcommand's arguments."""
-    from analytic.optimise_robust import DEFAULT_NODES
+    from analytic.optimise.robust import DEFAULT_NODES
 
     parser.add_argument("problem", nargs="?",
                         help="problem TOML (default: the paper's, analytic/data/paper_problem.toml)")
@@ -54,7 +54,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     """Run the ``optimise`` subcommand; returns the exit code."""
     from analytic.design import DesignError
-    from analytic.problem import default_problem, load_problem
+    from analytic.optimise.problem import default_problem, load_problem
 
     try:
         problem = default_problem() if args.problem is None else load_problem(args.problem)
@@ -91,23 +91,23 @@ def optimise_and_report(problem, out: Path, *, seed: int, robust_sigma: float | 
                         progress: bool, path: str = PATHS[0], workers: int | None = None) -> str:
     """Optimise ``problem`` (and its robust variant if ``robust_sigma``, rad), write outputs to ``out``.
 
-    ``path`` and ``workers`` choose how shots are simulated (``optimise_evaluate.Evaluator``).
+    ``path`` and ``workers`` choose how shots are simulated (``evaluate.Evaluator``).
 
     Returns
     -------
     The report's text (also written to ``out/report.txt``).
     """
     from analytic.design_file import default_design, save_design
-    from analytic.optimise_evaluate import Evaluator
-    from analytic.optimise_plot import (
+    from analytic.optimise.evaluate import Evaluator
+    from analytic.optimise.plot import (
         convergence_figure,
         save_figure,
         sensitivity_figure,
     )
-    from analytic.optimise_robust import release_scatter
-    from analytic.optimise_search import Settings, maximise
-    from analytic.optimise_sensitivity import scan
-    from analytic.problem import design_at, variables_of
+    from analytic.optimise.robust import release_scatter
+    from analytic.optimise.search import Settings, maximise
+    from analytic.optimise.sensitivity import scan
+    from analytic.optimise.problem import design_at, variables_of
 
     began = time.perf_counter()
     settings = Settings(seed=seed)
@@ -139,7 +139,7 @@ def optimise_and_report(problem, out: Path, *, seed: int, robust_sigma: float | 
 
 
 def _report(problem, paper, optima, ranges, scatter, node_ranges) -> str:
-    from analytic.optimise_report import (
+    from analytic.optimise.report import (
         PAPER_RANGE,
         format_constraints,
         format_first_order,

@@ -6,11 +6,11 @@ import math
 
 import numpy as np
 
-from analytic.optimise_constraints import (CONSTRAINT_NAMES, axle_distance, constraint_values,
+from analytic.optimise.constraints import (CONSTRAINT_NAMES, axle_distance, constraint_values,
                                            footprint)
-from analytic.optimise_robust import Scatter, expected, spread
-from analytic.optimise_search import Optimum
-from analytic.problem import ANGLE_VARIABLES, Problem, design_at
+from analytic.optimise.robust import Scatter, expected, spread
+from analytic.optimise.search import Optimum
+from analytic.optimise.problem import ANGLE_VARIABLES, Problem, design_at
 
 #: Range of the paper's optimum, m (Corie, Park & Standring, section III and Table III).
 PAPER_RANGE = 35.9

@@ -2,7 +2,7 @@
 
 A problem says what may vary (the paper's six design variables, section II.A
 and Table II), what is fixed (counterweight, projectile, arm material, air,
-release rule) and how large the machine may be (``analytic.optimise_constraints``).
+release rule) and how large the machine may be (``analytic.optimise.constraints``).
 The built-in default is the paper's (``data/paper_problem.toml``).
 
 Inside, everything is SI with angles in radians. In files, lengths are in
@@ -268,7 +268,7 @@ def load_problem(path: str | Path) -> Problem:
 
 def default_problem() -> Problem:
     """The built-in default: the paper's problem (``data/paper_problem.toml``)."""
-    return load_problem(Path(__file__).with_name("data") / "paper_problem.toml")
+    return load_problem(Path(__file__).parents[1] / "data" / "paper_problem.toml")
 
 
 def _field_names(cls) -> tuple[str, ...]:

@@ -1,0 +1,1 @@
+"""The design optimiser: maximise range over the paper's design variables within its size limits."""
