@@ -7,8 +7,8 @@ import math
 import pytest
 import tomli_w
 
-from analytic.optimise import cli
 from analytic.design_file import default_design, load_design
+from analytic.optimise import cli
 from analytic.optimise.constraints import feasible
 from analytic.optimise.problem import load_problem, variables_of
 from analytic.simulate import simulate

@@ -13,9 +13,9 @@ from scipy.optimize import minimize_scalar
 from analytic.design_file import default_design
 from analytic.eom import params, projectile_state
 from analytic.optimise.evaluate import Evaluator
+from analytic.optimise.problem import VARIABLE_NAMES, design_at, problem_from_dict, variables_of
 from analytic.optimise.robust import release_scatter
 from analytic.optimise.search import Settings, maximise
-from analytic.optimise.problem import VARIABLE_NAMES, design_at, problem_from_dict, variables_of
 from analytic.result import Stage
 from analytic.simulate import simulate
 

@@ -12,9 +12,9 @@ import pytest
 from analytic.design import DesignError
 from analytic.optimise.constraints import (CONSTRAINT_NAMES, axle_distance, constraint_values,
                                            feasible, footprint, rest_points)
-from analytic.optimise.report import PAPER_RATIOS, ratios
 from analytic.optimise.problem import (VARIABLE_NAMES, default_problem, design_at, from_unit,
                               problem_from_dict, to_unit, variables_of)
+from analytic.optimise.report import PAPER_RATIOS, ratios
 
 PROBLEM_FILE = Path(__file__).parents[1] / "analytic" / "data" / "paper_problem.toml"
 

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from analytic.optimise.evaluate import Evaluator
-from analytic.optimise.robust import DEFAULT_NODES, expected, release_scatter, spread
 from analytic.optimise.problem import default_problem, variables_of
+from analytic.optimise.robust import DEFAULT_NODES, expected, release_scatter, spread
 from analytic.simulate import DEFAULT_RTOL
 
 SIGMA = math.radians(2.0)

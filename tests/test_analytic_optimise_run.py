@@ -9,9 +9,9 @@ import pytest
 
 from analytic.optimise.constraints import feasible
 from analytic.optimise.evaluate import Evaluator, throw
+from analytic.optimise.problem import default_problem, design_at, variables_of
 from analytic.optimise.report import display
 from analytic.optimise.search import Settings, maximise
-from analytic.optimise.problem import default_problem, design_at, variables_of
 from analytic.simulate import DEFAULT_RTOL
 
 from test_analytic_optimise_known import RESIDUAL_LIMIT

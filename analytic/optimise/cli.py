@@ -13,24 +13,24 @@ from __future__ import annotations
 import argparse
 import math
 import sys
-import time
 from pathlib import Path
+
+from analytic.design import DesignError
+from analytic.design_file import save_design
+from analytic.optimise import Optimisation, optimise
+from analytic.optimise.evaluate import DEFAULT_PROCESSES, PATHS
+from analytic.optimise.problem import default_problem, design_at, load_problem
+from analytic.optimise.report import format_report
+from analytic.optimise.robust import DEFAULT_NODES
 
 #: Exit codes as ``python -m analytic simulate``: done, invalid input.
 EXIT_OK, EXIT_INVALID = 0, 2
 #: Release-angle standard deviation of ``--robust`` given without a value, deg.
 DEFAULT_ROBUST_SIGMA_DEG = 2.0
-#: ``--path`` choices, the first the default: ``evaluate.PATHS``, spelled out so that
-#: building the command line does not import numba (a test keeps the two equal).
-PATHS = ("fast", "reference")
-#: Worker processes of the reference path by default: ``evaluate.DEFAULT_PROCESSES``.
-DEFAULT_PROCESSES = 2
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The ``optimise`` subcommand's arguments."""
-    from analytic.optimise.robust import DEFAULT_NODES
-
     parser.add_argument("problem", nargs="?",
                         help="problem TOML (default: the paper's, analytic/data/paper_problem.toml)")
     parser.add_argument("--robust", metavar="SIGMA_DEG", type=float, nargs="?",
@@ -53,9 +53,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run the ``optimise`` subcommand; returns the exit code."""
-    from analytic.design import DesignError
-    from analytic.optimise.problem import default_problem, load_problem
-
     try:
         problem = default_problem() if args.problem is None else load_problem(args.problem)
     except DesignError as error:
@@ -70,10 +67,10 @@ def run(args: argparse.Namespace) -> int:
         return EXIT_INVALID
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    report = optimise_and_report(problem, out, seed=args.seed, path=args.path, workers=args.workers,
-                                 robust_sigma=None if args.robust is None else math.radians(args.robust),
-                                 nodes=args.nodes, progress=not args.quiet)
-    print(report)
+    result = optimise(problem, seed=args.seed, path=args.path, workers=args.workers,
+                      robust_sigma=None if args.robust is None else math.radians(args.robust),
+                      nodes=args.nodes, progress=not args.quiet)
+    print(write_outputs(result, out))
     print(f"\nwritten to {out}/: report.txt, optimum.toml, convergence.png, sensitivity.png"
           + (", robust-optimum.toml" if args.robust is not None else ""))
     return EXIT_OK
@@ -87,79 +84,23 @@ def main(argv: list[str] | None = None) -> int:
     return run(parser.parse_args(argv))
 
 
-def optimise_and_report(problem, out: Path, *, seed: int, robust_sigma: float | None, nodes: int,
-                        progress: bool, path: str = PATHS[0], workers: int | None = None) -> str:
-    """Optimise ``problem`` (and its robust variant if ``robust_sigma``, rad), write outputs to ``out``.
-
-    ``path`` and ``workers`` choose how shots are simulated (``evaluate.Evaluator``).
+def write_outputs(result: Optimisation, out: Path) -> str:
+    """Write the report, the figures and each optimum as a design file to the folder ``out``.
 
     Returns
     -------
-    The report's text (also written to ``out/report.txt``).
+    The report's text (also in ``out/report.txt``).
     """
-    from analytic.design_file import default_design, save_design
-    from analytic.optimise.evaluate import Evaluator
-    from analytic.optimise.plot import (
-        convergence_figure,
-        save_figure,
-        sensitivity_figure,
-    )
-    from analytic.optimise.robust import release_scatter
-    from analytic.optimise.search import Settings, maximise
-    from analytic.optimise.sensitivity import scan
-    from analytic.optimise.problem import design_at, variables_of
+    from analytic.optimise.plot import convergence_figure, save_figure, sensitivity_figure  # matplotlib, not for every command
 
-    began = time.perf_counter()
-    settings = Settings(seed=seed)
-    scatter = None if robust_sigma is None else release_scatter(robust_sigma, nodes)
-    paper = variables_of(default_design().machine)
-    with Evaluator(problem, path=path, workers=workers) as evaluator:
-        optima = {"optimum": maximise(problem, evaluator, settings, progress=progress)}
-        if scatter is not None:
-            optima["robust optimum"] = maximise(problem, evaluator, settings, scatter=scatter,
-                                                start=optima["optimum"].values, progress=progress)
-        designs = {"paper, ours": paper} | {label: o.values for label, o in optima.items()}
-        ranges = dict(zip(designs, evaluator.scores(list(designs.values()), settings.final_tolerance), strict=True))
-        node_ranges = None if scatter is None else dict(zip(designs, evaluator.node_ranges(
-            list(designs.values()), settings.final_tolerance, scatter), strict=True))
-        sensitivity = scan(evaluator, problem, optima["optimum"].values, optima["optimum"].score,
-                           settings.search_tolerance)
-
-    report = _report(problem, paper, optima, ranges, scatter, node_ranges)
-    report += f"\n\nTotal wall time {time.perf_counter() - began:.1f} s ({path} path)"
+    problem = result.problem
+    report = format_report(result)
     (out / "report.txt").write_text(report + "\n")
-    save_figure(convergence_figure(optima), out / "convergence.png")
-    save_figure(sensitivity_figure(problem, sensitivity, f"range through the optimum ({problem.name})"),
+    save_figure(convergence_figure(result.optima), out / "convergence.png")
+    save_figure(sensitivity_figure(problem, result.sensitivity, f"range through the optimum ({problem.name})"),
                 out / "sensitivity.png")
-    for optimum in optima.values():
+    for optimum in result.optima.values():
         prefix = "robust-" if optimum.scatter.sigma > 0 else ""
         save_design(design_at(problem, optimum.values, name=f"{problem.name}-{prefix}optimum"),
                     out / f"{prefix}optimum.toml")
     return report
-
-
-def _report(problem, paper, optima, ranges, scatter, node_ranges) -> str:
-    from analytic.optimise.report import (
-        PAPER_RANGE,
-        format_constraints,
-        format_first_order,
-        format_scatter,
-        format_search,
-        format_tables,
-    )
-
-    columns = [("paper", paper, PAPER_RANGE), ("paper, ours", paper, ranges["paper, ours"])]
-    columns += [(label, optimum.values, ranges[label]) for label, optimum in optima.items()]
-    sections = [f"Problem {problem.name!r}: maximise range"
-                + ("" if scatter is None else f"; robust variant: maximise the expected range when the "
-                   f"release angle scatters, sigma {math.degrees(scatter.sigma):g} deg (local stage "
-                   f"from the optimum)"),
-                "Columns: the paper's published Table III optimum; the same design under this problem "
-                "and our model; " + "; ".join(f"our {label}" for label in optima),
-                format_tables(problem, columns), format_constraints(problem, columns)]
-    for label, optimum in optima.items():
-        sections += [format_search(label, optimum), format_first_order(optimum)]
-    if scatter is not None:
-        sections.append(format_scatter(scatter, [(label, ranges[label], node_ranges[label])
-                                                 for label in ranges]))
-    return "\n\n".join(sections)

@@ -28,8 +28,8 @@ import numpy as np
 from analytic import fast
 from analytic.design import DesignError
 from analytic.integrate import IntegrationError
-from analytic.optimise.robust import Scatter, expected, release_scatter
 from analytic.optimise.problem import VARIABLE_NAMES, Problem, design_at
+from analytic.optimise.robust import Scatter, expected, release_scatter
 from analytic.result import Status
 from analytic.simulate import simulate
 

@@ -23,8 +23,8 @@ from scipy.optimize import nnls
 
 from analytic.optimise.constraints import CONSTRAINT_NAMES, constraint_values
 from analytic.optimise.evaluate import Evaluator
-from analytic.optimise.robust import Scatter
 from analytic.optimise.problem import Problem, design_at, from_unit
+from analytic.optimise.robust import Scatter
 
 #: Finite-difference step of the range, in unit (bound-width) coordinates. The
 #: range at rtol = atol = 1e-10 carries noise of about 2e-9 m (its scatter about a

@@ -10,10 +10,10 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from analytic.optimise.constraints import CONSTRAINT_NAMES, FEASIBILITY_TOLERANCE
+from analytic.optimise.problem import Problem
 from analytic.optimise.report import display
 from analytic.optimise.search import Optimum
 from analytic.optimise.sensitivity import Sensitivity
-from analytic.optimise.problem import Problem
 
 #: Axis labels and display scale of each variable (SI -> cm or deg).
 _LABELS = {"arm_short": ("short arm $L_{As}$", "cm"), "counterweight_link": ("weight link $L_W$", "cm"),

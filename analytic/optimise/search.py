@@ -34,8 +34,8 @@ from analytic.optimise.constraints import FEASIBILITY_TOLERANCE
 from analytic.optimise.evaluate import NO_SCATTER, Evaluator
 from analytic.optimise.kkt import (FirstOrder, constraint_jacobian, first_order, range_gradient,
                                    unit_constraints)
-from analytic.optimise.robust import Scatter
 from analytic.optimise.problem import Problem, from_unit, to_unit
+from analytic.optimise.robust import Scatter
 from analytic.simulate import DEFAULT_RTOL
 
 #: SLSQP stops once a step changes the objective (range / its starting value) by
