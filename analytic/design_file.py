@@ -96,7 +96,7 @@ def projectile_from_dict(data: Any, table: str = "projectile") -> Projectile:
 
 def environment_from_dict(data: Any, table: str = "environment") -> Environment:
     """The optional ``[environment]`` table of a design (or problem) file; what it omits takes the defaults."""
-    values = read_values(table, {} if data is None else require_table(table, data), numbers=_ENVIRONMENT_KEYS)
+    values = read_values(table, require_table(table, data, optional=True), numbers=_ENVIRONMENT_KEYS)
     return Environment(**values)
 
 
@@ -147,9 +147,14 @@ def default_design() -> Design:
 # Checks shared by every file (design and problem)
 # --------------------------------------------------------------------------- #
 
-def require_table(name: str, value: Any) -> dict[str, Any]:
-    """``value`` if it is a table; ``MissingValueError`` if absent, ``DesignError`` if something else."""
+def require_table(name: str, value: Any, *, optional: bool = False) -> dict[str, Any]:
+    """``value`` if it is a table; if absent ``{}`` when ``optional``, else ``MissingValueError``.
+
+    Anything else where a table belongs raises ``DesignError``.
+    """
     if value is None:
+        if optional:
+            return {}
         raise MissingValueError(name, reason="required table is missing")
     if not isinstance(value, dict):
         raise DesignError(name, value, "must be a table")
