@@ -1,8 +1,10 @@
 """The trebuchet design: validated inputs and derived start geometry (files: ``analytic.design_file``).
 
-This module is the contract both models read (``engine_model`` may import it, its
-file module and ``analytic.aero``, nothing else of ``analytic``). Everything inside is SI with
-angles in radians; degrees exist only in TOML files (``analytic.design_file``).
+This module is the contract both models read (``engine_model`` may import it,
+its file module and ``analytic.aero``, nothing else of ``analytic``). Everything
+inside is SI with angles in radians; degrees exist only in TOML files
+(``analytic.design_file``). Every check raises ``DesignError`` naming the field
+as it stands in a file, table first.
 
 Geometry and angle conventions (the same symbols as ``docs/derivation.md``):
 

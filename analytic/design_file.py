@@ -51,8 +51,9 @@ def design_from_dict(data: dict[str, Any], name: str = "design") -> Design:
     return Design(machine, projectile, environment, name=data.get("name", name))
 
 
-def machine_from_dict(data: Any, table: str = "machine") -> Machine:
+def machine_from_dict(data: Any) -> Machine:
     """The ``[machine]`` table of a design file (any of its forms, see ``design_from_dict``)."""
+    table = "machine"
     values = dict(require_table(table, data))
     beam_data = values.pop("arm_beam", None)
     values = read_values(table, values, numbers=_MACHINE_NUMBERS + _PAPER_KEYS, texts=("release_rule",),
@@ -87,21 +88,26 @@ def machine_from_dict(data: Any, table: str = "machine") -> Machine:
     return Machine(**values)
 
 
-def projectile_from_dict(data: Any, table: str = "projectile") -> Projectile:
+def projectile_from_dict(data: Any) -> Projectile:
     """The ``[projectile]`` table of a design (or problem) file; ``mass``, ``diameter`` and ``drag`` required."""
-    values = read_values(table, require_table(table, data), numbers=("mass", "diameter", "drag_coefficient"),
-                         texts=("drag",), required=("mass", "diameter", "drag"))
+    values = read_values("projectile", require_table("projectile", data),
+                         numbers=("mass", "diameter", "drag_coefficient"), texts=("drag",),
+                         required=("mass", "diameter", "drag"))
     return Projectile(**values)
 
 
-def environment_from_dict(data: Any, table: str = "environment") -> Environment:
+def environment_from_dict(data: Any) -> Environment:
     """The optional ``[environment]`` table of a design (or problem) file; what it omits takes the defaults."""
-    values = read_values(table, require_table(table, data, optional=True), numbers=_ENVIRONMENT_KEYS)
+    values = read_values("environment", require_table("environment", data, optional=True),
+                         numbers=_ENVIRONMENT_KEYS)
     return Environment(**values)
 
 
 def beam_arm_from_dict(data: Any, table: str = BEAM_TABLE) -> BeamArm:
-    """A beam table (``width``, ``depth``, ``density``, all required): ``[machine.arm_beam]`` in design files."""
+    """A beam table (``width``, ``depth``, ``density``, all required), errors named under ``table``.
+
+    ``[machine.arm_beam]`` in design files, ``[arm_beam]`` in problem files.
+    """
     values = read_values(table, require_table(table, data), numbers=_BEAM_KEYS, required=_BEAM_KEYS)
     try:
         return BeamArm(**values)
