@@ -2,7 +2,7 @@
 
 Both paths shoot the same designs: the paper's optimum (Table III, the
 default design) and a seeded uniform sample over the paper's Table II bounds
-(``analytic.problem``), kept whether they throw or fail. Measured:
+(``analytic.optimise.problem``), kept whether they throw or fail. Measured:
 
 * the median time of one shot over the designs, for the reference
   (``simulate(histories=False)``: scipy's DOP853 stepped from Python, the same
@@ -39,8 +39,8 @@ BENCH_KEYS = ("reference_median_shot_s", "fast_median_shot_s", "speedup", "batch
 
 def bench_designs(count: int, seed: int):
     """The paper's optimum and ``count`` designs drawn uniformly over the paper's problem box."""
-    from analytic.design import default_design
-    from analytic.problem import default_problem, design_at, from_unit
+    from analytic.design_file import default_design
+    from analytic.optimise.problem import default_problem, design_at, from_unit
 
     problem = default_problem()
     rng = np.random.default_rng(seed)

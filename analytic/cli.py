@@ -7,7 +7,8 @@ import json
 import sys
 from pathlib import Path
 
-from analytic.design import Design, DesignError, default_design, load_design
+from analytic.design import Design, DesignError
+from analytic.design_file import default_design, load_design
 from analytic.report import format_shot
 
 #: Exit codes: a throw, an unbuildable design, a valid design that does not throw.
@@ -57,13 +58,13 @@ def build_parser() -> argparse.ArgumentParser:
     bench.add_arguments(ben)
     ben.set_defaults(func=bench.main)
     try:
-        from analytic import optimise
+        from analytic.optimise import cli as optimise_cli
     except ImportError:  # pragma: no cover - the optimiser is optional at import time
-        optimise = None
-    if optimise is not None:
+        optimise_cli = None
+    if optimise_cli is not None:
         opt = commands.add_parser("optimise", help="maximise range over the paper's design variables")
-        optimise.add_arguments(opt)
-        opt.set_defaults(func=optimise.run)
+        optimise_cli.add_arguments(opt)
+        opt.set_defaults(func=optimise_cli.run)
     return parser
 
 

@@ -1,8 +1,10 @@
-"""The trebuchet design: validated inputs, derived start geometry, TOML in and out.
+"""The trebuchet design: validated inputs and derived start geometry (files: ``analytic.design_file``).
 
-This module is the contract both models read (``engine_model`` may import it and
-``analytic.aero``, nothing else of ``analytic``). Everything inside is SI with
-angles in radians; degrees exist only in TOML files (see ``design_from_dict``).
+This module is the contract both models read (``engine_model`` may import it,
+its file module and ``analytic.aero``, nothing else of ``analytic``). Everything
+inside is SI with angles in radians; degrees exist only in TOML files
+(``analytic.design_file``). Every check raises ``DesignError`` naming the field
+as it stands in a file, table first.
 
 Geometry and angle conventions (the same symbols as ``docs/derivation.md``):
 
@@ -20,11 +22,9 @@ Geometry and angle conventions (the same symbols as ``docs/derivation.md``):
 
 from __future__ import annotations
 
-import dataclasses
 import math
-import tomllib
+import numbers
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -38,16 +38,44 @@ from analytic.geometry import RELEASE_RULES
 MAX_VELOCITY_RELEASE_ANGLE = math.radians(90.0)
 #: Largest |release angle| for the ``sling`` rule (sling-to-arm angle).
 MAX_SLING_RELEASE_ANGLE = math.radians(180.0)
+#: Largest magnitude of any number in a design, SI units. Far beyond any machine
+#: this models (a 20 t counterweight, a 20 m arm), and it keeps the squares and
+#: products the model forms of its inputs far from overflowing.
+MAX_MAGNITUDE = 1e6
 
 
 class DesignError(ValueError):
-    """A design that cannot be built: names the field, its value and the reason."""
+    """A design that cannot be built: ``table.field = value: reason``.
+
+    Attributes
+    ----------
+    field : the value's place in a design file, table first (``machine.arm_short``).
+    value : the offending value (``None`` when it is missing).
+    reason : why it is refused.
+    """
 
     def __init__(self, field_name: str, value: Any, reason: str):
         self.field = field_name
         self.value = value
         self.reason = reason
-        super().__init__(f"{field_name} = {value!r}: {reason}")
+        super().__init__(self._message())
+
+    def _message(self) -> str:
+        return f"{self.field} = {self.value!r}: {self.reason}"
+
+    def __reduce__(self):
+        # Rebuilt from its parts, so it survives a process pool.
+        return type(self), (self.field, self.value, self.reason)
+
+
+class MissingValueError(DesignError):
+    """A required value or table that is absent: ``machine.sling_length: required value is missing``."""
+
+    def __init__(self, field_name: str, value: Any = None, reason: str = "required value is missing"):
+        super().__init__(field_name, value, reason)
+
+    def _message(self) -> str:
+        return f"{self.field}: {self.reason}"
 
 
 @dataclass(frozen=True)
@@ -89,31 +117,29 @@ class Machine:
     def __post_init__(self) -> None:
         for name in ("pivot_height", "arm_long", "arm_short", "arm_mass",
                      "counterweight_mass", "counterweight_link", "sling_length"):
-            _require_positive(name, getattr(self, name))
+            require_positive(f"machine.{name}", getattr(self, name))
         for name in ("arm_inertia", "counterweight_inertia"):
-            _require_non_negative(name, getattr(self, name))
-        _require_finite("arm_cg", self.arm_cg)
-        _require_finite("release_angle", self.release_angle)
-        if self.release_rule not in RELEASE_RULES:
-            raise DesignError("release_rule", self.release_rule,
-                              f"must be one of {', '.join(RELEASE_RULES)}")
+            require_non_negative(f"machine.{name}", getattr(self, name))
+        require_number("machine.arm_cg", self.arm_cg)
+        require_number("machine.release_angle", self.release_angle)
+        require_choice("machine.release_rule", self.release_rule, RELEASE_RULES)
         if not -self.arm_short <= self.arm_cg <= self.arm_long:
-            raise DesignError("arm_cg", self.arm_cg,
+            raise DesignError("machine.arm_cg", self.arm_cg,
                               f"the arm's centre of mass must lie on the arm, between "
                               f"-arm_short ({-self.arm_short:g} m) and arm_long ({self.arm_long:g} m)")
         if self.arm_long <= self.pivot_height:
-            raise DesignError("arm_long", self.arm_long,
+            raise DesignError("machine.arm_long", self.arm_long,
                               f"the long arm cannot reach the base: it must be longer than "
                               f"pivot_height ({self.pivot_height:g} m)")
         if self.arm_short + self.counterweight_link >= self.pivot_height:
-            raise DesignError("counterweight_link", self.counterweight_link,
+            raise DesignError("machine.counterweight_link", self.counterweight_link,
                               f"the counterweight would strike the base: arm_short + "
                               f"counterweight_link ({self.arm_short + self.counterweight_link:g} m) "
                               f"must be less than pivot_height ({self.pivot_height:g} m)")
         limit = (MAX_VELOCITY_RELEASE_ANGLE if self.release_rule == "velocity"
                  else MAX_SLING_RELEASE_ANGLE)
         if not -limit < self.release_angle < limit:
-            raise DesignError("release_angle", f"{math.degrees(self.release_angle):g} deg",
+            raise DesignError("machine.release_angle", f"{math.degrees(self.release_angle):g} deg",
                               f"with release_rule {self.release_rule!r} it must lie strictly "
                               f"between {-math.degrees(limit):g} and {math.degrees(limit):g} deg")
 
@@ -133,16 +159,15 @@ class Projectile:
     drag_coefficient: float | None = None
 
     def __post_init__(self) -> None:
-        _require_positive("mass", self.mass)
-        _require_positive("diameter", self.diameter)
-        if self.drag not in DRAG_MODELS:
-            raise DesignError("drag", self.drag, f"must be one of {', '.join(DRAG_MODELS)}")
+        require_positive("projectile.mass", self.mass)
+        require_positive("projectile.diameter", self.diameter)
+        require_choice("projectile.drag", self.drag, DRAG_MODELS)
         if self.drag == "constant":
             if self.drag_coefficient is None:
-                raise DesignError("drag_coefficient", None, 'required with drag = "constant"')
-            _require_positive("drag_coefficient", self.drag_coefficient)
+                raise MissingValueError("projectile.drag_coefficient", reason='required with drag = "constant"')
+            require_positive("projectile.drag_coefficient", self.drag_coefficient)
         elif self.drag_coefficient is not None:
-            raise DesignError("drag_coefficient", self.drag_coefficient,
+            raise DesignError("projectile.drag_coefficient", self.drag_coefficient,
                               f'only used with drag = "constant", not {self.drag!r}; remove it')
 
     @property
@@ -161,10 +186,10 @@ class Environment:
     wind_speed: float = 0.0
 
     def __post_init__(self) -> None:
-        _require_positive("gravity", self.gravity)
-        _require_non_negative("air_density", self.air_density)
-        _require_positive("air_viscosity", self.air_viscosity)
-        _require_finite("wind_speed", self.wind_speed)
+        require_positive("environment.gravity", self.gravity)
+        require_non_negative("environment.air_density", self.air_density)
+        require_positive("environment.air_viscosity", self.air_viscosity)
+        require_number("environment.wind_speed", self.wind_speed)
 
 
 @dataclass(frozen=True)
@@ -175,6 +200,10 @@ class Design:
     projectile: Projectile
     environment: Environment = field(default_factory=Environment)
     name: str = "design"
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str):
+            raise DesignError("name", self.name, "must be text")
 
 
 # --------------------------------------------------------------------------- #
@@ -193,9 +222,11 @@ def paper_geometry(arm_short: float, counterweight_link: float, clearance: float
     -------
     (pivot_height, arm_long) : m
     """
-    _require_positive("clearance", clearance)
-    if not 0.0 < starting_angle < math.pi / 2:
-        raise DesignError("starting_angle", f"{math.degrees(starting_angle):g} deg",
+    for name, value in (("arm_short", arm_short), ("counterweight_link", counterweight_link),
+                        ("clearance", clearance)):
+        require_positive(f"machine.{name}", value)
+    if not 0.0 < require_number("machine.starting_angle", starting_angle) < math.pi / 2:
+        raise DesignError("machine.starting_angle", f"{math.degrees(starting_angle):g} deg",
                           "must lie strictly between 0 and 90 deg")
     pivot_height = arm_short + counterweight_link + clearance
     return pivot_height, pivot_height / math.sin(starting_angle)
@@ -211,7 +242,7 @@ class BeamArm:
 
     def __post_init__(self) -> None:
         for name in ("width", "depth", "density"):
-            _require_positive(name, getattr(self, name))
+            require_positive(f"machine.arm_beam.{name}", getattr(self, name))
 
     def properties(self, arm_long: float, arm_short: float) -> tuple[float, float, float]:
         """Mass (kg), centre-of-mass distance toward the long end (m), inertia about it (kg m^2).
@@ -252,162 +283,53 @@ def swing_time_limit(machine: Machine, gravity: float) -> float:
 
 
 # --------------------------------------------------------------------------- #
-# TOML
-# --------------------------------------------------------------------------- #
-
-_MACHINE_KEYS = tuple(f.name for f in dataclasses.fields(Machine))
-_PROJECTILE_KEYS = tuple(f.name for f in dataclasses.fields(Projectile))
-_ENVIRONMENT_KEYS = tuple(f.name for f in dataclasses.fields(Environment))
-_ANGLE_KEYS = ("release_angle", "starting_angle")  # degrees in files
-_ARM_KEYS = ("arm_mass", "arm_cg", "arm_inertia")
-_PAPER_KEYS = ("clearance", "starting_angle")
-
-
-def design_from_dict(data: dict[str, Any], name: str = "design") -> Design:
-    """Build a design from the TOML layout (SI units, angles in degrees).
-
-    Besides the direct ``[machine]`` keys, two alternative forms are accepted:
-
-    * the paper's: ``clearance`` and ``starting_angle`` (deg) instead of
-      ``pivot_height`` and ``arm_long`` (see ``paper_geometry``);
-    * ``[machine.arm_beam]`` with ``width``, ``depth``, ``density`` instead of
-      ``arm_mass``, ``arm_cg``, ``arm_inertia`` (see ``BeamArm``).
-    """
-    reject_unknown_keys("design", data, ("machine", "projectile", "environment", "name"))
-    for table in ("machine", "projectile"):
-        if not isinstance(data.get(table), dict):
-            raise DesignError(f"[{table}]", data.get(table), "required table is missing")
-    machine_data = dict(data["machine"])
-    beam_data = machine_data.pop("arm_beam", None)
-    reject_unknown_keys("machine", machine_data, _MACHINE_KEYS + _PAPER_KEYS)
-    values = {key: _number_or_text(f"machine.{key}", value) for key, value in machine_data.items()}
-    for key in _ANGLE_KEYS:
-        if key in values:
-            values[key] = math.radians(values[key])
-
-    if any(key in values for key in _PAPER_KEYS):
-        for key in ("pivot_height", "arm_long"):
-            if key in values:
-                raise DesignError(f"machine.{key}", values[key],
-                                  "give either pivot_height and arm_long, or the paper's "
-                                  "clearance and starting_angle, not both")
-        for key in _PAPER_KEYS + ("arm_short", "counterweight_link"):
-            _require_present("machine", key, values)
-        values["pivot_height"], values["arm_long"] = paper_geometry(
-            values["arm_short"], values["counterweight_link"],
-            values.pop("clearance"), values.pop("starting_angle"))
-
-    if beam_data is not None:
-        if not isinstance(beam_data, dict):
-            raise DesignError("machine.arm_beam", beam_data, "must be a table")
-        for key in _ARM_KEYS:
-            if key in values:
-                raise DesignError(f"machine.{key}", values[key],
-                                  "give either arm_mass, arm_cg and arm_inertia, or [machine.arm_beam], not both")
-        reject_unknown_keys("machine.arm_beam", beam_data, ("width", "depth", "density"))
-        for key in ("width", "depth", "density"):
-            _require_present("machine.arm_beam", key, beam_data)
-        for key in ("pivot_height", "arm_long", "arm_short"):
-            _require_present("machine", key, values)
-        beam = BeamArm(**{k: _number_or_text(f"machine.arm_beam.{k}", v) for k, v in beam_data.items()})
-        values["arm_mass"], values["arm_cg"], values["arm_inertia"] = beam.properties(
-            values["arm_long"], values["arm_short"])
-
-    for key in _MACHINE_KEYS:
-        if key != "release_rule":
-            _require_present("machine", key, values)
-    machine = Machine(**values)
-
-    reject_unknown_keys("projectile", data["projectile"], _PROJECTILE_KEYS)
-    for key in ("mass", "diameter", "drag"):
-        _require_present("projectile", key, data["projectile"])
-    projectile = Projectile(**{k: _number_or_text(f"projectile.{k}", v)
-                               for k, v in data["projectile"].items()})
-
-    env_data = data.get("environment", {})
-    reject_unknown_keys("environment", env_data, _ENVIRONMENT_KEYS)
-    environment = Environment(**{k: _number_or_text(f"environment.{k}", v) for k, v in env_data.items()})
-    return Design(machine, projectile, environment, name=str(data.get("name", name)))
-
-
-def design_to_dict(design: Design) -> dict[str, Any]:
-    """The canonical TOML layout of a design (direct form, angles in degrees)."""
-    machine = dataclasses.asdict(design.machine)
-    machine["release_angle"] = math.degrees(machine["release_angle"])
-    projectile = {k: v for k, v in dataclasses.asdict(design.projectile).items() if v is not None}
-    return {"name": design.name, "machine": machine, "projectile": projectile,
-            "environment": dataclasses.asdict(design.environment)}
-
-
-def load_design(path: str | Path) -> Design:
-    """Read a design TOML file; errors name the file, the field, the value and the reason."""
-    path = Path(path)
-    try:
-        with path.open("rb") as handle:
-            data = tomllib.load(handle)
-    except tomllib.TOMLDecodeError as error:
-        raise DesignError("file", str(path), f"not valid TOML: {error}") from None
-    except OSError as error:
-        raise DesignError("file", str(path), f"cannot be read: {error.strerror}") from None
-    return design_from_dict(data, name=path.stem)
-
-
-def dumps_design(design: Design) -> str:
-    """The design as TOML text (direct form)."""
-    import tomli_w
-
-    return tomli_w.dumps(design_to_dict(design))
-
-
-def save_design(design: Design, path: str | Path) -> None:
-    """Write a design as TOML that ``load_design`` reads back to an equal design."""
-    Path(path).write_text(dumps_design(design))
-
-
-def default_design() -> Design:
-    """The built-in default: the paper's Table III optimum (see ``data/paper_table3.toml``)."""
-    return load_design(Path(__file__).with_name("data") / "paper_table3.toml")
-
-
-# --------------------------------------------------------------------------- #
 # Validation helpers
 # --------------------------------------------------------------------------- #
 
-def _require_finite(name: str, value: Any) -> None:
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
+def require_number(name: str, value: Any) -> float:
+    """``value`` as a float if it is a real number, finite and within ``MAX_MAGNITUDE``.
+
+    Parameters
+    ----------
+    name : the field, table first, for the error.
+    value : anything read from a file or given by a caller.
+
+    Raises
+    ------
+    DesignError
+        for text, booleans, lists, tables, dates, nan, infinities and huge numbers.
+    """
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise DesignError(name, value, "must be a number")
-    if not math.isfinite(value):
+    try:
+        number = float(value)
+    except OverflowError:  # an integer beyond any float: out of range, below
+        number = math.inf
+    if math.isnan(number) or (math.isinf(number) and not isinstance(value, numbers.Integral)):
         raise DesignError(name, value, "must be finite")
+    if not abs(number) <= MAX_MAGNITUDE:
+        raise DesignError(name, value, f"must lie between {-MAX_MAGNITUDE:g} and {MAX_MAGNITUDE:g} (SI units)")
+    return number
 
 
-def _require_positive(name: str, value: Any) -> None:
-    _require_finite(name, value)
-    if value <= 0:
+def require_positive(name: str, value: Any) -> float:
+    """``require_number``, and greater than zero."""
+    number = require_number(name, value)
+    if number <= 0:
         raise DesignError(name, value, "must be positive")
+    return number
 
 
-def _require_non_negative(name: str, value: Any) -> None:
-    _require_finite(name, value)
-    if value < 0:
+def require_non_negative(name: str, value: Any) -> float:
+    """``require_number``, and not below zero."""
+    number = require_number(name, value)
+    if number < 0:
         raise DesignError(name, value, "must not be negative")
+    return number
 
 
-def _require_present(table: str, key: str, values: dict[str, Any]) -> None:
-    if key not in values:
-        raise DesignError(f"{table}.{key}", None, "required value is missing")
-
-
-def reject_unknown_keys(table: str, values: dict[str, Any], allowed: tuple[str, ...]) -> None:
-    """Raise ``DesignError`` naming the first key of ``values`` not in ``allowed`` (typo guard for files)."""
-    for key in values:
-        if key not in allowed:
-            raise DesignError(f"{table}.{key}", values[key],
-                              f"unknown key; expected one of {', '.join(allowed)}")
-
-
-def _number_or_text(name: str, value: Any) -> Any:
-    if isinstance(value, bool):
-        raise DesignError(name, value, "must be a number")
-    if isinstance(value, int):
-        return float(value)
+def require_choice(name: str, value: Any, choices: tuple[str, ...]) -> str:
+    """``value`` if it is one of the texts ``choices``."""
+    if not (isinstance(value, str) and value in choices):
+        raise DesignError(name, value, f"must be one of {', '.join(choices)}")
     return value

@@ -14,7 +14,8 @@ import argparse
 import time
 from typing import Callable
 
-from analytic.design import Design, default_design, load_design
+from analytic.design import Design
+from analytic.design_file import default_design, load_design
 from analytic.fast import simulate_fast
 from analytic.reference import DEFAULT_ATOL, DEFAULT_RTOL
 from analytic.reference import simulate as analytic_simulate

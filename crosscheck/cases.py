@@ -8,8 +8,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from analytic.design import BeamArm, Design, Projectile, default_design, load_design
-from analytic.problem import default_problem, design_at, from_unit
+from analytic.design import BeamArm, Design, Projectile
+from analytic.design_file import default_design, load_design
+from analytic.optimise.problem import default_problem, design_at, from_unit
 
 
 @dataclass(frozen=True)
@@ -96,7 +97,7 @@ def failure_cases() -> list[Case]:
 
 
 def sample_cases(count: int, seed: int) -> list[Case]:
-    """``count`` designs drawn uniformly over the paper's Table II bounds (``analytic.problem``),
+    """``count`` designs drawn uniformly over the paper's Table II bounds (``analytic.optimise.problem``),
     alternating the wooden and the light arm; kept whether they throw or fail."""
     problem = default_problem()
     rng = np.random.default_rng(seed)

@@ -6,7 +6,8 @@ import argparse
 import json
 import sys
 
-from analytic.design import Design, DesignError, default_design, load_design
+from analytic.design import Design, DesignError
+from analytic.design_file import default_design, load_design
 from analytic.result import Shot
 from engine_model import DEFAULT_DT, EngineError, simulate
 from engine_model.build import DEFAULT_ITERATIONS, SLINGS

@@ -6,7 +6,8 @@ import dataclasses
 
 import pytest
 
-from analytic.design import Design, default_design
+from analytic.design import Design
+from analytic.design_file import default_design
 
 
 def with_machine(design: Design, **changes) -> Design:

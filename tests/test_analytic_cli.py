@@ -10,7 +10,7 @@ import sys
 import pytest
 
 from analytic.cli import EXIT_INVALID, EXIT_NO_THROW, EXIT_OK, main
-from analytic.design import default_design, dumps_design, save_design
+from analytic.design_file import default_design, dumps_design, save_design
 from analytic.result import JSON_KEYS
 
 from conftest import with_machine

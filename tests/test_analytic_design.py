@@ -1,20 +1,23 @@
-"""The design contract: validation names field, value and reason; TOML in and out; the paper's forms."""
+"""The design contract: validation names table.field, value and reason; TOML in and out; the paper's forms."""
 
 from __future__ import annotations
 
+import datetime
 import math
+import pickle
+import re
 
 import pytest
+import tomli_w
 
-from analytic.design import (BeamArm, DesignError, design_from_dict, default_design,
-                             design_to_dict, dumps_design, initial_angles, load_design,
-                             paper_geometry, save_design)
+from analytic.design import BeamArm, DesignError, MissingValueError, initial_angles, paper_geometry
+from analytic.design_file import (default_design, design_from_dict, design_to_dict, dumps_design, load_design, save_design)
 
-from conftest import with_machine, with_projectile
+from conftest import with_environment, with_machine, with_projectile
 
 
 def _raises(field: str, reason_part: str):
-    return pytest.raises(DesignError, match=rf"^{field} = .*{reason_part}")
+    return pytest.raises(DesignError, match=rf"^{re.escape(field)} = .*{reason_part}")
 
 
 def test_default_design_is_the_papers_table3():
@@ -59,12 +62,12 @@ def test_start_state_puts_tip_and_projectile_on_the_base(table3):
     ("release_rule", "pin", "must be one of"),
 ], ids=lambda v: str(v))
 def test_invalid_machine_names_field_value_and_reason(table3, field, value, reason):
-    with _raises(field, reason):
+    with _raises(f"machine.{field}", reason):
         with_machine(table3, **{field: value})
 
 
 def test_release_angle_range_depends_on_the_rule(table3):
-    with _raises("release_angle", "between -90 and 90"):
+    with _raises("machine.release_angle", "between -90 and 90"):
         with_machine(table3, release_angle=math.radians(95.0))
     with_machine(table3, release_angle=math.radians(95.0), release_rule="sling")  # allowed
 
@@ -77,7 +80,7 @@ def test_release_angle_range_depends_on_the_rule(table3):
     (dict(drag_coefficient=0.4), "drag_coefficient"),  # given with golf-ball drag: not silently ignored
 ])
 def test_invalid_projectile(table3, changes, field):
-    with pytest.raises(DesignError, match=rf"^{field} = "):
+    with pytest.raises(DesignError, match=rf"^projectile\.{field}[ :]"):
         with_projectile(table3, **changes)
 
 
@@ -102,17 +105,17 @@ def test_toml_accepts_the_papers_variables_and_a_beam():
     assert m.arm_mass == pytest.approx(500.0 * 0.02 * 0.04 * (m.arm_long + m.arm_short))
 
 
-@pytest.mark.parametrize("mutate, field", [
-    (lambda d: d["machine"].pop("sling_length"), "machine.sling_length"),
-    (lambda d: d["machine"].update(sling=0.5), "machine.sling"),
-    (lambda d: d["projectile"].update(mass="heavy"), "mass"),
-    (lambda d: d["machine"].update(clearance=0.2), "machine.pivot_height"),
-    (lambda d: d.pop("projectile"), r"\[projectile\]"),
+@pytest.mark.parametrize("mutate, message", [
+    (lambda d: d["machine"].pop("sling_length"), "machine.sling_length: required value is missing"),
+    (lambda d: d["machine"].update(sling=0.5), "machine.sling = 0.5: unknown key"),
+    (lambda d: d["projectile"].update(mass="heavy"), "projectile.mass = 'heavy': must be a number"),
+    (lambda d: d["machine"].update(clearance=0.2), "machine.pivot_height = 0.5942: give either"),
+    (lambda d: d.pop("projectile"), "projectile: required table is missing"),
 ], ids=["missing", "unknown", "not-a-number", "both-forms", "missing-table"])
-def test_bad_files_name_the_field(mutate, field):
+def test_bad_files_name_the_field(mutate, message):
     data = design_to_dict(default_design())
     mutate(data)
-    with pytest.raises(DesignError, match=rf"^{field}"):
+    with pytest.raises(DesignError, match=f"^{re.escape(message)}"):
         design_from_dict(data)
 
 
@@ -133,3 +136,200 @@ def test_unreadable_file(tmp_path):
 
 def test_dumps_is_loadable_toml(table3):
     assert "release_angle = 43.4" in dumps_design(table3)
+
+
+# --------------------------------------------------------------------------- #
+# Every value of every table is checked before any arithmetic uses it
+# --------------------------------------------------------------------------- #
+
+#: Values of the wrong kind for a number, as a TOML file can hold them, and the reason each gets.
+NOT_NUMBERS = {
+    "text": ("43.4 deg", "must be a number"),
+    "list": ([43.4], "must be a number"),
+    "table": ({"value": 43.4}, "must be a number"),
+    "bool": (True, "must be a number"),
+    "date": (datetime.date(1979, 5, 27), "must be a number"),
+    "datetime": (datetime.datetime(1979, 5, 27, 7, 32, tzinfo=datetime.timezone.utc), "must be a number"),
+    "nan": (math.nan, "must be finite"),
+    "inf": (math.inf, "must be finite"),
+    "minus-inf": (-math.inf, "must be finite"),
+    "huge": (1e300, "must lie between"),
+    "huge-negative": (-1e300, "must lie between"),
+    "huge-integer": (10**400, "must lie between"),   # tomllib reads it: beyond any float
+}
+#: Values of the wrong kind for a text choice (release_rule, drag).
+NOT_CHOICES = {"number": 1.0, "list": ["velocity"], "table": {"rule": "velocity"}, "bool": False,
+               "date": datetime.date(1979, 5, 27), "wrong-case": "Velocity"}
+
+
+def _forms() -> dict[str, dict]:
+    """The default design in each file form: direct, the paper's variables, an arm cut from a beam."""
+    direct = design_to_dict(default_design())
+    paper = design_to_dict(default_design())
+    for key in ("pivot_height", "arm_long"):
+        del paper["machine"][key]
+    paper["machine"].update(clearance=0.16, starting_angle=58.0)
+    beam = design_to_dict(default_design())
+    for key in ("arm_mass", "arm_cg", "arm_inertia"):
+        del beam["machine"][key]
+    beam["machine"]["arm_beam"] = {"width": 0.019, "depth": 0.038, "density": 450.0}
+    return {"direct": direct, "paper": paper, "beam": beam}
+
+
+def _number_fields() -> list[tuple[str, tuple[str, ...]]]:
+    """(form, path to the value) of every number a design file can hold, in one of its forms."""
+    forms = _forms()
+    fields = [("direct", ("machine", key)) for key, value in forms["direct"]["machine"].items()
+              if not isinstance(value, str)]
+    fields += [("paper", ("machine", key)) for key in ("clearance", "starting_angle")]
+    fields += [("beam", ("machine", "arm_beam", key)) for key in ("width", "depth", "density")]
+    fields += [("direct", ("projectile", key)) for key in ("mass", "diameter")]
+    fields += [("direct", ("environment", key)) for key in forms["direct"]["environment"]]
+    return fields
+
+
+def _with(form: str, path: tuple[str, ...], value) -> dict:
+    data = _forms()[form]
+    table = data
+    for key in path[:-1]:
+        table = table[key]
+    table[path[-1]] = value
+    return data
+
+
+@pytest.mark.parametrize("kind", NOT_NUMBERS)
+@pytest.mark.parametrize("form, path", _number_fields(), ids=lambda v: ".".join(v) if isinstance(v, tuple) else v)
+def test_a_number_of_the_wrong_kind_is_refused_naming_table_field_and_value(form, path, kind):
+    value, reason = NOT_NUMBERS[kind]
+    with pytest.raises(DesignError) as caught:
+        design_from_dict(_with(form, path, value))
+    error = caught.value
+    assert (error.field, error.value) == (".".join(path), value)
+    assert str(error) == f"{'.'.join(path)} = {value!r}: {error.reason}" and reason in error.reason
+
+
+def test_drag_coefficient_of_the_wrong_kind_is_refused():
+    data = _forms()["direct"]
+    data["projectile"].update(drag="constant", drag_coefficient="0.45")
+    with pytest.raises(DesignError, match=r"^projectile\.drag_coefficient = '0\.45': must be a number$"):
+        design_from_dict(data)
+
+
+@pytest.mark.parametrize("kind", NOT_CHOICES)
+@pytest.mark.parametrize("path", [("machine", "release_rule"), ("projectile", "drag")], ids=".".join)
+def test_a_choice_of_the_wrong_kind_is_refused(path, kind):
+    value = NOT_CHOICES[kind]
+    with pytest.raises(DesignError, match=rf"^{re.escape('.'.join(path))} = .*: must be one of "):
+        design_from_dict(_with("direct", path, value))
+
+
+@pytest.mark.parametrize("form, path", [
+    ("direct", ("machine", key)) for key in ("pivot_height", "arm_long", "arm_short", "arm_mass", "arm_cg",
+                                             "arm_inertia", "counterweight_mass", "counterweight_link",
+                                             "counterweight_inertia", "sling_length", "release_angle")
+] + [("paper", ("machine", key)) for key in ("clearance", "starting_angle", "arm_short", "counterweight_link")]
+  + [("beam", ("machine", "arm_beam", key)) for key in ("width", "depth", "density")]
+  + [("beam", ("machine", key)) for key in ("pivot_height", "arm_long", "arm_short")]
+  + [("direct", ("projectile", key)) for key in ("mass", "diameter", "drag")],
+    ids=lambda v: ".".join(v) if isinstance(v, tuple) else v)
+def test_a_missing_value_is_named_without_a_value(form, path):
+    data = _forms()[form]
+    table = data
+    for key in path[:-1]:
+        table = table[key]
+    del table[path[-1]]
+    with pytest.raises(DesignError) as caught:
+        design_from_dict(data)
+    assert str(caught.value) == f"{'.'.join(path)}: required value is missing"
+    assert (caught.value.field, caught.value.value) == (".".join(path), None)
+
+
+@pytest.mark.parametrize("table", ["machine", "projectile"])
+def test_a_missing_table_is_named(table):
+    data = _forms()["direct"]
+    del data[table]
+    with pytest.raises(DesignError, match=rf"^{table}: required table is missing$"):
+        design_from_dict(data)
+
+
+@pytest.mark.parametrize("path, value", [
+    (("machine",), 3), (("projectile",), "golf ball"), (("environment",), [9.81]),
+    (("machine", "arm_beam"), 0.019),
+], ids=lambda v: ".".join(v) if isinstance(v, tuple) else type(v).__name__)
+def test_a_value_where_a_table_belongs_is_refused(path, value):
+    data = _with("beam", path, value) if path[-1] == "arm_beam" else _with("direct", path, value)
+    with pytest.raises(DesignError, match=rf"^{re.escape('.'.join(path))} = {re.escape(repr(value))}: "
+                                          rf"must be a table$"):
+        design_from_dict(data)
+
+
+@pytest.mark.parametrize("form, path", [
+    ("direct", ("colour",)), ("direct", ("machine", "sling")), ("direct", ("projectile", "colour")),
+    ("direct", ("environment", "humidity")), ("beam", ("machine", "arm_beam", "length")),
+], ids=lambda v: ".".join(v) if isinstance(v, tuple) else v)
+def test_an_unknown_key_is_named_with_its_table(form, path):
+    with pytest.raises(DesignError, match=rf"^{re.escape('.'.join(path))} = 1\.0: unknown key; expected one of"):
+        design_from_dict(_with(form, path, 1.0))
+
+
+@pytest.mark.parametrize("value", [3, ["paper"], {"text": "paper"}, True], ids=lambda v: type(v).__name__)
+def test_a_name_that_is_not_text_is_refused(value):
+    with pytest.raises(DesignError, match=rf"^name = {re.escape(repr(value))}: must be text$"):
+        design_from_dict(_with("direct", ("name",), value))
+
+
+@pytest.mark.parametrize("build, message", [
+    (lambda d: with_machine(d, arm_short=-0.24), "machine.arm_short = -0.24: must be positive"),
+    (lambda d: with_machine(d, release_angle="43.4 deg"), "machine.release_angle = '43.4 deg': must be a number"),
+    (lambda d: with_machine(d, release_rule=None), "machine.release_rule = None: must be one of velocity, sling"),
+    (lambda d: with_projectile(d, mass=0), "projectile.mass = 0: must be positive"),
+    (lambda d: with_projectile(d, drag="constant"),
+     'projectile.drag_coefficient: required with drag = "constant"'),
+    (lambda d: with_environment(d, gravity=[9.81]), "environment.gravity = [9.81]: must be a number"),
+    (lambda d: BeamArm(width=0.019, depth=0.0, density=450.0), "machine.arm_beam.depth = 0.0: must be positive"),
+    (lambda d: paper_geometry(0.24, 0.19, 0.16, "58 deg"), "machine.starting_angle = '58 deg': must be a number"),
+    (lambda d: paper_geometry(-0.24, 0.19, 0.16, 1.0), "machine.arm_short = -0.24: must be positive"),
+], ids=["machine-negative", "machine-text-angle", "machine-no-rule", "projectile-zero-mass",
+        "projectile-constant-drag-without-coefficient", "environment-list", "beam-zero-depth",
+        "paper-text-angle", "paper-negative-short-arm"])
+def test_the_contract_names_fields_with_their_table_when_built_directly(table3, build, message):
+    with pytest.raises(DesignError) as caught:
+        build(table3)
+    assert str(caught.value) == message
+
+
+def test_errors_keep_their_parts_through_pickling():
+    # A process pool sends errors back pickled: field, value and reason must survive.
+    for error in (DesignError("machine.arm_short", -0.24, "must be positive"),
+                  MissingValueError("machine.sling_length")):
+        again = pickle.loads(pickle.dumps(error))
+        assert type(again) is type(error) and str(again) == str(error)
+        assert (again.field, again.value, again.reason) == (error.field, error.value, error.reason)
+
+
+def _run_analytic(path):
+    from analytic.cli import main
+    return main(["simulate", str(path)])
+
+
+def _run_engine(path):
+    from engine_model.cli import main
+    return main(["simulate", str(path)])
+
+
+def _run_crosscheck(path):
+    from crosscheck.cli import main
+    return main([str(path), "--no-progress"])
+
+
+@pytest.mark.parametrize("kind", ["text", "list", "table", "bool", "date", "nan", "huge-integer"])
+@pytest.mark.parametrize("form, key", [("direct", "release_angle"), ("paper", "starting_angle")])
+@pytest.mark.parametrize("command", [_run_analytic, _run_engine, _run_crosscheck],
+                         ids=["analytic", "engine_model", "crosscheck"])
+def test_every_command_refuses_a_bad_angle_with_exit_2(tmp_path, capsys, command, form, key, kind):
+    value, reason = NOT_NUMBERS[kind]
+    path = tmp_path / "bad.toml"
+    path.write_text(tomli_w.dumps(_with(form, ("machine", key), value)))
+    assert command(path) == 2
+    err = capsys.readouterr().err
+    assert f"invalid design: machine.{key} = " in err and reason in err

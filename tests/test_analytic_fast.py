@@ -195,7 +195,7 @@ NEVER_LIFTS_OFF_VALUES = (0.0351, 0.3524, 0.3947, 0.5592, 0.7219, -1.0685)
 @pytest.mark.parametrize("mass, reason", [(0.0456, "dragged under the arm tip"),
                                           (0.5, "still on the base after the time limit")])
 def test_both_kinds_of_never_lifting_off_agree(mass, reason):
-    from analytic.problem import default_problem, design_at
+    from analytic.optimise.problem import default_problem, design_at
 
     design = with_projectile(design_at(default_problem(), np.array(NEVER_LIFTS_OFF_VALUES)), mass=mass)
     reference, _ = _assert_agree(design)

@@ -7,10 +7,10 @@ import math
 import pytest
 import tomli_w
 
-from analytic import optimise
-from analytic.design import default_design, load_design
-from analytic.optimise_constraints import feasible
-from analytic.problem import load_problem, variables_of
+from analytic.design_file import default_design, load_design
+from analytic.optimise import cli
+from analytic.optimise.constraints import feasible
+from analytic.optimise.problem import load_problem, variables_of
 from analytic.reference import simulate
 
 from conftest import with_machine
@@ -24,13 +24,13 @@ def run(tmp_path_factory):
     folder = tmp_path_factory.mktemp("optimise")
     problem_file = folder / "release-angle.toml"
     problem_file.write_text(tomli_w.dumps(release_angle_problem_dict()))
-    code = optimise.main([str(problem_file), "--robust", "--out", str(folder / "out"), "--quiet"])
+    code = cli.main([str(problem_file), "--robust", "--out", str(folder / "out"), "--quiet"])
     return code, problem_file, folder / "out"
 
 
 def test_command_succeeds_and_writes_everything(run):
     code, _, out = run
-    assert code == optimise.EXIT_OK
+    assert code == cli.EXIT_OK
     for name in ("report.txt", "optimum.toml", "robust-optimum.toml", "convergence.png", "sensitivity.png"):
         assert (out / name).stat().st_size > 0, name
 
@@ -59,7 +59,7 @@ def test_reference_path_writes_the_same_optimum(run, tmp_path):
     # both reach the release-angle problem's optimum within its known answer's tolerances.
     _, problem_file, out = run
     argv = [str(problem_file), "--path", "reference", "--out", str(tmp_path), "--quiet"]
-    assert optimise.main(argv) == optimise.EXIT_OK
+    assert cli.main(argv) == cli.EXIT_OK
     assert "(reference path)" in (tmp_path / "report.txt").read_text()
     fast, reference = load_design(out / "optimum.toml"), load_design(tmp_path / "optimum.toml")
     assert math.degrees(fast.machine.release_angle) == pytest.approx(
@@ -70,5 +70,5 @@ def test_reference_path_writes_the_same_optimum(run, tmp_path):
 @pytest.mark.parametrize("argv", [["missing.toml"], ["--robust", "-1"], ["--robust", "nan"]],
                          ids=["missing-file", "negative-sigma", "nan-sigma"])
 def test_invalid_input_exits_2(tmp_path, argv, capsys):
-    assert optimise.main(argv + ["--out", str(tmp_path)]) == optimise.EXIT_INVALID
+    assert cli.main(argv + ["--out", str(tmp_path)]) == cli.EXIT_INVALID
     assert "invalid" in capsys.readouterr().err

@@ -7,14 +7,14 @@ import math
 import numpy as np
 import pytest
 
-from analytic import fast, optimise
+from analytic import fast
+from analytic.optimise import optimise
+from analytic.optimise.evaluate import DESIGN_ERROR, Evaluator, FAILURE_RANGE, FAST, REFERENCE
+from analytic.optimise.problem import default_problem, from_unit, variables_of
+from analytic.optimise.report import display
+from analytic.optimise.robust import release_scatter
+from analytic.optimise.search import Settings, maximise
 from analytic.result import Shots, Status
-from analytic.optimise_evaluate import (DEFAULT_PROCESSES, DESIGN_ERROR, FAILURE_RANGE, FAST,
-                                        PATHS, REFERENCE, Evaluator)
-from analytic.optimise_report import display
-from analytic.optimise_robust import release_scatter
-from analytic.optimise_search import Settings, maximise
-from analytic.problem import default_problem, from_unit, variables_of
 
 from test_analytic_optimise_run import SEED_DESIGN_AGREEMENT, SEED_RANGE_AGREEMENT
 
@@ -127,7 +127,8 @@ def test_evaluator_refuses_an_unknown_path_or_no_workers(problem):
         Evaluator(problem, workers=0)
 
 
-def test_command_line_offers_the_evaluators_paths():
-    # optimise.py spells them out so that building the command line does not import numba.
-    assert optimise.PATHS == PATHS and optimise.PATHS[0] == FAST
-    assert optimise.DEFAULT_PROCESSES == DEFAULT_PROCESSES
+@pytest.mark.parametrize("sigma", [0.0, -0.01, math.nan], ids=["zero", "negative", "nan"])
+def test_the_entry_point_refuses_a_scatter_that_is_not_a_positive_angle(problem, sigma):
+    with pytest.raises(ValueError, match="robust_sigma = "):
+        optimise(problem, robust_sigma=sigma)
+

@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from analytic.optimise_evaluate import NO_SCATTER
-from analytic.optimise_kkt import (constraint_jacobian, first_order, range_gradient,
+from analytic.optimise.evaluate import NO_SCATTER
+from analytic.optimise.kkt import (constraint_jacobian, first_order, range_gradient,
                                    unit_constraints)
-from analytic.problem import default_problem, from_unit, to_unit, variables_of
+from analytic.optimise.problem import default_problem, from_unit, to_unit, variables_of
 
 
 class QuadraticScore:

@@ -10,13 +10,13 @@ import pytest
 from scipy.interpolate import CubicSpline
 from scipy.optimize import minimize_scalar
 
-from analytic.design import default_design
+from analytic.design_file import default_design
+from analytic.optimise.evaluate import Evaluator
+from analytic.optimise.problem import VARIABLE_NAMES, design_at, problem_from_dict, variables_of
+from analytic.optimise.robust import release_scatter
+from analytic.optimise.search import Settings, maximise
 from analytic.geometry import projectile_state
 from analytic.parameters import params
-from analytic.optimise_evaluate import Evaluator
-from analytic.optimise_robust import release_scatter
-from analytic.optimise_search import Settings, maximise
-from analytic.problem import VARIABLE_NAMES, design_at, problem_from_dict, variables_of
 from analytic.result import Stage
 from analytic.reference import simulate
 

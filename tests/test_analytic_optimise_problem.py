@@ -3,18 +3,23 @@
 from __future__ import annotations
 
 import math
+import re
 import tomllib
 from pathlib import Path
 
 import numpy as np
 import pytest
+import tomli_w
 
 from analytic.design import DesignError
-from analytic.optimise_constraints import (CONSTRAINT_NAMES, axle_distance, constraint_values,
+from analytic.optimise import cli
+from analytic.optimise.constraints import (CONSTRAINT_NAMES, axle_distance, constraint_values,
                                            feasible, footprint, rest_points)
-from analytic.optimise_report import PAPER_RATIOS, ratios
-from analytic.problem import (VARIABLE_NAMES, default_problem, design_at, from_unit,
-                              problem_from_dict, to_unit, variables_of)
+from analytic.optimise.problem import (VARIABLE_NAMES, default_problem, design_at, from_unit,
+                                       problem_from_dict, to_unit, variables_of)
+from analytic.optimise.report import PAPER_RATIOS, ratios
+
+from test_analytic_design import NOT_NUMBERS
 
 PROBLEM_FILE = Path(__file__).parents[1] / "analytic" / "data" / "paper_problem.toml"
 
@@ -134,23 +139,98 @@ def test_a_variable_can_be_fixed():
     assert from_unit(problem, np.zeros(5))[5] == pytest.approx(math.radians(43.4))
 
 
-@pytest.mark.parametrize("change, field, reason", [
-    (lambda d: d["variables"]["sling_length"].update(lower=0.7), "variables.sling_length", "lower bound"),
-    (lambda d: d["variables"]["starting_angle"].update(upper=95.0), "variables.starting_angle", "strictly"),
+@pytest.mark.parametrize("change, message", [
+    (lambda d: d["variables"]["sling_length"].update(lower=0.7),
+     "variables.sling_length = (0.7, 0.61): lower bound is above upper bound"),
+    (lambda d: d["variables"]["starting_angle"].update(upper=95.0), "variables.starting_angle = "),
     (lambda d: d["variables"].update(arm_short={"lower": 0.01, "upper": 0.3, "step": 1}),
-     "variables.arm_short.step", "unknown key"),
-    (lambda d: d["constraints"].pop("max_height"), "constraints.max_height", "missing"),
-    (lambda d: d["constraints"].update(max_footprint=-1.0), "constraints.max_footprint", "positive"),
-    (lambda d: d["projectile"].update(colour="white"), "projectile.colour", "unknown key"),
-    (lambda d: d.pop("arm_beam"), r"\[arm_beam\]", "missing"),
-    (lambda d: d["release"].update(rule="late"), "release.rule", "must be one of"),
-], ids=["bounds-crossed", "angle-out-of-range", "unknown-key", "missing-limit", "negative-limit",
-        "unknown-projectile-key", "missing-table", "bad-rule"])
-def test_invalid_problems_name_field_and_reason(change, field, reason):
+     "variables.arm_short.step = 1: unknown key"),
+    (lambda d: d["variables"].update(arm_short={"value": 0.1, "lower": 0.01}),
+     "variables.arm_short.lower = 0.01: unknown key"),
+    (lambda d: d["variables"]["clearance"].pop("upper"), "variables.clearance.upper: required value is missing"),
+    (lambda d: d["variables"].pop("clearance"), "variables.clearance: required table is missing"),
+    (lambda d: d["constraints"].pop("max_height"), "constraints.max_height: required value is missing"),
+    (lambda d: d["constraints"].update(max_footprint=-1.0), "constraints.max_footprint = -1.0: must be positive"),
+    (lambda d: d["constraints"].update(axle_radius=-0.01), "constraints.axle_radius = -0.01: must not be negative"),
+    (lambda d: d["counterweight"].update(density=0), "counterweight.density = 0.0: must be positive"),
+    (lambda d: d["projectile"].update(colour="white"), "projectile.colour = 'white': unknown key"),
+    (lambda d: d["projectile"].update(mass=0), "projectile.mass = 0.0: must be positive"),
+    (lambda d: d["projectile"].pop("drag"), "projectile.drag: required value is missing"),
+    (lambda d: d["environment"].update(gravity=-9.81), "environment.gravity = -9.81: must be positive"),
+    (lambda d: d["arm_beam"].update(depth=0.0), "arm_beam.depth = 0.0: must be positive"),
+    (lambda d: d["arm_beam"].pop("density"), "arm_beam.density: required value is missing"),
+    (lambda d: d.pop("arm_beam"), "arm_beam: required table is missing"),
+    (lambda d: d.update(release="velocity"), "release = 'velocity': must be a table"),
+    (lambda d: d["release"].update(rule="late"), "release.rule = 'late': must be one of velocity, sling"),
+    (lambda d: d.update(name=7), "name = 7: must be text"),
+    (lambda d: d.update(solver="pso"), "solver = 'pso': unknown key"),
+], ids=["bounds-crossed", "angle-out-of-range", "unknown-key", "value-and-bound", "missing-bound",
+        "missing-variable", "missing-limit", "negative-limit", "negative-axle", "zero-density",
+        "unknown-projectile-key", "zero-projectile-mass", "missing-drag", "negative-gravity", "zero-beam-depth",
+        "missing-beam-density", "missing-table", "release-not-a-table", "bad-rule", "name-not-text",
+        "unknown-table"])
+def test_invalid_problems_name_field_and_reason(change, message):
     data = problem_dict()
     change(data)
-    with pytest.raises(DesignError, match=rf"^{field}.* = .*{reason}"):
+    with pytest.raises(DesignError, match=f"^{re.escape(message)}"):
         problem_from_dict(data)
+
+
+def _problem_numbers() -> list[tuple[str, ...]]:
+    """Path to every number in the default problem file."""
+    data = problem_dict()
+    paths = [("variables", key, bound) for key in VARIABLE_NAMES for bound in ("lower", "upper")]
+    paths += [(table, key) for table in ("constraints", "counterweight", "arm_beam", "projectile", "environment")
+              for key, value in data[table].items() if not isinstance(value, str)]
+    return paths
+
+
+@pytest.mark.parametrize("kind", NOT_NUMBERS)
+@pytest.mark.parametrize("path", _problem_numbers(), ids=".".join)
+def test_a_problem_number_of_the_wrong_kind_is_refused_as_in_design_files(path, kind):
+    value, reason = NOT_NUMBERS[kind]
+    data = problem_dict()
+    table = data
+    for key in path[:-1]:
+        table = table[key]
+    table[path[-1]] = value
+    with pytest.raises(DesignError) as caught:
+        problem_from_dict(data)
+    assert str(caught.value) == f"{'.'.join(path)} = {value!r}: {caught.value.reason}"
+    assert reason in caught.value.reason
+
+
+@pytest.mark.parametrize("table", ["variables", "constraints", "counterweight", "arm_beam", "projectile",
+                                   "environment", "release"])
+def test_a_value_where_a_problem_table_belongs_is_refused(table):
+    data = problem_dict()
+    data[table] = 3
+    with pytest.raises(DesignError, match=rf"^{table} = 3: must be a table$"):
+        problem_from_dict(data)
+
+
+@pytest.mark.parametrize("content, message", [
+    ("[variables\n", "file = "),
+    ('name = "paper"\n', "variables: required table is missing"),
+], ids=["not-toml", "empty"])
+def test_the_command_refuses_a_bad_problem_file_with_exit_2(tmp_path, capsys, content, message):
+    path = tmp_path / "bad.toml"
+    path.write_text(content)
+    assert cli.main([str(path), "--out", str(tmp_path / "out"), "--quiet"]) == cli.EXIT_INVALID
+    err = capsys.readouterr().err
+    assert err.startswith("invalid problem: ") and message in err
+
+
+@pytest.mark.parametrize("kind", ["text", "list", "date", "huge-integer"])
+def test_the_command_refuses_a_bad_problem_value_with_exit_2(tmp_path, capsys, kind):
+    value, reason = NOT_NUMBERS[kind]
+    data = problem_dict()
+    data["variables"]["release_angle"]["lower"] = value
+    path = tmp_path / "bad.toml"
+    path.write_text(tomli_w.dumps(data))
+    assert cli.main([str(path), "--out", str(tmp_path / "out"), "--quiet"]) == cli.EXIT_INVALID
+    err = capsys.readouterr().err
+    assert "invalid problem: variables.release_angle.lower = " in err and reason in err
 
 
 def test_variable_order_is_the_papers():

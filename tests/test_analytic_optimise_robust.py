@@ -7,9 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from analytic.optimise_evaluate import Evaluator
-from analytic.optimise_robust import DEFAULT_NODES, expected, release_scatter, spread
-from analytic.problem import default_problem, variables_of
+from analytic.optimise.evaluate import Evaluator
+from analytic.optimise.problem import default_problem, variables_of
+from analytic.optimise.robust import DEFAULT_NODES, expected, release_scatter, spread
 from analytic.reference import DEFAULT_RTOL
 
 SIGMA = math.radians(2.0)

@@ -7,11 +7,11 @@ import itertools
 import numpy as np
 import pytest
 
-from analytic.optimise_constraints import feasible
-from analytic.optimise_evaluate import Evaluator, throw
-from analytic.optimise_report import display
-from analytic.optimise_search import Settings, maximise
-from analytic.problem import default_problem, design_at, variables_of
+from analytic.optimise.constraints import feasible
+from analytic.optimise.evaluate import Evaluator, throw
+from analytic.optimise.problem import default_problem, design_at, variables_of
+from analytic.optimise.report import display
+from analytic.optimise.search import Settings, maximise
 from analytic.reference import DEFAULT_RTOL
 
 from test_analytic_optimise_known import RESIDUAL_LIMIT

@@ -25,9 +25,9 @@ import pytest
 import sympy as sp
 
 from analytic import eom, stages
-from analytic.aero import DRAG_TABLE
 from analytic.design import initial_angles
-from analytic.design import default_design
+from analytic.design_file import default_design
+from analytic.aero import DRAG_TABLE
 from analytic.geometry import part_positions, projectile_state
 from analytic.parameters import Params, params
 

@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
+from analytic.design_file import save_design
 from analytic import outcome
-from analytic.design import save_design
 from analytic.result import Shot, Status
 from conftest import with_machine
 from crosscheck import tolerances

@@ -6,7 +6,7 @@ import math
 
 import pytest
 
-from analytic.design import default_design
+from analytic.design_file import default_design
 from analytic.reference import simulate as analytic_simulate
 from conftest import with_environment, with_machine, with_projectile
 from engine_model import DEFAULT_DT, simulate

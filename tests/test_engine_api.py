@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import engine_model
-from analytic.design import default_design
+from analytic.design_file import default_design
 from analytic.result import Shot, Status
 from engine_model import DEFAULT_DT, EngineDiagnostics, EngineError, simulate
 

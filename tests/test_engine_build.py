@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from analytic.design import default_design
+from analytic.design_file import default_design
 from conftest import with_machine
 from engine_model.build import EngineError, arm_body_properties, build
 

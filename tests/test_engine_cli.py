@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from analytic.design import default_design, save_design
+from analytic.design_file import default_design, save_design
 from analytic.result import JSON_KEYS
 from conftest import with_machine
 from crosscheck.cases import failure_cases

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
+from analytic.design_file import default_design
 from analytic.aero import drag_coefficient
-from analytic.design import default_design
 from analytic.limits import flight_time_limit
 from conftest import with_environment, with_projectile
 from crosscheck.cases import failure_cases

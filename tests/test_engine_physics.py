@@ -10,8 +10,9 @@ import pytest
 from crosscheck.cases import failure_cases
 from test_analytic_failures import PHRASES
 
+from analytic.design import Design
+from analytic.design_file import default_design
 from analytic import outcome
-from analytic.design import Design, default_design
 from analytic.limits import flight_time_limit
 from analytic.result import Stage, Status
 from analytic.reference import simulate as analytic_simulate

@@ -8,7 +8,7 @@ import struct
 import numpy as np
 import pytest
 
-from analytic.design import default_design
+from analytic.design_file import default_design
 from engine_model.render import (FRAME_SIZE, PROJECTILE_COLOUR, FrameState, draw_frame, frame_times,
                                  render_shot)
 from engine_model import simulate

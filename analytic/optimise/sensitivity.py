@@ -7,10 +7,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from analytic.optimise_constraints import FEASIBILITY_TOLERANCE, constraint_values
-from analytic.optimise_evaluate import NO_SCATTER, Evaluator
-from analytic.optimise_robust import Scatter, expected
-from analytic.problem import Problem, design_at
+from analytic.optimise.constraints import FEASIBILITY_TOLERANCE, constraint_values
+from analytic.optimise.evaluate import NO_SCATTER, Evaluator
+from analytic.optimise.problem import Problem, design_at
+from analytic.optimise.robust import Scatter, expected
 
 #: Grid points per variable across its bounds (plus the optimum itself).
 DEFAULT_POINTS = 25
@@ -27,7 +27,7 @@ class Sensitivity:
     variables : (k,) indices of the scanned (free) variables.
     grid : (k, m) values of the scanned variable, m or rad, sorted.
     scores : (k, m) range or expected range there, m (nan where a shot failed).
-    margins : (k, m, 5) the constraint vector there (``optimise_constraints``), m.
+    margins : (k, m, 5) the constraint vector there (``constraints``), m.
     scatter : the release-angle scatter the scores are under.
     """
 

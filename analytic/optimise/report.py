@@ -3,17 +3,23 @@
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from analytic.optimise_constraints import (CONSTRAINT_NAMES, axle_distance, constraint_values,
+from analytic.optimise.constraints import (CONSTRAINT_NAMES, axle_distance, constraint_values,
                                            footprint)
-from analytic.optimise_robust import Scatter, expected, spread
-from analytic.optimise_search import Optimum
-from analytic.problem import ANGLE_VARIABLES, Problem, design_at
+from analytic.optimise.problem import ANGLE_VARIABLES, Problem, design_at
+from analytic.optimise.robust import Scatter, expected, spread
+from analytic.optimise.search import Optimum
+
+if TYPE_CHECKING:
+    from analytic.optimise import Optimisation
 
 #: Range of the paper's optimum, m (Corie, Park & Standring, section III and Table III).
 PAPER_RANGE = 35.9
+#: Column of the paper's Table III design shot under the problem and our model.
+PAPER_LABEL = "paper, ours"
 #: L_Al:L_As, L_S:L_Al, m_W:m_P "purported optimal" (the paper's Table I).
 PURPORTED_RATIOS = (3.75, 1.0, 133.0)
 #: The same ratios of the paper's optimum as published (the paper's Table IV).
@@ -145,3 +151,25 @@ def format_scatter(scatter: Scatter, rows: list[tuple[str, float, np.ndarray]]) 
         mean, sd = float(expected(scatter, ranges)), float(spread(scatter, ranges))
         lines.append(f"{label:<24}{nominal:>14.4f}{mean:>14.4f}{sd:>14.4f}{nominal - mean:>12.4f}")
     return "\n".join(lines)
+
+
+def format_report(result: Optimisation) -> str:
+    """The whole report: the problem, Tables III and IV, the limits, each search and its first-order
+    check, the release-angle scatter (if any) and the wall time."""
+    problem, optima, ranges, scatter = result.problem, result.optima, result.ranges, result.scatter
+    columns = [("paper", result.paper, PAPER_RANGE), (PAPER_LABEL, result.paper, ranges[PAPER_LABEL])]
+    columns += [(label, optimum.values, ranges[label]) for label, optimum in optima.items()]
+    sections = [f"Problem {problem.name!r}: maximise range"
+                + ("" if scatter is None else f"; robust variant: maximise the expected range when the "
+                   f"release angle scatters, sigma {math.degrees(scatter.sigma):g} deg (local stage "
+                   f"from the optimum)"),
+                "Columns: the paper's published Table III optimum; the same design under this problem "
+                "and our model; " + "; ".join(f"our {label}" for label in optima),
+                format_tables(problem, columns), format_constraints(problem, columns)]
+    for label, optimum in optima.items():
+        sections += [format_search(label, optimum), format_first_order(optimum)]
+    if scatter is not None:
+        sections.append(format_scatter(scatter, [(label, ranges[label], result.node_ranges[label])
+                                                 for label in ranges]))
+    sections.append(f"Total wall time {result.seconds:.1f} s ({result.path} path)")
+    return "\n\n".join(sections)

@@ -1,19 +1,20 @@
-"""The optimisation problem: design variables and bounds, fixed values, constraint limits, TOML in.
+"""The optimisation problem: design variables and bounds, fixed values, constraint limits, the problem file.
 
 A problem says what may vary (the paper's six design variables, section II.A
 and Table II), what is fixed (counterweight, projectile, arm material, air,
-release rule) and how large the machine may be (``analytic.optimise_constraints``).
+release rule) and how large the machine may be (``analytic.optimise.constraints``).
 The built-in default is the paper's (``data/paper_problem.toml``).
 
 Inside, everything is SI with angles in radians. In files, lengths are in
-metres and angles in degrees, as in design files (``analytic.design``).
+metres and angles in degrees, as in design files; the tables a problem file
+shares with them (``[projectile]``, ``[environment]``, the beam) are read by
+the same functions (``analytic.design_file``), and every error has the same
+form, ``table.field = value: reason``.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import math
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -21,7 +22,10 @@ from typing import Any
 import numpy as np
 
 from analytic.design import (RELEASE_RULES, BeamArm, Design, DesignError, Environment, Machine,
-                             Projectile, paper_geometry, reject_unknown_keys)
+                             Projectile, paper_geometry, require_choice, require_non_negative,
+                             require_number, require_positive)
+from analytic.design_file import (beam_arm_from_dict, environment_from_dict, projectile_from_dict,
+                                  read_toml, read_values, reject_unknown_keys, require_table)
 
 #: The design variables in the paper's order (Table II), the order of every vector here.
 VARIABLE_NAMES = ("arm_short", "counterweight_link", "clearance", "sling_length",
@@ -31,6 +35,7 @@ ANGLE_VARIABLES = ("starting_angle", "release_angle")
 
 _TABLES = ("name", "variables", "constraints", "counterweight", "arm_beam", "projectile",
            "environment", "release")
+_CONSTRAINT_KEYS = ("max_footprint", "max_height", "axle_radius")
 
 
 @dataclass(frozen=True)
@@ -43,9 +48,7 @@ class Variable:
 
     def __post_init__(self) -> None:
         for bound in ("lower", "upper"):
-            value = getattr(self, bound)
-            if not math.isfinite(value):
-                raise DesignError(f"variables.{self.name}.{bound}", value, "must be finite")
+            require_number(f"variables.{self.name}.{bound}", getattr(self, bound))
         if self.lower > self.upper:
             raise DesignError(f"variables.{self.name}", (self.lower, self.upper),
                               "lower bound is above upper bound")
@@ -89,17 +92,15 @@ class Problem:
         if tuple(v.name for v in self.variables) != VARIABLE_NAMES:
             raise DesignError("variables", [v.name for v in self.variables],
                               f"must be exactly {', '.join(VARIABLE_NAMES)} in that order")
+        if not isinstance(self.name, str):
+            raise DesignError("name", self.name, "must be text")
         for name, key in (("max_footprint", "constraints.max_footprint"),
                           ("max_height", "constraints.max_height"),
                           ("counterweight_mass", "counterweight.mass"),
                           ("counterweight_density", "counterweight.density")):
-            if not getattr(self, name) > 0.0:
-                raise DesignError(key, getattr(self, name), "must be positive")
-        if not self.axle_radius >= 0.0:
-            raise DesignError("constraints.axle_radius", self.axle_radius, "must not be negative")
-        if self.release_rule not in RELEASE_RULES:
-            raise DesignError("release.rule", self.release_rule,
-                              f"must be one of {', '.join(RELEASE_RULES)}")
+            require_positive(key, getattr(self, name))
+        require_non_negative("constraints.axle_radius", self.axle_radius)
+        require_choice("release.rule", self.release_rule, RELEASE_RULES)
         limits = {"arm_short": (0.0, math.inf), "counterweight_link": (0.0, math.inf),
                   "clearance": (0.0, math.inf), "sling_length": (0.0, math.inf),
                   "starting_angle": (0.0, math.pi / 2), "release_angle": (-math.pi / 2, math.pi / 2)}
@@ -198,93 +199,58 @@ def problem_from_dict(data: dict[str, Any], name: str = "problem") -> Problem:
     """Build a problem from the TOML layout (see ``data/paper_problem.toml``).
 
     Each ``[variables]`` entry is ``{ lower = .., upper = .. }`` or ``{ value = .. }``
-    (fixed); lengths in m, angles in degrees.
+    (fixed); lengths in m, angles in degrees. ``[projectile]``, ``[environment]``
+    (optional) and ``[arm_beam]`` are read as in design files.
+
+    Raises
+    ------
+    DesignError
+        naming the field as ``table.key``, its value and the reason, before any
+        arithmetic uses a value.
     """
-    reject_unknown_keys("problem", data, _TABLES)
-    tables = {}
-    for table in _TABLES[1:]:
-        if table in ("environment", "release"):
-            tables[table] = data.get(table, {})
-        elif not isinstance(data.get(table), dict):
-            raise DesignError(f"[{table}]", data.get(table), "required table is missing")
-        else:
-            tables[table] = data[table]
-
-    reject_unknown_keys("variables", tables["variables"], VARIABLE_NAMES)
-    variables = []
-    for key in VARIABLE_NAMES:
-        entry = _table(f"variables.{key}", tables["variables"].get(key))
-        if "value" in entry:
-            reject_unknown_keys(f"variables.{key}", entry, ("value",))
-            lower = upper = _number(f"variables.{key}.value", entry["value"])
-        else:
-            reject_unknown_keys(f"variables.{key}", entry, ("lower", "upper"))
-            lower = _number(f"variables.{key}.lower", entry.get("lower"))
-            upper = _number(f"variables.{key}.upper", entry.get("upper"))
-        if key in ANGLE_VARIABLES:
-            lower, upper = math.radians(lower), math.radians(upper)
-        variables.append(Variable(key, lower, upper))
-
-    constraints = tables["constraints"]
-    reject_unknown_keys("constraints", constraints, ("max_footprint", "max_height", "axle_radius"))
-    counterweight = tables["counterweight"]
-    reject_unknown_keys("counterweight", counterweight, ("mass", "density"))
-    beam = tables["arm_beam"]
-    reject_unknown_keys("arm_beam", beam, ("width", "depth", "density"))
-    release = tables["release"]
-    reject_unknown_keys("release", release, ("rule",))
-    reject_unknown_keys("projectile", tables["projectile"], _field_names(Projectile))
-    reject_unknown_keys("environment", tables["environment"], _field_names(Environment))
+    reject_unknown_keys("", require_table("problem", data), _TABLES)
+    variables = require_table("variables", data.get("variables"))
+    reject_unknown_keys("variables", variables, VARIABLE_NAMES)
+    constraints = read_values("constraints", require_table("constraints", data.get("constraints")),
+                              numbers=_CONSTRAINT_KEYS, required=_CONSTRAINT_KEYS)
+    counterweight = read_values("counterweight", require_table("counterweight", data.get("counterweight")),
+                                numbers=("mass", "density"), required=("mass", "density"))
+    release = read_values("release", require_table("release", data.get("release"), optional=True),
+                          numbers=(), texts=("rule",))
     return Problem(
-        name=str(data.get("name", name)),
-        variables=tuple(variables),
-        max_footprint=_number("constraints.max_footprint", constraints.get("max_footprint")),
-        max_height=_number("constraints.max_height", constraints.get("max_height")),
-        axle_radius=_number("constraints.axle_radius", constraints.get("axle_radius")),
-        counterweight_mass=_number("counterweight.mass", counterweight.get("mass")),
-        counterweight_density=_number("counterweight.density", counterweight.get("density")),
-        arm=BeamArm(**{k: _number(f"arm_beam.{k}", beam.get(k)) for k in ("width", "depth", "density")}),
-        projectile=Projectile(**{k: _number(f"projectile.{k}", v) if k != "drag" else v
-                                 for k, v in tables["projectile"].items()}),
-        environment=Environment(**{k: _number(f"environment.{k}", v)
-                                   for k, v in tables["environment"].items()}),
-        release_rule=str(release.get("rule", "velocity")),
+        name=data.get("name", name),
+        variables=tuple(_variable(key, variables.get(key)) for key in VARIABLE_NAMES),
+        max_footprint=constraints["max_footprint"],
+        max_height=constraints["max_height"],
+        axle_radius=constraints["axle_radius"],
+        counterweight_mass=counterweight["mass"],
+        counterweight_density=counterweight["density"],
+        arm=beam_arm_from_dict(data.get("arm_beam"), "arm_beam"),
+        projectile=projectile_from_dict(data.get("projectile")),
+        environment=environment_from_dict(data.get("environment")),
+        release_rule=release.get("rule", "velocity"),
     )
 
 
 def load_problem(path: str | Path) -> Problem:
     """Read a problem TOML file; errors name the file or the field, the value and the reason."""
-    path = Path(path)
-    try:
-        with path.open("rb") as handle:
-            data = tomllib.load(handle)
-    except tomllib.TOMLDecodeError as error:
-        raise DesignError(str(path), "(file)", f"not valid TOML: {error}") from None
-    except OSError as error:
-        raise DesignError(str(path), "(file)", f"cannot be read: {error.strerror}") from None
-    return problem_from_dict(data, name=path.stem)
+    return problem_from_dict(read_toml(path), name=Path(path).stem)
 
 
 def default_problem() -> Problem:
-    """The built-in default: the paper's problem (``data/paper_problem.toml``)."""
-    return load_problem(Path(__file__).with_name("data") / "paper_problem.toml")
+    """The built-in default: the paper's problem (``analytic/data/paper_problem.toml``)."""
+    return load_problem(Path(__file__).parents[1] / "data" / "paper_problem.toml")
 
 
-def _field_names(cls) -> tuple[str, ...]:
-    return tuple(f.name for f in dataclasses.fields(cls))
-
-
-def _table(name: str, value: Any) -> dict[str, Any]:
-    if not isinstance(value, dict):
-        raise DesignError(name, value, "required table is missing")
-    return value
-
-
-def _number(name: str, value: Any) -> float:
-    if value is None:
-        raise DesignError(name, None, "required value is missing")
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise DesignError(name, value, "must be a number")
-    return float(value)
-
-
+def _variable(key: str, entry: Any) -> Variable:
+    """One ``[variables]`` entry: bounds, or a fixed value (degrees for angles in the file)."""
+    table = f"variables.{key}"
+    entry = require_table(table, entry)
+    if "value" in entry:
+        lower = upper = read_values(table, entry, numbers=("value",))["value"]
+    else:
+        bounds = read_values(table, entry, numbers=("lower", "upper"), required=("lower", "upper"))
+        lower, upper = bounds["lower"], bounds["upper"]
+    if key in ANGLE_VARIABLES:
+        lower, upper = math.radians(lower), math.radians(upper)
+    return Variable(key, lower, upper)

@@ -30,17 +30,17 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import NonlinearConstraint, differential_evolution, minimize
 
-from analytic.optimise_constraints import FEASIBILITY_TOLERANCE
-from analytic.optimise_evaluate import NO_SCATTER, Evaluator
-from analytic.optimise_kkt import (FirstOrder, constraint_jacobian, first_order, range_gradient,
+from analytic.optimise.constraints import FEASIBILITY_TOLERANCE
+from analytic.optimise.evaluate import NO_SCATTER, Evaluator
+from analytic.optimise.kkt import (FirstOrder, constraint_jacobian, first_order, range_gradient,
                                    unit_constraints)
-from analytic.optimise_robust import Scatter
-from analytic.problem import Problem, from_unit, to_unit
+from analytic.optimise.problem import Problem, from_unit, to_unit
+from analytic.optimise.robust import Scatter
 from analytic.reference import DEFAULT_RTOL
 
 #: SLSQP stops once a step changes the objective (range / its starting value) by
 #: less than this: 1e-10 of ~50 m is 5 nm, just above the range's noise at the
-#: default integrator tolerance (~2e-9 m, ``optimise_kkt.RANGE_STEP``).
+#: default integrator tolerance (~2e-9 m, ``kkt.RANGE_STEP``).
 LOCAL_FTOL = 1e-10
 
 
@@ -100,7 +100,7 @@ class Optimum:
     score : its range (or expected range), m, at ``settings.final_tolerance``.
     global_values, global_score : (6,) and m, the global stage's best (nan score if skipped).
     history : ``History``.
-    failures : failure kind -> shots that failed so (``optimise_evaluate``).
+    failures : failure kind -> shots that failed so (``evaluate``).
     shots : total shots, each quadrature node of a scatter counting as one.
     local_message : SLSQP's exit message.
     first_order : KKT check at ``values``.
@@ -129,7 +129,7 @@ def maximise(problem: Problem, evaluator: Evaluator, settings: Settings = Settin
 
     Parameters
     ----------
-    evaluator : scores designs of ``problem`` (``optimise_evaluate.Evaluator``, either path).
+    evaluator : scores designs of ``problem`` (``evaluate.Evaluator``, either path).
     start : (6,) skip the global stage and start the local one here. The robust
         variant starts from the nominal optimum: the expected range under a
         scatter of sigma differs from the range by ``sigma^2 / 2 * d2R/dtheta^2 +

@@ -1,7 +1,7 @@
 """Score batches of candidate designs in parallel, counting the ones that fail to throw by kind.
 
 The optimiser only ever sees a number per candidate: its range, or with a
-release-angle scatter the expected range (``analytic.optimise_robust``). A
+release-angle scatter the expected range (``analytic.optimise.robust``). A
 candidate that cannot be built (``DesignError``) or that does not throw
 (``Status`` other than ``OK``) scores ``FAILURE_RANGE`` and is counted under
 that kind, so the search goes on.
@@ -27,8 +27,8 @@ import numpy as np
 
 from analytic import fast
 from analytic.design import DesignError
-from analytic.optimise_robust import Scatter, expected, release_scatter
-from analytic.problem import VARIABLE_NAMES, Problem, design_at
+from analytic.optimise.problem import Problem, VARIABLE_NAMES, design_at
+from analytic.optimise.robust import Scatter, expected, release_scatter
 from analytic.result import Status
 from analytic.reference import simulate
 

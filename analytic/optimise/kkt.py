@@ -21,10 +21,10 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import nnls
 
-from analytic.optimise_constraints import CONSTRAINT_NAMES, constraint_values
-from analytic.optimise_evaluate import Evaluator
-from analytic.optimise_robust import Scatter
-from analytic.problem import Problem, design_at, from_unit
+from analytic.optimise.constraints import CONSTRAINT_NAMES, constraint_values
+from analytic.optimise.evaluate import Evaluator
+from analytic.optimise.problem import Problem, design_at, from_unit
+from analytic.optimise.robust import Scatter
 
 #: Finite-difference step of the range, in unit (bound-width) coordinates. The
 #: range at rtol = atol = 1e-10 carries noise of about 2e-9 m (its scatter about a
@@ -77,7 +77,7 @@ def range_gradient(evaluator: Evaluator, problem: Problem, unit: np.ndarray, tol
 
 
 def unit_constraints(problem: Problem, unit: np.ndarray) -> np.ndarray:
-    """The constraint vector (``optimise_constraints.constraint_values``) at unit coordinates, shape (5,), m."""
+    """The constraint vector (``constraints.constraint_values``) at unit coordinates, shape (5,), m."""
     return constraint_values(problem, design_at(problem, from_unit(problem, unit)).machine)
 
 

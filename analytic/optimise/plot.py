@@ -9,11 +9,11 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from analytic.optimise_constraints import CONSTRAINT_NAMES, FEASIBILITY_TOLERANCE
-from analytic.optimise_report import display
-from analytic.optimise_search import Optimum
-from analytic.optimise_sensitivity import Sensitivity
-from analytic.problem import Problem
+from analytic.optimise.constraints import CONSTRAINT_NAMES, FEASIBILITY_TOLERANCE
+from analytic.optimise.problem import Problem
+from analytic.optimise.report import display
+from analytic.optimise.search import Optimum
+from analytic.optimise.sensitivity import Sensitivity
 
 #: Axis labels and display scale of each variable (SI -> cm or deg).
 _LABELS = {"arm_short": ("short arm $L_{As}$", "cm"), "counterweight_link": ("weight link $L_W$", "cm"),

@@ -1,0 +1,226 @@
+"""Design files: TOML in and out (SI units, angles in degrees), every value checked before use."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import tomllib
+from pathlib import Path
+from typing import Any
+
+from analytic.design import (BeamArm, Design, DesignError, Environment, Machine, MissingValueError,
+                             Projectile, paper_geometry, require_number)
+
+_MACHINE_NUMBERS = tuple(f.name for f in dataclasses.fields(Machine) if f.name != "release_rule")
+_ENVIRONMENT_KEYS = tuple(f.name for f in dataclasses.fields(Environment))
+_BEAM_KEYS = tuple(f.name for f in dataclasses.fields(BeamArm))
+_ANGLE_KEYS = ("release_angle", "starting_angle")  # degrees in files
+_ARM_KEYS = ("arm_mass", "arm_cg", "arm_inertia")
+_PAPER_KEYS = ("clearance", "starting_angle")
+#: Where a design file keeps the beam, and so where ``BeamArm`` says its fields are.
+BEAM_TABLE = "machine.arm_beam"
+
+
+def design_from_dict(data: dict[str, Any], name: str = "design") -> Design:
+    """Build a design from the TOML layout (SI units, angles in degrees).
+
+    Besides the direct ``[machine]`` keys, two alternative forms are accepted:
+
+    * the paper's: ``clearance`` and ``starting_angle`` (deg) instead of
+      ``pivot_height`` and ``arm_long`` (see ``paper_geometry``);
+    * ``[machine.arm_beam]`` with ``width``, ``depth``, ``density`` instead of
+      ``arm_mass``, ``arm_cg``, ``arm_inertia`` (see ``BeamArm``).
+
+    Every value is checked (its table, presence and type) before any
+    arithmetic uses it.
+
+    Parameters
+    ----------
+    data : the file's tables, as ``tomllib`` reads them.
+    name : the design's name unless the file gives one.
+
+    Raises
+    ------
+    DesignError
+        naming the field as ``table.key``, its value and the reason.
+    """
+    reject_unknown_keys("", require_table("design", data), ("machine", "projectile", "environment", "name"))
+    machine = machine_from_dict(data.get("machine"))
+    projectile = projectile_from_dict(data.get("projectile"))
+    environment = environment_from_dict(data.get("environment"))
+    return Design(machine, projectile, environment, name=data.get("name", name))
+
+
+def machine_from_dict(data: Any) -> Machine:
+    """The ``[machine]`` table of a design file (any of its forms, see ``design_from_dict``)."""
+    table = "machine"
+    values = dict(require_table(table, data))
+    beam_data = values.pop("arm_beam", None)
+    values = read_values(table, values, numbers=_MACHINE_NUMBERS + _PAPER_KEYS, texts=("release_rule",),
+                         also_allowed=("arm_beam",))
+    for key in _ANGLE_KEYS:
+        if key in values:
+            values[key] = math.radians(values[key])
+
+    if any(key in values for key in _PAPER_KEYS):
+        for key in ("pivot_height", "arm_long"):
+            if key in values:
+                raise DesignError(f"{table}.{key}", values[key],
+                                  "give either pivot_height and arm_long, or the paper's "
+                                  "clearance and starting_angle, not both")
+        require_keys(table, values, _PAPER_KEYS + ("arm_short", "counterweight_link"))
+        values["pivot_height"], values["arm_long"] = paper_geometry(
+            values["arm_short"], values["counterweight_link"],
+            values.pop("clearance"), values.pop("starting_angle"))
+
+    if beam_data is not None:
+        for key in _ARM_KEYS:
+            if key in values:
+                raise DesignError(f"{table}.{key}", values[key],
+                                  f"give either arm_mass, arm_cg and arm_inertia, or [{table}.arm_beam], "
+                                  f"not both")
+        beam = beam_arm_from_dict(beam_data, f"{table}.arm_beam")
+        require_keys(table, values, ("pivot_height", "arm_long", "arm_short"))
+        values["arm_mass"], values["arm_cg"], values["arm_inertia"] = beam.properties(
+            values["arm_long"], values["arm_short"])
+
+    require_keys(table, values, _MACHINE_NUMBERS)
+    return Machine(**values)
+
+
+def projectile_from_dict(data: Any) -> Projectile:
+    """The ``[projectile]`` table of a design (or problem) file; ``mass``, ``diameter`` and ``drag`` required."""
+    values = read_values("projectile", require_table("projectile", data),
+                         numbers=("mass", "diameter", "drag_coefficient"), texts=("drag",),
+                         required=("mass", "diameter", "drag"))
+    return Projectile(**values)
+
+
+def environment_from_dict(data: Any) -> Environment:
+    """The optional ``[environment]`` table of a design (or problem) file; what it omits takes the defaults."""
+    values = read_values("environment", require_table("environment", data, optional=True),
+                         numbers=_ENVIRONMENT_KEYS)
+    return Environment(**values)
+
+
+def beam_arm_from_dict(data: Any, table: str = BEAM_TABLE) -> BeamArm:
+    """A beam table (``width``, ``depth``, ``density``, all required), errors named under ``table``.
+
+    ``[machine.arm_beam]`` in design files, ``[arm_beam]`` in problem files.
+    """
+    values = read_values(table, require_table(table, data), numbers=_BEAM_KEYS, required=_BEAM_KEYS)
+    try:
+        return BeamArm(**values)
+    except DesignError as error:
+        if table == BEAM_TABLE or not error.field.startswith(BEAM_TABLE):
+            raise
+        # A problem file keeps its beam elsewhere: name the field where this file has it.
+        raise DesignError(table + error.field.removeprefix(BEAM_TABLE), error.value, error.reason) from None
+
+
+def design_to_dict(design: Design) -> dict[str, Any]:
+    """The canonical TOML layout of a design (direct form, angles in degrees)."""
+    machine = dataclasses.asdict(design.machine)
+    machine["release_angle"] = math.degrees(machine["release_angle"])
+    projectile = {k: v for k, v in dataclasses.asdict(design.projectile).items() if v is not None}
+    return {"name": design.name, "machine": machine, "projectile": projectile,
+            "environment": dataclasses.asdict(design.environment)}
+
+
+def load_design(path: str | Path) -> Design:
+    """Read a design TOML file; errors name the file, the field, the value and the reason."""
+    return design_from_dict(read_toml(path), name=Path(path).stem)
+
+
+def dumps_design(design: Design) -> str:
+    """The design as TOML text (direct form)."""
+    import tomli_w
+
+    return tomli_w.dumps(design_to_dict(design))
+
+
+def save_design(design: Design, path: str | Path) -> None:
+    """Write a design as TOML that ``load_design`` reads back to an equal design."""
+    Path(path).write_text(dumps_design(design))
+
+
+def default_design() -> Design:
+    """The built-in default: the paper's Table III optimum (see ``data/paper_table3.toml``)."""
+    return load_design(Path(__file__).with_name("data") / "paper_table3.toml")
+
+
+# --------------------------------------------------------------------------- #
+# Checks shared by every file (design and problem)
+# --------------------------------------------------------------------------- #
+
+def require_table(name: str, value: Any, *, optional: bool = False) -> dict[str, Any]:
+    """``value`` if it is a table; if absent ``{}`` when ``optional``, else ``MissingValueError``.
+
+    Anything else where a table belongs raises ``DesignError``.
+    """
+    if value is None:
+        if optional:
+            return {}
+        raise MissingValueError(name, reason="required table is missing")
+    if not isinstance(value, dict):
+        raise DesignError(name, value, "must be a table")
+    return value
+
+
+def require_keys(table: str, values: dict[str, Any], keys: tuple[str, ...]) -> None:
+    """Raise ``MissingValueError`` naming the first of ``keys`` absent from the table ``values``."""
+    for key in keys:
+        if key not in values:
+            raise MissingValueError(f"{table}.{key}")
+
+
+def read_values(table: str, values: dict[str, Any], *, numbers: tuple[str, ...], texts: tuple[str, ...] = (),
+                required: tuple[str, ...] = (), also_allowed: tuple[str, ...] = ()) -> dict[str, Any]:
+    """A table's values, checked before anything computes with them.
+
+    Parameters
+    ----------
+    table : the table's name (``machine``), for the errors.
+    values : the table as read.
+    numbers : keys whose values must be numbers (returned as float; ``require_number``).
+    texts : keys whose values are passed on as they are, for the design to check as choices.
+    required : keys that must be present.
+    also_allowed : further keys the caller has taken out of ``values`` (nested tables).
+
+    Returns
+    -------
+    The checked values, keyed as ``values``.
+
+    Raises
+    ------
+    DesignError
+        for an unknown key, a wrong type or a value out of range; ``MissingValueError``
+        for a missing required key.
+    """
+    reject_unknown_keys(table, values, numbers + texts + also_allowed)
+    require_keys(table, values, required)
+    return {key: value if key in texts else require_number(f"{table}.{key}", value)
+            for key, value in values.items()}
+
+
+def reject_unknown_keys(table: str, values: dict[str, Any], allowed: tuple[str, ...]) -> None:
+    """Raise ``DesignError`` naming the first key of ``values`` not in ``allowed`` (typo guard for files).
+
+    ``table`` is ``""`` for the file's top level.
+    """
+    for key in values:
+        if key not in allowed:
+            raise DesignError(f"{table}.{key}" if table else key, values[key],
+                              f"unknown key; expected one of {', '.join(allowed)}")
+
+
+def read_toml(path: str | Path) -> dict[str, Any]:
+    """The tables of a TOML file; ``DesignError`` (field ``file``) if it cannot be read or parsed."""
+    path = Path(path)
+    try:
+        with path.open("rb") as handle:
+            return tomllib.load(handle)
+    except tomllib.TOMLDecodeError as error:
+        raise DesignError("file", str(path), f"not valid TOML: {error}") from None
+    except OSError as error:
+        raise DesignError("file", str(path), f"cannot be read: {error.strerror}") from None

@@ -1,0 +1,128 @@
+"""The design optimiser: maximise range over the paper's design variables within its size limits.
+
+One entry point, ``optimise(problem)``, returns an ``Optimisation``. Inside:
+``problem`` (what may vary, the limits, the problem file), ``constraints``
+(the limits, on the machine at rest), ``evaluate`` (shooting candidates on
+either path), ``search`` (differential evolution, then SLSQP), ``kkt`` (the
+first-order check), ``robust`` (release-angle scatter), ``sensitivity``
+(scans through the optimum), ``report`` and ``plot`` (text and figures), and
+``cli`` (``python -m analytic optimise``).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from analytic.design_file import default_design
+from analytic.optimise.evaluate import FAST, Evaluator
+from analytic.optimise.problem import Problem, default_problem, load_problem, variables_of
+from analytic.optimise.report import PAPER_LABEL
+from analytic.optimise.robust import DEFAULT_NODES, Scatter, release_scatter
+from analytic.optimise.search import Optimum, Settings, maximise
+from analytic.optimise.sensitivity import Sensitivity, scan
+
+__all__ = ["Optimisation", "Problem", "default_problem", "load_problem", "optimise"]
+
+
+@dataclass(frozen=True)
+class Optimisation:
+    """The result of ``optimise``: the optimum, its robust variant, the paper's design beside them.
+
+    Attributes
+    ----------
+    problem : the problem optimised.
+    optima : ``"optimum"`` -> its ``Optimum``; with a release-angle scatter also
+        ``"robust optimum"`` (the expected range maximised).
+    paper : (6,) the paper's Table III design variables, m and rad.
+    ranges : ``PAPER_LABEL`` and each label of ``optima`` -> its range at the
+        final integrator tolerance, m.
+    scatter : the release-angle scatter of the robust variant, or ``None``.
+    node_ranges : with a scatter, the same labels -> (n_nodes,) ranges at its
+        quadrature nodes, m; else ``None``.
+    sensitivity : the range along each free variable through the optimum.
+    path : ``"fast"`` or ``"reference"``, how the shots were simulated.
+    seconds : wall time.
+    """
+
+    problem: Problem
+    optima: dict[str, Optimum]
+    paper: np.ndarray
+    ranges: dict[str, float]
+    scatter: Scatter | None
+    node_ranges: dict[str, np.ndarray] | None
+    sensitivity: Sensitivity
+    path: str
+    seconds: float
+
+    @property
+    def optimum(self) -> Optimum:
+        """The nominal optimum (the range maximised)."""
+        return self.optima["optimum"]
+
+
+def optimise(problem: Problem, *, seed: int = 0, robust_sigma: float | None = None,
+             nodes: int = DEFAULT_NODES, path: str = FAST, workers: int | None = None,
+             progress: bool = False) -> Optimisation:
+    """Maximise the range over the problem's free variables, and everything the report shows.
+
+    The global stage (differential evolution) warm-starts the local one
+    (SLSQP); the first-order (KKT) conditions are checked at the optimum. With
+    ``robust_sigma`` the expected range under a normal release-angle scatter is
+    then maximised too, from the nominal optimum. The paper's Table III design
+    is shot under the same problem for comparison, and the range is scanned
+    along each free variable through the optimum.
+
+    Parameters
+    ----------
+    problem : Problem
+        What may vary, what is fixed and the size limits (``load_problem``,
+        ``default_problem``).
+    seed : int
+        Seeds the global stage; the same seed gives the same optimum.
+    robust_sigma : float, optional
+        Standard deviation of the release-angle scatter, rad, > 0.
+    nodes : int
+        Gauss-Hermite nodes of the scatter's expectation.
+    path : {"fast", "reference"}
+        Shots compiled and batched on threads, or the reference simulator in
+        worker processes (``evaluate.Evaluator``; the reference path spawns
+        processes, so a script calling it needs ``if __name__ == "__main__":``).
+    workers : int, optional
+        Threads (fast path) or processes (reference path) shooting at once.
+    progress : bool
+        Show progress bars (tqdm, on stderr).
+
+    Returns
+    -------
+    Optimisation
+
+    Raises
+    ------
+    ValueError
+        For a ``robust_sigma`` that is not a positive angle, fewer than one
+        node, an unknown path or fewer than one worker.
+    """
+    if robust_sigma is not None and not (math.isfinite(robust_sigma) and robust_sigma > 0.0):
+        raise ValueError(f"robust_sigma = {robust_sigma!r}: must be a positive angle in rad")
+    began = time.perf_counter()
+    settings = Settings(seed=seed)
+    scatter = None if robust_sigma is None else release_scatter(robust_sigma, nodes)
+    paper = variables_of(default_design().machine)
+    with Evaluator(problem, path=path, workers=workers) as evaluator:
+        optima = {"optimum": maximise(problem, evaluator, settings, progress=progress)}
+        if scatter is not None:
+            optima["robust optimum"] = maximise(problem, evaluator, settings, scatter=scatter,
+                                                start=optima["optimum"].values, progress=progress)
+        designs = {PAPER_LABEL: paper} | {label: o.values for label, o in optima.items()}
+        ranges = dict(zip(designs, evaluator.scores(list(designs.values()), settings.final_tolerance), strict=True))
+        node_ranges = None if scatter is None else dict(zip(designs, evaluator.node_ranges(
+            list(designs.values()), settings.final_tolerance, scatter), strict=True))
+        sensitivity = scan(evaluator, problem, optima["optimum"].values, optima["optimum"].score,
+                           settings.search_tolerance)
+    return Optimisation(problem=problem, optima=optima, paper=paper, ranges=ranges, scatter=scatter,
+                        node_ranges=node_ranges, sensitivity=sensitivity, path=evaluator.path,
+                        seconds=time.perf_counter() - began)
