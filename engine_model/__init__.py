@@ -1,6 +1,6 @@
 """The trebuchet in the pymunk rigid-body engine: ``simulate(design)`` gives a ``Shot`` with ``EngineDiagnostics``."""
 
 from engine_model.build import EngineError
-from engine_model.simulate import DEFAULT_DT, EngineDiagnostics, simulate
+from engine_model.shot import DEFAULT_DT, EngineDiagnostics, simulate
 
 __all__ = ["DEFAULT_DT", "EngineDiagnostics", "EngineError", "simulate"]

@@ -20,7 +20,7 @@ from conftest import with_machine, with_projectile
 from engine_model import kinematics as kin
 from engine_model.build import build
 from engine_model import DEFAULT_DT, simulate
-from engine_model.simulate import read_state
+from engine_model.shot import read_state
 
 #: The brief's conservation requirement: stage 1-2 energy to 1e-4 of the energy
 #: the counterweight releases (a sound leapfrog run at 1e-4 s keeps 3.5e-5).
