@@ -4,7 +4,7 @@ Three layers: the compiled model is the model's own code and evaluates
 exactly what the Python model does at random states; whole shots agree with
 ``simulate`` (1e-7 relative in range, 1e-6 s in event times, the same
 outcome and message); the batch gives what single shots give. Timings are
-the benchmark's business (``python -m analytic bench``), not these tests'.
+the benchmark's business (``python -m crosscheck.benchmark``), not these tests'.
 """
 
 from __future__ import annotations
@@ -24,9 +24,9 @@ from test_analytic_hypothesis import paper_designs
 
 from analytic import aero, compiled, eom, fast, geometry, kernel, stages
 from analytic.aero import DRAG_TABLE
-from analytic.bench import bench_designs
-from analytic.bench import main as bench_main
 from analytic.cli import build_parser
+from crosscheck.benchmark import bench_designs
+from crosscheck.benchmark import main as bench_main
 from analytic.parameters import N_PARAMS, params
 from analytic.reference import simulate
 from analytic.result import Status
@@ -320,13 +320,18 @@ def test_a_new_process_loads_the_machine_code_from_the_disk_cache():
 
 
 def test_bench_json_has_the_figures_and_the_paths_agree(capsys):
-    args = build_parser().parse_args(["bench", "--json", "--designs", "4", "--repeat", "1",
-                                      "--no-cold", "--quiet"])
+    args = build_parser().parse_args(["bench", "--json", "--designs", "4", "--repeat", "1", "--quiet"])
     assert bench_main(args) == 0
     figures = json.loads(capsys.readouterr().out)
     for key in ("reference_median_shot_s", "fast_median_shot_s", "speedup", "batch_shots_per_s",
-                "max_range_rel_diff", "compile_s"):
+                "max_range_rel_diff", "compile_s", "cache_load_s"):
         assert math.isfinite(figures[key]) and figures[key] >= 0.0, key
     assert figures["designs"] == 5 and figures["status_mismatches"] == []
     assert figures["max_range_rel_diff"] <= RANGE_REL
     assert figures["max_event_time_diff_s"] <= EVENT_TIME
+    assert not figures["compile_measured_cold"]   # compiling cold is asked for, never the default
+    # The models part: ratios to its baseline, the first entry.
+    ratios = [m["ratio"] for m in figures["models"]]
+    assert ratios[0] == 1.0 and all(r > 0.0 for r in ratios)
+    fast_entry = next(m for m in figures["models"] if m["label"] == "analytic fast path")
+    assert fast_entry["ratio"] < 1.0   # compiled beats the reference (measured: about 1/700)

@@ -138,12 +138,3 @@ def test_full_default_suite_agrees(tmp_path):
     failing = [c["case"] for c in report["comparisons"] if not c["agree"]]
     assert code == EXIT_AGREE, f"disagreeing designs: {failing}"
     assert {p.name for p in tmp_path.iterdir()} == {"crosscheck.json", "agreement.png", "errors.png", "convergence.png"}
-
-
-def test_benchmark_reports_ratios_to_its_baseline(capsys):
-    from crosscheck.benchmark import main as benchmark_main
-
-    assert benchmark_main(["--repeat", "1"]) == 0
-    lines = capsys.readouterr().out.splitlines()
-    assert "1.0000 x baseline" in lines[1] and len(lines) == 7
-    assert any("fast path" in line for line in lines)
