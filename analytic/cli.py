@@ -1,4 +1,4 @@
-"""Command line: ``python -m analytic simulate|optimise`` (a thin layer over the library)."""
+"""Command line: ``python -m analytic simulate|bench|optimise|sweep`` (a thin layer over the library)."""
 
 from __future__ import annotations
 
@@ -65,6 +65,12 @@ def build_parser() -> argparse.ArgumentParser:
     opt = commands.add_parser("optimise", help="maximise range over the paper's design variables")
     optimise_cli.add_arguments(opt)
     opt.set_defaults(func=optimise_cli.run)
+    from analytic.sweep import cli as sweep_cli
+
+    swp = commands.add_parser("sweep", help="shoot a grid, sample or uncertain inputs in chunks (in-process or "
+                                            "on Dask)")
+    sweep_cli.add_arguments(swp)
+    swp.set_defaults(func=sweep_cli.run)
     return parser
 
 
