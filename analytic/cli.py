@@ -68,7 +68,7 @@ def build_parser() -> argparse.ArgumentParser:
     from analytic.sweep import cli as sweep_cli
 
     swp = commands.add_parser("sweep", help="shoot a grid, sample or uncertain inputs in chunks (in-process or "
-                                            "on Dask)")
+                                            "on Dask), or report on a finished sweep")
     sweep_cli.add_arguments(swp)
     swp.set_defaults(func=sweep_cli.run)
     return parser

@@ -1,8 +1,10 @@
-"""Running sweeps in this process: the table, resuming after an interrupt, refusals before any work."""
+"""Running sweeps in this process: the table, resuming after an interrupt, refusals before any work,
+the report, and Sobol' indices of the Ishigami function through the same pipeline."""
 
 from __future__ import annotations
 
 import json
+import math
 import signal
 import subprocess
 import sys
@@ -15,13 +17,23 @@ import pytest
 
 from analytic.cli import main
 from analytic.fast import shoot
-from analytic.sweep import read_table, run_sweep, sweep_from_dict
+from analytic.sweep import analyses, read_table, run_sweep, storage, sweep_from_dict
 from analytic.sweep.designs import kernel_rows
+from analytic.sweep.spec import DATA_DIR
 
 ROOT = Path(__file__).parents[1]
 GRID = ('design = "paper_table3.toml"\nchunk_size = {chunk}\n[grid]\n'
         '"machine.sling_length" = {{from = "40 cm", to = "61 cm", steps = {steps}}}\n'
         '"machine.release_angle" = {{from = 30.0, to = 60.0, steps = 5}}\n')
+#: The Ishigami function's indices for a = 7, b = 0.1, from its variances
+#: (Ishigami & Homma 1990; Saltelli et al., "Global Sensitivity Analysis: The
+#: Primer", Wiley 2008, section 4.9): V = a^2/8 + b pi^4/5 + b^2 pi^8/18 + 1/2,
+#: V1 = (1 + b pi^4/5)^2 / 2, V2 = a^2/8, V3 = 0, V13 = 8 b^2 pi^8/225.
+_A, _B = 7.0, 0.1
+_V = _A**2 / 8 + _B * math.pi**4 / 5 + _B**2 * math.pi**8 / 18 + 0.5
+_V1, _V2, _V13 = (1 + _B * math.pi**4 / 5) ** 2 / 2, _A**2 / 8, 8 * _B**2 * math.pi**8 / 225
+ISHIGAMI_S1 = (_V1 / _V, _V2 / _V, 0.0)
+ISHIGAMI_ST = ((_V1 + _V13) / _V, _V2 / _V, _V13 / _V)
 
 
 def sweep_file(tmp_path: Path, steps: int = 8, chunk: int = 7) -> Path:
@@ -117,3 +129,42 @@ def test_bad_input_exits_2_naming_the_reason_and_writes_nothing(tmp_path, capsys
     assert main(["sweep", str(path), "--out", str(out), "--quiet", *extra]) == 2
     assert expected in capsys.readouterr().err
     assert folder_state(out) == before
+
+
+def test_report_writes_the_map_and_summary_and_refuses_an_unfinished_sweep(tmp_path, capsys):
+    out = tmp_path / "out"
+    assert main(["sweep", str(sweep_file(tmp_path)), "--out", str(out), "--quiet"]) == 0
+    capsys.readouterr()
+    assert main(["sweep", "--report", str(out), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["grid"]["shape"] == [8, 5] and summary["statuses"] == {"ok": 40}
+    assert (out / "_report" / "grid.png").stat().st_size > 10_000
+    assert ds.dataset(str(out)).count_rows() == 40             # the report does not disturb the table
+    storage.chunk_path(out, 3).unlink()
+    assert main(["sweep", "--report", str(out)]) == 2
+    assert "5 of 6 chunks written" in capsys.readouterr().err
+    assert main(["sweep", "--report", str(tmp_path)]) == 2      # not a results folder
+
+
+def test_a_map_keeps_failures_as_their_status(tmp_path):
+    sweep = sweep_from_dict({"design": "paper_table3", "chunk_size": 50, "grid": {
+        "machine.counterweight_mass": {"values": [0.05, 6.5]},
+        "machine.release_angle": {"values": [30.0, 45.0]}}})
+    run_sweep(sweep, tmp_path)
+    grid = analyses.grid_map(storage.read_settings(tmp_path), read_table(tmp_path))
+    assert grid.status.tolist() == [["never_fires"] * 2, ["ok"] * 2]
+    assert np.isnan(grid.value[0]).all() and (grid.value[1] > 30.0).all()
+
+
+def test_ishigami_sobol_indices_match_the_known_values_within_their_intervals(tmp_path, capsys):
+    out = tmp_path / "ishigami"
+    assert main(["sweep", str(DATA_DIR / "sweeps" / "ishigami.toml"), "--out", str(out), "--quiet"]) == 0
+    capsys.readouterr()
+    assert main(["sweep", "--report", str(out), "--json"]) == 0
+    indices = json.loads(capsys.readouterr().out)["sensitivity"]
+    for i, field in enumerate(("x1", "x2", "x3")):
+        got = indices[field]
+        assert abs(got["S1"] - ISHIGAMI_S1[i]) <= got["S1_conf"], (field, got, ISHIGAMI_S1[i])
+        assert abs(got["ST"] - ISHIGAMI_ST[i]) <= got["ST_conf"], (field, got, ISHIGAMI_ST[i])
+        assert got["ST_conf"] < 0.05       # the intervals are tight enough for the check to mean something
+    assert (out / "_report" / "sensitivity.png").is_file()

@@ -14,7 +14,8 @@ from Python::
 The layers, each its own module: ``spec`` (sweep files, checked) and
 ``distributions``; ``expand`` (a chunk's inputs) and ``designs`` (its kernel
 rows); ``evaluate`` (a chunk computed); ``executors`` and ``worker``;
-``storage`` (Parquet per chunk, settings beside); ``run``; ``cli``.
+``storage`` (Parquet per chunk, settings beside); ``run``; ``analyses``,
+``plot`` and ``report`` (``--report``); ``cli``.
 """
 
 from __future__ import annotations

@@ -1,6 +1,7 @@
-"""The ``sweep`` command: run a sweep file into a results folder.
+"""The ``sweep`` command: run a sweep file into a results folder, or report on a finished one.
 
 ``python -m analytic sweep SWEEP.toml --out DIR [--workers N | --scheduler ADDRESS] [--json]``
+``python -m analytic sweep --report RESULTS [--out DIR] [--reach D ...] [--json]``
 
 Exit codes: 0 done; 2 invalid input (the sweep file, a results folder that
 holds something else, an unreachable scheduler), reported before anything is
@@ -27,7 +28,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
     parser.add_argument("sweep", nargs="?", metavar="SWEEP.toml", help="the sweep file")
     parser.add_argument("--out", metavar="DIR",
-                        help="results folder (required)")
+                        help="results folder (required to run; with --report, where the report goes, "
+                             "default RESULTS/_report)")
     where = parser.add_mutually_exclusive_group()
     where.add_argument("--workers", type=int, metavar="N",
                        help="run on a local Dask cluster of N worker processes (default: this process, every core)")
@@ -35,6 +37,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                        help="run on the Dask cluster whose scheduler is at ADDRESS (tcp://host:8786)")
     parser.add_argument("--connect-timeout", type=float, default=DEFAULT_CONNECT_TIMEOUT, metavar="S",
                         help="seconds to wait for --scheduler (default %(default)s)")
+    parser.add_argument("--report", metavar="RESULTS", help="analyse a finished sweep: summary and plots")
+    parser.add_argument("--reach", type=float, action="append", metavar="D",
+                        help="with --report: give the probability of reaching D (repeatable)")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
 
@@ -46,8 +51,12 @@ def _invalid(message: str) -> int:
 
 def run(args: argparse.Namespace) -> int:
     """Run the ``sweep`` subcommand; returns the exit code."""
+    if args.report is not None:
+        if args.sweep is not None or args.workers is not None or args.scheduler is not None:
+            return _invalid("--report RESULTS takes no sweep file, --workers or --scheduler")
+        return _report(args)
     if args.sweep is None:
-        return _invalid("give a sweep file (SWEEP.toml --out DIR)")
+        return _invalid("give a sweep file (SWEEP.toml --out DIR) or --report RESULTS")
     if args.out is None:
         return _invalid("--out DIR is required: the folder the results go to")
     if args.workers is not None and args.workers < 1:
@@ -98,7 +107,23 @@ def _run(args: argparse.Namespace) -> int:
         rate = f", {result.shots_run / result.seconds:,.0f} shots/s" if result.shots_run else ""
         print(f"{sweep.name}: {result.shots:,} shots in {result.chunks} chunks of {sweep.chunk_size}; "
               f"{result.chunks_written} written now ({result.executor}, {result.seconds:.1f} s{rate}); "
-              f"status ok: {result.ok:,}\nresults in {args.out}/ (pyarrow.dataset.dataset)")
+              f"status ok: {result.ok:,}\nresults in {args.out}/ (pyarrow.dataset.dataset) ; "
+              f"report: python -m analytic sweep --report {args.out}")
+    return EXIT_OK
+
+
+def _report(args: argparse.Namespace) -> int:
+    from analytic.sweep.report import make_report
+
+    try:
+        report = make_report(args.report, args.out, distances=args.reach)
+    except DesignError as error:
+        return _invalid(f"invalid results: {error}")
+    if args.json:
+        print(json.dumps(report.summary, indent=2))
+    else:
+        print(report.text)
+        print(f"written: {', '.join(str(path) for path in report.files)}")
     return EXIT_OK
 
 
