@@ -21,6 +21,12 @@
 * **compile**: loading the fast path's machine code from the disk cache; with
   ``--cold``, compiling it in a fresh process with an empty cache (about a
   minute), apart from every shot time.
+* **sweep throughput**: one sweep (``--sweep-shots`` designs drawn over the
+  paper's problem box, chunks of ``--sweep-chunk``) end to end, Parquet
+  written, in this process on every core and on a 2-worker Dask
+  ``LocalCluster``: shots per second of each, their ratio (what the cluster
+  loses to scheduling and moving results), the cluster's start-up apart, each
+  worker's peak memory, and whether the two tables are identical.
 """
 
 from __future__ import annotations
@@ -233,8 +239,68 @@ def models(design, repeat: int) -> list[dict]:
     return [{"label": label, "seconds": seconds, "ratio": seconds / baseline} for label, seconds in timed]
 
 
+def throughput_sweep(shots: int, chunk_size: int, seed: int = 0):
+    """The throughput part's sweep: ``shots`` designs drawn at random over the paper's problem box."""
+    from analytic.optimise.problem import VARIABLE_NAMES
+    from analytic.sweep import sweep_from_dict
+
+    return sweep_from_dict({"name": "throughput", "problem": "paper_problem", "chunk_size": chunk_size,
+                            "sample": {"n": shots, "method": "random", "seed": seed,
+                                       **{f"machine.{name}": {} for name in VARIABLE_NAMES}}})
+
+
+def throughput(shots: int = 40_960, chunk_size: int | None = None, workers: int = 2, repeat: int = 2,
+               cluster=None) -> dict:
+    """One sweep end to end in this process and on a ``LocalCluster`` of ``workers``: shots/s and their ratio.
+
+    Each executor's time is the best of ``repeat`` runs into fresh folders
+    (Parquet written, as a user's sweep); the cluster's start-up is timed
+    apart. ``cluster``: an ``OnDask`` to use instead of starting one.
+    """
+    import resource
+    import shutil
+
+    from analytic.sweep import OnDask, read_table, run_sweep
+    from analytic.sweep.spec import DEFAULT_CHUNK_SIZE
+    from analytic.sweep.storage import tables_identical
+
+    sweep = throughput_sweep(shots, chunk_size or DEFAULT_CHUNK_SIZE)
+    with tempfile.TemporaryDirectory(prefix="sweep-bench-") as folder:
+        def best(executor, label: str) -> float:
+            times = []
+            for i in range(repeat):
+                out = Path(folder) / f"{label}-{i}"
+                times.append(run_sweep(sweep, out, executor).seconds)
+                if i:
+                    shutil.rmtree(out)
+            return min(times)
+
+        in_process_s = best(None, "in-process")
+        began = time.perf_counter()
+        owned = cluster is None
+        cluster = OnDask.local(workers) if owned else cluster
+        start_s = time.perf_counter() - began
+        try:
+            cluster_s = best(cluster, "cluster")
+            peak_mb = cluster.client.run(lambda: resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)
+        finally:
+            if owned:
+                cluster.close()
+        identical = tables_identical(read_table(Path(folder) / "in-process-0"), read_table(Path(folder) / "cluster-0"))
+        parquet_bytes = sum(p.stat().st_size for p in (Path(folder) / "in-process-0").glob("*.parquet"))
+    return {"sweep_shots": sweep.shots, "sweep_chunk_size": sweep.chunk_size, "sweep_chunks": sweep.chunks,
+            "sweep_in_process_shots_per_s": sweep.shots / in_process_s,
+            "sweep_cluster_shots_per_s": sweep.shots / cluster_s,
+            "sweep_cluster_ratio": in_process_s / cluster_s, "sweep_cluster_workers": workers,
+            "sweep_cluster_start_s": start_s if owned else None,
+            "sweep_worker_peak_rss_mb": sorted(peak_mb.values()),
+            "sweep_parquet_bytes_per_shot": parquet_bytes / sweep.shots,
+            "sweep_tables_identical": bool(identical)}
+
+
 def run(design=None, count: int = 200, seed: int = 0, repeat: int = 5, batch_repeat: int = 20,
-        cold: bool = False, progress: bool = True) -> dict:
+        cold: bool = False, progress: bool = True, sweep_shots: int = 40_960,
+        sweep_chunk: int | None = None) -> dict:
     """Every part of the benchmark; returns the figures (``BENCH_KEYS`` first)."""
     from analytic import fast
     from analytic.design_file import default_design
@@ -247,6 +313,11 @@ def run(design=None, count: int = 200, seed: int = 0, repeat: int = 5, batch_rep
     cache_load_s = fast.compile(progress=progress)
     figures = paths(count, seed, repeat, batch_repeat, progress)
     design = design or default_design()
+    if sweep_shots:
+        if progress:
+            print(f"sweep throughput: {sweep_shots} shots in this process and on a 2-worker cluster ...",
+                  file=sys.stderr)
+        figures.update(throughput(sweep_shots, sweep_chunk))
     return {
         **{key: figures[key] for key in BENCH_KEYS[:5]},
         "compile_s": compile_s if compile_s is not None else cache_load_s,
@@ -290,6 +361,19 @@ def format_bench(figures: dict) -> str:
         "",
         f"compile {f['compile_s']:.2f} s ({compile_note}); load from the disk cache {f['cache_load_s']:.2f} s",
     ]
+    if "sweep_shots" in f:
+        lines += [
+            "",
+            f"sweep throughput: {f['sweep_shots']} designs over the problem box, {f['sweep_chunks']} chunks of "
+            f"{f['sweep_chunk_size']}, end to end (Parquet written)",
+            f"  in this process, every core          {f['sweep_in_process_shots_per_s']:9.0f} shots/s",
+            f"  LocalCluster, {f['sweep_cluster_workers']} workers               "
+            f"{f['sweep_cluster_shots_per_s']:9.0f} shots/s   ratio {f['sweep_cluster_ratio']:.2f}"
+            + (f" (start-up {f['sweep_cluster_start_s']:.1f} s apart)" if f["sweep_cluster_start_s"] else ""),
+            f"  peak memory per worker {', '.join(f'{m:.0f}' for m in f['sweep_worker_peak_rss_mb'])} MB; "
+            f"{f['sweep_parquet_bytes_per_shot']:.0f} bytes of Parquet per shot; tables identical: "
+            f"{'yes' if f['sweep_tables_identical'] else 'NO'}",
+        ]
     return "\n".join(lines)
 
 
@@ -333,6 +417,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--cold", action="store_true",
                         help="also compile the fast path in a fresh process with an empty cache (about a minute)")
     parser.add_argument("--plot", metavar="FILE.png", help="plot the time per shot and the agreement per design")
+    parser.add_argument("--sweep-shots", type=int, default=40_960,
+                        help="designs in the sweep-throughput part (in this process and on a 2-worker "
+                             "LocalCluster; 0 skips it; default %(default)s)")
+    parser.add_argument("--sweep-chunk", type=int, default=None,
+                        help="chunk size of that sweep (default: the sweep files' default)")
     parser.add_argument("--quiet", action="store_true", help="no progress bars")
 
 
@@ -343,9 +432,10 @@ def main(args: argparse.Namespace | list[str] | None = None) -> int:
                                          formatter_class=argparse.RawDescriptionHelpFormatter)
         add_arguments(parser)
         args = parser.parse_args(args)
-    if args.designs < 0 or args.repeat < 1:
-        print(f"--designs = {args.designs}, --repeat = {args.repeat}: need designs >= 0 and repeat >= 1",
-              file=sys.stderr)
+    if args.designs < 0 or args.repeat < 1 or args.sweep_shots < 0 or (args.sweep_chunk or 1) < 1:
+        print(f"--designs = {args.designs}, --repeat = {args.repeat}, --sweep-shots = {args.sweep_shots}, "
+              f"--sweep-chunk = {args.sweep_chunk}: need designs >= 0, repeat >= 1, sweep shots >= 0 and "
+              f"sweep chunk >= 1", file=sys.stderr)
         return 2
     design = None
     if args.design is not None:
@@ -358,7 +448,7 @@ def main(args: argparse.Namespace | list[str] | None = None) -> int:
             print(f"invalid design: {error}", file=sys.stderr)
             return 2
     figures = run(design, count=args.designs, seed=args.seed, repeat=args.repeat, cold=args.cold,
-                  progress=not args.quiet)
+                  progress=not args.quiet, sweep_shots=args.sweep_shots, sweep_chunk=args.sweep_chunk)
     if args.plot:
         Path(args.plot).parent.mkdir(parents=True, exist_ok=True)
         save_bench_figure(figures, args.plot)
@@ -366,7 +456,7 @@ def main(args: argparse.Namespace | list[str] | None = None) -> int:
     print(json.dumps(figures, indent=2) if args.json else format_bench(figures))
     if args.plot and not args.json:
         print(f"plot written to {args.plot}")
-    return 0 if not figures["status_mismatches"] else 1
+    return 0 if not figures["status_mismatches"] and figures.get("sweep_tables_identical", True) else 1
 
 
 if __name__ == "__main__":

@@ -320,7 +320,8 @@ def test_a_new_process_loads_the_machine_code_from_the_disk_cache():
 
 
 def test_bench_json_has_the_figures_and_the_paths_agree(capsys):
-    args = build_parser().parse_args(["bench", "--json", "--designs", "4", "--repeat", "1", "--quiet"])
+    args = build_parser().parse_args(["bench", "--json", "--designs", "4", "--repeat", "1", "--quiet",
+                                      "--sweep-shots", "0"])
     assert bench_main(args) == 0
     figures = json.loads(capsys.readouterr().out)
     for key in ("reference_median_shot_s", "fast_median_shot_s", "speedup", "batch_shots_per_s",

@@ -63,6 +63,16 @@ def test_the_cluster_writes_the_same_table_bit_for_bit(cluster, tmp_path, data):
     assert {"ok", "never_fires"} <= set(read_table(here)["status"].to_pylist()) or "sample" in data
 
 
+def test_the_benchmark_s_throughput_part_compares_the_executors_on_one_sweep(cluster):
+    from crosscheck.benchmark import throughput
+
+    figures = throughput(shots=600, chunk_size=100, repeat=1, cluster=cluster)
+    assert figures["sweep_tables_identical"] and figures["sweep_chunks"] == 6
+    assert figures["sweep_cluster_ratio"] == pytest.approx(
+        figures["sweep_cluster_shots_per_s"] / figures["sweep_in_process_shots_per_s"])
+    assert all(50 < mb < 4000 for mb in figures["sweep_worker_peak_rss_mb"])
+
+
 # Last: it kills one of the module's workers (its nanny starts another).
 def test_a_worker_killed_mid_sweep_costs_only_its_chunks(cluster, tmp_path):
     sweep = sweep_from_dict({**GRID_WITH_FAILURES, "chunk_size": 12})     # 20 chunks
