@@ -73,6 +73,24 @@ def test_the_benchmark_s_throughput_part_compares_the_executors_on_one_sweep(clu
     assert all(50 < mb < 4000 for mb in figures["sweep_worker_peak_rss_mb"])
 
 
+def test_the_command_runs_on_a_running_scheduler_and_a_worker_refuses_another_model(cluster, tmp_path, capsys):
+    from analytic.cli import main
+    from analytic.sweep.worker import shoot_chunk
+
+    path = tmp_path / "sweep.toml"
+    path.write_text('design = "paper_table3"\nchunk_size = 10\n[grid]\n'
+                    '"machine.release_angle" = {from = 30, to = 60, steps = 25}\n')
+    address = cluster.cluster.scheduler_address
+    assert main(["sweep", str(path), "--out", str(tmp_path / "remote"), "--scheduler", address, "--json",
+                 "--quiet"]) == 0
+    assert '"chunks_written": 3' in capsys.readouterr().out
+    assert main(["sweep", str(path), "--out", str(tmp_path / "here"), "--quiet"]) == 0
+    assert_identical(read_table(tmp_path / "here"), read_table(tmp_path / "remote"))
+    sweep = sweep_from_dict({"design": "paper_table3", "grid": {"machine.release_angle": {"values": [40.0]}}})
+    with pytest.raises(RuntimeError, match="another version of the model"):
+        cluster.client.submit(shoot_chunk, sweep, 0, 1, {"sources_sha256": "0" * 64}).result()
+
+
 # Last: it kills one of the module's workers (its nanny starts another).
 def test_a_worker_killed_mid_sweep_costs_only_its_chunks(cluster, tmp_path):
     sweep = sweep_from_dict({**GRID_WITH_FAILURES, "chunk_size": 12})     # 20 chunks

@@ -105,15 +105,17 @@ class OnDask:
     def chunks(self, sweep: Sweep, todo: Iterable[int]) -> Iterator[tuple[int, dict[str, np.ndarray]]]:
         from distributed import as_completed
 
+        from analytic.sweep.evaluate import model_identity
         from analytic.sweep.worker import shoot_chunk
 
+        model = model_identity(sweep)
         pending = iter(todo)
         shared = self.client.scatter(sweep, broadcast=True, hash=False)
         tag = uuid.uuid4().hex[:8]
         chunk_of = {}
 
         def submit(chunk: int):
-            future = self.client.submit(shoot_chunk, shared, chunk, self.threads_per_chunk,
+            future = self.client.submit(shoot_chunk, shared, chunk, self.threads_per_chunk, model,
                                         key=f"sweep-{tag}-chunk-{chunk:06d}")
             chunk_of[future.key] = chunk
             return future

@@ -12,20 +12,40 @@ import asyncio
 import numpy as np
 from distributed import WorkerPlugin
 
-from analytic.sweep.evaluate import chunk_table
+from analytic.sweep.evaluate import chunk_table, model_identity
 from analytic.sweep.spec import Sweep
 
 
-def shoot_chunk(sweep: Sweep, chunk: int, threads: int) -> dict[str, np.ndarray]:
+def shoot_chunk(sweep: Sweep, chunk: int, threads: int, model: dict) -> dict[str, np.ndarray]:
     """Chunk ``chunk`` of ``sweep`` (``evaluate.chunk_table``), its batch on ``threads`` cores.
 
-    numba's thread count is a setting of the calling thread, so it is set
-    here, in the worker thread that runs the task.
+    ``model``: the client's ``evaluate.model_identity``; a worker whose own
+    differs (another checkout on a cluster's machine) refuses, rather than
+    mix another model's numbers into the results. numba's thread count is a
+    setting of the calling thread, so it is set here, in the thread that
+    runs the task.
     """
     import numba
 
+    own = _model_identity(sweep.base.kind, sweep.base.name)
+    if own != model:
+        raise RuntimeError(f"this worker runs another version of the model than the client "
+                           f"(worker {own}, client {model}): install the same checkout on every machine")
     numba.set_num_threads(max(1, min(threads, numba.config.NUMBA_NUM_THREADS)))
     return chunk_table(sweep, chunk)
+
+
+_identities: dict = {}
+
+
+def _model_identity(kind: str, name: str) -> dict:
+    """``evaluate.model_identity`` of this process, computed once per base kind (it hashes source files)."""
+    if (kind, name) not in _identities:
+        from analytic.sweep.spec import Base, Sweep
+
+        base = Base(kind, name, {}, {}, {})
+        _identities[kind, name] = model_identity(Sweep(name, base, (), None, 1))
+    return _identities[kind, name]
 
 
 class LoadKernel(WorkerPlugin):
