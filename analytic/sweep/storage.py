@@ -112,7 +112,9 @@ def write_chunk(out: str | Path, chunk: int, table: dict[str, np.ndarray]) -> No
     import pyarrow.parquet as pq
 
     arrays = pa.table({name: pa.array(np.asarray(column)) for name, column in table.items()})
-    _write_atomically(chunk_path(out, chunk), lambda tmp: pq.write_table(arrays, tmp))
+    # Only the status repeats: dictionary-encoding the floats too costs a third
+    # more time for larger files (measured on a chunk of 4096 shots).
+    _write_atomically(chunk_path(out, chunk), lambda tmp: pq.write_table(arrays, tmp, use_dictionary=["status"]))
 
 
 def _write_atomically(path: Path, write) -> None:
