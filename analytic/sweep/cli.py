@@ -57,6 +57,8 @@ def run(args: argparse.Namespace) -> int:
         return _report(args)
     if args.sweep is None:
         return _invalid("give a sweep file (SWEEP.toml --out DIR) or --report RESULTS")
+    if args.reach is not None:
+        return _invalid("--reach is an option of --report RESULTS")
     if args.out is None:
         return _invalid("--out DIR is required: the folder the results go to")
     if args.workers is not None and args.workers < 1:

@@ -46,7 +46,7 @@ def grid_figure(grid: GridMap, output: str, units: dict) -> Figure:
         partial = (grid.status == OK) & (grid.thrown < 1.0)
         if partial.any():
             rows, cols = np.nonzero(partial)
-            ax.plot(x[cols], y[rows], ".", color="white", ms=2, label="some shots failed")
+            ax.plot(x[cols], y[rows], ".", color="white", ms=3, label="some shots failed")
         ax.set(xlabel=label(grid.fields[1], units), ylabel=label(grid.fields[0], units))
         best = grid.best
         if best is not None:
