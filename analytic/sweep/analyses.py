@@ -1,8 +1,9 @@
 """What a finished sweep says: maps over its grid, the spread of its output, Sobol' sensitivity indices.
 
-Each analysis reads the results table (``storage.read_table``) and the
-stored settings (``storage.read_settings``), never the sweep file, so a
-report describes exactly what was shot. The output studied is the sweep's
+Each analysis reads the results table (``storage.read_table``, its rows in
+any order: each is placed by its ``index``) and the stored settings
+(``storage.read_settings``), never the sweep file, so a report describes
+exactly what was shot. The output studied is the sweep's
 ``output`` column: ``range``, or ``y`` for a test function. Failed shots
 are kept as failures (their status), never counted as a zero output.
 """
@@ -20,8 +21,9 @@ QUANTILES = (5, 25, 50, 75, 95)
 #: Bootstrap resamples and confidence level of the Sobol' indices' intervals (SALib's defaults).
 SOBOL_RESAMPLES = 100
 SOBOL_CONFIDENCE = 0.95
-#: Seed of SALib's bootstrap, so that a report is the same each time it is made.
-SOBOL_SEED = 0
+#: Seed of SALib's bootstrap, so that a report is the same each time it is
+#: made. Not 0: SALib tests ``if seed:`` and leaves a 0 seed unseeded.
+SOBOL_SEED = 1
 OK = Status.OK.value
 
 
@@ -96,6 +98,37 @@ class Sensitivity:
     confidence: float
 
 
+def status_codes(column) -> tuple[tuple[str, ...], np.ndarray]:
+    """A status column (pyarrow, text or dictionary) as codes into the statuses it holds.
+
+    Returns
+    -------
+    names : the statuses present, each once.
+    codes : (S,) int8, each row's position in ``names`` (no text per row: for
+        10^8 rows, text would take gigabytes).
+    """
+    import pyarrow as pa
+    import pyarrow.compute as pc
+
+    names: list[str] = []
+    parts = [np.empty(0, dtype=np.int8)]
+    for chunk in column.chunks:
+        if not pa.types.is_dictionary(chunk.type):
+            chunk = pc.dictionary_encode(chunk)
+        local = chunk.dictionary.to_pylist()
+        names += [name for name in local if name not in names]
+        recode = np.array([names.index(name) for name in local], dtype=np.int8)
+        parts.append(recode[chunk.indices.to_numpy(zero_copy_only=False)])
+    return tuple(names), np.concatenate(parts)
+
+
+def status_counts(names: tuple[str, ...], codes: np.ndarray) -> dict[str, int]:
+    """Status -> number of rows, in ``Status`` order."""
+    counts = np.bincount(codes, minlength=len(names))
+    order = [status.value for status in Status]
+    return {name: int(counts[names.index(name)]) for name in sorted(names, key=order.index) if counts[names.index(name)]}
+
+
 def grid_map(settings: dict, table) -> GridMap | None:
     """The map over the grid, if the sweep's grid has one or two fields."""
     sweep = settings["sweep"]
@@ -106,20 +139,17 @@ def grid_map(settings: dict, table) -> GridMap | None:
     points = int(np.prod(shape))
     per_point = sweep["shots"] // points
     output = table[sweep["output"]].to_numpy(zero_copy_only=False)
-    status = np.asarray(table["status"].to_numpy(zero_copy_only=False), dtype=str)
+    names, codes = status_codes(table["status"])
     point = table["index"].to_numpy() // per_point
-    thrown = status == OK
+    thrown = codes == (names.index(OK) if OK in names else -1)
     count = np.bincount(point[thrown], minlength=points)
     total = np.bincount(point[thrown], weights=output[thrown], minlength=points)
     with np.errstate(invalid="ignore", divide="ignore"):
         value = np.where(count > 0, total / np.maximum(count, 1), np.nan)
     fraction = count / per_point
-    names, codes = np.unique(status, return_inverse=True)
-    tally = np.zeros((points, len(names)), dtype=np.int64)
-    np.add.at(tally, (point, codes), 1)
-    failures = tally.copy()
-    failures[:, names == OK] = -1
-    worst = names[np.argmax(failures, axis=1)] if len(names) else np.array([], dtype=str)
+    tally = np.bincount(point * len(names) + codes, minlength=points * len(names)).reshape(points, len(names))
+    tally[:, [name == OK for name in names]] = -1
+    worst = np.asarray(names)[np.argmax(tally, axis=1)]
     point_status = np.where(fraction >= 0.5, OK, worst)
     return GridMap(fields=tuple(axis["field"] for axis in grid),
                    axes=tuple(np.asarray(axis["values"]) for axis in grid),
@@ -137,14 +167,13 @@ def spread(settings: dict, table, distances=None) -> Spread | None:
     if sweep["sample"] is None or sweep["grid"]:
         return None
     output = table[sweep["output"]].to_numpy(zero_copy_only=False)
-    status = np.asarray(table["status"].to_numpy(zero_copy_only=False), dtype=str)
-    thrown = np.sort(output[status == OK])
-    names, counts = np.unique(status, return_counts=True)
+    names, codes = status_codes(table["status"])
+    thrown = np.sort(output[codes == (names.index(OK) if OK in names else -1)])
     if distances is None:
         distances = _round_numbers(thrown)
     reach = tuple((float(d), float(np.count_nonzero(thrown >= d)) / len(output)) for d in distances)
     have = len(thrown) > 0
-    return Spread(shots=len(output), thrown=len(thrown), statuses=dict(zip(names.tolist(), counts.tolist())),
+    return Spread(shots=len(output), thrown=len(thrown), statuses=status_counts(names, codes),
                   mean=float(thrown.mean()) if have else float("nan"),
                   sd=float(thrown.std(ddof=1)) if len(thrown) > 1 else float("nan"),
                   quantiles={q: float(np.percentile(thrown, q)) if have else float("nan") for q in QUANTILES},
@@ -173,17 +202,19 @@ def sensitivity(settings: dict, table) -> Sensitivity | str:
         return "needs [sample] method = \"sobol\""
     if sweep["grid"]:
         return "not computed over a grid (one set of indices per grid point)"
-    status = np.asarray(table["status"].to_numpy(zero_copy_only=False), dtype=str)
-    failed = int(np.count_nonzero(status != OK))
+    names, codes = status_codes(table["status"])
+    failed = int(np.count_nonzero(codes != (names.index(OK) if OK in names else -1)))
     if failed:
-        return (f"{failed} of {len(status)} shots did not throw; indices of {sweep['output']} need every shot "
+        return (f"{failed} of {len(codes)} shots did not throw; indices of {sweep['output']} need every shot "
                 f"to throw: narrow the distributions")
     from SALib.analyze import sobol
 
     fields = tuple(v["field"] for v in sample["fields"])
     problem = {"num_vars": len(fields), "names": list(fields), "bounds": [[0.0, 1.0]] * len(fields)}
-    output = table[sweep["output"]].to_numpy(zero_copy_only=False)
-    indices = sobol.analyze(problem, np.ascontiguousarray(output, dtype=float), calc_second_order=False,
+    # SALib reads the outputs in the sample's row order: place each by its index.
+    output = np.empty(table.num_rows)
+    output[table["index"].to_numpy()] = table[sweep["output"]].to_numpy(zero_copy_only=False)
+    indices = sobol.analyze(problem, output, calc_second_order=False,
                             num_resamples=SOBOL_RESAMPLES, conf_level=SOBOL_CONFIDENCE, seed=SOBOL_SEED)
     return Sensitivity(fields=fields, first=np.asarray(indices["S1"]), first_conf=np.asarray(indices["S1_conf"]),
                        total=np.asarray(indices["ST"]), total_conf=np.asarray(indices["ST_conf"]),

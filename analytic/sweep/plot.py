@@ -86,7 +86,8 @@ def spread_figure(spread: Spread, output: str) -> Figure:
              title=f"{spread.thrown} of {spread.shots} shots {done}" + (f" ({failed} failed)" if failed else ""))
     hist.legend(fontsize=8)
     if spread.thrown:
-        probability = 1.0 - np.arange(spread.thrown) / spread.shots
+        # P(output >= the i-th smallest thrown value): the thrown shots from it on, over all shots.
+        probability = (spread.thrown - np.arange(spread.thrown)) / spread.shots
         reach.step(spread.values, probability, where="post", color="C0")
         for distance, p in spread.reach:
             reach.plot(distance, p, "o", color="C3", ms=4)

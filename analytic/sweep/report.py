@@ -64,14 +64,13 @@ def make_report(results: str | Path, out: str | Path | None = None, distances=No
     settings = check_results(results)
     sweep = settings["sweep"]
     output, units = sweep["output"], sweep["units"]
-    table = storage.read_table(results, ["status", output])
+    table = storage.read_table(results, ["status", output], ordered=False)
     out = Path(results) / storage.REPORT_NAME if out is None else Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    status = np.asarray(table["status"].to_numpy(zero_copy_only=False), dtype=str)
-    names, counts = np.unique(status, return_counts=True)
-    summary: dict = {"name": settings.get("name"), "shots": len(status), "output": output,
-                     "statuses": dict(zip(names.tolist(), counts.tolist()))}
-    lines = [f"sweep {settings.get('name')}: {len(status)} shots, "
+    statuses = analyses.status_counts(*analyses.status_codes(table["status"]))
+    summary: dict = {"name": settings.get("name"), "shots": table.num_rows, "output": output,
+                     "statuses": statuses}
+    lines = [f"sweep {settings.get('name')}: {table.num_rows} shots, "
              + ", ".join(f"{n} {name}" for name, n in summary["statuses"].items())]
     files = []
 

@@ -89,4 +89,4 @@ def _ok_in(path: Path) -> int:
     import pyarrow.parquet as pq
 
     status = pq.read_table(path, columns=["status"])["status"]
-    return int(pc.sum(pc.equal(status, "ok")).as_py() or 0)
+    return int(pc.sum(pc.equal(status.cast("string"), "ok")).as_py() or 0)
