@@ -25,10 +25,12 @@ ROOT = Path(__file__).parents[1]
 GRID = ('design = "paper_table3.toml"\nchunk_size = {chunk}\n[grid]\n'
         '"machine.sling_length" = {{from = "40 cm", to = "61 cm", steps = {steps}}}\n'
         '"machine.release_angle" = {{from = 30.0, to = 60.0, steps = 5}}\n')
-#: The Ishigami function's indices for a = 7, b = 0.1, from its variances
-#: (Ishigami & Homma 1990; Saltelli et al., "Global Sensitivity Analysis: The
-#: Primer", Wiley 2008, section 4.9): V = a^2/8 + b pi^4/5 + b^2 pi^8/18 + 1/2,
-#: V1 = (1 + b pi^4/5)^2 / 2, V2 = a^2/8, V3 = 0, V13 = 8 b^2 pi^8/225.
+#: The Ishigami function's indices for a = 7, b = 0.1 from its closed-form
+#: variances, x uniform on [-pi, pi]^3: V = a^2/8 + b pi^4/5 + b^2 pi^8/18 + 1/2,
+#: V1 = (1 + b pi^4/5)^2 / 2, V2 = a^2/8, V3 = 0, V13 = 8 b^2 pi^8/225. The
+#: first-order values, 0.3139, 0.4424 and 0, are those of Saltelli et al.,
+#: "Global Sensitivity Analysis: The Primer" (Wiley 2008), as quoted in
+#: SALib's ``test_functions.Ishigami``.
 _A, _B = 7.0, 0.1
 _V = _A**2 / 8 + _B * math.pi**4 / 5 + _B**2 * math.pi**8 / 18 + 0.5
 _V1, _V2, _V13 = (1 + _B * math.pi**4 / 5) ** 2 / 2, _A**2 / 8, 8 * _B**2 * math.pi**8 / 225
