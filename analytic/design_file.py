@@ -8,7 +8,7 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
-from analytic.design import (BeamArm, Design, DesignError, Environment, Machine, MissingValueError,
+from analytic.design import (Base, BeamArm, Design, DesignError, Environment, Machine, MissingValueError,
                              Projectile, paper_geometry, require_number)
 
 _MACHINE_NUMBERS = tuple(f.name for f in dataclasses.fields(Machine) if f.name != "release_rule")
@@ -44,11 +44,13 @@ def design_from_dict(data: dict[str, Any], name: str = "design") -> Design:
     DesignError
         naming the field as ``table.key``, its value and the reason.
     """
-    reject_unknown_keys("", require_table("design", data), ("machine", "projectile", "environment", "name"))
+    reject_unknown_keys("", require_table("design", data),
+                        ("machine", "projectile", "environment", "base", "name"))
     machine = machine_from_dict(data.get("machine"))
     projectile = projectile_from_dict(data.get("projectile"))
     environment = environment_from_dict(data.get("environment"))
-    return Design(machine, projectile, environment, name=data.get("name", name))
+    base = base_from_dict(data.get("base"))
+    return Design(machine, projectile, environment, name=data.get("name", name), base=base)
 
 
 def machine_from_dict(data: Any) -> Machine:
@@ -103,6 +105,13 @@ def environment_from_dict(data: Any) -> Environment:
     return Environment(**values)
 
 
+def base_from_dict(data: Any) -> Base:
+    """The optional ``[base]`` table: ``mobility`` ("fixed", the default, or "rolling") and ``mass`` (kg)."""
+    values = read_values("base", require_table("base", data, optional=True), numbers=("mass",),
+                         texts=("mobility",))
+    return Base(**values)
+
+
 def beam_arm_from_dict(data: Any, table: str = BEAM_TABLE) -> BeamArm:
     """A beam table (``width``, ``depth``, ``density``, all required), errors named under ``table``.
 
@@ -123,8 +132,11 @@ def design_to_dict(design: Design) -> dict[str, Any]:
     machine = dataclasses.asdict(design.machine)
     machine["release_angle"] = math.degrees(machine["release_angle"])
     projectile = {k: v for k, v in dataclasses.asdict(design.projectile).items() if v is not None}
-    return {"name": design.name, "machine": machine, "projectile": projectile,
-            "environment": dataclasses.asdict(design.environment)}
+    layout = {"name": design.name, "machine": machine, "projectile": projectile,
+              "environment": dataclasses.asdict(design.environment)}
+    if design.base != Base():   # a fixed frame is the default: its table is left out
+        layout["base"] = {k: v for k, v in dataclasses.asdict(design.base).items() if v is not None}
+    return layout
 
 
 def load_design(path: str | Path) -> Design:
