@@ -136,7 +136,9 @@ def to_shot(design: Design, out: np.ndarray) -> Shot:
     if not math.isnan(out[kernel.RELEASE_T]):
         fields.update(release_time=float(out[kernel.RELEASE_T]),
                       release_position=out[[kernel.RELEASE_X, kernel.RELEASE_Y]].copy(),
-                      release_velocity=out[[kernel.RELEASE_VX, kernel.RELEASE_VY]].copy())
+                      release_velocity=out[[kernel.RELEASE_VX, kernel.RELEASE_VY]].copy(),
+                      frame_release_displacement=float(out[kernel.FRAME_X]),
+                      frame_release_velocity=float(out[kernel.FRAME_V]))
     if status is Status.OK:
         message = outcome.thrown_message(out[kernel.LANDING_X])
         fields.update(landing_time=float(out[kernel.LANDING_T]),

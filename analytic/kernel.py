@@ -44,16 +44,18 @@ event_armed = stages_.event_armed
 fires = stages_.fires
 swing_start = stages_.swing_start
 flight_start = stages_.flight_start
+frame_state = stages_.frame_state
 flight_time_limit = limits_.flight_time_limit
 
 N_EVENTS = tuple(len(names) for names in EVENT_NAMES)
 
 # Layout of a result row.
 (STATUS, DETAIL, LIFTOFF_T, RELEASE_T, RELEASE_X, RELEASE_Y, RELEASE_VX, RELEASE_VY,
- LANDING_T, LANDING_X, APEX, END_T, VALUE, STEPS, EVALS) = range(15)
-N_RESULT = 15
+ LANDING_T, LANDING_X, APEX, END_T, VALUE, STEPS, EVALS, FRAME_X, FRAME_V) = range(17)
+N_RESULT = 17
 # STATUS holds ``Status.code``; DETAIL, for NEVER_LIFTS_OFF, a ``LiftoffFailure``
-# and for STEP_FAILED the stage; VALUE, for NEVER_FIRES, the arm's acceleration at rest.
+# and for STEP_FAILED the stage; VALUE, for NEVER_FIRES, the arm's acceleration at rest;
+# FRAME_X, FRAME_V the frame's displacement and velocity at release (0 when fixed).
 OK, NEVER_FIRES, NEVER_LIFTS_OFF, HITS_BASE, NEVER_RELEASES, NO_LANDING, STEP_FAILED = (
     Status.OK.code, Status.NEVER_FIRES.code, Status.NEVER_LIFTS_OFF.code,
     Status.HITS_BASE_BEFORE_RELEASE.code, Status.NEVER_RELEASES.code, Status.NO_LANDING.code,
@@ -411,6 +413,7 @@ def shot(P, table, coef, rtol, atol, out):
         return
     x, y, vx, vy = flight_start(y2, p)
     out[RELEASE_T], out[RELEASE_X], out[RELEASE_Y], out[RELEASE_VX], out[RELEASE_VY] = t2, x, y, vx, vy
+    out[FRAME_X], out[FRAME_V] = frame_state(y2, p)
 
     # Stage 3: flight.
     t_max = t2 + flight_time_limit(y + p.h, vy, p.g)

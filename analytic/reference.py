@@ -103,7 +103,9 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
         release_time = swing.t_end
         start = np.array(stages.flight_start(swing.y_end, p))
         position, velocity = start[:2], start[2:]
-        reached.update(release_time=release_time, release_position=position, release_velocity=velocity)
+        frame_x, frame_v = stages.frame_state(swing.y_end, p)
+        reached.update(release_time=release_time, release_position=position, release_velocity=velocity,
+                       frame_release_displacement=frame_x, frame_release_velocity=frame_v)
         t_max = release_time + flight_time_limit(position[1] + p.h, velocity[1], p.g)
         flight = _run(stage, p, release_time, start, t_max, rtol, atol, flight_step)
     except IntegrationError as error:
@@ -114,9 +116,37 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
                        outcome.no_landing_message(t_max - release_time), **reached)
     apex = max([position[1]] + [y[1] for _, y in flight.roots["apex"]])
     landing = flight.y_end[:2]
+    if histories:
+        reached.update(_frame_after_release(p, swing.y_end, release_time, flight.t_end, rtol, atol,
+                                            reached["frame_release_displacement"], velocity[0]))
     return _finish(design, p, history, segments, Status.OK, outcome.thrown_message(landing[0]), **reached,
                    landing_time=flight.t_end, landing_position=landing, apex_height=apex + p.h,
                    flight_t=flight.t, flight_path=flight.y[:, :2])
+
+
+def _frame_after_release(p: Params, release_state: np.ndarray, release_time: float, landing_time: float,
+                         rtol: float, atol: float, release_x: float, projectile_vx: float) -> dict:
+    """The frame at landing and its largest speed after release: the machine swings on alone.
+
+    Zero momentum before release leaves the machine with the projectile's
+    opposite, ``-mP vx``, after it.
+    """
+    if not p.rolling:
+        return {"frame_landing_displacement": 0.0, "frame_landing_velocity": 0.0, "after_release_speed": 0.0}
+    start = np.array([release_state[0], release_state[1], release_state[3], release_state[4]])
+
+    def rhs(t, y):
+        out = np.empty(4)
+        stages.machine_derivative(y, p, out)
+        return out
+
+    segment = integrate(rhs, release_time, start, landing_time, (), rtol=rtol, atol=atol,
+                        output_step=SWING_OUTPUT_STEP)
+    momentum = -p.mP * projectile_vx
+    frames = np.array([stages.machine_frame(y, p, momentum, release_time, start, release_x, t)
+                       for t, y in zip(segment.t, segment.y, strict=True)])
+    return {"frame_landing_displacement": float(frames[-1, 0]), "frame_landing_velocity": float(frames[-1, 1]),
+            "after_release_speed": float(np.max(np.abs(frames[:, 1])))}
 
 
 # --------------------------------------------------------------------------- #
@@ -208,11 +238,18 @@ def _finish(design: Design, p: Params, history, segments, status: Status, messag
         k_m, k_p = eom.kinetic_energy(theta, phi, psi, dtheta, dphi, dpsi, p)
         budget[i] = (k_m + v_m - v_machine0, k_p + v_p - v_projectile0)
         path[i] = projectile_state(theta, psi, dtheta, dpsi, p.La, p.Ls)[:2]
+        path[i, 0] += eom.frame_displacement(theta, phi, psi, p)   # on the ground, as the flight is
     energy = EnergyBudget(projectile=budget[:, 1], machine=budget[:, 0], total=budget.sum(axis=1))
+    frame_x = np.array([eom.frame_displacement(*state[:3], p) for state in states])
+    frame_speed = max(abs(eom.frame_velocity(*state, p)) for state in states)
+    after_release = fields.pop("after_release_speed", None)
+    if status is Status.OK:
+        fields["max_frame_speed"] = max(frame_speed, after_release)
     released = None
     if fields.get("release_time") is not None:
         released = v_machine0 - eom.potential_energy(*states[-1, :3], p)[0]
     return Shot(design, status, message, t=t, stage=stage, q=states[:, :3], qdot=states[:, 3:], path=path,
+                frame_x=frame_x if p.rolling else np.empty(0),
                 sling_tension=tension, energy=energy,
                 # A machine that never moves holds its projectile statically: no tension is defined.
                 min_sling_tension=None if status is Status.NEVER_FIRES else _smallest_tension(

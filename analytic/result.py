@@ -20,6 +20,7 @@ JSON_KEYS = (
     "release_position", "release_velocity", "release_speed", "launch_angle",
     "range", "range_from_release", "apex_height", "flight_time", "landing_time",
     "landed_behind_pivot", "energy_efficiency", "range_efficiency", "min_sling_tension",
+    "frame_release_displacement", "frame_release_velocity",
 )
 
 
@@ -64,9 +65,16 @@ class Shot:
     energy : ``EnergyBudget`` on ``t``.
     flight_t : (k,) flight sample times, s (from firing).
     flight_path : (k, 2) projectile centre in flight, m from the pivot.
-    path : (n, 2) projectile centre through stages 1 and 2, m from the pivot.
+    path : (n, 2) projectile centre through stages 1 and 2, m from the pivot's place at rest
+        (the pivot itself for a fixed frame), as ``flight_path``.
     counterweight_energy_released : J, potential energy given up by counterweight
         and arm between firing and release.
+    frame_release_displacement, frame_release_velocity : the frame's X (m) and X' (m/s)
+        at release: 0 for a fixed frame, None if not released.
+    frame_landing_displacement, frame_landing_velocity : the same at landing (the
+        machine swings on after release), None where not computed (the fast path).
+    max_frame_speed : largest |X'| from firing to landing, m/s (None where not computed).
+    frame_x : (n,) the frame's X on ``t``, m (empty for a fixed frame or a summary).
     diagnostics : how far the model that made the shot can be trusted, or None
         (the engine model's ``EngineDiagnostics``).
     """
@@ -92,6 +100,12 @@ class Shot:
     energy: EnergyBudget | None = None
     flight_t: np.ndarray = field(default_factory=lambda: np.empty(0))
     flight_path: np.ndarray = field(default_factory=lambda: np.empty((0, 2)))
+    frame_release_displacement: float | None = None
+    frame_release_velocity: float | None = None
+    frame_landing_displacement: float | None = None
+    frame_landing_velocity: float | None = None
+    max_frame_speed: float | None = None
+    frame_x: np.ndarray = field(default_factory=lambda: np.empty(0))
     diagnostics: Any = None
 
     @property
@@ -186,6 +200,8 @@ class Shot:
             "energy_efficiency": number(self.energy_efficiency),
             "range_efficiency": number(self.range_efficiency),
             "min_sling_tension": number(self.min_sling_tension),
+            "frame_release_displacement": number(self.frame_release_displacement),
+            "frame_release_velocity": number(self.frame_release_velocity),
         }
 
 

@@ -9,6 +9,7 @@ the benchmark's business (``python -m crosscheck.benchmark``), not these tests'.
 
 from __future__ import annotations
 
+import dataclasses
 import inspect
 import json
 import math
@@ -24,6 +25,7 @@ from test_analytic_hypothesis import paper_designs
 
 from analytic import aero, compiled, eom, fast, geometry, kernel, stages
 from analytic.aero import DRAG_TABLE
+from analytic.design import Base
 from analytic.cli import build_parser
 from crosscheck.benchmark import bench_designs
 from crosscheck.benchmark import main as bench_main
@@ -91,10 +93,13 @@ def test_slide_constraint_is_nan_out_of_the_slings_reach(table3):
 @pytest.mark.parametrize("rule, alpha_deg", [("velocity", 43.4), ("velocity", -60.0),
                                              ("sling", -40.0), ("sling", 30.0)])
 @pytest.mark.parametrize("drag", ["golf-ball", "smooth-sphere"])
-def test_compiled_stages_are_bit_identical_to_the_python_ones(table3, rule, alpha_deg, drag):
-    """Right-hand sides, event values and armed checks of every stage."""
+@pytest.mark.parametrize("frame", [None, 5.0], ids=["fixed", "rolling-5kg"])
+def test_compiled_stages_are_bit_identical_to_the_python_ones(table3, rule, alpha_deg, drag, frame):
+    """Right-hand sides, event values and armed checks of every stage, on a fixed and a rolling frame."""
     design = with_projectile(with_machine(table3, release_rule=rule, release_angle=math.radians(alpha_deg)),
                              drag=drag)
+    if frame is not None:
+        design = dataclasses.replace(design, base=Base("rolling", frame))
     p = params(design)
     reach = math.acos(-p.h / p.La)
     for y in _random_states(200, 4):
