@@ -96,7 +96,7 @@ def solve_symmetric(a11, a12, a13, a22, a23, a33, r1, r2, r3):
 
 
 # --------------------------------------------------------------------------- #
-# A rolling frame [6]
+# A rolling frame [8]
 # --------------------------------------------------------------------------- #
 # The frame translates by X with nothing pushing it sideways, so the whole
 # machine's horizontal momentum, Mt X' + S', stays zero from rest: X is
@@ -242,7 +242,7 @@ def potential_energy(theta, phi, psi, p):
 
 
 def kinetic_energy(theta, phi, psi, dtheta, dphi, dpsi, p):
-    """Kinetic energy ``(machine, projectile)`` on the ground, J (eq. 2.4; [6] with a rolling frame,
+    """Kinetic energy ``(machine, projectile)`` on the ground, J (eq. 2.4; [8] with a rolling frame,
     whose own kinetic energy is counted with the machine's)."""
     dw = dtheta + dphi
     machine = 0.5 * ((p.IA + p.mA * p.d * p.d) * dtheta * dtheta + p.IW * dw * dw

@@ -1,4 +1,4 @@
-"""The rolling frame ([6] of ``docs/derivation.md``) against an independent sympy Lagrangian with X.
+"""The rolling frame (section 8 of ``docs/derivation.md``) against an independent sympy Lagrangian with X.
 
 The reference here keeps the frame's displacement X as a fourth coordinate
 (``analytic.eom`` eliminates it through the zero horizontal momentum), builds
@@ -268,3 +268,76 @@ def test_the_derivative_of_stage_2_uses_the_rolling_system():
     assert tuple(out[3:]) == eom.swing_accelerations(*y, p)
     fixed = eom.swing_accelerations(*y, p._replace(rolling=0.0))
     assert not np.allclose(out[3:], fixed, rtol=1e-3)   # the frame's motion changes them visibly
+
+
+# --------------------------------------------------------------------------- #
+# Both paths, the batch and the optimiser on rolling frames
+# --------------------------------------------------------------------------- #
+
+#: The two paths' bound (the fast path's specification, as for fixed frames).
+PATHS_RANGE_REL = 1e-7
+
+
+def test_fast_path_and_batch_agree_with_the_reference_on_rolling_frames():
+    from analytic import fast
+    from crosscheck.cases import sample_cases
+
+    designs = [_rolling(mass, case.design) for case in sample_cases(6, seed=3) for mass in (1.0, 30.0)]
+    designs += [_rolling(mass) for mass in (0.5, 5.0, 500.0)]
+    batch = fast.shoot(designs)
+    for i, design in enumerate(designs):
+        reference = simulate(design, histories=False)
+        assert batch.status[i] == reference.status.value, design.name
+        if reference.ok:
+            assert abs(batch.range[i] / reference.range - 1.0) < PATHS_RANGE_REL, design.name
+            single = fast.simulate_fast(design)
+            assert single.frame_release_velocity == pytest.approx(reference.frame_release_velocity, rel=1e-7,
+                                                                  abs=1e-12)
+
+
+def _problem_text(base: str) -> str:
+    from pathlib import Path
+
+    text = (Path(__file__).parents[1] / "analytic" / "data" / "paper_problem.toml").read_text()
+    return text.replace("[release]", f"[base]\n{base}\n\n[release]")
+
+
+def test_a_problem_with_a_free_frame_mass_makes_it_the_seventh_variable(tmp_path):
+    from analytic.optimise.problem import FRAME_MASS, design_at, load_problem, variables_of
+
+    path = tmp_path / "rolling.toml"
+    path.write_text(_problem_text('mobility = "rolling"\nmass = { lower = 2.0, upper = 50.0 }'))
+    problem = load_problem(path)
+    assert problem.names[-1] == FRAME_MASS and len(problem.variables) == 7
+    values = problem.complete(variables_of(default_design().machine))
+    assert values[-1] == 2.0   # the lightest frame allowed
+    design = design_at(problem, np.append(values[:6], 12.5))
+    assert design.base == Base("rolling", 12.5)
+
+
+def test_a_problem_with_a_fixed_frame_mass_keeps_six_variables(tmp_path):
+    from analytic.optimise.problem import design_at, load_problem, variables_of
+
+    path = tmp_path / "rolling.toml"
+    path.write_text(_problem_text('mobility = "rolling"\nmass = 20.0'))
+    problem = load_problem(path)
+    assert len(problem.variables) == 6
+    assert design_at(problem, variables_of(default_design().machine)).base == Base("rolling", 20.0)
+
+
+@pytest.mark.parametrize("base, field", [
+    ('mobility = "fixed"\nmass = { lower = 2.0, upper = 50.0 }', "base.mass"),
+    ('mobility = "rolling"\nmass = { lower = 50.0, upper = 2.0 }', "base.mass"),
+    ('mobility = "rolling"\nmass = { lower = -1.0, upper = 2.0 }', "base.mass"),
+    ('mobility = "rolling"', "base.mass"),
+    ('mobility = "wheels"\nmass = 3.0', "base.mobility"),
+], ids=["bounds-on-a-fixed-frame", "inverted", "negative", "missing", "unknown-mobility"])
+def test_bad_frame_in_a_problem_names_the_field(tmp_path, base, field):
+    from analytic.design import DesignError
+    from analytic.optimise.problem import load_problem
+
+    path = tmp_path / "bad.toml"
+    path.write_text(_problem_text(base))
+    with pytest.raises(DesignError) as error:
+        load_problem(path)
+    assert error.value.field == field

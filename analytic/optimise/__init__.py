@@ -111,7 +111,7 @@ def optimise(problem: Problem, *, seed: int = 0, robust_sigma: float | None = No
     began = time.perf_counter()
     settings = Settings(seed=seed)
     scatter = None if robust_sigma is None else release_scatter(robust_sigma, nodes)
-    paper = variables_of(default_design().machine)
+    paper = problem.complete(variables_of(default_design().machine))
     with Evaluator(problem, path=path, workers=workers) as evaluator:
         optima = {"optimum": maximise(problem, evaluator, settings, progress=progress)}
         if scatter is not None:

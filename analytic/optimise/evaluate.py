@@ -27,7 +27,7 @@ import numpy as np
 
 from analytic import fast
 from analytic.design import DesignError
-from analytic.optimise.problem import Problem, VARIABLE_NAMES, design_at
+from analytic.optimise.problem import Problem, design_at
 from analytic.optimise.robust import Scatter, expected, release_scatter
 from analytic.result import Status
 from analytic.reference import simulate
@@ -173,9 +173,9 @@ class Evaluator:
 
         Parameters
         ----------
-        values : (S, 6) design vectors, m and rad.
+        values : (S, n) design vectors (``problem.variables``), m, rad and kg.
         """
-        values = np.asarray(values, dtype=float).reshape(-1, len(VARIABLE_NAMES))
+        values = np.asarray(values, dtype=float).reshape(-1, len(self.problem.variables))
         if self.path == FAST:
             results = self._fast_throws(values, tolerance)
         elif self._pool is None:
@@ -202,11 +202,11 @@ class Evaluator:
 
         Parameters
         ----------
-        values : (S, 6) set design vectors; each is shot with its release angle
+        values : (S, n) set design vectors; each is shot with its release angle
             (index 5) moved by every node offset.
         failure_range : what a failed shot scores (``nan`` to mark it instead).
         """
-        values = np.asarray(values, dtype=float).reshape(-1, len(VARIABLE_NAMES))
+        values = np.asarray(values, dtype=float).reshape(-1, len(self.problem.variables))
         offsets = scatter.offsets
         shots = np.repeat(values, len(offsets), axis=0)
         shots[:, 5] += np.tile(offsets, len(values))

@@ -19,7 +19,7 @@ from analytic.optimise.sensitivity import Sensitivity
 _LABELS = {"arm_short": ("short arm $L_{As}$", "cm"), "counterweight_link": ("weight link $L_W$", "cm"),
            "clearance": ("clearance", "cm"), "sling_length": ("sling $L_S$", "cm"),
            "starting_angle": (r"starting angle $\theta_0$", "deg"),
-           "release_angle": (r"release angle $\theta$", "deg")}
+           "release_angle": (r"release angle $\theta$", "deg"), "frame_mass": ("frame mass", "kg")}
 
 
 def convergence_figure(optima: dict[str, Optimum]) -> Figure:
@@ -64,7 +64,9 @@ def sensitivity_figure(problem: Problem, sensitivity: Sensitivity, title: str) -
     figure = Figure(figsize=(4.2 * columns, 3.3 * rows), layout="constrained")
     axes = np.atleast_1d(figure.subplots(rows, columns, squeeze=False).ravel())
     label = "expected range (m)" if sensitivity.scatter.sigma > 0 else "range (m)"
-    for ax, row, index in zip(axes, range(count), sensitivity.variables, strict=True):
+    for ax in axes[count:]:   # a grid of 3 columns may have more panels than variables
+        ax.set_visible(False)
+    for ax, row, index in zip(axes[:count], range(count), sensitivity.variables, strict=True):
         name = problem.variables[index].name
         x = display(name, sensitivity.grid[row])
         y = sensitivity.scores[row]

@@ -9,7 +9,7 @@ import numpy as np
 
 from analytic.optimise.constraints import (CONSTRAINT_NAMES, axle_distance, constraint_values,
                                            footprint)
-from analytic.optimise.problem import ANGLE_VARIABLES, Problem, design_at
+from analytic.optimise.problem import ANGLE_VARIABLES, FRAME_MASS, Problem, design_at
 from analytic.optimise.robust import Scatter, expected, spread
 from analytic.optimise.search import Optimum
 
@@ -34,7 +34,10 @@ _DIMENSIONS = (("L_Al  long arm", "arm_long", "cm"), ("L_As  short arm", "arm_sh
 
 
 def display(name: str, value):
-    """A design variable's value(s) in the units of tables and plots: cm for lengths, deg for angles."""
+    """A design variable's value(s) in the units of tables and plots: cm for lengths, deg for angles,
+    kg for the frame's mass."""
+    if name == FRAME_MASS:
+        return np.asarray(value)
     return np.degrees(value) if name in ANGLE_VARIABLES else 100.0 * np.asarray(value)
 
 
@@ -107,8 +110,8 @@ def format_first_order(optimum: Optimum) -> str:
     lines = [("First-order optimality (KKT, finite differences; a multiplier is the range gained per unit"
               " the bound or limit is relaxed)")]
     for name, side in fo.active_bounds.items():
-        per = "deg" if name in ANGLE_VARIABLES else "cm"
-        scale = math.radians(1.0) if per == "deg" else 0.01
+        per, scale = (("deg", math.radians(1.0)) if name in ANGLE_VARIABLES
+                      else ("kg", 1.0) if name == FRAME_MASS else ("cm", 0.01))
         lines.append(f"  bound {side:<5} {name:<20} multiplier {fo.bound_multipliers[name] * scale:10.4f} m per {per}")
     for name in fo.active_constraints:
         lines.append(f"  constraint {name:<32} multiplier {fo.constraint_multipliers[name] * 0.01:10.4f} m per cm")
