@@ -8,23 +8,34 @@ from pathlib import Path
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
+from matplotlib.patches import Circle
 
 from analytic.geometry import machine_points
 from analytic.result import Shot, Stage
 
 
 def draw_machine(ax, shot: Shot, index: int, alpha: float = 1.0) -> None:
-    """Draw frame, arm, counterweight link and mass, sling and projectile at sample ``index``."""
+    """Draw frame, arm, counterweight link and mass, sling and projectile at sample ``index``.
+
+    On the ground: a rolling frame is drawn where it has rolled to, on wheels.
+    """
     h = shot.design.machine.pivot_height
-    pts = machine_points(shot.q[index], shot.design.machine)
+    x = float(shot.frame_x[index]) if len(shot.frame_x) else 0.0
+    pts = {name: point + np.array([x, 0.0]) for name, point in
+           machine_points(shot.q[index], shot.design.machine).items()}
     pts["weight"] = pts["counterweight"]
-    ax.plot([-0.3 * h, 0.0, 0.3 * h], [-h, 0.0, -h], color="0.4", lw=2, alpha=alpha)
+    ax.plot([x - 0.3 * h, x, x + 0.3 * h], [-h, 0.0, -h], color="0.4", lw=2, alpha=alpha)
+    if shot.design.base.rolling:
+        radius = 0.06 * h
+        ax.plot([x - 0.3 * h, x + 0.3 * h], [-h + 2 * radius, -h + 2 * radius], color="0.4", lw=2, alpha=alpha)
+        for centre in (x - 0.3 * h, x + 0.3 * h):
+            ax.add_patch(Circle((centre, -h + radius), radius, fill=False, color="0.3", lw=1.5, alpha=alpha))
     ax.plot(*np.c_[pts["short_tip"], pts["long_tip"]], color="saddlebrown", lw=3, alpha=alpha)
     ax.plot(*np.c_[pts["short_tip"], pts["weight"]], color="0.2", lw=1.5, alpha=alpha)
     ax.plot(*pts["weight"], "s", color="0.2", ms=10, alpha=alpha)
     ax.plot(*np.c_[pts["long_tip"], pts["projectile"]], color="tab:blue", lw=1, alpha=alpha)
     ax.plot(*pts["projectile"], "o", color="tab:red", ms=5, alpha=alpha)
-    ax.plot(0.0, 0.0, "o", color="k", ms=4)
+    ax.plot(x, 0.0, "o", color="k", ms=4, alpha=alpha)
 
 
 def shot_figure(shot: Shot) -> Figure:
@@ -61,7 +72,8 @@ def shot_figure(shot: Shot) -> Figure:
 
     if shot.energy is not None:
         ax_energy.plot(shot.t, shot.energy.projectile, label="projectile")
-        ax_energy.plot(shot.t, shot.energy.machine, label="arm + counterweight")
+        ax_energy.plot(shot.t, shot.energy.machine,
+                       label="arm + counterweight" + (" + frame" if shot.design.base.rolling else ""))
         ax_energy.plot(shot.t, shot.energy.total, "k--", label="total")
         if shot.liftoff_time is not None:
             ax_energy.axvline(shot.liftoff_time, color="0.6", lw=0.8)
