@@ -142,6 +142,25 @@ def rolling_terms(theta, phi, psi, dtheta, dphi, dpsi, p):
             m33 - k * b3 * b3, f1 + k * b1 * c, f2 + k * b2 * c, f3 + k * b3 * c)
 
 
+def ground_force(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, p):
+    """The ground's vertical push on the frame, N: ``Mt g + d2/dt2 (sum m y)`` over the moving parts.
+
+    The whole system's vertical momentum changes only by gravity and this
+    push (the base's push on the projectile is internal to it). The frame
+    stays down only while it is positive; ``Mt`` includes the frame only when
+    it rolls (a fixed frame is bolted down and its own weight is not counted).
+    """
+    s_th, c_th = math.sin(theta), math.cos(theta)
+    s_w, c_w = math.sin(theta + phi), math.cos(theta + phi)
+    s_b, c_b = math.sin(theta + psi), math.cos(theta + psi)
+    turn_arm = s_th * ddtheta + c_th * dtheta * dtheta        # -y'' / L of a point along the arm
+    turn_weight = s_w * (ddtheta + ddphi) + c_w * (dtheta + dphi) ** 2
+    turn_sling = s_b * (ddtheta + ddpsi) + c_b * (dtheta + dpsi) ** 2
+    lift = (-p.mA * p.d * turn_arm + p.mW * (p.Lb * turn_arm + p.Lw * turn_weight)
+            - p.mP * (p.La * turn_arm + p.Ls * turn_sling))
+    return (p.mA + p.mW + p.mP + (p.Mf if p.rolling else 0.0)) * p.g + lift
+
+
 def frame_velocity(theta, phi, psi, dtheta, dphi, dpsi, p):
     """X', m/s: ``-S' / Mt`` (zero momentum); 0 for a fixed frame."""
     if not p.rolling:

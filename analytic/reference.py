@@ -187,6 +187,22 @@ def _history(stage: Stage, segment: Segment, p: Params):
     return [(t, stage, full(y), _tension(stage, y, p)) for t, y in zip(segment.t, segment.y, strict=True)]
 
 
+def _accelerations(stage: Stage, state, p: Params) -> tuple[float, float, float]:
+    """``(theta'', phi'', psi'')`` at a full stage-1 or stage-2 state (theta, phi, psi, rates)."""
+    if stage is Stage.SLIDE:
+        ddtheta, ddphi, _ = eom.slide_accelerations(state[0], state[1], state[3], state[4], p)
+        _, _, s, c, _ = eom.slide_constraint(state[0], state[3], p)
+        return ddtheta, ddphi, s * ddtheta + c
+    return eom.swing_accelerations(*state, p)
+
+
+def jump_warning(force: float, time: float, gravity: float) -> str:
+    """What a negative push of the ground on a rolling frame means for the result."""
+    return (f"the frame would jump: the ground's push on it falls to {force:.3g} N at t = {time:.3f} s, "
+            f"and this model keeps it on the ground, so the result cannot be trusted for a frame "
+            f"this light (roughly {-force / gravity:.2g} kg more would keep it down)")
+
+
 def _tension(stage: Stage, y: np.ndarray, p: Params) -> float:
     """Sling tension at a stage-1 or stage-2 state (eq. 5.2), N."""
     if stage is Stage.SLIDE:
@@ -241,6 +257,11 @@ def _finish(design: Design, p: Params, history, segments, status: Status, messag
         path[i, 0] += eom.frame_displacement(theta, phi, psi, p)   # on the ground, as the flight is
     energy = EnergyBudget(projectile=budget[:, 1], machine=budget[:, 0], total=budget.sum(axis=1))
     frame_x = np.array([eom.frame_displacement(*state[:3], p) for state in states])
+    ground = np.array([eom.ground_force(*state, *_accelerations(Stage(k), state, p), p)
+                       for k, state in zip(stage, states, strict=True)])
+    fields["min_ground_force"] = float(ground.min())
+    if p.rolling and ground.min() < 0.0:
+        fields["warnings"] = (jump_warning(float(ground.min()), float(t[int(np.argmin(ground))]), p.g),)
     frame_speed = max(abs(eom.frame_velocity(*state, p)) for state in states)
     after_release = fields.pop("after_release_speed", None)
     if status is Status.OK:

@@ -20,7 +20,7 @@ JSON_KEYS = (
     "release_position", "release_velocity", "release_speed", "launch_angle",
     "range", "range_from_release", "apex_height", "flight_time", "landing_time",
     "landed_behind_pivot", "energy_efficiency", "range_efficiency", "min_sling_tension",
-    "frame_release_displacement", "frame_release_velocity",
+    "frame_release_displacement", "frame_release_velocity", "warnings",
 )
 
 
@@ -75,6 +75,11 @@ class Shot:
         machine swings on after release), None where not computed (the fast path).
     max_frame_speed : largest |X'| from firing to landing, m/s (None where not computed).
     frame_x : (n,) the frame's X on ``t``, m (empty for a fixed frame or a summary).
+    min_ground_force : smallest vertical push of the ground on the frame through stages
+        1-2, N (``analytic.eom.ground_force``; None for a summary). Negative: a
+        frame not bolted down would jump.
+    warnings : what the user should know about this result, in words (empty when
+        there is nothing to say).
     diagnostics : how far the model that made the shot can be trusted, or None
         (the engine model's ``EngineDiagnostics``).
     """
@@ -106,6 +111,8 @@ class Shot:
     frame_landing_velocity: float | None = None
     max_frame_speed: float | None = None
     frame_x: np.ndarray = field(default_factory=lambda: np.empty(0))
+    min_ground_force: float | None = None
+    warnings: tuple[str, ...] = ()
     diagnostics: Any = None
 
     @property
@@ -202,6 +209,7 @@ class Shot:
             "min_sling_tension": number(self.min_sling_tension),
             "frame_release_displacement": number(self.frame_release_displacement),
             "frame_release_velocity": number(self.frame_release_velocity),
+            "warnings": list(self.warnings),
         }
 
 

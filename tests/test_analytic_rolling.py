@@ -341,3 +341,39 @@ def test_bad_frame_in_a_problem_names_the_field(tmp_path, base, field):
     with pytest.raises(DesignError) as error:
         load_problem(path)
     assert error.value.field == field
+
+
+# --------------------------------------------------------------------------- #
+# The ground's push, and a frame too light to stay down
+# --------------------------------------------------------------------------- #
+
+@pytest.mark.parametrize("mass", [None, 5.0], ids=["fixed", "rolling-5kg"])
+def test_ground_force_is_the_weight_plus_the_second_derivative_of_the_vertical_mass_moment(mass):
+    from analytic.geometry import part_positions
+
+    design = default_design() if mass is None else _rolling(mass)
+    shot = simulate(design)
+    p = params(design)
+    m = design.machine
+    heights = np.array([part_positions(*q, m.arm_long, m.arm_short, m.arm_cg, m.counterweight_link,
+                                       m.sling_length)[1::2] for q in shot.q])   # (n, 5) ys
+    moment = p.mA * heights[:, 2] + p.mW * heights[:, 3] + p.mP * heights[:, 4]
+    swing = np.flatnonzero(shot.stage == 2)[2:-3]          # regular samples, away from the stage change
+    step = shot.t[1] - shot.t[0]
+    second = (moment[swing + 1] - 2.0 * moment[swing] + moment[swing - 1]) / step**2
+    weight = (p.mA + p.mW + p.mP + (p.Mf if p.rolling else 0.0)) * p.g
+    from analytic import eom
+    from analytic.reference import _accelerations
+    from analytic.outcome import Stage
+    model = np.array([eom.ground_force(*q, *qd, *_accelerations(Stage.SWING, np.concatenate([q, qd]), p), p)
+                      for q, qd in zip(shot.q[swing], shot.qdot[swing], strict=True)])
+    # The second difference errs by (step^2 / 12) moment'''' ~ 1e-3 of the largest push here.
+    assert np.max(np.abs(model - (weight + second))) < 2e-3 * np.max(np.abs(model))
+
+
+def test_a_frame_that_would_jump_is_flagged_and_a_heavier_one_is_not():
+    light, heavy = simulate(_rolling(1.0)), simulate(_rolling(5.0))
+    assert light.min_ground_force < 0.0 < heavy.min_ground_force
+    assert len(light.warnings) == 1 and "the frame would jump" in light.warnings[0]
+    assert heavy.warnings == ()
+    assert light.to_json()["warnings"] == list(light.warnings)
