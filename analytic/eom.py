@@ -29,7 +29,9 @@ Stage 2 [3] has the full 3x3 system. Stage 1 [4] keeps the projectile on the
 base, ``La cos(theta) + Ls cos(beta) = -h``; psi is then a function of theta
 (``beta = -arccos(-(h + La cos theta) / Ls)``, the sling pointing forward and
 down), leaving (theta, phi) with the reduced system ``B^T M B``; the base's
-normal force is the constraint's Lagrange multiplier [4.3].
+normal force is the constraint's Lagrange multiplier [4.3]. The forces at the
+joints (axle, hinge, sling) follow from the motion by Newton's law for each
+body [9] (``joint_forces``, ``loads``).
 """
 
 from __future__ import annotations
@@ -249,7 +251,7 @@ def slide_state(theta, phi, dtheta, dphi, p):
 
 
 # --------------------------------------------------------------------------- #
-# Energy and the sling force [2], [5]
+# Energy [2]
 # --------------------------------------------------------------------------- #
 
 def potential_energy(theta, phi, psi, p):
@@ -282,14 +284,81 @@ def kinetic_energy(theta, phi, psi, dtheta, dphi, dpsi, p):
     return machine, projectile
 
 
-def sling_tension(theta, psi, dtheta, dpsi, ddtheta, normal, p):
-    """Tension in the rigid sling, N (negative: the sling pushes), eq. (5.2).
+# --------------------------------------------------------------------------- #
+# Joint forces [9]
+# --------------------------------------------------------------------------- #
+# Newton's second law for each body in the ground frame, given the motion
+# (q, q', q'') and the base's push N: the counterweight is driven only by the
+# hinge and gravity, the projectile only by the sling, the base and gravity,
+# and the arm by the axle, the hinge's and the (massless) sling's reactions
+# and gravity. A rolling frame adds its acceleration X'' to every x.
 
-    From the projectile's equation of motion along the sling,
-    ``T = (N - mP g) cos(beta) + mP (Ls beta'^2 + La theta'^2 cos(psi) - La theta'' sin(psi))``;
-    ``normal`` is the base's push (0 off the base).
+def frame_acceleration(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, p):
+    """X'', m/s^2: ``-(b.q'' + c) / Mt`` (zero momentum, [8]); 0 for a fixed frame."""
+    if not p.rolling:
+        return 0.0
+    b1, b2, b3, c = frame_coupling(theta, phi, psi, dtheta, dphi, dpsi, p)
+    return -(b1 * ddtheta + b2 * ddphi + b3 * ddpsi + c) / total_mass(p)
+
+
+def joint_forces(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, normal, p):
+    """The forces at the machine's joints, N, in the ground frame (x forward, y up), eq. (9.2).
+
+    Returns ``(axle_x, axle_y, hinge_x, hinge_y, sling_x, sling_y)``:
+
+    * axle: the force of the frame on the arm at the axle,
+      ``mA (a_A + g) + H + S`` (the arm's Newton equation);
+    * hinge: the force of the arm on the counterweight at the hinge,
+      ``mW (a_W + g)`` (the counterweight's);
+    * sling: the force of the sling on the projectile,
+      ``mP (a_P + g) - N e_y`` (the projectile's); the sling pulls the arm's
+      tip with the opposite force.
+
+    ``a_*`` are the ground accelerations of the arm's and the counterweight's
+    centres and of the projectile, ``g = (0, g)``; ``normal`` is the base's
+    push on the projectile (0 off the base).
     """
-    dbeta = dtheta + dpsi
-    return ((normal - p.mP * p.g) * math.cos(theta + psi)
-            + p.mP * (p.Ls * dbeta * dbeta + p.La * dtheta * dtheta * math.cos(psi)
-                      - p.La * ddtheta * math.sin(psi)))
+    s_th, c_th = math.sin(theta), math.cos(theta)
+    s_w, c_w = math.sin(theta + phi), math.cos(theta + phi)
+    s_b, c_b = math.sin(theta + psi), math.cos(theta + psi)
+    dw, db = dtheta + dphi, dtheta + dpsi
+    ddw, ddb = ddtheta + ddphi, ddtheta + ddpsi
+    ddx = frame_acceleration(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, p)
+    # d2/dt2 of the unit vector along the long arm, (-sin theta, cos theta) [2.1].
+    arm_x = -c_th * ddtheta + s_th * dtheta * dtheta
+    arm_y = -s_th * ddtheta - c_th * dtheta * dtheta
+    # ... of (sin w, -cos w) along the link [2.2] and of (-sin beta, cos beta) along the sling [2.3].
+    link_x = c_w * ddw - s_w * dw * dw
+    link_y = s_w * ddw + c_w * dw * dw
+    sling_ux = -c_b * ddb + s_b * db * db
+    sling_uy = -s_b * ddb - c_b * db * db
+    hinge_x = p.mW * (ddx - p.Lb * arm_x + p.Lw * link_x)
+    hinge_y = p.mW * (p.g - p.Lb * arm_y + p.Lw * link_y)
+    sling_x = p.mP * (ddx + p.La * arm_x + p.Ls * sling_ux)
+    sling_y = p.mP * (p.g + p.La * arm_y + p.Ls * sling_uy) - normal
+    axle_x = p.mA * (ddx + p.d * arm_x) + hinge_x + sling_x
+    axle_y = p.mA * (p.g + p.d * arm_y) + hinge_y + sling_y
+    return axle_x, axle_y, hinge_x, hinge_y, sling_x, sling_y
+
+
+def loads(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, normal, p):
+    """What a builder sizes the machine for, from ``joint_forces``, eq. (9.3).
+
+    Returns ``(axle_load, hinge_load, tension, projectile_acceleration)``:
+
+    * ``axle_load = |axle force|``, N: what the axle's bearings carry; a
+      bearing's friction torque is ``mu r |F|`` with this ``|F|``;
+    * ``hinge_load = |hinge force|``, N: likewise for the counterweight's hinge;
+    * ``tension``, N: the sling's pull on the projectile along the sling
+      (negative: a rigid sling pushes);
+    * ``projectile_acceleration``, m/s^2: what the projectile feels, the force
+      of the sling and the base on it divided by its mass (gravity excluded;
+      divide by g for "g"s).
+    """
+    axle_x, axle_y, hinge_x, hinge_y, sling_x, sling_y = joint_forces(
+        theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, normal, p)
+    beta = theta + psi
+    tension = sling_x * math.sin(beta) - sling_y * math.cos(beta)   # -S . (-sin beta, cos beta)
+    felt_y = sling_y + normal
+    return (math.sqrt(axle_x * axle_x + axle_y * axle_y), math.sqrt(hinge_x * hinge_x + hinge_y * hinge_y),
+            tension, math.sqrt(sling_x * sling_x + felt_y * felt_y) / p.mP)

@@ -36,7 +36,7 @@ from analytic import kernel, outcome
 from analytic.aero import DRAG_TABLE
 from analytic.design import Design, swing_time_limit
 from analytic.parameters import N_PARAMS, params
-from analytic.result import Shot, Shots, Status
+from analytic.result import PEAK_NAMES, Shot, Shots, Status
 from analytic.reference import DEFAULT_ATOL, DEFAULT_RTOL
 
 #: Designs a thread takes at a time in ``shoot``.
@@ -102,7 +102,7 @@ def compile(*, progress: bool = False) -> float:
 # --------------------------------------------------------------------------- #
 
 def simulate_fast(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAULT_ATOL) -> Shot:
-    """``simulate(design)``'s summary, compiled: no histories, energies or sling tension.
+    """``simulate(design)``'s summary, compiled: no histories or energies; the peak loads.
 
     Parameters
     ----------
@@ -133,6 +133,10 @@ def to_shot(design: Design, out: np.ndarray) -> Shot:
         return None if math.isnan(out[i]) else float(out[i])
 
     fields = dict(liftoff_time=maybe(kernel.LIFTOFF_T))
+    for k, name in enumerate(PEAK_NAMES):
+        if math.isfinite(out[kernel.PEAKS + 2 * k]):
+            fields[name] = float(out[kernel.PEAKS + 2 * k])
+            fields[f"{name}_time"] = float(out[kernel.PEAKS + 2 * k + 1])
     if not math.isnan(out[kernel.RELEASE_T]):
         fields.update(release_time=float(out[kernel.RELEASE_T]),
                       release_position=out[[kernel.RELEASE_X, kernel.RELEASE_Y]].copy(),
@@ -232,4 +236,16 @@ def shoot(designs: Sequence[Design] | np.ndarray, *, rtol: float = DEFAULT_RTOL,
                  apex_height=np.where(landed, out[:, kernel.APEX], np.nan),
                  end_time=out[:, kernel.END_T],
                  steps=out[:, kernel.STEPS].astype(int),
-                 evaluations=out[:, kernel.EVALS].astype(int))
+                 evaluations=out[:, kernel.EVALS].astype(int),
+                 **_peaks(out))
+
+
+def _peaks(out: np.ndarray) -> dict[str, np.ndarray]:
+    """The peak loads and their times of result rows (S, N_RESULT), each (S,), NaN where none."""
+    peaks = {}
+    for k, name in enumerate(PEAK_NAMES):
+        values = out[:, kernel.PEAKS + 2 * k]
+        known = np.isfinite(values)
+        peaks[name] = np.where(known, values, np.nan)
+        peaks[f"{name}_time"] = np.where(known, out[:, kernel.PEAKS + 2 * k + 1], np.nan)
+    return peaks

@@ -1,4 +1,4 @@
-"""Plots of a shot: trajectory, the machine at release, and the energy budget (Agg, no pyplot)."""
+"""Plots of a shot: trajectory, the machine at release, the energy budget and the loads (Agg, no pyplot)."""
 
 from __future__ import annotations
 
@@ -39,12 +39,12 @@ def draw_machine(ax, shot: Shot, index: int, alpha: float = 1.0) -> None:
 
 
 def shot_figure(shot: Shot) -> Figure:
-    """Three panels: the flight, the machine at release (or at the end), the energy over time."""
+    """Four panels: the flight, the machine at release (or at the end), the energy and the loads over time."""
     if len(shot.t) == 0:
         raise ValueError(f"shot of {shot.design.name!r} has no histories to plot (a summary from the "
                          f"fast path or simulate(histories=False)): simulate it with histories")
-    fig = Figure(figsize=(13, 4.2), layout="constrained")
-    ax_flight, ax_machine, ax_energy = fig.subplots(1, 3, gridspec_kw={"width_ratios": [1.6, 1, 1.1]})
+    fig = Figure(figsize=(17, 4.4), layout="constrained")
+    ax_flight, ax_machine, ax_energy, ax_loads = fig.subplots(1, 4, gridspec_kw={"width_ratios": [1.6, 1, 1.1, 1.1]})
     h = shot.design.machine.pivot_height
     title = f"{shot.design.name}: {shot.status.value}"
     if shot.range is not None:
@@ -81,7 +81,37 @@ def shot_figure(shot: Shot) -> Figure:
         ax_energy.set(xlabel="time (s)", ylabel="energy relative to rest (J)",
                       title=f"energy, stages {int(Stage.SLIDE)}-{int(Stage.SWING)}")
         ax_energy.legend(fontsize=8)
+    draw_loads(ax_loads, shot)
     return fig
+
+
+def draw_loads(ax, shot: Shot) -> None:
+    """The joint loads through stages 1-2 (N, left) and the projectile's felt acceleration (g,
+    right), each peak marked."""
+    if len(shot.axle_load) == 0:
+        ax.set_visible(False)
+        return
+    g = shot.design.environment.gravity
+    curves = [(shot.axle_load, shot.peak_axle_load, shot.peak_axle_load_time, "axle", "tab:blue"),
+              (shot.hinge_load, shot.peak_hinge_load, shot.peak_hinge_load_time, "hinge", "tab:green"),
+              (shot.sling_tension, shot.peak_sling_tension, shot.peak_sling_tension_time, "sling tension",
+               "tab:purple")]
+    for values, peak, when, label, color in curves:
+        ax.plot(shot.t, values, color=color, lw=1, label=label)
+        if peak is not None:
+            ax.plot(when, peak, "o", color=color, ms=4)
+    ax.axhline(0.0, color="0.6", lw=0.6)
+    ax.set(xlabel="time (s)", ylabel="force (N)", title="loads (dots: peaks)")
+    ax_g = ax.twinx()
+    ax_g.plot(shot.t, shot.projectile_acceleration / g, color="tab:orange", lw=1, ls="--",
+              label="projectile acceleration")
+    if shot.peak_projectile_acceleration is not None:
+        ax_g.plot(shot.peak_projectile_acceleration_time, shot.peak_projectile_acceleration / g, "o",
+                  color="tab:orange", ms=4)
+    ax_g.set(ylabel="projectile acceleration (g)")
+    handles, labels = ax.get_legend_handles_labels()
+    more = ax_g.get_legend_handles_labels()
+    ax.legend(handles + more[0], labels + more[1], fontsize=8, loc="upper left")
 
 
 def save_figure(figure: Figure, path: str | Path, dpi: int = 110) -> None:

@@ -19,7 +19,7 @@ from analytic.integrate import Event, IntegrationError, Segment, integrate
 from analytic.limits import flight_time_limit
 from analytic.outcome import LiftoffFailure, Stage, Status
 from analytic.parameters import Params, params
-from analytic.result import EnergyBudget, Shot
+from analytic.result import PEAK_NAMES, EnergyBudget, Shot
 
 #: Default integrator tolerances: a 100x tighter run changes the range by
 #: 1.5e-10 relative on the paper's design and by at most 6.5e-9 where a
@@ -73,20 +73,27 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
         # Stage 1: slide on the base until the normal force vanishes.
         if normal0 > 0.0:
             slide = _run(stage, p, 0.0, y1, p.t_limit, rtol, atol, output_step)
+            peaks = _stage_peaks(stage, slide, p)
         else:  # the sling already pulls harder than the projectile's weight
             slide = Segment(np.zeros(1), y1[None, :], "liftoff", 0.0, y1, {})
+            peaks = np.full((len(stages.LOAD_NAMES), 2), -np.inf)
         if histories:
             history.append(_history(Stage.SLIDE, slide, p))
         segments.append((Stage.SLIDE, slide))
         if slide.event != "liftoff":
             return _finish(design, p, history, segments, Status.NEVER_LIFTS_OFF,
-                           outcome.never_lifts_off_message(_LIFTOFF_FAILURES[slide.event], p.t_limit))
+                           outcome.never_lifts_off_message(_LIFTOFF_FAILURES[slide.event], p.t_limit),
+                           **_peak_fields(peaks))
 
         # Stage 2: free swing until release.
         stage = Stage.SWING
         reached["liftoff_time"] = slide.t_end
         swing = _run(stage, p, slide.t_end, np.array(stages.swing_start(slide.y_end, p)), p.t_limit,
                      rtol, atol, output_step)
+        stage_peaks = _stage_peaks(stage, swing, p)
+        later = stage_peaks[:, 0] > peaks[:, 0]
+        peaks[later] = stage_peaks[later]
+        reached.update(_peak_fields(peaks))
         if histories:
             history.append(_history(Stage.SWING, swing, p)[1:])   # the first is lift-off, already recorded
         segments.append((Stage.SWING, swing))
@@ -163,7 +170,9 @@ def _run(stage: Stage, p: Params, t0: float, y0: np.ndarray, t_end: float, rtol:
         stages.derivative(stage, y, p, DRAG_TABLE, out)
         return out
 
-    return integrate(rhs, t0, y0, t_end, _events(stage, p), rtol=rtol, atol=atol, output_step=output_step)
+    # Stages 1-2 keep their continuous solution, on which the peak loads are located.
+    return integrate(rhs, t0, y0, t_end, _events(stage, p), rtol=rtol, atol=atol, output_step=output_step,
+                     continuous=stage is not Stage.FLIGHT)
 
 
 def _events(stage: Stage, p: Params) -> tuple[Event, ...]:
@@ -204,13 +213,8 @@ def jump_warning(force: float, time: float, gravity: float) -> str:
 
 
 def _tension(stage: Stage, y: np.ndarray, p: Params) -> float:
-    """Sling tension at a stage-1 or stage-2 state (eq. 5.2), N."""
-    if stage is Stage.SLIDE:
-        theta, _, psi, dtheta, _, dpsi = eom.slide_state(*y, p)
-        ddtheta, _, normal = eom.slide_accelerations(*y, p)
-        return eom.sling_tension(theta, psi, dtheta, dpsi, ddtheta, normal, p)
-    ddtheta = eom.swing_accelerations(*y, p)[0]
-    return eom.sling_tension(y[0], y[2], y[3], y[5], ddtheta, 0.0, p)
+    """Sling tension at a stage-1 or stage-2 state (``eom.loads``), N."""
+    return stages.loads_at(int(stage), y, p)[2]
 
 
 def _smallest_tension(t: np.ndarray, stage: np.ndarray, tension: np.ndarray, segments, p: Params) -> float:
@@ -233,6 +237,40 @@ def _smallest_tension(t: np.ndarray, stage: np.ndarray, tension: np.ndarray, seg
     best = minimize_scalar(lambda s: _tension(stage_i, solution(s), p), bounds=(low, high),
                            method="bounded", options={"xatol": 1e-9})
     return float(min(best.fun, tension[i]))
+
+
+def _stage_peaks(stage: Stage, segment: Segment, p: Params) -> np.ndarray:
+    """The largest of each load (``stages.LOAD_NAMES``) over a stage-1 or stage-2 segment, and when,
+    shape (N_LOADS, 2).
+
+    Sampled at the start, every accepted step's end and the end, then refined
+    on the continuous solution over the step on either side of the largest
+    sample (Brent's bounded method, ``stages.PEAK_TIME_TOLERANCE``): the
+    compiled path does the same on the same steps.
+    """
+    values = np.array([stages.loads_at(int(stage), y, p) for y in segment.step_y])   # (k, N_LOADS)
+    peaks = np.empty((values.shape[1], 2))
+    for k in range(values.shape[1]):
+        i = int(np.argmax(values[:, k]))
+        peaks[k] = values[i, k], segment.step_t[i]
+        for a, b in ((i - 1, i), (i, i + 1)):
+            if a < 0 or b >= len(segment.step_t) or not segment.step_t[b] > segment.step_t[a]:
+                continue
+            found = minimize_scalar(lambda s: -stages.loads_at(int(stage), segment.solution(s), p)[k],
+                                    bounds=(segment.step_t[a], segment.step_t[b]), method="bounded",
+                                    options={"xatol": stages.PEAK_TIME_TOLERANCE, "maxiter": 500})
+            if -found.fun > peaks[k, 0]:
+                peaks[k] = -found.fun, found.x
+    return peaks
+
+
+def _peak_fields(peaks: np.ndarray) -> dict[str, float]:
+    """``Shot`` fields of the peaks (N_LOADS, 2); none that were never sampled."""
+    fields = {}
+    for (value, time), name in zip(peaks, PEAK_NAMES, strict=True):
+        if np.isfinite(value):
+            fields[name], fields[f"{name}_time"] = float(value), float(time)
+    return fields
 
 
 def _finish(design: Design, p: Params, history, segments, status: Status, message: str, **fields) -> Shot:
@@ -260,6 +298,9 @@ def _finish(design: Design, p: Params, history, segments, status: Status, messag
     ground = np.array([eom.ground_force(*state, *_accelerations(Stage(k), state, p), p)
                        for k, state in zip(stage, states, strict=True)])
     fields["min_ground_force"] = float(ground.min())
+    loads = np.array([stages.loads_at(k, state[[0, 1, 3, 4]] if k == Stage.SLIDE else state, p)
+                      for k, state in zip(stage, states, strict=True)])     # (n, N_LOADS)
+    fields.update(axle_load=loads[:, 0], hinge_load=loads[:, 1], projectile_acceleration=loads[:, 3])
     if p.rolling and ground.min() < 0.0:
         fields["warnings"] = (jump_warning(float(ground.min()), float(t[int(np.argmin(ground))]), p.g),)
     frame_speed = max(abs(eom.frame_velocity(*state, p)) for state in states)

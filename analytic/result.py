@@ -11,7 +11,7 @@ import numpy as np
 from analytic.design import Design
 from analytic.outcome import Stage, Status
 
-__all__ = ["EnergyBudget", "JSON_KEYS", "Shot", "Shots", "Stage", "Status", "ideal_range"]
+__all__ = ["EnergyBudget", "JSON_KEYS", "PEAK_NAMES", "Shot", "Shots", "Stage", "Status", "ideal_range"]
 
 
 #: Keys of the ``--json`` object, shared by ``analytic`` and ``engine_model``.
@@ -20,8 +20,14 @@ JSON_KEYS = (
     "release_position", "release_velocity", "release_speed", "launch_angle",
     "range", "range_from_release", "apex_height", "flight_time", "landing_time",
     "landed_behind_pivot", "energy_efficiency", "range_efficiency", "min_sling_tension",
-    "frame_release_displacement", "frame_release_velocity", "warnings",
+    "frame_release_displacement", "frame_release_velocity",
+    "peak_sling_tension", "peak_sling_tension_time", "peak_axle_load", "peak_axle_load_time",
+    "peak_hinge_load", "peak_hinge_load_time", "peak_projectile_acceleration",
+    "peak_projectile_acceleration_time", "warnings",
 )
+#: The peak loads over stages 1-2, each a ``Shot`` field (and ``<name>_time``), in the order of
+#: ``analytic.stages.LOAD_NAMES``: N, N, N, m/s^2.
+PEAK_NAMES = ("peak_axle_load", "peak_hinge_load", "peak_sling_tension", "peak_projectile_acceleration")
 
 
 @dataclass(frozen=True)
@@ -75,6 +81,16 @@ class Shot:
         machine swings on after release), None where not computed (the fast path).
     max_frame_speed : largest |X'| from firing to landing, m/s (None where not computed).
     frame_x : (n,) the frame's X on ``t``, m (empty for a fixed frame or a summary).
+    peak_axle_load, peak_hinge_load : largest force of the frame on the arm at the axle and
+        between the arm and the counterweight at the hinge, N, through stages 1-2
+        (``analytic.eom.loads``: the sizes a bearing's friction would scale with).
+    peak_sling_tension : largest sling tension through stages 1-2, N.
+    peak_projectile_acceleration : largest acceleration the projectile feels (the sling's
+        and the base's force on it over its mass, gravity excluded), m/s^2.
+    peak_*_time : when each peak occurs, s from firing. None for a machine that never
+        fires or a failed integration, and from the engine model.
+    axle_load, hinge_load, projectile_acceleration : (n,) the loads on ``t`` (N, N, m/s^2;
+        empty for a summary).
     min_ground_force : smallest vertical push of the ground on the frame through stages
         1-2, N (``analytic.eom.ground_force``; None for a summary). Negative: a
         frame not bolted down would jump.
@@ -112,12 +128,50 @@ class Shot:
     max_frame_speed: float | None = None
     frame_x: np.ndarray = field(default_factory=lambda: np.empty(0))
     min_ground_force: float | None = None
+    peak_axle_load: float | None = None
+    peak_axle_load_time: float | None = None
+    peak_hinge_load: float | None = None
+    peak_hinge_load_time: float | None = None
+    peak_sling_tension: float | None = None
+    peak_sling_tension_time: float | None = None
+    peak_projectile_acceleration: float | None = None
+    peak_projectile_acceleration_time: float | None = None
+    axle_load: np.ndarray = field(default_factory=lambda: np.empty(0))
+    hinge_load: np.ndarray = field(default_factory=lambda: np.empty(0))
+    projectile_acceleration: np.ndarray = field(default_factory=lambda: np.empty(0))
     warnings: tuple[str, ...] = ()
     diagnostics: Any = None
 
     @property
     def ok(self) -> bool:
         return self.status is Status.OK
+
+    def _repr_html_(self) -> str:
+        """A summary table for Jupyter: outcome, release, range and peak loads, any warnings."""
+        import html
+
+        g = self.design.environment.gravity
+        rows = [("status", f"{self.status.value}: {self.message}")]
+
+        def add(label: str, value, fmt: str, unit: str, when: float | None = None) -> None:
+            if value is not None:
+                rows.append((label, f"{value:{fmt}} {unit}" + ("" if when is None else f" at {when:.4f} s")))
+
+        add("range", self.range, ".3f", "m")
+        add("release speed", self.release_speed, ".3f", "m/s")
+        add("launch angle", None if self.launch_angle is None else math.degrees(self.launch_angle), ".2f", "deg")
+        add("release time", self.release_time, ".4f", "s")
+        add("apex height", self.apex_height, ".3f", "m above the base")
+        add("peak sling tension", self.peak_sling_tension, ".2f", "N", self.peak_sling_tension_time)
+        add("peak axle load", self.peak_axle_load, ".2f", "N", self.peak_axle_load_time)
+        add("peak hinge load", self.peak_hinge_load, ".2f", "N", self.peak_hinge_load_time)
+        add("peak projectile acceleration",
+            None if self.peak_projectile_acceleration is None else self.peak_projectile_acceleration / g,
+            ".1f", "g", self.peak_projectile_acceleration_time)
+        rows += [("warning", warning) for warning in self.warnings]
+        body = "".join(f"<tr><th style='text-align:left'>{html.escape(label)}</th>"
+                       f"<td style='text-align:left'>{html.escape(value)}</td></tr>" for label, value in rows)
+        return f"<table><caption>Shot of {html.escape(self.design.name)}</caption>{body}</table>"
 
     def plot(self, path=None, **options):
         """The shot's figure (``analytic.plot.shot_figure``); written to ``path`` if given.
@@ -209,6 +263,8 @@ class Shot:
             "min_sling_tension": number(self.min_sling_tension),
             "frame_release_displacement": number(self.frame_release_displacement),
             "frame_release_velocity": number(self.frame_release_velocity),
+            **{f"{name}{suffix}": number(getattr(self, f"{name}{suffix}"))
+               for name in PEAK_NAMES for suffix in ("", "_time")},
             "warnings": list(self.warnings),
         }
 
@@ -242,6 +298,9 @@ class Shots:
     apex_height : (S,) m above the base.
     end_time : (S,) s, when the shot ended (the failure's instant for a failure).
     steps, evaluations : (S,) int, accepted integrator steps and right-hand-side evaluations.
+    peak_axle_load, peak_hinge_load, peak_sling_tension, peak_projectile_acceleration : (S,)
+        the largest loads through stages 1-2 (N, N, N, m/s^2; ``Shot``), and each one's
+        ``*_time`` (S,), s.
     """
 
     status: np.ndarray
@@ -255,6 +314,14 @@ class Shots:
     end_time: np.ndarray
     steps: np.ndarray
     evaluations: np.ndarray
+    peak_axle_load: np.ndarray
+    peak_axle_load_time: np.ndarray
+    peak_hinge_load: np.ndarray
+    peak_hinge_load_time: np.ndarray
+    peak_sling_tension: np.ndarray
+    peak_sling_tension_time: np.ndarray
+    peak_projectile_acceleration: np.ndarray
+    peak_projectile_acceleration_time: np.ndarray
 
     @property
     def ok(self) -> np.ndarray:

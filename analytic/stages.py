@@ -26,7 +26,7 @@ from __future__ import annotations
 import math
 
 from analytic.aero import force_factor
-from analytic.eom import (frame_coupling, frame_displacement, frame_velocity, horizontal_moment,
+from analytic.eom import (frame_coupling, frame_displacement, frame_velocity, horizontal_moment, loads,
                           slide_accelerations, slide_constraint, swing_accelerations, terms, total_mass)
 from analytic.geometry import projectile_state, release_at
 from analytic.limits import SLING_VERTICAL_LIMIT
@@ -180,3 +180,23 @@ def machine_frame(y, p, momentum, start_time, start_y, start_x, time):
     moved = horizontal_moment(y[0], y[1], 0.0, m) - horizontal_moment(start_y[0], start_y[1], 0.0, m)
     return (start_x + (momentum * (time - start_time) - moved) / mass,
             (momentum - b1 * y[2] - b2 * y[3]) / mass)
+
+
+#: Peak loads are located on the dense output to this time tolerance, s (plus sqrt(eps) |t|):
+#: Brent's bounded minimiser, scipy's ``minimize_scalar(method="bounded")`` on the reference
+#: path and its port in the compiled one.
+PEAK_TIME_TOLERANCE = 1e-10
+#: What ``loads_at`` returns, in order (``analytic.eom.loads``): N, N, N, m/s^2.
+LOAD_NAMES = ("axle_load", "hinge_load", "sling_tension", "projectile_acceleration")
+
+
+def loads_at(stage, y, p):
+    """``eom.loads`` at the stage-1 state ``[theta, phi, theta', phi']`` or the stage-2
+    state ``[theta, phi, psi, theta', phi', psi']``: the accelerations and the base's
+    push from the stage's own equations (0 push in stage 2)."""
+    if stage == SLIDE:
+        ddtheta, ddphi, normal = slide_accelerations(y[0], y[1], y[2], y[3], p)
+        psi, dpsi, s, c, _ = slide_constraint(y[0], y[2], p)
+        return loads(y[0], y[1], psi, y[2], y[3], dpsi, ddtheta, ddphi, s * ddtheta + c, normal, p)
+    ddtheta, ddphi, ddpsi = swing_accelerations(y[0], y[1], y[2], y[3], y[4], y[5], p)
+    return loads(y[0], y[1], y[2], y[3], y[4], y[5], ddtheta, ddphi, ddpsi, 0.0, p)
