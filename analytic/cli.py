@@ -10,6 +10,7 @@ from pathlib import Path
 from analytic.design import Design, DesignError
 from analytic.design_file import default_design, load_design
 from analytic.report import format_shot
+from analytic.units import SYSTEMS
 
 #: Exit codes: a throw, an unbuildable design, a valid design that does not throw.
 EXIT_OK, EXIT_INVALID, EXIT_NO_THROW = 0, 2, 3
@@ -32,7 +33,7 @@ def _simulate(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps(shot.to_json(), indent=2))
     else:
-        print(format_shot(shot))
+        print(format_shot(shot, args.units))
     if args.plot:
         from analytic.plot import save_shot_figure
 
@@ -43,6 +44,11 @@ def _simulate(args: argparse.Namespace) -> int:
     return EXIT_OK if shot.ok else EXIT_NO_THROW
 
 
+def _units_argument(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--units", choices=tuple(SYSTEMS), default="metric",
+                        help="units of the printed table (imperial: ft, lb, ft/s, lbf); JSON stays SI")
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="python -m analytic",
                                      description="Hand-derived Lagrange model of the hinged-counterweight trebuchet.")
@@ -50,7 +56,8 @@ def build_parser() -> argparse.ArgumentParser:
     sim = commands.add_parser("simulate", help="simulate one shot")
     sim.add_argument("design", nargs="?", help="design TOML (default: the paper's Table III optimum)")
     sim.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
-    sim.add_argument("--plot", metavar="FILE.png", help="write trajectory, machine at release and energy plot")
+    sim.add_argument("--plot", metavar="FILE.png", help="write trajectory, machine at release, energy and loads plot")
+    _units_argument(sim)
     sim.set_defaults(func=_simulate)
     # The benchmark times both models, so it lives with the cross-check; the
     # command line, the top layer, may reach it.

@@ -1,4 +1,4 @@
-"""Design files: TOML in and out (SI units, angles in degrees), every value checked before use."""
+"""Design files: TOML in and out (SI units, angles in degrees, or values with units), every value checked before use."""
 
 from __future__ import annotations
 
@@ -10,6 +10,7 @@ from typing import Any
 
 from analytic.design import (Base, BeamArm, Design, DesignError, Environment, Machine, MissingValueError,
                              Projectile, paper_geometry, require_number)
+from analytic.units import FIELD_KINDS, from_file, to_file_text
 
 _MACHINE_NUMBERS = tuple(f.name for f in dataclasses.fields(Machine) if f.name != "release_rule")
 _ENVIRONMENT_KEYS = tuple(f.name for f in dataclasses.fields(Environment))
@@ -127,8 +128,16 @@ def beam_arm_from_dict(data: Any, table: str = BEAM_TABLE) -> BeamArm:
         raise DesignError(table + error.field.removeprefix(BEAM_TABLE), error.value, error.reason) from None
 
 
-def design_to_dict(design: Design) -> dict[str, Any]:
-    """The canonical TOML layout of a design (direct form, angles in degrees)."""
+def design_to_dict(design: Design, units: dict[str, str] | None = None) -> dict[str, Any]:
+    """The canonical TOML layout of a design (direct form, angles in degrees).
+
+    Parameters
+    ----------
+    units : write every number as a text with units instead: kind name (``"length"``,
+        ``"mass"``, ... of ``analytic.units``) -> the unit to write it in (pint's
+        spelling, ``"ft"``); kinds not named are written in the file's own units.
+        ``{}`` writes every value with its file unit (``"0.61 m"``).
+    """
     machine = dataclasses.asdict(design.machine)
     machine["release_angle"] = math.degrees(machine["release_angle"])
     projectile = {k: v for k, v in dataclasses.asdict(design.projectile).items() if v is not None}
@@ -136,6 +145,13 @@ def design_to_dict(design: Design) -> dict[str, Any]:
               "environment": dataclasses.asdict(design.environment)}
     if design.base != Base():   # a fixed frame is the default: its table is left out
         layout["base"] = {k: v for k, v in dataclasses.asdict(design.base).items() if v is not None}
+    if units is not None:
+        for table in layout.values():
+            if isinstance(table, dict):
+                for key, value in table.items():
+                    kind = FIELD_KINDS.get(key)
+                    if kind is not None and kind.file_unit and isinstance(value, float):
+                        table[key] = to_file_text(value, kind, units.get(kind.name))
     return layout
 
 
@@ -144,16 +160,17 @@ def load_design(path: str | Path) -> Design:
     return design_from_dict(read_toml(path), name=Path(path).stem)
 
 
-def dumps_design(design: Design) -> str:
-    """The design as TOML text (direct form)."""
+def dumps_design(design: Design, units: dict[str, str] | None = None) -> str:
+    """The design as TOML text (direct form; ``units`` as for ``design_to_dict``)."""
     import tomli_w
 
-    return tomli_w.dumps(design_to_dict(design))
+    return tomli_w.dumps(design_to_dict(design, units))
 
 
-def save_design(design: Design, path: str | Path) -> None:
-    """Write a design as TOML that ``load_design`` reads back to an equal design."""
-    Path(path).write_text(dumps_design(design))
+def save_design(design: Design, path: str | Path, units: dict[str, str] | None = None) -> None:
+    """Write a design as TOML that ``load_design`` reads back to an equal design (with ``units``
+    in other units than the file's own, equal to the last bit or two of each conversion)."""
+    Path(path).write_text(dumps_design(design, units))
 
 
 def default_design() -> Design:
@@ -194,7 +211,8 @@ def read_values(table: str, values: dict[str, Any], *, numbers: tuple[str, ...],
     ----------
     table : the table's name (``machine``), for the errors.
     values : the table as read.
-    numbers : keys whose values must be numbers (returned as float; ``require_number``).
+    numbers : keys whose values must be numbers (returned as float; ``require_number``), bare
+        in the file's units or texts with units (``analytic.units.from_file``).
     texts : keys whose values are passed on as they are, for the design to check as choices.
     required : keys that must be present.
     also_allowed : further keys the caller has taken out of ``values`` (nested tables).
@@ -211,7 +229,7 @@ def read_values(table: str, values: dict[str, Any], *, numbers: tuple[str, ...],
     """
     reject_unknown_keys(table, values, numbers + texts + also_allowed)
     require_keys(table, values, required)
-    return {key: value if key in texts else require_number(f"{table}.{key}", value)
+    return {key: value if key in texts else require_number(f"{table}.{key}", from_file(f"{table}.{key}", value))
             for key, value in values.items()}
 
 

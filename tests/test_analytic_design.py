@@ -144,7 +144,7 @@ def test_dumps_is_loadable_toml(table3):
 
 #: Values of the wrong kind for a number, as a TOML file can hold them, and the reason each gets.
 NOT_NUMBERS = {
-    "text": ("43.4 deg", "must be a number"),
+    "text": ("forty-three", "must be a number"),   # no quantity pint reads (units: test_analytic_units.py)
     "list": ([43.4], "must be a number"),
     "table": ({"value": 43.4}, "must be a number"),
     "bool": (True, "must be a number"),
