@@ -110,7 +110,7 @@ def test_a_wrong_unit_names_the_field_the_value_and_the_expected_kind(table3, ke
 
 
 @pytest.mark.parametrize("text", ["3 kg", "61 furlongz"])
-@pytest.mark.parametrize("command", ["simulate"])
+@pytest.mark.parametrize("command", ["simulate", "chart", "aim"])
 def test_every_command_refuses_a_wrong_unit_with_exit_2(table3, tmp_path, capsys, text, command):
     data = _data(table3)
     data["machine"]["sling_length"] = text
