@@ -173,7 +173,7 @@ def aim(design: Design, field_name: str, target: float, *, bounds: tuple[float, 
 
     def fast_range(value: float) -> float:
         try:
-            shot = fast.simulate_fast(target_field.replace(design, value))
+            shot = fast.simulate_fast(target_field.replace(design, value), loads=False)
         except DesignError:
             return math.nan
         return shot.range if shot.ok else math.nan
@@ -213,7 +213,7 @@ def scan(design: Design, target_field: Field, values: np.ndarray) -> tuple[np.nd
             pass
     ranges = np.full(len(values), math.nan)
     if designs:
-        shots = fast.shoot(designs)
+        shots = fast.shoot(designs, loads=False)
         ranges[built] = shots.range
         status[built] = shots.status
     return ranges, status.astype(str)

@@ -88,11 +88,11 @@ def compile(*, progress: bool = False) -> float:
         began = time.perf_counter()
         rows = np.zeros((1, N_PARAMS))
         out = np.empty((1, kernel.N_RESULT))
-        args = (rows, DRAG_TABLE, COEFFICIENTS, DEFAULT_RTOL, DEFAULT_ATOL, out)
+        args = (rows, DRAG_TABLE, COEFFICIENTS, DEFAULT_RTOL, DEFAULT_ATOL, True, out)
         # Compile (or load) without running, so that loading starts no threads
         # (see ``shoot`` on processes and threads).
         kernel.shots.compile(tuple(numba.typeof(a) for a in args))
-        kernel.shot.compile(tuple(numba.typeof(a) for a in (rows[0], *args[1:5], out[0])))
+        kernel.shot.compile(tuple(numba.typeof(a) for a in (rows[0], *args[1:6], out[0])))
         _compile_seconds = time.perf_counter() - began
     return _compile_seconds
 
@@ -101,25 +101,28 @@ def compile(*, progress: bool = False) -> float:
 # One design
 # --------------------------------------------------------------------------- #
 
-def simulate_fast(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAULT_ATOL) -> Shot:
+def simulate_fast(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAULT_ATOL,
+                  loads: bool = True) -> Shot:
     """``simulate(design)``'s summary, compiled: no histories or energies; the peak loads.
 
     Parameters
     ----------
     design : a validated ``Design``.
     rtol, atol : the integrator's tolerances, as for ``analytic.reference.simulate``.
+    loads : find the peak loads (False: they are None, a little sooner; the benchmark
+        measures how much).
 
     Returns
     -------
     Shot
-        Status, message, lift-off, release, landing and apex; a valid design
+        Status, message, lift-off, release, landing, apex and the peak loads; a valid design
         that does not throw is a ``Shot`` with its failure's status, never an
         exception.
     """
     _check_tolerances(rtol, atol)
     compile()
     out = np.empty(kernel.N_RESULT)
-    kernel.shot(pack(design), DRAG_TABLE, COEFFICIENTS, rtol, atol, out)
+    kernel.shot(pack(design), DRAG_TABLE, COEFFICIENTS, rtol, atol, bool(loads), out)
     return to_shot(design, out)
 
 
@@ -175,7 +178,7 @@ def failure_message(design: Design, status: Status, detail: float, value: float,
 # Many designs
 # --------------------------------------------------------------------------- #
 
-def _shoot_rows(rows: np.ndarray, rtol: float, atol: float) -> np.ndarray:
+def _shoot_rows(rows: np.ndarray, rtol: float, atol: float, loads: bool = True) -> np.ndarray:
     """The kernel's result rows (S, N_RESULT) for design rows (S, N_PARAMS), on all threads."""
     _check_tolerances(rtol, atol)
     rows = np.ascontiguousarray(rows, dtype=np.float64)
@@ -186,7 +189,7 @@ def _shoot_rows(rows: np.ndarray, rtol: float, atol: float) -> np.ndarray:
     # Shots differ in cost (by 10x over the paper's bounds): hand them to the
     # threads a few at a time rather than in one block per thread.
     with numba.parallel_chunksize(BATCH_CHUNK):
-        kernel.shots(rows, DRAG_TABLE, COEFFICIENTS, rtol, atol, out)
+        kernel.shots(rows, DRAG_TABLE, COEFFICIENTS, rtol, atol, bool(loads), out)
     return out
 
 
@@ -201,7 +204,7 @@ _STATUS_NAMES = np.array([status.value for status in Status])
 
 
 def shoot(designs: Sequence[Design] | np.ndarray, *, rtol: float = DEFAULT_RTOL,
-          atol: float = DEFAULT_ATOL) -> Shots:
+          atol: float = DEFAULT_ATOL, loads: bool = True) -> Shots:
     """Simulate many designs on all cores (numba threads; ``numba.set_num_threads`` limits them).
 
     Threads and processes, as measured: numba runs the batch on GNU OpenMP
@@ -217,6 +220,7 @@ def shoot(designs: Sequence[Design] | np.ndarray, *, rtol: float = DEFAULT_RTOL,
     ----------
     designs : a sequence of S ``Design``, or their rows, shape (S, N_PARAMS), from ``pack_many``.
     rtol, atol : the integrator's tolerances.
+    loads : find the peak loads (False: NaN, a little sooner).
 
     Returns
     -------
@@ -224,7 +228,7 @@ def shoot(designs: Sequence[Design] | np.ndarray, *, rtol: float = DEFAULT_RTOL,
         Arrays of length S; a failed design has its status and NaN where it did not reach.
     """
     rows = designs if isinstance(designs, np.ndarray) else pack_many(designs)
-    out = _shoot_rows(rows, rtol, atol)
+    out = _shoot_rows(rows, rtol, atol, loads)
     landed = out[:, kernel.STATUS] == kernel.OK
     return Shots(status=_STATUS_NAMES[out[:, kernel.STATUS].astype(int)],
                  liftoff_time=out[:, kernel.LIFTOFF_T],

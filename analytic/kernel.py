@@ -389,17 +389,17 @@ _REACHED_END, _FAILED = -1, -2
 
 
 @njit(**_JIT)
-def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks):
+def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks, track_loads):
     """Integrate ``stage`` from (t0, y0) until a terminal event or ``t_bound``.
 
     Returns ``(code, t_end, y_end, apex)``: code is the index of the terminal
     event that ended it, ``_REACHED_END`` or ``_FAILED`` (step size underflow
     or a non-finite state); apex is the largest y[1] at a counted apex root
     (flight only; -inf if none). ``counts`` accumulates [steps, evaluations].
-    In stages 1 and 2, ``peaks`` (N_LOADS, 2) gets the largest of each load
-    (``stages.loads_at``) and its time, where this stretch beats it: sampled
-    at every step's end and refined on the interpolants beside the largest
-    sample, as ``analytic.reference`` does.
+    In stages 1 and 2 with ``track_loads``, ``peaks`` (N_LOADS, 2) gets the
+    largest of each load (``stages.loads_at``) and its time, where this stretch
+    beats it: sampled at every step's end and refined on the interpolants
+    beside the largest sample, as ``analytic.reference`` does.
     """
     n = y0.shape[0]
     ne = N_EVENTS[stage]
@@ -417,7 +417,7 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks)
     counts[1] += 2
     apex = -math.inf
     apex_t, apex_y = np.empty(4), np.empty(4)   # counted apex roots within one step
-    track = stage != FLIGHT
+    track = track_loads and stage != FLIGHT
     best = np.full((N_LOADS, 2), -math.inf)
     brackets = np.full((N_LOADS, 2, 3), math.nan)
     bracket_y = np.empty((N_LOADS, 2, n))
@@ -535,12 +535,13 @@ def params(P):
 
 
 @njit(**_JIT)
-def shot(P, table, coef, rtol, atol, out):
+def shot(P, table, coef, rtol, atol, track_loads, out):
     """Simulate the design row ``P`` through all three stages into the result row ``out``.
 
     The stages and their ends are those of ``analytic.reference.simulate``;
     ``out[STATUS]`` names how it ended and the other entries hold what was
-    reached (NaN otherwise).
+    reached (NaN otherwise). ``track_loads`` False leaves the peak loads NaN
+    (the benchmark measures what finding them costs).
     """
     out[:] = math.nan
     counts = np.zeros(2)
@@ -555,7 +556,8 @@ def shot(P, table, coef, rtol, atol, out):
     peaks = np.full((N_LOADS, 2), -math.inf)
     y1 = np.array([p.theta0, p.phi0, 0.0, 0.0])
     if normal0 > 0.0:
-        code, t1, y1, _ = integrate(SLIDE, 0.0, y1, p.t_limit, coef, rtol, atol, p, table, counts, peaks)
+        code, t1, y1, _ = integrate(SLIDE, 0.0, y1, p.t_limit, coef, rtol, atol, p, table, counts, peaks,
+                                    track_loads)
     else:   # the sling already pulls harder than the projectile's weight
         code, t1 = 1, 0.0
     out[STEPS], out[EVALS] = counts[0], counts[1]
@@ -572,7 +574,8 @@ def shot(P, table, coef, rtol, atol, out):
 
     # Stage 2: free swing until release.
     y2 = np.array(swing_start(y1, p))
-    code, t2, y2, _ = integrate(SWING, t1, y2, p.t_limit, coef, rtol, atol, p, table, counts, peaks)
+    code, t2, y2, _ = integrate(SWING, t1, y2, p.t_limit, coef, rtol, atol, p, table, counts, peaks,
+                                track_loads)
     out[STEPS], out[EVALS], out[END_T] = counts[0], counts[1], t2
     if code != 0:
         if code == _FAILED:
@@ -589,7 +592,7 @@ def shot(P, table, coef, rtol, atol, out):
     # Stage 3: flight.
     t_max = t2 + flight_time_limit(y + p.h, vy, p.g)
     code, t3, y3, apex = integrate(FLIGHT, t2, np.array([x, y, vx, vy]), t_max, coef, rtol, atol,
-                                   p, table, counts, peaks)
+                                   p, table, counts, peaks, False)
     out[STEPS], out[EVALS], out[END_T] = counts[0], counts[1], t3
     if code != 0:
         if code == _FAILED:
@@ -608,7 +611,7 @@ def _write_peaks(peaks, out):
 
 
 @njit(parallel=True, **_JIT)
-def shots(designs, table, coef, rtol, atol, out):
+def shots(designs, table, coef, rtol, atol, track_loads, out):
     """``shot`` for every row of ``designs`` (S, N_PARAMS) into ``out`` (S, N_RESULT), on all threads."""
     for i in prange(designs.shape[0]):
-        shot(designs[i], table, coef, rtol, atol, out[i])
+        shot(designs[i], table, coef, rtol, atol, track_loads, out[i])

@@ -9,7 +9,8 @@
   best of ``repeat`` runs; reported: the median shot of the reference
   (``simulate(histories=False)``, scipy's DOP853 stepped from Python: the same
   summary the fast path gives), of the reference with its histories (what
-  ``python -m analytic simulate`` runs) and of the fast path; the speed-up as
+  ``python -m analytic simulate`` runs) and of the fast path, with and without
+  the peak loads (what finding them costs, in time and in evaluations); the speed-up as
   the ratio of medians; the batch's throughput on every thread and on one;
   and the agreement of the two paths (``crosscheck.compare.compare_shots``,
   the cross-check's own comparer). Also scipy with the model compiled as its
@@ -125,7 +126,10 @@ def paths(count: int, seed: int, repeat: int, batch_repeat: int, progress: bool)
     reference, reference_s = each("reference", lambda d: simulate(d, histories=False), 1)
     _, reference_full_s = each("reference + histories", simulate, 1)
     fast_shots, fast_s = each("fast", fast.simulate_fast, repeat)
+    _, fast_no_loads_s = each("fast, no loads", lambda d: fast.simulate_fast(d, loads=False), repeat)
     agree = agreement(designs, reference, fast_shots)
+    evaluations = fast.shoot(designs).evaluations
+    evaluations_no_loads = fast.shoot(designs, loads=False).evaluations
 
     rows = np.tile(fast.pack_many(designs), (batch_repeat, 1))
     batch_s, _ = best_time(lambda: fast.shoot(rows), 3)
@@ -150,6 +154,9 @@ def paths(count: int, seed: int, repeat: int, batch_repeat: int, progress: bool)
         "threading_layer": numba.threading_layer(),
         "batch_scaling": batch_one_s / batch_s,
         "max_event_time_diff_s": agree["max_event_time_diff_s"],
+        "fast_no_loads_median_shot_s": float(np.median(fast_no_loads_s)),
+        "load_tracking_time_ratio": fast_median / float(np.median(fast_no_loads_s)),
+        "load_tracking_evaluation_ratio": float(np.median(evaluations / np.maximum(evaluations_no_loads, 1))),
         "status_mismatches": agree["status_mismatches"],
         "designs": len(designs),
         "designs_thrown": agree["thrown"],
@@ -274,6 +281,9 @@ def format_bench(figures: dict) -> str:
         f"  reference with histories            {f['reference_full_median_shot_s'] * 1e3:9.3f} ms",
         f"  fast (compiled)                     {f['fast_median_shot_s'] * 1e3:9.3f} ms"
         f"   (slowest design {f['fast_max_shot_s'] * 1e3:.3f} ms)",
+        f"  fast, without the peak loads        {f['fast_no_loads_median_shot_s'] * 1e3:9.3f} ms"
+        f"   (finding them costs {f['load_tracking_time_ratio']:.2f} x the time,"
+        f" {f['load_tracking_evaluation_ratio']:.2f} x the evaluations, medians)",
         f"  speed-up                            {f['speedup']:9.1f} x  "
         f"({f['speedup_vs_full_reference']:.0f} x against the reference with histories)",
         f"  batch of {f['batch_shots']}, {f['batch_threads']} threads ({f['threading_layer']})"
