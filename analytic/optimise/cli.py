@@ -62,6 +62,10 @@ def run(args: argparse.Namespace) -> int:
         print(f"invalid --robust {args.robust!r}: the standard deviation must be a positive angle in deg",
               file=sys.stderr)
         return EXIT_INVALID
+    if args.robust is not None and problem.outcome_constraints:
+        print(f"invalid --robust {args.robust!r}: a problem with [loads] is optimised for the nominal shot only",
+              file=sys.stderr)
+        return EXIT_INVALID
     if args.nodes < 1 or (args.workers is not None and args.workers < 1):
         print("invalid --nodes / --workers: must be at least 1", file=sys.stderr)
         return EXIT_INVALID

@@ -37,8 +37,13 @@ ANGLE_VARIABLES = ("starting_angle", "release_angle")
 FRAME_MASS = "frame_mass"
 
 _TABLES = ("name", "variables", "constraints", "counterweight", "arm_beam", "projectile",
-           "environment", "release", "base")
+           "environment", "release", "base", "loads")
 _CONSTRAINT_KEYS = ("max_footprint", "max_height", "axle_radius")
+#: The loads a problem may limit or minimise (``[loads]``): the name in the file -> the
+#: ``Shot`` peak it bounds (N, N, N, m/s^2).
+LOADS = {"axle_load": "peak_axle_load", "hinge_load": "peak_hinge_load",
+         "sling_tension": "peak_sling_tension", "projectile_acceleration": "peak_projectile_acceleration"}
+_LOAD_KEYS = tuple(f"max_{name}" for name in LOADS) + ("min_range",)
 
 
 @dataclass(frozen=True)
@@ -80,6 +85,12 @@ class Problem:
     release_rule : ``"velocity"`` or ``"sling"`` (``analytic.geometry.release_value``).
     base : the frame every design stands on (``analytic.design.Base``); with a
         ``frame_mass`` variable, its mass is the variable's.
+    load_limits : ``(load, limit)`` pairs, a load of ``LOADS`` whose peak through
+        stages 1-2 must stay at or below the limit (N; m/s^2 for the projectile's
+        acceleration).
+    minimise : a load of ``LOADS`` to minimise instead of maximising the range, with the
+        range held at ``min_range`` (m) or more: a gentler machine for the same throw.
+    min_range : m, with ``minimise``.
     """
 
     name: str
@@ -94,8 +105,21 @@ class Problem:
     environment: Environment
     release_rule: str = "velocity"
     base: Base = Base()
+    load_limits: tuple[tuple[str, float], ...] = ()
+    minimise: str | None = None
+    min_range: float | None = None
 
     def __post_init__(self) -> None:
+        for load, limit in self.load_limits:
+            require_choice("loads", load, tuple(LOADS))
+            require_positive(f"loads.max_{load}", limit)
+        if self.minimise is not None:
+            require_choice("loads.minimise", self.minimise, tuple(LOADS))
+            if self.min_range is None:
+                raise DesignError("loads.min_range", None, "required with loads.minimise: the range to keep")
+            require_positive("loads.min_range", self.min_range)
+        elif self.min_range is not None:
+            raise DesignError("loads.min_range", self.min_range, "only used with loads.minimise; give both")
         names = tuple(v.name for v in self.variables)
         if names not in (VARIABLE_NAMES, VARIABLE_NAMES + (FRAME_MASS,)):
             raise DesignError("variables", list(names),
@@ -124,6 +148,13 @@ class Problem:
                 field = "base.mass" if variable.name == FRAME_MASS else f"variables.{variable.name}"
                 raise DesignError(field, (variable.lower, variable.upper),
                                   f"bounds must lie strictly between {low:g} and {high:g} ({unit})")
+
+    @property
+    def outcome_constraints(self) -> tuple[str, ...]:
+        """Names of the constraints on what a shot does (its loads, its range), in the order of
+        ``analytic.optimise.evaluate.Evaluator.outcomes``; empty for the paper's problem."""
+        names = tuple(f"peak {load.replace('_', ' ')} <= {limit:g}" for load, limit in self.load_limits)
+        return names + ((f"range >= {self.min_range:g} m",) if self.minimise is not None else ())
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -247,6 +278,10 @@ def problem_from_dict(data: dict[str, Any], name: str = "problem") -> Problem:
     release = read_values("release", require_table("release", data.get("release"), optional=True),
                           numbers=(), texts=("rule",))
     base, frame_mass = _base(data.get("base"))
+    loads = require_table("loads", data.get("loads"), optional=True)
+    reject_unknown_keys("loads", loads, _LOAD_KEYS + ("minimise",))
+    minimise = loads.get("minimise")
+    loads = read_values("loads", {k: v for k, v in loads.items() if k != "minimise"}, numbers=_LOAD_KEYS)
     return Problem(
         name=data.get("name", name),
         variables=tuple(_variable(key, variables.get(key)) for key in VARIABLE_NAMES) + frame_mass,
@@ -260,6 +295,9 @@ def problem_from_dict(data: dict[str, Any], name: str = "problem") -> Problem:
         environment=environment_from_dict(data.get("environment")),
         release_rule=release.get("rule", "velocity"),
         base=base,
+        load_limits=tuple((name, loads[f"max_{name}"]) for name in LOADS if f"max_{name}" in loads),
+        minimise=minimise,
+        min_range=loads.get("min_range"),
     )
 
 
