@@ -263,8 +263,8 @@ def _negative_load(t, stage, k, t_old, h, y_old, F, tmp, p):
 
 @njit(**_JIT)
 def _fminbound(stage, k, a, b, t_old, h, y_old, F, tmp, p):
-    """``(t, value)`` minimising ``-load k`` on [a, b]: Brent's bounded minimiser, step for
-    step scipy's ``minimize_scalar(method="bounded")`` (xatol ``PEAK_TIME_TOLERANCE``, 500 calls)."""
+    """``(t, value, calls)`` minimising ``-load k`` on [a, b]: Brent's bounded minimiser, step
+    for step scipy's ``minimize_scalar(method="bounded")`` (xatol ``PEAK_TIME_TOLERANCE``, 500 calls)."""
     xatol = PEAK_TIME_TOLERANCE
     fulc = a + _GOLDEN * (b - a)
     nfc, xf = fulc, fulc
@@ -327,7 +327,7 @@ def _fminbound(stage, k, a, b, t_old, h, y_old, F, tmp, p):
         tol2 = 2.0 * tol1
         if num >= 500:
             break
-    return xf, -fx
+    return xf, -fx, num
 
 
 @njit(**_JIT)
@@ -358,16 +358,18 @@ def _refine_peaks(stage, brackets, bracket_y, best, coef, p, table, counts):
                 _dense_prepare(stage, t_start, h, y_start, y_new, f_new, coef, K, F, tmp, p, table)
                 counts[1] += 1 + _N_STAGES + 3
                 built_t, built_h = t_start, h
-            t_peak, value = _fminbound(stage, k, t_start, t_end, t_start, h, y_start, F, tmp, p)
+            t_peak, value, calls = _fminbound(stage, k, t_start, t_end, t_start, h, y_start, F, tmp, p)
+            counts[1] += calls   # each load is one evaluation of the accelerations
             if value > best[k, 0]:
                 best[k, 0], best[k, 1] = value, t_peak
 
 
 @njit(**_JIT)
-def _sample_loads(stage, t, y, t_start, h, y_start, best, brackets, bracket_y, pending, ended, p):
+def _sample_loads(stage, t, y, t_start, h, y_start, best, brackets, bracket_y, pending, ended, p, counts):
     """Compare the loads at (t, y), the end of the step (t_start, h) from ``y_start``, with the
     largest so far; a new largest keeps that step, and the next step (``pending``) beside it."""
     values = loads_at(stage, y, p)
+    counts[1] += 1
     for k in range(N_LOADS):
         if pending[k]:   # the step after the largest sample
             brackets[k, 1, 0], brackets[k, 1, 1], brackets[k, 1, 2] = t_start, h, t
@@ -423,7 +425,7 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
     bracket_y = np.empty((N_LOADS, 2, n))
     pending = np.zeros(N_LOADS, dtype=np.bool_)
     if track:
-        _sample_loads(stage, t0, y, math.nan, 0.0, y, best, brackets, bracket_y, pending, False, p)
+        _sample_loads(stage, t0, y, math.nan, 0.0, y, best, brackets, bracket_y, pending, False, p, counts)
     exponent = -1.0 / (_ERROR_ORDER + 1)
     while t < t_bound:
         min_step = 10.0 * abs(np.nextafter(t, math.inf) - t)
@@ -502,11 +504,13 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
             y_hit = np.empty(n)
             _dense_eval(hit_t, t_old, h, y, F, y_hit)
             if track:
-                _sample_loads(stage, hit_t, y_hit, t_old, h, y, best, brackets, bracket_y, pending, True, p)
+                _sample_loads(stage, hit_t, y_hit, t_old, h, y, best, brackets, bracket_y, pending, True, p,
+                              counts)
                 _finish_peaks(stage, best, brackets, bracket_y, peaks, coef, p, table, counts)
             return hit_k, hit_t, y_hit, apex
         if track:
-            _sample_loads(stage, t_new, y_new, t_old, h, y, best, brackets, bracket_y, pending, False, p)
+            _sample_loads(stage, t_new, y_new, t_old, h, y, best, brackets, bracket_y, pending, False, p,
+                          counts)
         t = t_new
         y[:] = y_new
         f[:] = f_new

@@ -297,7 +297,8 @@ class Shots:
     range : (S,) m from the pivot to the landing point.
     apex_height : (S,) m above the base.
     end_time : (S,) s, when the shot ended (the failure's instant for a failure).
-    steps, evaluations : (S,) int, accepted integrator steps and right-hand-side evaluations.
+    steps, evaluations : (S,) int, accepted integrator steps and right-hand-side evaluations (with
+        the evaluations of the accelerations that finding the peak loads takes).
     peak_axle_load, peak_hinge_load, peak_sling_tension, peak_projectile_acceleration : (S,)
         the largest loads through stages 1-2 (N, N, N, m/s^2; ``Shot``), and each one's
         ``*_time`` (S,), s.
