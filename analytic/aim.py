@@ -264,7 +264,7 @@ def _solve(design, target_field, fast_range, a, b, target, bounds, within, value
     slope = (fast_range(root + step) - fast_range(root - step)) / (2.0 * step)
 
     def reference_range(value: float) -> float:
-        shot = simulate(target_field.replace(design, value), histories=False)
+        shot = simulate(target_field.replace(design, value), histories=False, loads=False)
         return shot.range if shot.ok else math.nan
 
     value, landed = root, reference_range(root)

@@ -35,7 +35,7 @@ _LIFTOFF_FAILURES = {"under_tip": LiftoffFailure.UNDER_TIP, "arm_back": LiftoffF
 
 
 def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAULT_ATOL,
-             histories: bool = True) -> Shot:
+             histories: bool = True, loads: bool = True) -> Shot:
     """Simulate a shot of ``design`` through all three stages.
 
     Parameters
@@ -46,6 +46,8 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
         gives only the summary (status, lift-off, release, landing, apex), the
         same as the fast path ``analytic.fast.simulate_fast``, about 5x sooner;
         the numbers are identical either way.
+    loads : find the peak loads (on the continuous solution of stages 1-2, which
+        costs about as much again as a summary without them); False leaves them None.
 
     Returns
     -------
@@ -72,8 +74,8 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
     try:
         # Stage 1: slide on the base until the normal force vanishes.
         if normal0 > 0.0:
-            slide = _run(stage, p, 0.0, y1, p.t_limit, rtol, atol, output_step)
-            peaks = _stage_peaks(stage, slide, p)
+            slide = _run(stage, p, 0.0, y1, p.t_limit, rtol, atol, output_step, loads)
+            peaks = _stage_peaks(stage, slide, p, loads)
         else:  # the sling already pulls harder than the projectile's weight
             slide = Segment(np.zeros(1), y1[None, :], "liftoff", 0.0, y1, {})
             peaks = np.full((len(stages.LOAD_NAMES), 2), -np.inf)
@@ -89,8 +91,8 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
         stage = Stage.SWING
         reached["liftoff_time"] = slide.t_end
         swing = _run(stage, p, slide.t_end, np.array(stages.swing_start(slide.y_end, p)), p.t_limit,
-                     rtol, atol, output_step)
-        stage_peaks = _stage_peaks(stage, swing, p)
+                     rtol, atol, output_step, loads)
+        stage_peaks = _stage_peaks(stage, swing, p, loads)
         later = stage_peaks[:, 0] > peaks[:, 0]
         peaks[later] = stage_peaks[later]
         reached.update(_peak_fields(peaks))
@@ -114,7 +116,7 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
         reached.update(release_time=release_time, release_position=position, release_velocity=velocity,
                        frame_release_displacement=frame_x, frame_release_velocity=frame_v)
         t_max = release_time + flight_time_limit(position[1] + p.h, velocity[1], p.g)
-        flight = _run(stage, p, release_time, start, t_max, rtol, atol, flight_step)
+        flight = _run(stage, p, release_time, start, t_max, rtol, atol, flight_step, False)
     except IntegrationError as error:
         return _finish(design, p, history, segments, Status.STEP_FAILED,
                        outcome.step_failed_message(error.time, stage), **reached)
@@ -161,8 +163,9 @@ def _frame_after_release(p: Params, release_state: np.ndarray, release_time: flo
 # --------------------------------------------------------------------------- #
 
 def _run(stage: Stage, p: Params, t0: float, y0: np.ndarray, t_end: float, rtol: float, atol: float,
-         output_step: float | None) -> Segment:
-    """Integrate ``stage`` from (t0, y0) until one of its terminal events or ``t_end``."""
+         output_step: float | None, continuous: bool) -> Segment:
+    """Integrate ``stage`` from (t0, y0) until one of its terminal events or ``t_end``; ``continuous``:
+    keep the continuous solution (on which the peak loads are located)."""
     size = stages.STATE_SIZE[stage]
 
     def rhs(t, y):
@@ -170,9 +173,8 @@ def _run(stage: Stage, p: Params, t0: float, y0: np.ndarray, t_end: float, rtol:
         stages.derivative(stage, y, p, DRAG_TABLE, out)
         return out
 
-    # Stages 1-2 keep their continuous solution, on which the peak loads are located.
     return integrate(rhs, t0, y0, t_end, _events(stage, p), rtol=rtol, atol=atol, output_step=output_step,
-                     continuous=stage is not Stage.FLIGHT)
+                     continuous=continuous)
 
 
 def _events(stage: Stage, p: Params) -> tuple[Event, ...]:
@@ -239,15 +241,17 @@ def _smallest_tension(t: np.ndarray, stage: np.ndarray, tension: np.ndarray, seg
     return float(min(best.fun, tension[i]))
 
 
-def _stage_peaks(stage: Stage, segment: Segment, p: Params) -> np.ndarray:
+def _stage_peaks(stage: Stage, segment: Segment, p: Params, loads: bool = True) -> np.ndarray:
     """The largest of each load (``stages.LOAD_NAMES``) over a stage-1 or stage-2 segment, and when,
     shape (N_LOADS, 2).
 
     Sampled at the start, every accepted step's end and the end, then refined
     on the continuous solution over the step on either side of the largest
     sample (Brent's bounded method, ``stages.PEAK_TIME_TOLERANCE``): the
-    compiled path does the same on the same steps.
+    compiled path does the same on the same steps. Not ``loads``: none (-inf).
     """
+    if not loads:
+        return np.full((len(stages.LOAD_NAMES), 2), -np.inf)
     values = np.array([stages.loads_at(int(stage), y, p) for y in segment.step_y])   # (k, N_LOADS)
     peaks = np.empty((values.shape[1], 2))
     for k in range(values.shape[1]):

@@ -384,3 +384,16 @@ def test_each_peak_tops_its_sampled_history_and_falls_on_it(frame):
         assert top <= peak * (1.0 + 1e-9), name
         assert peak <= top * 1.02, name
         assert abs(getattr(shot, f"{name}_time") - shot.t[int(np.argmax(history))]) <= 2 * (shot.t[1] - shot.t[0])
+
+
+def test_leaving_the_loads_out_changes_nothing_else(table3):
+    """``loads=False`` on either path: the same shot bit for bit, without peaks."""
+    from analytic import fast
+    from analytic.reference import simulate
+    from analytic.result import PEAK_NAMES
+
+    for run in (lambda **kw: simulate(table3, histories=False, **kw), lambda **kw: fast.simulate_fast(table3, **kw)):
+        with_loads, without = run(), run(loads=False)
+        assert without.range == with_loads.range and without.release_time == with_loads.release_time
+        assert all(getattr(without, name) is None for name in PEAK_NAMES)
+        assert all(getattr(with_loads, name) is not None for name in PEAK_NAMES)

@@ -64,24 +64,24 @@ class Throw:
     loads: dict[str, float] = field(default_factory=dict)
 
 
-def throw(problem: Problem, values: np.ndarray, tolerance: float) -> Throw:
+def throw(problem: Problem, values: np.ndarray, tolerance: float, loads: bool = True) -> Throw:
     """Simulate the design at ``values`` (shape (6,), m and rad) with rtol = atol = ``tolerance``.
 
-    The reference path: ``analytic.reference.simulate``.
+    The reference path: ``analytic.reference.simulate``; ``loads``: find the peak loads too.
     """
     try:
         design = design_at(problem, values)
     except DesignError:
         return Throw(None, DESIGN_ERROR)
     try:
-        shot = simulate(design, rtol=tolerance, atol=tolerance, histories=False)
+        shot = simulate(design, rtol=tolerance, atol=tolerance, histories=False, loads=loads)
     except ValueError:
         # simulate promises a Status for every valid design; count the ones where
         # it raises instead, so the search goes on and the report shows them.
         return Throw(None, SIMULATOR_ERROR)
     if not shot.ok:
         return Throw(None, shot.status.value)
-    return Throw(shot.range, loads={name: getattr(shot, name) for name in PEAK_NAMES})
+    return Throw(shot.range, loads={name: getattr(shot, name) for name in PEAK_NAMES} if loads else {})
 
 
 def fast_throws(problem: Problem, values: np.ndarray, tolerance: float, loads: bool = True) -> list[Throw]:
@@ -105,8 +105,8 @@ def fast_throws(problem: Problem, values: np.ndarray, tolerance: float, loads: b
         shots = fast.shoot(np.array(rows), rtol=tolerance, atol=tolerance, loads=loads)
         for j, (i, status, distance) in enumerate(zip(built, shots.status.tolist(), shots.range.tolist(),
                                                       strict=True)):
-            results[i] = (Throw(distance, loads={name: float(getattr(shots, name)[j]) for name in PEAK_NAMES})
-                          if status == Status.OK.value else Throw(None, status))
+            peaks = {name: float(getattr(shots, name)[j]) for name in PEAK_NAMES} if loads else {}
+            results[i] = Throw(distance, loads=peaks) if status == Status.OK.value else Throw(None, status)
     return results
 
 
@@ -118,7 +118,7 @@ def _start_worker(problem: Problem) -> None:
     _worker_problem = problem
 
 
-def _throw_in_worker(task: tuple[np.ndarray, float]) -> Throw:
+def _throw_in_worker(task: tuple[np.ndarray, float, bool]) -> Throw:
     return throw(_worker_problem, *task)
 
 
@@ -183,8 +183,7 @@ class Evaluator:
         Parameters
         ----------
         values : (S, n) design vectors (``problem.variables``), m, rad and kg.
-        loads : find the peak loads; by default only when the problem constrains them (the
-            reference path always does).
+        loads : find the peak loads; by default only when the problem constrains them.
         """
         values = np.asarray(values, dtype=float).reshape(-1, len(self.problem.variables))
         if loads is None:
@@ -192,9 +191,9 @@ class Evaluator:
         if self.path == FAST:
             results = self._fast_throws(values, tolerance, loads)
         elif self._pool is None:
-            results = [throw(self.problem, v, tolerance) for v in values]
+            results = [throw(self.problem, v, tolerance, loads) for v in values]
         else:
-            tasks = [(v, tolerance) for v in values]
+            tasks = [(v, tolerance, loads) for v in values]
             chunk = max(1, len(tasks) // (4 * self.workers))
             results = list(self._pool.map(_throw_in_worker, tasks, chunksize=chunk))
         self.shots += len(results)
