@@ -14,6 +14,9 @@ from analytic.outcome import Stage, Status
 __all__ = ["EnergyBudget", "JSON_KEYS", "PEAK_NAMES", "Shot", "Shots", "Stage", "Status", "ideal_range"]
 
 
+#: The peak loads over stages 1-2, each a ``Shot`` field (and ``<name>_time``), in the order of
+#: ``analytic.stages.LOAD_NAMES``: N, N, N, m/s^2.
+PEAK_NAMES = ("peak_axle_load", "peak_hinge_load", "peak_sling_tension", "peak_projectile_acceleration")
 #: Keys of the ``--json`` object, shared by ``analytic`` and ``engine_model``.
 JSON_KEYS = (
     "design", "status", "message", "liftoff_time", "release_time",
@@ -21,13 +24,9 @@ JSON_KEYS = (
     "range", "range_from_release", "apex_height", "flight_time", "landing_time",
     "landed_behind_pivot", "energy_efficiency", "range_efficiency", "min_sling_tension",
     "frame_release_displacement", "frame_release_velocity",
-    "peak_sling_tension", "peak_sling_tension_time", "peak_axle_load", "peak_axle_load_time",
-    "peak_hinge_load", "peak_hinge_load_time", "peak_projectile_acceleration",
-    "peak_projectile_acceleration_time", "warnings",
+    *(f"{name}{suffix}" for name in PEAK_NAMES for suffix in ("", "_time")),
+    "warnings",
 )
-#: The peak loads over stages 1-2, each a ``Shot`` field (and ``<name>_time``), in the order of
-#: ``analytic.stages.LOAD_NAMES``: N, N, N, m/s^2.
-PEAK_NAMES = ("peak_axle_load", "peak_hinge_load", "peak_sling_tension", "peak_projectile_acceleration")
 
 
 @dataclass(frozen=True)
