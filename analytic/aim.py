@@ -307,27 +307,31 @@ def _band(fast_range, value, target, within, values, ranges) -> tuple[float, flo
 
 
 def format_aim(result: Aim, system: str = "metric") -> str:
-    """The result as text for a builder (lengths in ``system``'s units; the setting in file units)."""
+    """The result as text for a builder, lengths, masses and speeds in ``system``'s units
+    (``analytic.units.display``); angles in degrees."""
     from analytic.units import display
 
-    unit = result.field.unit
+    file_unit = result.field.unit
+    scale, unit = display(1.0, file_unit, system)   # shown units per file unit
+    per_metre, length = display(1.0, "m", system)
 
     def metres(value: float) -> str:
-        number, label = display(value, "m", system)
-        return f"{number:.4f} {label}"
+        return f"{value * per_metre:.4f} {length}"
+
+    def setting(value: float) -> str:
+        return f"{value * scale:.6f}"
 
     lines = [f"aim {result.field.name} at {metres(result.target)} "
-             f"(searched {result.bounds[0]:.6g} .. {result.bounds[1]:.6g} {unit})"]
+             f"(searched {setting(result.bounds[0])} .. {setting(result.bounds[1])} {unit})"]
     if result.reachable is not None:
         lines.append(f"  reachable: {metres(result.reachable[0])} .. {metres(result.reachable[1])}")
     if not result.solutions:
         lines.append("  out of reach: no setting within the bounds lands on the target"
                      + ("" if result.reachable is not None else " (no setting throws at all)"))
-    per, per_label = display(1.0, "m", system)
     for i, s in enumerate(result.solutions, 1):
-        lines.append(f"  solution {i}: {result.field.key} = {s.value:.6f} {unit}  -> {metres(s.range)} "
+        lines.append(f"  solution {i}: {result.field.key} = {setting(s.value)} {unit}  -> {metres(s.range)} "
                      f"(reference path)")
-        lines.append(f"    {s.metres_per_unit * per:+.4f} {per_label} per {unit}")
+        lines.append(f"    {s.metres_per_unit * per_metre / scale:+.4f} {length} per {unit}")
         if s.band is not None:
-            lines.append(f"    within {metres(result.within)}: {s.band[0]:.6f} .. {s.band[1]:.6f} {unit}")
+            lines.append(f"    within {metres(result.within)}: {setting(s.band[0])} .. {setting(s.band[1])} {unit}")
     return "\n".join(lines)

@@ -153,3 +153,17 @@ def test_failures_in_the_scan_are_gaps_not_solutions(table3):
     result = aim(table3, "counterweight_mass", 30.0, bounds=(0.01, 8.0))
     assert np.isnan(result.ranges[0]) and result.status[0] != "ok"
     _assert_lands(table3, result)
+
+
+def test_imperial_output_shows_feet_and_pounds(table3, tmp_path, capsys):
+    path = tmp_path / "d.toml"
+    save_design(table3, path)
+    argv = ["aim", str(path), "--target", "100ft", "--adjust", "counterweight_mass", "--bounds", "2kg:8kg"]
+    assert cli.main(argv + ["--json"]) == 0
+    (solution,) = json.loads(capsys.readouterr().out)["solutions"]
+    assert cli.main(argv + ["--units", "imperial"]) == 0
+    text = capsys.readouterr().out
+    pound, foot = 0.45359237, 0.3048   # the international pound and foot (1959)
+    assert f"counterweight_mass = {solution['value'] / pound:.6f} lb" in text
+    assert f"{solution['metres_per_unit'] / foot * pound:+.4f} ft per lb" in text
+    assert "at 100.0000 ft" in text
