@@ -20,6 +20,7 @@ JSON_KEYS = (
     "release_position", "release_velocity", "release_speed", "launch_angle",
     "range", "range_from_release", "apex_height", "flight_time", "landing_time",
     "landed_behind_pivot", "energy_efficiency", "range_efficiency", "min_sling_tension",
+    "frame_release_displacement", "frame_release_velocity",
 )
 
 
@@ -28,9 +29,9 @@ class EnergyBudget:
     """Mechanical energy through stages 1 and 2, J; each array has shape (n,) on ``Shot.t``.
 
     ``projectile`` is kinetic plus potential energy of the projectile relative to
-    its start; ``machine`` likewise for arm and counterweight (negative as the
-    counterweight falls); ``total = projectile + machine`` is conserved by the
-    dynamics (drag acts only in flight).
+    its start; ``machine`` likewise for arm and counterweight, and a rolling
+    frame's kinetic energy (negative as the counterweight falls); ``total =
+    projectile + machine`` is conserved by the dynamics (drag acts only in flight).
     """
 
     projectile: np.ndarray
@@ -47,14 +48,18 @@ class Shot:
     when ``status`` is ``NEVER_RELEASES``. The history arrays are empty for a
     summary-only shot (the fast path, or ``simulate(histories=False)``).
 
+    Positions and velocities are in ground coordinates, m from the pivot's
+    position at rest (a mark on the ground); for a fixed frame that is the
+    pivot itself. A rolling frame carries the pivot X along (``frame_*``).
+
     Attributes
     ----------
     design : the design simulated.
     status, message : how it ended, in words a user can act on.
     liftoff_time, release_time, landing_time : s from firing, or None.
-    release_position : (2,) projectile centre at release [x, y], m from the pivot.
-    release_velocity : (2,) projectile velocity at release [vx, vy], m/s.
-    landing_position : (2,) where the projectile reaches base level, m from the pivot.
+    release_position : (2,) projectile centre at release [x, y], m from the pivot at rest.
+    release_velocity : (2,) projectile velocity at release [vx, vy] over the ground, m/s.
+    landing_position : (2,) where the projectile reaches base level, m from the pivot at rest.
     apex_height : highest point of the flight above the base, m.
     min_sling_tension : smallest sling tension in stages 1 and 2, N (negative: the rigid sling pushed).
     t : (n,) sample times through stages 1 and 2, s.
@@ -63,10 +68,20 @@ class Shot:
     sling_tension : (n,) N.
     energy : ``EnergyBudget`` on ``t``.
     flight_t : (k,) flight sample times, s (from firing).
-    flight_path : (k, 2) projectile centre in flight, m from the pivot.
-    path : (n, 2) projectile centre through stages 1 and 2, m from the pivot.
+    flight_path : (k, 2) projectile centre in flight, m from the pivot at rest.
+    path : (n, 2) projectile centre through stages 1 and 2, m from the pivot at rest.
     counterweight_energy_released : J, potential energy given up by counterweight
         and arm between firing and release.
+    frame_release_displacement, frame_release_velocity : the frame's
+        displacement X (m, forward positive) and velocity (m/s) at release;
+        0.0 for a fixed frame, None if the shot never released.
+    frame_landing_displacement, frame_landing_velocity : the same at the
+        landing instant (the machine keeps moving after release, without the
+        projectile); 0.0 for a fixed frame, None if the projectile never landed.
+    max_frame_speed : largest |frame velocity| over the machine's motion, m/s:
+        from firing to the landing (to release if the projectile never lands,
+        to the failure if it fails before); 0.0 for a fixed frame.
+    frame_x : (n,) the frame's displacement X on ``t``, m (zeros for a fixed frame).
     diagnostics : how far the model that made the shot can be trusted, or None
         (the engine model's ``EngineDiagnostics``).
     """
@@ -83,6 +98,11 @@ class Shot:
     apex_height: float | None = None
     min_sling_tension: float | None = None
     counterweight_energy_released: float | None = None
+    frame_release_displacement: float | None = None
+    frame_release_velocity: float | None = None
+    frame_landing_displacement: float | None = None
+    frame_landing_velocity: float | None = None
+    max_frame_speed: float | None = None
     t: np.ndarray = field(default_factory=lambda: np.empty(0))
     stage: np.ndarray = field(default_factory=lambda: np.empty(0, dtype=int))
     q: np.ndarray = field(default_factory=lambda: np.empty((0, 3)))
@@ -92,6 +112,7 @@ class Shot:
     energy: EnergyBudget | None = None
     flight_t: np.ndarray = field(default_factory=lambda: np.empty(0))
     flight_path: np.ndarray = field(default_factory=lambda: np.empty((0, 2)))
+    frame_x: np.ndarray = field(default_factory=lambda: np.empty(0))
     diagnostics: Any = None
 
     @property
@@ -123,7 +144,8 @@ class Shot:
 
     @property
     def range(self) -> float | None:
-        """Horizontal distance from the pivot to the landing point, m (negative: behind the pivot)."""
+        """Horizontal distance from the pivot's position at rest to the landing point, m
+        (negative: behind it)."""
         return None if self.landing_position is None else float(self.landing_position[0])
 
     @property
@@ -186,6 +208,8 @@ class Shot:
             "energy_efficiency": number(self.energy_efficiency),
             "range_efficiency": number(self.range_efficiency),
             "min_sling_tension": number(self.min_sling_tension),
+            "frame_release_displacement": number(self.frame_release_displacement),
+            "frame_release_velocity": number(self.frame_release_velocity),
         }
 
 
