@@ -13,6 +13,7 @@ from analytic.design_file import default_design
 from analytic.geometry import machine_points
 from analytic.result import JSON_KEYS
 from conftest import with_machine, with_projectile
+from crosscheck.cases import rolling_cases
 from engine_model import DEFAULT_DT, EngineError, simulate
 from engine_model import kinematics as kin
 from engine_model.build import build, frame_body_mass
@@ -177,3 +178,14 @@ def test_momentum_uses_the_design_masses():
     expected = (10.0 + design.machine.arm_mass) * 0.1 + 6.5 * -0.2 + design.projectile.mass * 3.0
     assert kin.horizontal_momentum(row, design)[0] == pytest.approx(expected, rel=1e-15)
 
+
+@pytest.mark.slow
+@pytest.mark.parametrize("case", rolling_cases(), ids=lambda c: c.name)
+def test_the_engine_trusts_itself_on_every_rolling_cross_check_case(case):
+    # Its own checks pass (no EngineError) with room to spare, and momentum holds.
+    shot = simulate(case.design)
+    diagnostics = shot.diagnostics
+    assert shot.ok, shot.message
+    assert diagnostics.momentum_error < MOMENTUM_TOLERANCE
+    assert max(diagnostics.energy_error, diagnostics.after_release_energy_error) < ENERGY_TOLERANCE
+    assert diagnostics.max_joint_drift < 1e-5 * (case.design.machine.arm_long + case.design.machine.sling_length)
