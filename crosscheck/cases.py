@@ -1,4 +1,5 @@
-"""The designs the cross-check runs: the paper's, ones that exercise every input, a seeded sample."""
+"""The designs the cross-check runs: the paper's, ones that exercise every input, a seeded sample,
+and machines on wheels."""
 
 from __future__ import annotations
 
@@ -8,14 +9,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from analytic.design import BeamArm, Design, Projectile
+from analytic.design import Base, BeamArm, Design, Projectile
 from analytic.design_file import default_design, load_design
 from analytic.optimise.problem import default_problem, design_at, from_unit
 
 
 @dataclass(frozen=True)
 class Case:
-    """One design to run through both models; ``group`` is paper, exercise, sample or file."""
+    """One design to run through both models; ``group`` is paper, exercise, failure, sample, rolling or file."""
 
     name: str
     design: Design
@@ -109,6 +110,26 @@ def sample_cases(count: int, seed: int) -> list[Case]:
         design = design_at(dataclasses.replace(problem, arm=arm), from_unit(problem, unit), name=name)
         cases.append(Case(name, design, "sample"))
     return cases
+
+
+#: Frame masses the paper's design rolls on, kg: from under a third of its
+#: counterweight (6.5 kg), where the frame jumps most, to 15 times the whole
+#: moving machine (6.9 kg), where it is nearly a fixed frame.
+ROLLING_FRAME_MASSES = (2.0, 5.0, 20.0, 100.0)
+#: Frame mass the sampled designs are put on wheels with, kg: about the counterweight's.
+ROLLING_SAMPLE_FRAME_MASS = 10.0
+
+
+def rolling_cases(sample: int = 4, seed: int = 0) -> list[Case]:
+    """The paper's design on frames from light to heavy (``ROLLING_FRAME_MASSES``) and the first
+    ``sample`` designs of ``sample_cases(sample, seed)`` on a ``ROLLING_SAMPLE_FRAME_MASS`` frame."""
+    table3 = default_design()
+    designs = [dataclasses.replace(table3, name=f"table3-rolling-{mass:g}kg", base=Base("rolling", mass))
+               for mass in ROLLING_FRAME_MASSES]
+    designs += [dataclasses.replace(case.design, name=f"{case.name}-rolling",
+                                    base=Base("rolling", ROLLING_SAMPLE_FRAME_MASS))
+                for case in sample_cases(sample, seed)]
+    return [Case(design.name, design, "rolling") for design in designs]
 
 
 def file_cases(paths: list[str]) -> list[Case]:

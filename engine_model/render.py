@@ -3,8 +3,10 @@
 Frames are drawn from the recorded ``Shot`` alone (coordinates, projectile path,
 flight path), at fixed intervals of simulated time. The camera starts on the
 machine and widens to keep the projectile's trace in view, so the last frame,
-at the landing instant, shows the whole flight. The machine is not simulated
-after release: it is drawn as it was at release. Frames are deterministic: the
+at the landing instant, shows the whole flight. The machine is drawn as it
+was at release from then on (the ``Shot`` records its motion only up to
+release). A rolling frame is drawn on two wheels, carried along by its
+displacement, the wheels turning as they roll. Frames are deterministic: the
 PNGs carry no software version or time stamp.
 """
 
@@ -18,6 +20,7 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle
+from matplotlib.transforms import Affine2D
 
 from analytic.design import Design
 from analytic.geometry import machine_points
@@ -36,6 +39,9 @@ COUNTERWEIGHT_DRAW_DENSITY = 7200.0
 MARGIN = 0.06
 #: Most trace points drawn (the trace is thinned evenly beyond this).
 TRACE_POINTS = 1500
+#: A rolling frame's wheels, drawn with this radius as a fraction of the pivot
+#: height (for the picture only: the model's frame has no wheel size).
+WHEEL_RADIUS_FRACTION = 0.12
 
 _STAGE_NAMES = {Stage.SLIDE: "stage 1: slide", Stage.SWING: "stage 2: swing", Stage.FLIGHT: "stage 3: flight"}
 
@@ -51,6 +57,8 @@ class FrameState:
     long_tip, short_tip, counterweight, projectile : part positions.
     sling_attached : draw the sling (until release).
     trace : (k, 2) projectile path so far.
+    frame_x : the frame's displacement, m (0 for a fixed frame); the part
+        positions already include it.
     """
 
     time: float
@@ -61,6 +69,7 @@ class FrameState:
     projectile: np.ndarray
     sling_attached: bool
     trace: np.ndarray
+    frame_x: float = 0.0
 
 
 def end_time(shot: Shot) -> float:
@@ -90,6 +99,10 @@ def frame_state(shot: Shot, time: float) -> FrameState:
     swing_time = min(time, float(shot.t[-1]))
     q = np.array([np.interp(swing_time, shot.t, shot.q[:, i]) for i in range(3)])
     points = machine_points(q, shot.design.machine)
+    frame_x = 0.0
+    if shot.design.base.rolling and len(shot.frame_x):
+        frame_x = float(np.interp(swing_time, shot.t, shot.frame_x))
+        points = {name: point + np.array([frame_x, 0.0]) for name, point in points.items()}
     on_machine = shot.t <= swing_time
     trace = [shot.path[on_machine]]
     if in_flight:
@@ -105,7 +118,7 @@ def frame_state(shot: Shot, time: float) -> FrameState:
         label = f"{label} - {shot.status.value}"
     trace.append(projectile[None, :])
     return FrameState(time, label, points["long_tip"], points["short_tip"], points["counterweight"],
-                      projectile, not in_flight, np.vstack(trace))
+                      projectile, not in_flight, np.vstack(trace), frame_x)
 
 
 def camera(design: Design, state: FrameState) -> tuple[float, float, float, float]:
@@ -113,7 +126,8 @@ def camera(design: Design, state: FrameState) -> tuple[float, float, float, floa
     margin, widened to the frame's aspect ratio (the base stays at the bottom)."""
     m = design.machine
     reach = max(m.arm_long + m.sling_length, m.arm_short + m.counterweight_link)
-    x_min, x_max = min(-reach, state.trace[:, 0].min()), max(reach, state.trace[:, 0].max())
+    x_min = min(state.frame_x - reach, state.trace[:, 0].min())
+    x_max = max(state.frame_x + reach, state.trace[:, 0].max())
     y_min, y_max = -m.pivot_height, max(reach, state.trace[:, 1].max())
     width, height = x_max - x_min, y_max - y_min
     x_min, x_max = x_min - MARGIN * width, x_max + MARGIN * width
@@ -149,7 +163,26 @@ class _Drawing:
         h = m.pivot_height
         foot = 0.5 * h
         self.base, = ax.plot([], [], color="#5a4a3a", linewidth=2.0)
-        ax.plot([-foot, 0.0, foot], [-h, 0.0, -h], color="#7a6a5a", linewidth=2.5, solid_joinstyle="miter")
+        self.wheels = []
+        if design.base.rolling:
+            # Legs down to the axles, a beam between them, and two wheels
+            # whose spokes turn as they roll without slipping.
+            wheel = WHEEL_RADIUS_FRACTION * h
+            axle = wheel - h
+            self.frame_lines, = ax.plot([], [], color="#7a6a5a", linewidth=2.5, solid_joinstyle="miter")
+            self.frame_shape = np.array([[-foot, axle], [0.0, 0.0], [foot, axle], [-foot, axle]])
+            for centre in (-foot, foot):
+                rim = Circle((centre, axle), wheel, facecolor="none", edgecolor="#303030", linewidth=2.0,
+                             zorder=2)
+                spokes, = ax.plot([centre - wheel, centre + wheel, np.nan, centre, centre],
+                                  [axle, axle, np.nan, axle - wheel, axle + wheel],
+                                  color="#303030", linewidth=1.0, zorder=2)
+                ax.add_patch(rim)
+                self.wheels.append((rim, spokes, centre, axle, wheel))
+            # The mark on the ground under the pivot at rest, which ranges are measured from.
+            ax.plot([0.0], [-h], marker="^", color="#5a4a3a", markersize=7, zorder=1)
+        else:
+            ax.plot([-foot, 0.0, foot], [-h, 0.0, -h], color="#7a6a5a", linewidth=2.5, solid_joinstyle="miter")
         self.trace, = ax.plot([], [], color="#f0a030", linewidth=1.0, linestyle=(0, (2, 2)))
         self.sling, = ax.plot([], [], color="#404040", linewidth=1.0)
         self.link, = ax.plot([], [], color="#404040", linewidth=1.5)
@@ -157,7 +190,7 @@ class _Drawing:
         radius = (3.0 * m.counterweight_mass / (4.0 * math.pi * COUNTERWEIGHT_DRAW_DENSITY)) ** (1.0 / 3.0)
         self.counterweight = Circle((0.0, 0.0), radius, color="#303030", zorder=3)
         ax.add_patch(self.counterweight)
-        ax.plot([0.0], [0.0], marker="o", color="black", markersize=4, zorder=4)
+        self.pivot, = ax.plot([0.0], [0.0], marker="o", color="black", markersize=4, zorder=4)
         self.projectile, = ax.plot([], [], marker="o", linestyle="none", color=PROJECTILE_COLOUR,
                                    markersize=PROJECTILE_MARKER_PX * 72.0 / FRAME_DPI, zorder=5)
         self.text = ax.text(0.01, 0.98, "", transform=ax.transAxes, va="top", ha="left",
@@ -169,6 +202,15 @@ class _Drawing:
         self.axes.set_ylim(y_min, y_max)
         h = self.design.machine.pivot_height
         self.base.set_data([x_min, x_max], [-h, -h])
+        if self.wheels:
+            x = state.frame_x
+            self.frame_lines.set_data(self.frame_shape[:, 0] + x, self.frame_shape[:, 1])
+            self.pivot.set_data([x], [0.0])
+            for rim, spokes, centre, axle, radius in self.wheels:
+                rim.center = (centre + x, axle)
+                # Rolling forward (x growing) turns a wheel clockwise by x / radius.
+                turn = Affine2D().rotate_around(centre, axle, -x / radius).translate(x, 0.0)
+                spokes.set_transform(turn + self.axes.transData)
         self.arm.set_data([state.short_tip[0], state.long_tip[0]], [state.short_tip[1], state.long_tip[1]])
         self.link.set_data([state.short_tip[0], state.counterweight[0]],
                            [state.short_tip[1], state.counterweight[1]])

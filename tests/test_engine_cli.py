@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import subprocess
 import sys
@@ -9,6 +10,7 @@ from pathlib import Path
 
 import pytest
 
+from analytic.design import Base
 from analytic.design_file import default_design, save_design
 from analytic.result import JSON_KEYS
 from conftest import with_machine
@@ -23,6 +25,19 @@ def test_simulate_json_has_the_shared_keys_and_the_drift(capsys):
     assert data["status"] == "ok" and data["design"] == "paper-table3"
     assert 0.0 < data["max_joint_drift"] < 1e-4
     assert data["launch_angle"] == pytest.approx(43.4)  # the velocity rule's release angle, degrees
+    assert (data["frame_release_displacement"], data["frame_release_velocity"]) == (0.0, 0.0)  # bolted down
+
+
+def test_a_rolling_frame_is_reported_in_json_and_table(capsys, tmp_path):
+    path = tmp_path / "wheels.toml"
+    save_design(dataclasses.replace(default_design(), base=Base("rolling", 5.0)), path)
+    assert main(["simulate", str(path), "--json", "--dt", "4e-4"]) == EXIT_OK
+    data = json.loads(capsys.readouterr().out)
+    # The 5 kg frame moves back a few mm and is rolling forward at release (0.86 m/s at the default step).
+    assert -0.01 < data["frame_release_displacement"] < 0.0 < 0.5 < data["frame_release_velocity"] < 1.5
+    assert main(["simulate", str(path), "--dt", "4e-4"]) == EXIT_OK
+    out = capsys.readouterr().out
+    assert "frame velocity at release" in out and "frame at landing" in out and "momentum error" in out
 
 
 def test_simulate_table_names_the_outcome(capsys, tmp_path):

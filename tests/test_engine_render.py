@@ -2,15 +2,18 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import struct
 
 import numpy as np
 import pytest
 
+from analytic.design import Base
 from analytic.design_file import default_design
-from engine_model.render import (FRAME_SIZE, PROJECTILE_COLOUR, FrameState, draw_frame, frame_times,
-                                 render_shot)
+from analytic.geometry import machine_points
+from engine_model.render import (FRAME_SIZE, PROJECTILE_COLOUR, WHEEL_RADIUS_FRACTION, FrameState, camera,
+                                 draw_frame, frame_state, frame_times, render_shot)
 from engine_model import simulate
 
 
@@ -65,3 +68,46 @@ def test_the_projectile_is_drawn_where_it_is(shot):
     rows, cols = np.nonzero(np.all(np.abs(pixels[:, :, :3] - red) < 40, axis=2))
     assert len(rows) > 20, "projectile not drawn"
     assert (cols.mean(), rows.mean()) == pytest.approx((420.0, 300.0), abs=1.0)
+
+
+def _dark_columns(pixels: np.ndarray, rows: slice) -> np.ndarray:
+    """Columns of the near-black (#303030) pixels within ``rows``: wheels, or the counterweight."""
+    band = pixels[rows, :, :3].astype(int)
+    return np.nonzero(np.all(np.abs(band - 0x30) < 24, axis=2))[1]
+
+
+@pytest.mark.parametrize("frame_x", [0.0, 1.0, -0.5])
+def test_a_rolling_frame_is_drawn_on_wheels_where_it_is(shot, frame_x):
+    # The view of the test above (60 px/m, y = -1..8 m): the wheels stand on the
+    # base at y = -h, so they fill rows (8 + h) * 60 upwards by 2 r * 60 px, and
+    # they are centred at x = frame_x -/+ h/2, columns (frame_x -/+ h/2 + 2) * 60.
+    design = dataclasses.replace(shot.design, base=Base("rolling", 20.0))
+    h = design.machine.pivot_height
+    state = FrameState(time=0.0, label="test", long_tip=np.array([frame_x - 0.5, 0.5]),
+                       short_tip=np.array([frame_x + 0.2, 3.0]), counterweight=np.array([frame_x + 0.2, 5.0]),
+                       projectile=np.array([5.0, 3.0]), sling_attached=False,
+                       trace=np.array([[5.0, 3.0]]), frame_x=frame_x)
+    view = (-2.0, 14.0, -1.0, 8.0)
+    ground_row = round((8.0 + h) * 60.0)
+    wheel_rows = slice(ground_row - round(2 * WHEEL_RADIUS_FRACTION * h * 60.0), ground_row)
+    columns = _dark_columns(draw_frame(design, state, view), wheel_rows)
+    left, right = columns[columns < (frame_x + 2.0) * 60.0], columns[columns > (frame_x + 2.0) * 60.0]
+    assert len(left) > 20 and len(right) > 20, "wheels not drawn"
+    assert left.mean() == pytest.approx((frame_x - 0.5 * h + 2.0) * 60.0, abs=1.5)
+    assert right.mean() == pytest.approx((frame_x + 0.5 * h + 2.0) * 60.0, abs=1.5)
+    # A fixed frame stands on the base with no wheels.
+    fixed = dataclasses.replace(state, frame_x=0.0)
+    assert len(_dark_columns(draw_frame(shot.design, fixed, view), wheel_rows)) == 0
+
+
+def test_frames_of_a_rolling_shot_follow_its_frame(shot):
+    rolling_shot = simulate(dataclasses.replace(shot.design, base=Base("rolling", 2.0)), dt=4e-4)
+    moving = int(np.argmax(np.abs(rolling_shot.frame_x)))
+    state = frame_state(rolling_shot, float(rolling_shot.t[moving]))
+    assert state.frame_x == rolling_shot.frame_x[moving] != 0.0
+    # Every part is drawn carried along by the frame (positions relative to the pivot, plus X).
+    points = machine_points(rolling_shot.q[moving], rolling_shot.design.machine)
+    for part in ("long_tip", "short_tip", "counterweight"):
+        assert getattr(state, part) == pytest.approx(points[part] + [state.frame_x, 0.0], abs=1e-12), part
+    assert state.projectile == pytest.approx(rolling_shot.path[moving], abs=1e-12)   # already over the ground
+    assert camera(rolling_shot.design, state)[0] < state.frame_x - rolling_shot.design.machine.arm_long
