@@ -143,4 +143,4 @@ def file_cases(paths: list[str]) -> list[Case]:
 
 def default_suite(sample: int = 24, seed: int = 0) -> list[Case]:
     """The suite ``python -m crosscheck`` runs with no design files."""
-    return paper_cases() + exercise_cases() + failure_cases() + sample_cases(sample, seed)
+    return paper_cases() + exercise_cases() + failure_cases() + sample_cases(sample, seed) + rolling_cases()
