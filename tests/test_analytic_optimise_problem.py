@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import math
 import re
-import tomllib
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -18,16 +16,7 @@ from analytic.optimise.constraints import (CONSTRAINT_NAMES, axle_distance, cons
 from analytic.optimise.problem import (VARIABLE_NAMES, default_problem, design_at, from_unit,
                                        problem_from_dict, to_unit, variables_of)
 from analytic.optimise.report import PAPER_RATIOS, ratios
-
-from test_analytic_design import NOT_NUMBERS
-
-PROBLEM_FILE = Path(__file__).parents[1] / "analytic" / "data" / "paper_problem.toml"
-
-
-def problem_dict() -> dict:
-    """The default problem file as a dict, to vary in tests."""
-    with PROBLEM_FILE.open("rb") as handle:
-        return tomllib.load(handle)
+from support import NOT_NUMBERS, problem_dict
 
 
 def test_default_bounds_are_table_ii():

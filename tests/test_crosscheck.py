@@ -12,7 +12,7 @@ import pytest
 from analytic.design_file import save_design
 from analytic import outcome
 from analytic.result import Shot, Status
-from conftest import with_machine
+from support import with_machine
 from crosscheck import tolerances
 from crosscheck.cases import exercise_cases, failure_cases, paper_cases, sample_cases
 from crosscheck.cli import EXIT_AGREE, EXIT_DISAGREE, main

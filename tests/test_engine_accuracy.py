@@ -8,7 +8,7 @@ import pytest
 
 from analytic.design_file import default_design
 from analytic.reference import simulate as analytic_simulate
-from conftest import with_environment, with_machine, with_projectile
+from support import with_environment, with_machine, with_projectile
 from engine_model import DEFAULT_DT, simulate
 
 #: The brief's agreement for release speed and range: 0.05 per cent. Measured on
