@@ -16,7 +16,7 @@ from analytic.optimise.constraints import (CONSTRAINT_NAMES, axle_distance, cons
 from analytic.optimise.problem import (VARIABLE_NAMES, default_problem, design_at, from_unit,
                                        problem_from_dict, to_unit, variables_of)
 from analytic.optimise.report import PAPER_RATIOS, ratios
-from support import NOT_NUMBERS, problem_dict
+from support import NOT_NUMBERS, problem_dict, table3_beam
 
 
 def test_default_bounds_are_table_ii():
@@ -36,6 +36,14 @@ def test_counterweight_sphere_matches_the_table3_file(table3):
     # paper_table3.toml: a cast-iron sphere of 6.5 kg has I = 0.009345 kg m^2 (4 significant digits).
     assert default_problem().counterweight_inertia == pytest.approx(
         table3.machine.counterweight_inertia, rel=5e-4)
+
+
+def test_arm_beam_is_the_table3_files(table3):
+    # Both files assume the same pine beam; the problem's arm must rebuild the default design's.
+    problem = default_problem()
+    m = table3.machine
+    assert problem.arm == table3_beam()
+    assert problem.arm.properties(m.arm_long, m.arm_short) == (m.arm_mass, m.arm_cg, m.arm_inertia)
 
 
 def test_table3_design_round_trips(table3):
