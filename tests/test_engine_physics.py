@@ -84,6 +84,7 @@ def test_joint_drift_is_only_the_one_step_chord_error(engine, analytic):
 def test_joint_drift_below_a_micrometre_at_the_default_step(engine):
     # Required of the engine. The drift is the chord error above, ~dt^2: 3.4e-6 m
     # at 1e-4 s, which is why the default step is 5e-5 s (8.5e-7 m).
+    assert engine.diagnostics.dt == DEFAULT_DT  # the step simulate takes unless told
     assert engine.diagnostics.max_joint_drift < 1e-6
 
 
