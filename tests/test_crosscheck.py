@@ -83,7 +83,8 @@ def test_a_flight_that_never_lands_is_compared_like_any_outcome():
     # A flight past its bound used to raise in the engine, uncaught, ending the
     # whole cross-check (this design even came out "thrown": its explicit drag
     # overshot in one step). The analytic side stands in with its verdict on
-    # this design (no_landing within 64.9 s: tests/test_analytic_failures.py).
+    # this design (measured: `python -m analytic simulate analytic/data/designs/fails-no_landing.toml`
+    # says no_landing within 64.9 s, the flight bound of analytic.limits for its release).
     case = next(c for c in failure_cases() if c.expected == Status.NO_LANDING.value)
     verdict = Shot(case.design, Status.NO_LANDING, outcome.no_landing_message(64.9))
     result = compare(case, analytic_shot=verdict)

@@ -52,6 +52,7 @@ def test_a_flight_that_never_lands_exits_3(capsys, tmp_path):
     save_design(failure_designs()[Status.NO_LANDING], path)
     assert main(["simulate", str(path), "--json"]) == EXIT_NO_THROW
     data = json.loads(capsys.readouterr().out)
+    # 64.9 s: the flight bound for the engine's release state (analytic.limits.flight_time_limit).
     assert data["status"] == "no_landing" and "64.9 s" in data["message"] and data["range"] is None
 
 
