@@ -33,7 +33,8 @@ def _fast_cases():
 
 @functools.cache
 def _compared(name: str, mistake: str | None = None):
-    """``compare`` on a case of the fast subset, once a session; with ``mistake`` the engine is handed the mistaken machine."""
+    """``compare`` on a case of the fast subset, once a session; with ``mistake``, against an
+    engine handed the mistaken machine."""
     case = next(c for c in _fast_cases() if c.name == name)
     return compare(case) if mistake is None else compare(case, engine=_engine_with_changes(MISTAKES[mistake]))
 

@@ -1,4 +1,4 @@
-"""The engine against the analytic model: within the cross-check's tolerances at the default step, second-order convergence."""
+"""The engine against the analytic model: within the cross-check's tolerances, second-order convergence."""
 
 from __future__ import annotations
 
