@@ -15,8 +15,7 @@ from analytic.optimise.report import display
 from analytic.optimise.robust import release_scatter
 from analytic.optimise.search import Settings, maximise
 from analytic.result import Shots, Status
-
-from test_analytic_optimise_run import SEED_DESIGN_AGREEMENT, SEED_RANGE_AGREEMENT
+from support import SEED_DESIGN_AGREEMENT, SEED_RANGE_AGREEMENT
 
 #: The two paths share equations, integrator and events, so their ranges differ by
 #: round-off only (measured: < 3e-13 relative on the candidates below, at both tolerances).

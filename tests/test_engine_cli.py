@@ -12,9 +12,8 @@ import pytest
 
 from analytic.design import Base
 from analytic.design_file import default_design, save_design
-from analytic.result import JSON_KEYS
-from conftest import with_machine
-from crosscheck.cases import failure_cases
+from analytic.result import JSON_KEYS, Status
+from support import failure_designs, with_machine
 from engine_model.cli import EXIT_ENGINE_ERROR, EXIT_INVALID, EXIT_NO_THROW, EXIT_OK, main
 
 
@@ -58,16 +57,17 @@ def test_an_invalid_design_exits_2_with_the_field_named(capsys, tmp_path):
 
 def test_a_failed_throw_exits_3(capsys, tmp_path):
     path = tmp_path / "weak.toml"
-    save_design(with_machine(default_design(), counterweight_mass=0.2), path)  # cannot lift the arm
+    save_design(failure_designs()[Status.NEVER_FIRES], path)
     assert main(["simulate", str(path), "--json"]) == EXIT_NO_THROW
     assert json.loads(capsys.readouterr().out)["status"] == "never_fires"
 
 
 def test_a_flight_that_never_lands_exits_3(capsys, tmp_path):
     path = tmp_path / "balloon.toml"
-    save_design(next(c.design for c in failure_cases() if c.expected == "no_landing"), path)
+    save_design(failure_designs()[Status.NO_LANDING], path)
     assert main(["simulate", str(path), "--json"]) == EXIT_NO_THROW
     data = json.loads(capsys.readouterr().out)
+    # 64.9 s: the flight bound for the engine's release state (analytic.limits.flight_time_limit).
     assert data["status"] == "no_landing" and "64.9 s" in data["message"] and data["range"] is None
 
 
