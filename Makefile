@@ -6,7 +6,7 @@ PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed-stamp
 OUT    ?= out
 
-.PHONY: run test install clean
+.PHONY: run test install compile clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -16,12 +16,18 @@ $(STAMP): pyproject.toml
 
 install: $(STAMP)
 
-run: $(STAMP)
+# The fast path's machine code is compiled once per checkout (and cached on
+# disk): do it here, with a message, so that no later command stalls silently
+# and no test's time limit includes it.
+compile: $(STAMP)
+	$(PY) -c "from analytic import fast; fast.compile(progress=True)"
+
+run: compile
 	$(PY) -m analytic simulate --plot $(OUT)/default-shot.png
 	$(PY) -m crosscheck --report $(OUT)/crosscheck
 	$(PY) -m engine_model render --out $(OUT)/frames --fps 15
 
-test: $(STAMP)
+test: compile
 	$(PY) -m pytest
 
 clean:

@@ -12,7 +12,7 @@ from analytic.design import Base, Design
 from analytic.design_file import default_design
 from analytic.geometry import machine_points
 from analytic.result import JSON_KEYS
-from conftest import with_machine, with_projectile
+from support import with_machine, with_projectile
 from crosscheck.cases import rolling_cases
 from engine_model import DEFAULT_DT, EngineError, simulate
 from engine_model import kinematics as kin
