@@ -12,6 +12,8 @@ $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
 	$(PY) -m pip install --quiet -e '.[test]'
+	@echo "compiling the fast path once, so that no later command stalls on it:"
+	$(PY) -m analytic compile
 	touch $(STAMP)
 
 install: $(STAMP)

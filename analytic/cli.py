@@ -1,4 +1,4 @@
-"""Command line: ``python -m analytic simulate|optimise`` (a thin layer over the library)."""
+"""Command line: ``python -m analytic simulate|optimise|bench|compile`` (a thin layer over the library)."""
 
 from __future__ import annotations
 
@@ -43,6 +43,14 @@ def _simulate(args: argparse.Namespace) -> int:
     return EXIT_OK if shot.ok else EXIT_NO_THROW
 
 
+def _compile(args: argparse.Namespace) -> int:
+    from analytic import fast
+
+    seconds = fast.compile(progress=True)
+    print(f"fast path ready ({seconds:.1f} s)")
+    return EXIT_OK
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="python -m analytic",
                                      description="Hand-derived Lagrange model of the hinged-counterweight trebuchet.")
@@ -52,6 +60,9 @@ def build_parser() -> argparse.ArgumentParser:
     sim.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
     sim.add_argument("--plot", metavar="FILE.png", help="write trajectory, machine at release and energy plot")
     sim.set_defaults(func=_simulate)
+    comp = commands.add_parser("compile", help="compile the fast path into its disk cache now "
+                                               "(make does it on install; later runs load it)")
+    comp.set_defaults(func=_compile)
     # The benchmark times both models, so it lives with the cross-check; the
     # command line, the top layer, may reach it.
     from crosscheck import benchmark

@@ -106,7 +106,6 @@ def agreement(designs: list, reference: list, fast_shots: list) -> dict:
 
 def paths(count: int, seed: int, repeat: int, batch_repeat: int, progress: bool) -> dict:
     """The two analytic paths on the same designs: times, speed-up, batch throughput, agreement."""
-    import numba
     from tqdm import tqdm
 
     from analytic import fast
@@ -128,13 +127,9 @@ def paths(count: int, seed: int, repeat: int, batch_repeat: int, progress: bool)
     agree = agreement(designs, reference, fast_shots)
 
     rows = np.tile(fast.pack_many(designs), (batch_repeat, 1))
-    batch_s, _ = best_time(lambda: fast.shoot(rows), 3)
-    threads = numba.get_num_threads()
-    numba.set_num_threads(1)
-    try:
-        batch_one_s, _ = best_time(lambda: fast.shoot(rows), 3)
-    finally:
-        numba.set_num_threads(threads)
+    threads = fast.default_threads()
+    batch_s, _ = best_time(lambda: fast.shoot(rows, threads=threads), 3)
+    batch_one_s, _ = best_time(lambda: fast.shoot(rows, threads=1), 3)
     reference_median, fast_median = float(np.median(reference_s)), float(np.median(fast_s))
     return {
         "reference_median_shot_s": reference_median,
@@ -147,7 +142,6 @@ def paths(count: int, seed: int, repeat: int, batch_repeat: int, progress: bool)
         "fast_max_shot_s": float(np.max(fast_s)),
         "batch_one_thread_shots_per_s": len(rows) / batch_one_s,
         "batch_threads": threads,
-        "threading_layer": numba.threading_layer(),
         "batch_scaling": batch_one_s / batch_s,
         "max_event_time_diff_s": agree["max_event_time_diff_s"],
         "status_mismatches": agree["status_mismatches"],
@@ -276,7 +270,7 @@ def format_bench(figures: dict) -> str:
         f"   (slowest design {f['fast_max_shot_s'] * 1e3:.3f} ms)",
         f"  speed-up                            {f['speedup']:9.1f} x  "
         f"({f['speedup_vs_full_reference']:.0f} x against the reference with histories)",
-        f"  batch of {f['batch_shots']}, {f['batch_threads']} threads ({f['threading_layer']})"
+        f"  batch of {f['batch_shots']}, {f['batch_threads']} threads"
         f"   {f['batch_shots_per_s']:9.0f} shots/s; 1 thread {f['batch_one_thread_shots_per_s']:.0f}"
         f" (scaling {f['batch_scaling']:.2f} x)",
         f"  agreement: range {f['max_range_rel_diff']:.2e} relative, events {f['max_event_time_diff_s']:.2e} s,"

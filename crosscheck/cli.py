@@ -38,8 +38,6 @@ def run_cases(cases: list[Case], dt: float, workers: int, progress: bool = True)
             results.append(task(case, analytic_shot=shot))
             bar.update()
     else:
-        # The workers are forked after the batch above ran here: they run
-        # only the engine, never a batch (``analytic.fast.shoot`` says why).
         with ProcessPoolExecutor(max_workers=workers) as pool:
             results = []
             for result in pool.map(partial(_compare_shot, dt=dt), cases, analytic):
