@@ -33,7 +33,6 @@ import subprocess
 import sys
 import tempfile
 import time
-from pathlib import Path
 from typing import Callable
 
 import numpy as np
@@ -336,11 +335,22 @@ def main(args: argparse.Namespace | list[str] | None = None) -> int:
         parser = argparse.ArgumentParser(prog="python -m crosscheck.benchmark", description=__doc__,
                                          formatter_class=argparse.RawDescriptionHelpFormatter)
         add_arguments(parser)
-        args = parser.parse_args(args)
+        from analytic.command_line import negative_numbers_as_values
+
+        args = parser.parse_args(negative_numbers_as_values(sys.argv[1:] if args is None else args))
     if args.designs < 0 or args.repeat < 1:
         print(f"--designs = {args.designs}, --repeat = {args.repeat}: need designs >= 0 and repeat >= 1",
               file=sys.stderr)
         return 2
+    plot = None
+    if args.plot:
+        from analytic.command_line import OutputPathError, output_file
+
+        try:
+            plot = output_file(args.plot, "--plot")
+        except OutputPathError as error:
+            print(error, file=sys.stderr)
+            return 2
     design = None
     if args.design is not None:
         from analytic.design import DesignError
@@ -353,13 +363,12 @@ def main(args: argparse.Namespace | list[str] | None = None) -> int:
             return 2
     figures = run(design, count=args.designs, seed=args.seed, repeat=args.repeat, cold=args.cold,
                   progress=not args.quiet)
-    if args.plot:
-        Path(args.plot).parent.mkdir(parents=True, exist_ok=True)
-        save_bench_figure(figures, args.plot)
+    if plot is not None:
+        save_bench_figure(figures, plot)
     figures.pop("per_design")
     print(json.dumps(figures, indent=2) if args.json else format_bench(figures))
-    if args.plot and not args.json:
-        print(f"plot written to {args.plot}")
+    if plot is not None and not args.json:
+        print(f"plot written to {plot}")
     return 0 if not figures["status_mismatches"] else 1
 
 
