@@ -10,6 +10,7 @@ import numpy as np
 
 from analytic.design import Design
 from analytic.outcome import Stage, Status
+from analytic.plausibility import plausibility_warnings
 
 __all__ = ["EnergyBudget", "JSON_KEYS", "Shot", "Shots", "Stage", "Status", "ideal_range"]
 
@@ -19,7 +20,7 @@ JSON_KEYS = (
     "design", "status", "message", "liftoff_time", "release_time",
     "release_position", "release_velocity", "release_speed", "launch_angle",
     "range", "range_from_release", "apex_height", "flight_time", "landing_time",
-    "landed_behind_pivot", "energy_efficiency", "range_efficiency", "min_sling_tension",
+    "landed_behind_pivot", "energy_efficiency", "range_efficiency", "min_sling_tension", "warnings",
 )
 
 
@@ -69,6 +70,8 @@ class Shot:
         and arm between firing and release.
     diagnostics : how far the model that made the shot can be trusted, or None
         (the engine model's ``EngineDiagnostics``).
+    warnings : one line per implausible input (``analytic.plausibility``), () if none;
+        filled in on construction, the same for every model.
     """
 
     design: Design
@@ -93,6 +96,11 @@ class Shot:
     flight_t: np.ndarray = field(default_factory=lambda: np.empty(0))
     flight_path: np.ndarray = field(default_factory=lambda: np.empty((0, 2)))
     diagnostics: Any = None
+    warnings: tuple[str, ...] | None = None
+
+    def __post_init__(self):
+        if self.warnings is None:
+            object.__setattr__(self, "warnings", plausibility_warnings(self.design, self))
 
     @property
     def ok(self) -> bool:
@@ -186,6 +194,7 @@ class Shot:
             "energy_efficiency": number(self.energy_efficiency),
             "range_efficiency": number(self.range_efficiency),
             "min_sling_tension": number(self.min_sling_tension),
+            "warnings": list(self.warnings),
         }
 
 

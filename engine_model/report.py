@@ -35,5 +35,6 @@ def format_shot(shot: Shot) -> str:
               f"{diagnostics.sling} sling"),
              ("max joint drift", f"{diagnostics.max_joint_drift:.3g}", "m"),
              ("energy error", f"{diagnostics.energy_error:.3g}", "of the counterweight's available energy")]
+    rows += [("warning", warning, "") for warning in shot.warnings]
     width = max(len(label) for label, _, _ in rows)
     return "\n".join(f"{label:<{width}}  {value}  {unit}".rstrip() for label, value, unit in rows)
