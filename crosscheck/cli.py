@@ -64,6 +64,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--dt", type=positive_float, default=DEFAULT_DT, help=f"engine step, s (default {DEFAULT_DT})")
     parser.add_argument("--report", metavar="DIR", help="write crosscheck.json and plots here")
     parser.add_argument("--json", action="store_true", help="print the comparisons as JSON")
+    parser.add_argument("--table", action="store_true",
+                        help="also print every design's every quantity (always in --report's table.txt)")
     parser.add_argument("--workers", type=positive_int, default=min(2, os.cpu_count() or 1),
                         help="processes (default: 2, the machine's cores)")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -97,9 +99,10 @@ def main(argv: list[str] | None = None) -> int:
         print(json.dumps({"agree": all(c.agree for c in comparisons),
                           "comparisons": [c.to_json() for c in comparisons]}, indent=2))
     else:
-        print(format_table(comparisons))
-        print()
-        print(format_summary(comparisons, study))
+        if args.table:
+            print(format_table(comparisons))
+            print()
+        print(format_summary(comparisons, study, steps_detail=args.table))
         if args.report:
-            print("report: " + ", ".join(str(p) for p in paths))
+            print(f"report in {args.report}: " + ", ".join(p.name for p in paths))
     return EXIT_AGREE if all(c.agree for c in comparisons) else EXIT_DISAGREE
