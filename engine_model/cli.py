@@ -13,6 +13,7 @@ from analytic.design_file import default_design, load_design
 from analytic.result import Shot
 from engine_model import DEFAULT_DT, EngineError, simulate
 from engine_model.build import DEFAULT_ITERATIONS, SLINGS
+from engine_model.render import DEFAULT_FPS, SWING_SLOW_MOTION
 
 #: Exit codes: a throw; an engine run that could not be trusted (unstable, joints
 #: apart); an invalid design; a valid design that does not throw.
@@ -61,9 +62,10 @@ def _render(args: argparse.Namespace) -> int:
     shot = _run(args)
     if isinstance(shot, int):
         return shot
-    frames = render_shot(shot, args.out, fps=args.fps, slow_motion=args.slow_motion,
-                         gif=args.gif, progress=not args.quiet)
-    print(f"{len(frames)} frames written to {args.out}" + (" (and shot.gif)" if args.gif else ""))
+    frames = render_shot(shot, args.out, fps=args.fps, swing_slow_motion=args.slow_motion,
+                         gif=args.gif, mp4=args.mp4, progress=not args.quiet)
+    movies = [name for name, asked in (("shot.gif", args.gif), ("shot.mp4", args.mp4)) if asked]
+    print(f"{len(frames)} frames written to {args.out}" + (f" (and {', '.join(movies)})" if movies else ""))
     return EXIT_OK if shot.ok else EXIT_NO_THROW
 
 
@@ -86,10 +88,13 @@ def build_parser() -> argparse.ArgumentParser:
 
     ren = commands.add_parser("render", parents=[common], help="draw the shot as numbered PNG frames")
     ren.add_argument("--out", required=True, help="directory for frame_00000.png, ...")
-    ren.add_argument("--fps", type=positive_float, default=30.0, help="frames per second of playback (default 30)")
-    ren.add_argument("--slow-motion", type=positive_float, default=1.0,
-                     help="playback this many times slower than real time (default 1)")
+    ren.add_argument("--fps", type=positive_float, default=DEFAULT_FPS,
+                     help=f"frames per second of playback (default {DEFAULT_FPS:g})")
+    ren.add_argument("--slow-motion", type=positive_float, default=SWING_SLOW_MOTION,
+                     help=f"the swing this many times slower than real time (default {SWING_SLOW_MOTION:g};"
+                          f" the flight plays in real time)")
     ren.add_argument("--gif", action="store_true", help="also write shot.gif")
+    ren.add_argument("--mp4", action="store_true", help="also write shot.mp4 (H.264, ffmpeg from imageio-ffmpeg)")
     ren.add_argument("--quiet", action="store_true", help="no progress bar")
     ren.set_defaults(func=_render)
     return parser
