@@ -25,7 +25,7 @@ run: $(STAMP)
 	@echo "== cross-check: analytic against engine (every row: $(OUT)/crosscheck/table.txt)"
 	@$(PY) -m crosscheck --report $(OUT)/crosscheck
 	@echo "== the default shot in the engine, drawn"
-	@$(PY) -m engine_model render --out $(OUT)/frames --gif
+	@$(PY) -m engine_model render --out $(OUT)/frames --gif --mp4
 
 test: $(STAMP)
 	$(PY) -m pytest
