@@ -19,8 +19,8 @@
   tighter tolerance and without histories, the fast path, the engine at its
   default step and at twice it.
 * **compile**: loading the fast path's machine code from the disk cache; with
-  ``--cold``, compiling it in a fresh process with an empty cache (about a
-  minute), apart from every shot time.
+  ``--cold``, compiling it in a fresh process with an empty cache (about half
+  a minute of CPU), apart from every shot time.
 """
 
 from __future__ import annotations
@@ -324,7 +324,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--repeat", type=int, default=5,
                         help="runs per timing, the best counts (default %(default)s)")
     parser.add_argument("--cold", action="store_true",
-                        help="also compile the fast path in a fresh process with an empty cache (about a minute)")
+                        help="also compile the fast path in a fresh process with an empty cache "
+                             "(about half a minute of CPU)")
     parser.add_argument("--plot", metavar="FILE.png", help="plot the time per shot and the agreement per design")
     parser.add_argument("--quiet", action="store_true", help="no progress bars")
 
