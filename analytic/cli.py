@@ -1,12 +1,12 @@
-"""Command line: ``python -m analytic simulate|optimise`` (a thin layer over the library)."""
+"""Command line: ``python -m analytic simulate|optimise|bench|compile`` (a thin layer over the library)."""
 
 from __future__ import annotations
 
 import argparse
 import json
 import sys
-from pathlib import Path
 
+from analytic.command_line import OutputPathError, negative_numbers_as_values, output_file
 from analytic.design import Design, DesignError
 from analytic.design_file import default_design, load_design
 from analytic.report import format_shot
@@ -28,19 +28,31 @@ def _simulate(args: argparse.Namespace) -> int:
     except DesignError as error:
         print(f"invalid design: {error}", file=sys.stderr)
         return EXIT_INVALID
+    try:
+        plot = None if args.plot is None else output_file(args.plot, "--plot")
+    except OutputPathError as error:
+        print(error, file=sys.stderr)
+        return EXIT_INVALID
     shot = simulate(design)
     if args.json:
         print(json.dumps(shot.to_json(), indent=2))
     else:
         print(format_shot(shot))
-    if args.plot:
+    if plot is not None:
         from analytic.plot import save_shot_figure
 
-        Path(args.plot).parent.mkdir(parents=True, exist_ok=True)
-        save_shot_figure(shot, args.plot)
+        save_shot_figure(shot, plot)
         if not args.json:
-            print(f"plot written to {args.plot}")
+            print(f"plot written to {plot}")
     return EXIT_OK if shot.ok else EXIT_NO_THROW
+
+
+def _compile(args: argparse.Namespace) -> int:
+    from analytic import fast
+
+    seconds = fast.compile(progress=True)
+    print(f"fast path ready ({seconds:.1f} s)")
+    return EXIT_OK
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -50,8 +62,12 @@ def build_parser() -> argparse.ArgumentParser:
     sim = commands.add_parser("simulate", help="simulate one shot")
     sim.add_argument("design", nargs="?", help="design TOML (default: the paper's Table III optimum)")
     sim.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
-    sim.add_argument("--plot", metavar="FILE.png", help="write trajectory, machine at release and energy plot")
+    sim.add_argument("--plot", metavar="FILE.png", help="write trajectory, machine at release and energy plot "
+                                                        "(.png, .pdf or .svg; no extension: .png)")
     sim.set_defaults(func=_simulate)
+    comp = commands.add_parser("compile", help="compile the fast path into its disk cache now "
+                                               "(make does it on install; later runs load it)")
+    comp.set_defaults(func=_compile)
     # The benchmark times both models, so it lives with the cross-check; the
     # command line, the top layer, may reach it.
     from crosscheck import benchmark
@@ -69,5 +85,5 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
+    args = build_parser().parse_args(negative_numbers_as_values(sys.argv[1:] if argv is None else argv))
     return args.func(args)

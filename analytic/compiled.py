@@ -10,7 +10,7 @@ numba; ``import analytic`` and the reference path never do.
 
 numba caches machine code on disk keyed on each function's own source file,
 not on the files it calls into: after an edit to ``eom.py`` the cached
-``kernel.shot`` would still hold the old equations. So the cache is stamped
+``kernel.shots`` would still hold the old equations. So the cache is stamped
 with a fingerprint of every source the compiled code depends on
 (``SOURCES``), and a cache whose stamp differs is dropped before anything is
 loaded from it.

@@ -34,4 +34,5 @@ def format_shot(shot: Shot) -> str:
     row("min sling tension", shot.min_sling_tension, "N (negative: the rigid sling pushed)", ".3f")
     width = max((len(r[0]) for r in rows), default=0)
     lines += [f"  {label:<{width}}  {value:>20}  {unit}" for label, value, unit in rows]
+    lines += [f"warning  {warning}" for warning in shot.warnings]
     return "\n".join(lines)

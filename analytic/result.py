@@ -10,6 +10,7 @@ import numpy as np
 
 from analytic.design import Design
 from analytic.outcome import Stage, Status
+from analytic.plausibility import plausibility_warnings
 
 __all__ = ["EnergyBudget", "JSON_KEYS", "Shot", "Shots", "Stage", "Status", "ideal_range"]
 
@@ -82,8 +83,10 @@ class Shot:
     min_ground_force : smallest vertical push of the ground on the frame through stages
         1-2, N (``analytic.eom.ground_force``; None for a summary). Negative: a
         frame not bolted down would jump.
-    warnings : what the user should know about this result, in words (empty when
-        there is nothing to say).
+    warnings : what the user should know about this result, in words, () if nothing:
+        one line per implausible input (``analytic.plausibility``, added on
+        construction for every model) after any the model itself gave (for
+        example a rolling frame that would jump).
     diagnostics : how far the model that made the shot can be trusted, or None
         (the engine model's ``EngineDiagnostics``).
     """
@@ -118,6 +121,12 @@ class Shot:
     min_ground_force: float | None = None
     warnings: tuple[str, ...] = ()
     diagnostics: Any = None
+
+    def __post_init__(self):
+        # The model's own warnings first, then the plausibility checks; a copy
+        # (dataclasses.replace) passes them all back in, so keep each once.
+        lines = tuple(self.warnings) + tuple(plausibility_warnings(self.design, self))
+        object.__setattr__(self, "warnings", tuple(dict.fromkeys(lines)))
 
     @property
     def ok(self) -> bool:

@@ -50,5 +50,6 @@ def format_shot(shot: Shot) -> str:
         rows += [("momentum error", f"{diagnostics.momentum_error:.3g}", "of the largest frame momentum"),
                  ("energy error after release", f"{diagnostics.after_release_energy_error:.3g}",
                   "of the counterweight's available energy")]
+    rows += [("warning", warning, "") for warning in shot.warnings]
     width = max(len(label) for label, _, _ in rows)
     return "\n".join(f"{label:<{width}}  {value}  {unit}".rstrip() for label, value, unit in rows)

@@ -202,7 +202,7 @@ def simulate(design: Design, *, dt: float = DEFAULT_DT, iterations: int = DEFAUL
                       frame_release_velocity=_frame(release_state, kin.VX, design))
         if flight.landed:
             fields.update(landing_time=flight.landing_time, landing_position=flight.landing_position,
-                          apex_height=float(flight.path[:, 1].max() + design.machine.pivot_height))
+                          apex_height=flight.apex + design.machine.pivot_height)
         else:
             run.status, run.message = Status.NO_LANDING, outcome.no_landing_message(flight.limit)
     fields["min_sling_tension"] = (smallest_sample(tension) if sling == "rigid"

@@ -315,8 +315,8 @@ def test_looser_tolerance_stays_within_the_target(table3):
 
 def test_a_new_process_loads_the_machine_code_from_the_disk_cache():
     code = ("from analytic import fast, kernel; fast.compile(); "
-            "print(kernel.shot.stats.cache_hits and sum(kernel.shot.stats.cache_hits.values()), "
-            "sum(kernel.shot.stats.cache_misses.values()))")
+            "print(kernel.shots.stats.cache_hits and sum(kernel.shots.stats.cache_hits.values()), "
+            "sum(kernel.shots.stats.cache_misses.values()))")
     done = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True,
                           env=dict(os.environ))
     hits, misses = (int(v) for v in done.stdout.split())

@@ -99,7 +99,7 @@ def test_paths_give_the_same_ranges_at_scatter_nodes(problem, table3):
 def test_a_failure_the_candidates_never_reach_is_counted_under_its_status(problem, values, monkeypatch, status):
     # None of the candidates above fails a step or never lands: the batch is
     # stood in for, to show that every status is counted under its own name.
-    def shoot(rows, *, rtol, atol):
+    def shoot(rows, *, rtol, atol, threads):
         return Shots(status=np.array([status.value] * len(rows)), **{
             name: np.full(len(rows), math.nan) for name in Shots.__dataclass_fields__ if name != "status"})
 

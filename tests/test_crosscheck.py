@@ -175,9 +175,27 @@ def test_engine_converges_with_order_two():
 
 
 @pytest.mark.slow
-def test_full_default_suite_agrees(tmp_path):
+def test_full_default_suite_agrees(tmp_path, capsys):
     code = main(["--report", str(tmp_path), "--no-progress"])
     report = json.loads((tmp_path / "crosscheck.json").read_text())
     failing = [c["case"] for c in report["comparisons"] if not c["agree"]]
     assert code == EXIT_AGREE, f"disagreeing designs: {failing}"
-    assert {p.name for p in tmp_path.iterdir()} == {"crosscheck.json", "agreement.png", "errors.png", "convergence.png"}
+    assert {p.name for p in tmp_path.iterdir()} == {"crosscheck.json", "table.txt", "agreement.png", "errors.png",
+                                                    "convergence.png"}
+    # The terminal gets the verdict and the worst case per quantity; every design's rows go to table.txt.
+    printed = capsys.readouterr().out.splitlines()
+    assert len(printed) < 20 and printed[0].startswith(f"{len(report['comparisons'])} of ")
+    assert len((tmp_path / "table.txt").read_text().splitlines()) > 10 * len(report["comparisons"])
+
+
+@pytest.mark.slow   # --report runs the engine's step study
+def test_the_full_table_is_printed_only_when_asked(tmp_path, capsys, table3):
+    path = tmp_path / "t3.toml"
+    save_design(table3, path)
+    assert main([str(path), "--workers", "1", "--no-progress", "--report", str(tmp_path / "r")]) == EXIT_AGREE
+    short = capsys.readouterr().out
+    assert "tolerance" in short and "verdict" not in short
+    assert short.splitlines()[-1].startswith(f"report in {tmp_path / 'r'}: crosscheck.json, table.txt")
+    assert "verdict" in (tmp_path / "r" / "table.txt").read_text()
+    assert main([str(path), "--workers", "1", "--no-progress", "--table"]) == EXIT_AGREE
+    assert capsys.readouterr().out.startswith("design ")

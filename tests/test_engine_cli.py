@@ -80,9 +80,12 @@ def test_a_design_the_engine_cannot_model_exits_1(capsys, tmp_path):
 
 def test_render_writes_frames_and_a_gif(capsys, tmp_path):
     out = tmp_path / "frames"
-    assert main(["render", "--out", str(out), "--fps", "1", "--dt", "4e-4", "--gif", "--quiet"]) == EXIT_OK
+    assert main(["render", "--out", str(out), "--fps", "1", "--slow-motion", "2", "--dt", "4e-4", "--gif",
+                 "--quiet"]) == EXIT_OK
     frames = sorted(out.glob("frame_*.png"))
-    assert len(frames) == 5  # t = 0, 1, 2, 3 s and the landing at 3.64 s
+    # t = 0 s in slow motion (a frame per 0.5 s until the release at 0.42 s), then the
+    # release and every 1 s of flight: 1.42, 2.42, 3.42 s, and the landing at 3.64 s.
+    assert len(frames) == 6
     assert (out / "shot.gif").stat().st_size > 0
     assert f"{len(frames)} frames" in capsys.readouterr().out
 

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import dataclasses
-import math
 import struct
 
 import numpy as np
@@ -11,9 +10,9 @@ import pytest
 
 from analytic.design import Base
 from analytic.design_file import default_design
+from engine_model.render import (FINAL_HOLD, FRAME_SIZE, PROJECTILE_COLOUR, WHEEL_RADIUS_FRACTION, FrameState,
+                                 camera, draw_frame, frame_state, frame_times, render_shot, summary)
 from analytic.geometry import machine_points
-from engine_model.render import (FRAME_SIZE, PROJECTILE_COLOUR, WHEEL_RADIUS_FRACTION, FrameState, camera,
-                                 draw_frame, frame_state, frame_times, render_shot)
 from engine_model import simulate
 
 
@@ -35,22 +34,51 @@ def _png_size_and_chunks(path) -> tuple[tuple[int, int], list[bytes]]:
     return (width, height), chunks
 
 
-def test_frames_at_fixed_intervals_up_to_the_landing(shot, tmp_path):
-    fps = 4.0
-    paths = render_shot(shot, tmp_path, fps=fps, progress=False)
-    # Every 0.25 s from 0 through the landing, and the landing itself.
-    expected = math.floor(shot.landing_time * fps) + 1 + (shot.landing_time * fps % 1 > 1e-9)
-    assert len(paths) == expected
-    assert [p.name for p in paths] == [f"frame_{i:05d}.png" for i in range(expected)]
-    assert frame_times(shot, fps)[-1] == shot.landing_time
+def test_frames_are_time_warped_slow_swing_real_time_flight_up_to_the_landing(shot, tmp_path):
+    fps, slow = 4.0, 8.0
+    times, speeds = frame_times(shot, fps, swing_slow_motion=slow, flight_speed=1.0)
+    paths = render_shot(shot, tmp_path, fps=fps, swing_slow_motion=slow, progress=False)
+    assert [p.name for p in paths] == [f"frame_{i:05d}.png" for i in range(len(times))]
+    assert times[0] == 0.0 and times[-1] == shot.landing_time and np.all(np.diff(times) > 0.0)
+    swing = times[:-1] < shot.release_time
+    steps = np.diff(times)
+    # A frame every 1/32 s of simulated time through the swing, every 1/4 s in flight (the
+    # last of each phase may be shorter: the release and the landing are frames too).
+    assert steps[swing][:-1] == pytest.approx(1.0 / (fps * slow))
+    assert steps[~swing][:-1] == pytest.approx(1.0 / fps)
+    in_swing = times < shot.release_time
+    assert np.all(speeds[in_swing] == 1.0 / slow) and np.all(speeds[~in_swing] == 1.0)
+    assert shot.release_time in times   # the flight's grid starts at the release
     size, chunks = _png_size_and_chunks(paths[-1])
     assert size == FRAME_SIZE == (960, 540)
     assert not {b"tEXt", b"iTXt", b"zTXt", b"tIME"} & set(chunks)  # nothing that varies between runs
 
 
+def test_every_frame_has_the_same_view_and_the_last_sums_up(shot):
+    times, _ = frame_times(shot, 4.0)
+    view = camera(shot.design, frame_state(shot, float(times[-1])))
+    # The whole flight and the machine in view: a fixed ground scale for every frame.
+    assert view[0] < -1.0 and view[1] > shot.range and view[3] > shot.apex_height - shot.design.machine.pivot_height
+    assert frame_state(shot, float(times[-1])).label == "landed"
+    text = summary(shot)
+    assert text.startswith(f"range {shot.range:.2f} m") and "release speed" in text
+
+
+def test_gif_and_mp4_are_written_with_the_last_frame_held(shot, tmp_path):
+    from PIL import Image
+
+    paths = render_shot(shot, tmp_path, fps=2.0, gif=True, mp4=True, progress=False)
+    with Image.open(tmp_path / "shot.gif") as gif:
+        # Pillow folds the held copies of the last frame into one longer frame.
+        assert gif.n_frames == len(paths) and gif.size == (960, 540)
+        gif.seek(gif.n_frames - 1)
+        assert gif.info["duration"] == 500 * (1 + round(FINAL_HOLD * 2.0))
+    assert (tmp_path / "shot.mp4").stat().st_size > 1000
+
+
 def test_the_same_shot_renders_byte_identical_frames(shot, tmp_path):
     first = render_shot(shot, tmp_path / "a", fps=2.0, gif=True, progress=False)
-    second = render_shot(shot, tmp_path / "b", fps=2.0, gif=True, progress=False)
+    second = render_shot(shot, tmp_path / "b", fps=2.0, gif=True, progress=False)   # frames and GIF alike
     for a, b in zip(first + [tmp_path / "a" / "shot.gif"], second + [tmp_path / "b" / "shot.gif"], strict=True):
         assert a.read_bytes() == b.read_bytes(), a.name
 
