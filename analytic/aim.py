@@ -22,7 +22,6 @@ from scipy.optimize import brentq, minimize_scalar
 
 from analytic.design import Design, DesignError
 from analytic.fields import Field, field
-from analytic.units import ANGLE
 
 #: The reference path's range must land this close to the target, m (the issue's 1 mm).
 AIM_TOLERANCE = 1e-3

@@ -1,12 +1,12 @@
-"""Command line: ``python -m analytic simulate|aim|chart|optimise|bench`` (a thin layer over the library)."""
+"""Command line: ``python -m analytic simulate|aim|chart|optimise|bench|compile`` (a thin layer over the library)."""
 
 from __future__ import annotations
 
 import argparse
 import json
 import sys
-from pathlib import Path
 
+from analytic.command_line import OutputPathError, negative_numbers_as_values, output_file, output_folder
 from analytic.design import Design, DesignError
 from analytic.design_file import default_design, load_design
 from analytic.report import format_shot
@@ -29,18 +29,22 @@ def _simulate(args: argparse.Namespace) -> int:
     except DesignError as error:
         print(f"invalid design: {error}", file=sys.stderr)
         return EXIT_INVALID
+    try:
+        plot = None if args.plot is None else output_file(args.plot, "--plot")
+    except OutputPathError as error:
+        print(error, file=sys.stderr)
+        return EXIT_INVALID
     shot = simulate(design)
     if args.json:
         print(json.dumps(shot.to_json(), indent=2))
     else:
         print(format_shot(shot, args.units))
-    if args.plot:
+    if plot is not None:
         from analytic.plot import save_shot_figure
 
-        Path(args.plot).parent.mkdir(parents=True, exist_ok=True)
-        save_shot_figure(shot, args.plot)
+        save_shot_figure(shot, plot)
         if not args.json:
-            print(f"plot written to {args.plot}")
+            print(f"plot written to {plot}")
     return EXIT_OK if shot.ok else EXIT_NO_THROW
 
 
@@ -121,14 +125,25 @@ def _chart(args: argparse.Namespace) -> int:
             raise DesignError("vary", [v.field.name for v in varies], "the same field twice")
         for v in varies:
             v.field.check(design)
+        out = output_folder(args.out, "--out")
     except DesignError as error:
         print(f"invalid input: {error}", file=sys.stderr)
         return EXIT_INVALID
+    except OutputPathError as error:
+        print(error, file=sys.stderr)
+        return EXIT_INVALID
     result = chart(design, varies)
-    csv_path, png_path = save_chart(result, args.out)
+    csv_path, png_path = save_chart(result, out)
     thrown = int((result.status == "ok").sum())
     print(f"{len(result.status)} designs ({thrown} throw) in {result.seconds:.2f} s; "
           f"written {csv_path} and {png_path}")
+
+
+def _compile(args: argparse.Namespace) -> int:
+    from analytic import fast
+
+    seconds = fast.compile(progress=True)
+    print(f"fast path ready ({seconds:.1f} s)")
     return EXIT_OK
 
 
@@ -139,7 +154,8 @@ def build_parser() -> argparse.ArgumentParser:
     sim = commands.add_parser("simulate", help="simulate one shot")
     sim.add_argument("design", nargs="?", help="design TOML (default: the paper's Table III optimum)")
     sim.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
-    sim.add_argument("--plot", metavar="FILE.png", help="write trajectory, machine at release, energy and loads plot")
+    sim.add_argument("--plot", metavar="FILE.png", help="write trajectory, machine at release, energy and loads plot "
+                                                        "(.png, .pdf or .svg; no extension: .png)")
     _units_argument(sim)
     sim.set_defaults(func=_simulate)
 
@@ -161,6 +177,9 @@ def build_parser() -> argparse.ArgumentParser:
                      help="a field and its settings (counterweight_mass=1kg:3kg:9); once or twice")
     cha.add_argument("--out", required=True, metavar="DIR", help="folder for chart.csv and chart.png")
     cha.set_defaults(func=_chart)
+    comp = commands.add_parser("compile", help="compile the fast path into its disk cache now "
+                                               "(make does it on install; later runs load it)")
+    comp.set_defaults(func=_compile)
     # The benchmark times both models, so it lives with the cross-check; the
     # command line, the top layer, may reach it.
     from crosscheck import benchmark
@@ -178,5 +197,5 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
+    args = build_parser().parse_args(negative_numbers_as_values(sys.argv[1:] if argv is None else argv))
     return args.func(args)

@@ -10,6 +10,7 @@ import numpy as np
 
 from analytic.design import Design
 from analytic.outcome import Stage, Status
+from analytic.plausibility import plausibility_warnings
 
 __all__ = ["EnergyBudget", "JSON_KEYS", "PEAK_NAMES", "Shot", "Shots", "Stage", "Status", "ideal_range"]
 
@@ -34,9 +35,9 @@ class EnergyBudget:
     """Mechanical energy through stages 1 and 2, J; each array has shape (n,) on ``Shot.t``.
 
     ``projectile`` is kinetic plus potential energy of the projectile relative to
-    its start; ``machine`` likewise for arm and counterweight (negative as the
-    counterweight falls); ``total = projectile + machine`` is conserved by the
-    dynamics (drag acts only in flight).
+    its start; ``machine`` likewise for arm and counterweight, and a rolling
+    frame's kinetic energy (negative as the counterweight falls); ``total =
+    projectile + machine`` is conserved by the dynamics (drag acts only in flight).
     """
 
     projectile: np.ndarray
@@ -53,14 +54,18 @@ class Shot:
     when ``status`` is ``NEVER_RELEASES``. The history arrays are empty for a
     summary-only shot (the fast path, or ``simulate(histories=False)``).
 
+    Positions and velocities are in ground coordinates, m from the pivot's
+    position at rest (a mark on the ground); for a fixed frame that is the
+    pivot itself. A rolling frame carries the pivot X along (``frame_*``).
+
     Attributes
     ----------
     design : the design simulated.
     status, message : how it ended, in words a user can act on.
     liftoff_time, release_time, landing_time : s from firing, or None.
-    release_position : (2,) projectile centre at release [x, y], m from the pivot.
-    release_velocity : (2,) projectile velocity at release [vx, vy], m/s.
-    landing_position : (2,) where the projectile reaches base level, m from the pivot.
+    release_position : (2,) projectile centre at release [x, y], m from the pivot at rest.
+    release_velocity : (2,) projectile velocity at release [vx, vy] over the ground, m/s.
+    landing_position : (2,) where the projectile reaches base level, m from the pivot at rest.
     apex_height : highest point of the flight above the base, m.
     min_sling_tension : smallest sling tension in stages 1 and 2, N (negative: the rigid sling pushed).
     t : (n,) sample times through stages 1 and 2, s.
@@ -93,8 +98,10 @@ class Shot:
     min_ground_force : smallest vertical push of the ground on the frame through stages
         1-2, N (``analytic.eom.ground_force``; None for a summary). Negative: a
         frame not bolted down would jump.
-    warnings : what the user should know about this result, in words (empty when
-        there is nothing to say).
+    warnings : what the user should know about this result, in words, () if nothing:
+        one line per implausible input (``analytic.plausibility``, added on
+        construction for every model) after any the model itself gave (for
+        example a rolling frame that would jump).
     diagnostics : how far the model that made the shot can be trusted, or None
         (the engine model's ``EngineDiagnostics``).
     """
@@ -111,6 +118,11 @@ class Shot:
     apex_height: float | None = None
     min_sling_tension: float | None = None
     counterweight_energy_released: float | None = None
+    frame_release_displacement: float | None = None
+    frame_release_velocity: float | None = None
+    frame_landing_displacement: float | None = None
+    frame_landing_velocity: float | None = None
+    max_frame_speed: float | None = None
     t: np.ndarray = field(default_factory=lambda: np.empty(0))
     stage: np.ndarray = field(default_factory=lambda: np.empty(0, dtype=int))
     q: np.ndarray = field(default_factory=lambda: np.empty((0, 3)))
@@ -120,11 +132,6 @@ class Shot:
     energy: EnergyBudget | None = None
     flight_t: np.ndarray = field(default_factory=lambda: np.empty(0))
     flight_path: np.ndarray = field(default_factory=lambda: np.empty((0, 2)))
-    frame_release_displacement: float | None = None
-    frame_release_velocity: float | None = None
-    frame_landing_displacement: float | None = None
-    frame_landing_velocity: float | None = None
-    max_frame_speed: float | None = None
     frame_x: np.ndarray = field(default_factory=lambda: np.empty(0))
     min_ground_force: float | None = None
     peak_axle_load: float | None = None
@@ -140,6 +147,12 @@ class Shot:
     projectile_acceleration: np.ndarray = field(default_factory=lambda: np.empty(0))
     warnings: tuple[str, ...] = ()
     diagnostics: Any = None
+
+    def __post_init__(self):
+        # The model's own warnings first, then the plausibility checks; a copy
+        # (dataclasses.replace) passes them all back in, so keep each once.
+        lines = tuple(self.warnings) + tuple(plausibility_warnings(self.design, self))
+        object.__setattr__(self, "warnings", tuple(dict.fromkeys(lines)))
 
     @property
     def ok(self) -> bool:
@@ -197,7 +210,8 @@ class Shot:
 
     @property
     def range(self) -> float | None:
-        """Horizontal distance from the pivot to the landing point, m (negative: behind the pivot)."""
+        """Horizontal distance from the pivot's position at rest to the landing point, m
+        (negative: behind it)."""
         return None if self.landing_position is None else float(self.landing_position[0])
 
     @property

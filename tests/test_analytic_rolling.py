@@ -377,3 +377,28 @@ def test_a_frame_that_would_jump_is_flagged_and_a_heavier_one_is_not():
     assert len(light.warnings) == 1 and "the frame would jump" in light.warnings[0]
     assert heavy.warnings == ()
     assert light.to_json()["warnings"] == list(light.warnings)
+
+
+@pytest.mark.parametrize("base, field", [
+    ({"mobility": "rolling", "mass": -1.0}, "base.mass"),
+    ({"mobility": "rolling", "mass": 0.0}, "base.mass"),
+    ({"mobility": "rolling", "mass": "heavy"}, "base.mass"),
+    ({"mobility": "rolling", "mass": float("inf")}, "base.mass"),
+    ({"mobility": "rolling"}, "base.mass"),
+    ({"mobility": "wheels", "mass": 3.0}, "base.mobility"),
+], ids=["negative", "zero", "text", "infinite", "missing", "unknown-mobility"])
+@pytest.mark.parametrize("command", ["analytic", "engine_model"])
+def test_a_bad_frame_in_a_design_file_is_exit_2_naming_the_field(tmp_path, capsys, base, field, command):
+    import importlib
+
+    import tomli_w
+
+    from analytic.design_file import design_to_dict
+
+    layout = design_to_dict(default_design())
+    layout["base"] = base
+    path = tmp_path / "bad.toml"
+    path.write_text(tomli_w.dumps(layout))   # TOML writes inf as inf
+    main = importlib.import_module(f"{command}.cli").main
+    assert main(["simulate", str(path), "--json"]) == 2
+    assert field in capsys.readouterr().err

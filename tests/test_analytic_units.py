@@ -7,7 +7,6 @@ Reference conversions are the definitions: 1 ft = 0.3048 m, 1 in = 0.0254 m,
 
 from __future__ import annotations
 
-import dataclasses
 import json
 import math
 import tomllib
@@ -17,7 +16,7 @@ import tomli_w
 
 from analytic import cli
 from analytic.design import DesignError
-from analytic.design_file import design_from_dict, design_to_dict, dumps_design, load_design, save_design
+from analytic.design_file import design_from_dict, design_to_dict, load_design, save_design
 from analytic.optimise.problem import problem_from_dict
 from analytic.units import FIELD_KINDS, LENGTH, display, parse
 from test_analytic_optimise_problem import problem_dict

@@ -10,7 +10,7 @@ Two paths shoot the candidates, with the same answers (to round-off, ~1e-12
 relative in range, except where a machine swings chaotically for seconds before
 it releases; ``tests/test_analytic_optimise_fast.py``): ``"fast"`` (the default)
 hands each batch to the compiled kernel in one call (``analytic.fast.shoot``,
-numba threads on every core); ``"reference"`` runs ``analytic.reference`` one
+threads on every core); ``"reference"`` runs ``analytic.reference`` one
 shot at a time in a pool of worker processes, kept to compare against.
 """
 
@@ -22,7 +22,6 @@ from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 from typing import Self
 
-import numba
 import numpy as np
 
 from analytic import fast
@@ -84,12 +83,14 @@ def throw(problem: Problem, values: np.ndarray, tolerance: float, loads: bool = 
     return Throw(shot.range, loads={name: getattr(shot, name) for name in PEAK_NAMES} if loads else {})
 
 
-def fast_throws(problem: Problem, values: np.ndarray, tolerance: float, loads: bool = True) -> list[Throw]:
+def fast_throws(problem: Problem, values: np.ndarray, tolerance: float,
+                threads: int | None = None, loads: bool = True) -> list[Throw]:
     """``throw`` for every row of ``values`` (shape (S, 6), m and rad) on the fast path, in one batch.
 
     The designs are built here (``DesignError``: not shot) and every buildable
     one goes to the kernel in a single ``analytic.fast.shoot`` call, which
-    shares them among numba's threads; ``loads``: find the peak loads too.
+    shares them among ``threads`` threads (default: every processor); ``loads``: find the
+    peak loads too.
     """
     results: list[Throw | None] = [None] * len(values)
     built, rows = [], []
@@ -102,7 +103,7 @@ def fast_throws(problem: Problem, values: np.ndarray, tolerance: float, loads: b
             built.append(i)
             rows.append(fast.pack(design))
     if rows:
-        shots = fast.shoot(np.array(rows), rtol=tolerance, atol=tolerance, loads=loads)
+        shots = fast.shoot(np.array(rows), rtol=tolerance, atol=tolerance, threads=threads, loads=loads)
         for j, (i, status, distance) in enumerate(zip(built, shots.status.tolist(), shots.range.tolist(),
                                                       strict=True)):
             peaks = {name: float(getattr(shots, name)[j]) for name in PEAK_NAMES} if loads else {}
@@ -123,7 +124,7 @@ def _throw_in_worker(task: tuple[np.ndarray, float, bool]) -> Throw:
 
 
 class Evaluator:
-    """Scores designs of one problem on the fast path (numba threads) or the reference path (processes).
+    """Scores designs of one problem on the fast path (threads) or the reference path (processes).
 
     Use as a context manager (on the reference path it owns a process pool
     when ``workers > 1``). Those workers are spawned, so a script that makes
@@ -133,7 +134,7 @@ class Evaluator:
     ----------
     problem : the problem whose designs are scored.
     path : ``"fast"`` or ``"reference"`` (module docstring).
-    workers : threads (fast path; default, and at most, every one numba has)
+    workers : threads (fast path; default ``analytic.fast.default_threads()``)
         or worker processes (reference path; default ``DEFAULT_PROCESSES``)
         shooting at once.
 
@@ -148,11 +149,9 @@ class Evaluator:
         if path not in PATHS:
             raise ValueError(f"path = {path!r}: must be one of {', '.join(PATHS)}")
         if workers is None:
-            workers = numba.config.NUMBA_NUM_THREADS if path == FAST else DEFAULT_PROCESSES
+            workers = fast.default_threads() if path == FAST else DEFAULT_PROCESSES
         if workers < 1:
             raise ValueError(f"workers = {workers!r}: need at least one")
-        if path == FAST:
-            workers = min(workers, numba.config.NUMBA_NUM_THREADS)
         self.problem = problem
         self.path = path
         self.failures: Counter[str] = Counter()
@@ -160,8 +159,8 @@ class Evaluator:
         self._pool = None
         self._outcomes: dict[tuple[bytes, float], tuple[float, np.ndarray]] = {}
         if path == REFERENCE and workers > 1:
-            # spawn, not fork: the parent may run threads (tqdm's monitor, numba's
-            # pool), and forking a threaded process can deadlock.
+            # spawn, not fork: the parent may run threads (tqdm's monitor, a
+            # batch's), and forking a threaded process can deadlock.
             self._pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"),
                                              initializer=_start_worker, initargs=(problem,))
         self.workers = workers
@@ -201,12 +200,7 @@ class Evaluator:
         return results
 
     def _fast_throws(self, values: np.ndarray, tolerance: float, loads: bool) -> list[Throw]:
-        previous = numba.get_num_threads()
-        numba.set_num_threads(self.workers)
-        try:
-            return fast_throws(self.problem, values, tolerance, loads)
-        finally:
-            numba.set_num_threads(previous)
+        return fast_throws(self.problem, values, tolerance, self.workers, loads)
 
     def node_ranges(self, values: np.ndarray, tolerance: float, scatter: Scatter,
                     failure_range: float = FAILURE_RANGE) -> np.ndarray:
