@@ -192,18 +192,54 @@ class Environment:
         require_number("environment.wind_speed", self.wind_speed)
 
 
+#: How the frame stands: bolted to the ground, or free to roll horizontally.
+MOBILITIES = ("fixed", "rolling")
+
+
+@dataclass(frozen=True)
+class Base:
+    """The frame (pivot, base and everything fixed to them but arm, counterweight and projectile).
+
+    Attributes
+    ----------
+    mobility : ``"fixed"`` (bolted down) or ``"rolling"`` (translates
+        horizontally as one rigid body on frictionless wheels; it does not
+        lift or tip).
+    mass : kg, the frame's effective translational mass (the frame, the
+        wheels and, if wished, the wheels' rotational inertia as I / r^2);
+        required when rolling.
+    """
+
+    mobility: str = "fixed"
+    mass: float | None = None
+
+    def __post_init__(self) -> None:
+        require_choice("base.mobility", self.mobility, MOBILITIES)
+        if self.mass is not None:
+            require_positive("base.mass", self.mass)
+        elif self.mobility == "rolling":
+            raise MissingValueError("base.mass", reason='required value is missing (with mobility = "rolling")')
+
+    @property
+    def rolling(self) -> bool:
+        return self.mobility == "rolling"
+
+
 @dataclass(frozen=True)
 class Design:
-    """A whole shot's inputs: machine, projectile and environment."""
+    """A whole shot's inputs: machine, projectile, environment and the frame it stands on."""
 
     machine: Machine
     projectile: Projectile
     environment: Environment = field(default_factory=Environment)
     name: str = "design"
+    base: Base = field(default_factory=Base)
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str):
             raise DesignError("name", self.name, "must be text")
+        if not isinstance(self.base, Base):
+            raise DesignError("base", self.base, "must be a Base")
 
 
 # --------------------------------------------------------------------------- #

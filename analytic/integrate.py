@@ -62,7 +62,9 @@ class Segment:
     t_end : float, where it ended, s; y_end : (m,) the state there.
     roots : name -> list of (t, y) for non-terminal events that were counted.
     solution : the continuous solution on [t[0], t_end] (``OdeSolution``; None
-        for a segment of zero length).
+        for a segment of zero length, or when neither samples nor ``continuous`` were asked for).
+    step_t : (k,) the start, every accepted step's end and the end, s.
+    step_y : (k, m) the states there.
     """
 
     t: np.ndarray
@@ -72,12 +74,14 @@ class Segment:
     y_end: np.ndarray
     roots: dict[str, list[tuple[float, np.ndarray]]]
     solution: OdeSolution | None = None
+    step_t: np.ndarray | None = None
+    step_y: np.ndarray | None = None
 
 
 
 def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.ndarray,
               t_end: float, events: tuple[Event, ...] = (), *, rtol: float, atol: float,
-              output_step: float | None) -> Segment:
+              output_step: float | None, continuous: bool = False) -> Segment:
     """Integrate ``y' = fun(t, y)`` from ``t0`` until a terminal event or ``t_end``.
 
     Parameters
@@ -91,12 +95,15 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
         two ends and no continuous ``solution``; the step's interpolant is then
         built only for a step that holds an event's root (3 evaluations saved
         on every other step).
+    continuous : build the continuous ``solution`` even without samples.
     """
     solver = DOP853(fun, t0, np.asarray(y0, dtype=float), t_end, rtol=rtol, atol=atol)
     previous = [event.value(t0, solver.y) for event in events]
     times, states = [t0], [solver.y.copy()]
-    record = output_step is not None
-    next_output = t0 + output_step if record else np.inf
+    step_t, step_y = [t0], [solver.y.copy()]
+    sampled = output_step is not None
+    record = sampled or continuous
+    next_output = t0 + output_step if sampled else np.inf
     roots: dict[str, list[tuple[float, np.ndarray]]] = {e.name: [] for e in events if not e.terminal}
     step_ends, interpolants = [t0], []
 
@@ -126,6 +133,8 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
         previous = current
 
         t_stop = solver.t if hit is None else hit[0]
+        step_t.append(t_stop)
+        step_y.append(solver.y.copy() if hit is None else dense(t_stop))
         while next_output < t_stop:
             times.append(next_output)
             states.append(dense(next_output))
@@ -138,13 +147,15 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
             for name in roots:
                 roots[name] = [(t, y) for t, y in roots[name] if t <= t_hit]
             return Segment(np.array(times), np.array(states), event.name, t_hit, y_hit, roots,
-                           OdeSolution(step_ends, interpolants) if record else None)
+                           OdeSolution(step_ends, interpolants) if record else None,
+                           np.array(step_t), np.array(step_y))
 
     if times[-1] < solver.t:
         times.append(solver.t)
         states.append(solver.y.copy())
     solution = OdeSolution(step_ends, interpolants) if interpolants else None
-    return Segment(np.array(times), np.array(states), None, solver.t, solver.y.copy(), roots, solution)
+    return Segment(np.array(times), np.array(states), None, solver.t, solver.y.copy(), roots, solution,
+                   np.array(step_t), np.array(step_y))
 
 
 class _LazyDense:

@@ -9,7 +9,8 @@
   best of ``repeat`` runs; reported: the median shot of the reference
   (``simulate(histories=False)``, scipy's DOP853 stepped from Python: the same
   summary the fast path gives), of the reference with its histories (what
-  ``python -m analytic simulate`` runs) and of the fast path; the speed-up as
+  ``python -m analytic simulate`` runs) and of the fast path, with and without
+  the peak loads (what finding them costs, in time and in evaluations); the speed-up as
   the ratio of medians; the batch's throughput on every thread and on one;
   and the agreement of the two paths (``crosscheck.compare.compare_shots``,
   the cross-check's own comparer). Also scipy with the model compiled as its
@@ -19,8 +20,8 @@
   tighter tolerance and without histories, the fast path, the engine at its
   default step and at twice it.
 * **compile**: loading the fast path's machine code from the disk cache; with
-  ``--cold``, compiling it in a fresh process with an empty cache (about a
-  minute), apart from every shot time.
+  ``--cold``, compiling it in a fresh process with an empty cache (about half
+  a minute of CPU), apart from every shot time.
 * **sweep throughput**: one sweep (``--sweep-shots`` designs drawn over the
   paper's problem box, chunks of ``--sweep-chunk``) end to end, Parquet
   written, in this process on every core and on a 2-worker Dask
@@ -112,7 +113,6 @@ def agreement(designs: list, reference: list, fast_shots: list) -> dict:
 
 def paths(count: int, seed: int, repeat: int, batch_repeat: int, progress: bool) -> dict:
     """The two analytic paths on the same designs: times, speed-up, batch throughput, agreement."""
-    import numba
     from tqdm import tqdm
 
     from analytic import fast
@@ -131,16 +131,15 @@ def paths(count: int, seed: int, repeat: int, batch_repeat: int, progress: bool)
     reference, reference_s = each("reference", lambda d: simulate(d, histories=False), 1)
     _, reference_full_s = each("reference + histories", simulate, 1)
     fast_shots, fast_s = each("fast", fast.simulate_fast, repeat)
+    _, fast_no_loads_s = each("fast, no loads", lambda d: fast.simulate_fast(d, loads=False), repeat)
     agree = agreement(designs, reference, fast_shots)
+    evaluations = fast.shoot(designs).evaluations
+    evaluations_no_loads = fast.shoot(designs, loads=False).evaluations
 
     rows = np.tile(fast.pack_many(designs), (batch_repeat, 1))
-    batch_s, _ = best_time(lambda: fast.shoot(rows), 3)
-    threads = numba.get_num_threads()
-    numba.set_num_threads(1)
-    try:
-        batch_one_s, _ = best_time(lambda: fast.shoot(rows), 3)
-    finally:
-        numba.set_num_threads(threads)
+    threads = fast.default_threads()
+    batch_s, _ = best_time(lambda: fast.shoot(rows, threads=threads), 3)
+    batch_one_s, _ = best_time(lambda: fast.shoot(rows, threads=1), 3)
     reference_median, fast_median = float(np.median(reference_s)), float(np.median(fast_s))
     return {
         "reference_median_shot_s": reference_median,
@@ -153,9 +152,11 @@ def paths(count: int, seed: int, repeat: int, batch_repeat: int, progress: bool)
         "fast_max_shot_s": float(np.max(fast_s)),
         "batch_one_thread_shots_per_s": len(rows) / batch_one_s,
         "batch_threads": threads,
-        "threading_layer": numba.threading_layer(),
         "batch_scaling": batch_one_s / batch_s,
         "max_event_time_diff_s": agree["max_event_time_diff_s"],
+        "fast_no_loads_median_shot_s": float(np.median(fast_no_loads_s)),
+        "load_tracking_time_ratio": fast_median / float(np.median(fast_no_loads_s)),
+        "load_tracking_evaluation_ratio": float(np.median(evaluations / np.maximum(evaluations_no_loads, 1))),
         "status_mismatches": agree["status_mismatches"],
         "designs": len(designs),
         "designs_thrown": agree["thrown"],
@@ -345,9 +346,12 @@ def format_bench(figures: dict) -> str:
         f"  reference with histories            {f['reference_full_median_shot_s'] * 1e3:9.3f} ms",
         f"  fast (compiled)                     {f['fast_median_shot_s'] * 1e3:9.3f} ms"
         f"   (slowest design {f['fast_max_shot_s'] * 1e3:.3f} ms)",
+        f"  fast, without the peak loads        {f['fast_no_loads_median_shot_s'] * 1e3:9.3f} ms"
+        f"   (finding them costs {f['load_tracking_time_ratio']:.2f} x the time,"
+        f" {f['load_tracking_evaluation_ratio']:.2f} x the evaluations, medians)",
         f"  speed-up                            {f['speedup']:9.1f} x  "
         f"({f['speedup_vs_full_reference']:.0f} x against the reference with histories)",
-        f"  batch of {f['batch_shots']}, {f['batch_threads']} threads ({f['threading_layer']})"
+        f"  batch of {f['batch_shots']}, {f['batch_threads']} threads"
         f"   {f['batch_shots_per_s']:9.0f} shots/s; 1 thread {f['batch_one_thread_shots_per_s']:.0f}"
         f" (scaling {f['batch_scaling']:.2f} x)",
         f"  agreement: range {f['max_range_rel_diff']:.2e} relative, events {f['max_event_time_diff_s']:.2e} s,"
@@ -415,7 +419,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--repeat", type=int, default=5,
                         help="runs per timing, the best counts (default %(default)s)")
     parser.add_argument("--cold", action="store_true",
-                        help="also compile the fast path in a fresh process with an empty cache (about a minute)")
+                        help="also compile the fast path in a fresh process with an empty cache "
+                             "(about half a minute of CPU)")
     parser.add_argument("--plot", metavar="FILE.png", help="plot the time per shot and the agreement per design")
     parser.add_argument("--sweep-shots", type=int, default=40_960,
                         help="designs in the sweep-throughput part (in this process and on a 2-worker "
@@ -431,12 +436,23 @@ def main(args: argparse.Namespace | list[str] | None = None) -> int:
         parser = argparse.ArgumentParser(prog="python -m crosscheck.benchmark", description=__doc__,
                                          formatter_class=argparse.RawDescriptionHelpFormatter)
         add_arguments(parser)
-        args = parser.parse_args(args)
+        from analytic.command_line import negative_numbers_as_values
+
+        args = parser.parse_args(negative_numbers_as_values(sys.argv[1:] if args is None else args))
     if args.designs < 0 or args.repeat < 1 or args.sweep_shots < 0 or (args.sweep_chunk or 1) < 1:
         print(f"--designs = {args.designs}, --repeat = {args.repeat}, --sweep-shots = {args.sweep_shots}, "
               f"--sweep-chunk = {args.sweep_chunk}: need designs >= 0, repeat >= 1, sweep shots >= 0 and "
               f"sweep chunk >= 1", file=sys.stderr)
         return 2
+    plot = None
+    if args.plot:
+        from analytic.command_line import OutputPathError, output_file
+
+        try:
+            plot = output_file(args.plot, "--plot")
+        except OutputPathError as error:
+            print(error, file=sys.stderr)
+            return 2
     design = None
     if args.design is not None:
         from analytic.design import DesignError
@@ -449,13 +465,12 @@ def main(args: argparse.Namespace | list[str] | None = None) -> int:
             return 2
     figures = run(design, count=args.designs, seed=args.seed, repeat=args.repeat, cold=args.cold,
                   progress=not args.quiet, sweep_shots=args.sweep_shots, sweep_chunk=args.sweep_chunk)
-    if args.plot:
-        Path(args.plot).parent.mkdir(parents=True, exist_ok=True)
-        save_bench_figure(figures, args.plot)
+    if plot is not None:
+        save_bench_figure(figures, plot)
     figures.pop("per_design")
     print(json.dumps(figures, indent=2) if args.json else format_bench(figures))
-    if args.plot and not args.json:
-        print(f"plot written to {args.plot}")
+    if plot is not None and not args.json:
+        print(f"plot written to {plot}")
     return 0 if not figures["status_mismatches"] and figures.get("sweep_tables_identical", True) else 1
 
 

@@ -19,8 +19,9 @@ OUTCOMES = ("range", "liftoff_time", "release_time", "landing_time", "release_x"
             "release_vx", "release_vy", "apex_height", "end_time", "steps", "evaluations")
 
 
-def chunk_table(sweep: Sweep, chunk: int) -> dict[str, np.ndarray]:
-    """Chunk ``chunk`` of ``sweep`` as columns, each of shape (m,).
+def chunk_table(sweep: Sweep, chunk: int, threads: int | None = None) -> dict[str, np.ndarray]:
+    """Chunk ``chunk`` of ``sweep`` as columns, each of shape (m,), its batch on ``threads``
+    threads (default: every processor this process may use).
 
     Returns
     -------
@@ -39,7 +40,8 @@ def chunk_table(sweep: Sweep, chunk: int) -> dict[str, np.ndarray]:
         return table
     from analytic import fast
 
-    shots = fast.shoot(kernel_rows(sweep.base, inputs))
+    # The table holds no peak loads, so the batch does not look for them.
+    shots = fast.shoot(kernel_rows(sweep.base, inputs), threads=threads, loads=False)
     table.update(status=shots.status, range=shots.range, liftoff_time=shots.liftoff_time,
                  release_time=shots.release_time, landing_time=shots.landing_time,
                  release_x=shots.release_position[:, 0], release_y=shots.release_position[:, 1],

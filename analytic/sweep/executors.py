@@ -5,10 +5,11 @@ the caller writes them. Workers only compute (``evaluate.chunk_table``) and
 send the columns back, so the results folder lives where the command runs
 and needs no file system shared with the workers.
 
-Dask workers are separate processes, started with ``spawn``: a process
-forked from one that has shot with GNU OpenMP's threads is killed by it
-when it shoots itself (``analytic.fast.shoot``). Each worker loads the
-compiled kernel once, when it starts (``worker.LoadKernel``), not per chunk.
+Dask workers are separate processes (spawned: nothing of the client's state
+is inherited). Each worker loads the compiled kernel once, when it starts
+(``worker.LoadKernel``), not per chunk, and shoots a chunk on its share of
+the machine's cores (``threads_per_chunk`` Python threads, the kernel
+releasing the GIL).
 """
 
 from __future__ import annotations
@@ -37,7 +38,7 @@ class ExecutorError(RuntimeError):
 
 
 class InProcess:
-    """Every chunk in this process, one after another, each on all cores (numba threads)."""
+    """Every chunk in this process, one after another, each on all cores (``fast.shoot``'s threads)."""
 
     name = "in-process"
 

@@ -21,18 +21,13 @@ def shoot_chunk(sweep: Sweep, chunk: int, threads: int, model: dict) -> dict[str
 
     ``model``: the client's ``evaluate.model_identity``; a worker whose own
     differs (another checkout on a cluster's machine) refuses, rather than
-    mix another model's numbers into the results. numba's thread count is a
-    setting of the calling thread, so it is set here, in the thread that
-    runs the task.
+    mix another model's numbers into the results.
     """
-    import numba
-
     own = _model_identity(sweep.base.kind, sweep.base.name)
     if own != model:
         raise RuntimeError(f"this worker runs another version of the model than the client "
                            f"(worker {own}, client {model}): install the same checkout on every machine")
-    numba.set_num_threads(max(1, min(threads, numba.config.NUMBA_NUM_THREADS)))
-    return chunk_table(sweep, chunk)
+    return chunk_table(sweep, chunk, threads)
 
 
 _identities: dict = {}
