@@ -6,7 +6,7 @@ import json
 
 import numpy as np
 import pytest
-from conftest import with_environment, with_machine, with_projectile
+from support import with_environment, with_machine, with_projectile
 
 import engine_model
 from analytic import fast
