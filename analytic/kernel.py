@@ -630,7 +630,6 @@ def shot(P, table, coef, rtol, atol, track_loads, out):
 
 
 @njit(**_JIT)
-@njit(**_JIT)
 def _write_peaks(peaks, out):
     for k in range(N_LOADS):
         out[PEAKS + 2 * k], out[PEAKS + 2 * k + 1] = peaks[k, 0], peaks[k, 1]
