@@ -137,6 +137,7 @@ def _chart(args: argparse.Namespace) -> int:
     thrown = int((result.status == "ok").sum())
     print(f"{len(result.status)} designs ({thrown} throw) in {result.seconds:.2f} s; "
           f"written {csv_path} and {png_path}")
+    return EXIT_OK
 
 
 def _compile(args: argparse.Namespace) -> int:

@@ -8,7 +8,7 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
-from analytic.design import (Base, BeamArm, Design, DesignError, Environment, Machine, MissingValueError,
+from analytic.design import (Base, BeamArm, Design, DesignError, Environment, Losses, Machine, MissingValueError,
                              Projectile, paper_geometry, require_number)
 from analytic.units import FIELD_KINDS, from_file, to_file_text
 
@@ -46,12 +46,13 @@ def design_from_dict(data: dict[str, Any], name: str = "design") -> Design:
         naming the field as ``table.key``, its value and the reason.
     """
     reject_unknown_keys("", require_table("design", data),
-                        ("machine", "projectile", "environment", "base", "name"))
+                        ("machine", "projectile", "environment", "base", "losses", "name"))
     machine = machine_from_dict(data.get("machine"))
     projectile = projectile_from_dict(data.get("projectile"))
     environment = environment_from_dict(data.get("environment"))
     base = base_from_dict(data.get("base"))
-    return Design(machine, projectile, environment, name=data.get("name", name), base=base)
+    losses = losses_from_dict(data.get("losses"))
+    return Design(machine, projectile, environment, name=data.get("name", name), base=base, losses=losses)
 
 
 def machine_from_dict(data: Any) -> Machine:
@@ -113,6 +114,15 @@ def base_from_dict(data: Any) -> Base:
     return Base(**values)
 
 
+_LOSSES_KEYS = ("axle_friction", "axle_radius", "hinge_friction", "hinge_radius", "base_friction")
+
+
+def losses_from_dict(data: Any) -> Losses:
+    """The optional ``[losses]`` table: Coulomb coefficients and pin radii (m), each 0 if absent."""
+    values = read_values("losses", require_table("losses", data, optional=True), numbers=_LOSSES_KEYS)
+    return Losses(**values)
+
+
 def beam_arm_from_dict(data: Any, table: str = BEAM_TABLE) -> BeamArm:
     """A beam table (``width``, ``depth``, ``density``, all required), errors named under ``table``.
 
@@ -145,6 +155,8 @@ def design_to_dict(design: Design, units: dict[str, str] | None = None) -> dict[
               "environment": dataclasses.asdict(design.environment)}
     if design.base != Base():   # a fixed frame is the default: its table is left out
         layout["base"] = {k: v for k, v in dataclasses.asdict(design.base).items() if v is not None}
+    if not design.losses.ideal:   # the ideal machine is the default: its table is left out
+        layout["losses"] = dataclasses.asdict(design.losses)
     if units is not None:
         for table in layout.values():
             if isinstance(table, dict):

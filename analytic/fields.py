@@ -15,11 +15,12 @@ import dataclasses
 import math
 from dataclasses import dataclass
 
-from analytic.design import Base, Design, DesignError, Environment, Machine, Projectile
+from analytic.design import Base, Design, DesignError, Environment, Losses, Machine, Projectile
 from analytic.units import ANGLE, FIELD_KINDS, Kind
 
 #: The tables of a design and the dataclass each holds.
-_TABLES = {"machine": Machine, "projectile": Projectile, "environment": Environment, "base": Base}
+_TABLES = {"machine": Machine, "projectile": Projectile, "environment": Environment, "base": Base,
+           "losses": Losses}
 #: Fields of those dataclasses that are not numbers (choices), refused as fields to vary.
 _CHOICES = {"release_rule", "drag", "mobility"}
 

@@ -26,8 +26,12 @@ JSON_KEYS = (
     "landed_behind_pivot", "energy_efficiency", "range_efficiency", "min_sling_tension",
     "frame_release_displacement", "frame_release_velocity",
     *(f"{name}{suffix}" for name in PEAK_NAMES for suffix in ("", "_time")),
-    "warnings",
+    "energy_dissipated", "warnings",
 )
+#: The losses a shot accounts for (``Shot.energy_dissipated``'s keys), J: the
+#: main axle's friction, the counterweight hinge's, the base's (stage 1) and
+#: the air's drag in flight.
+LOSS_NAMES = ("axle", "hinge", "base", "drag")
 
 
 @dataclass(frozen=True)
@@ -104,6 +108,8 @@ class Shot:
         example a rolling frame that would jump).
     diagnostics : how far the model that made the shot can be trusted, or None
         (the engine model's ``EngineDiagnostics``).
+    energy_dissipated : J taken by each loss from firing to the shot's end, keyed
+        ``LOSS_NAMES`` (zeros where a loss is absent), or None where not computed.
     """
 
     design: Design
@@ -117,6 +123,7 @@ class Shot:
     landing_position: np.ndarray | None = None
     apex_height: float | None = None
     min_sling_tension: float | None = None
+    energy_dissipated: dict[str, float] | None = None
     counterweight_energy_released: float | None = None
     frame_release_displacement: float | None = None
     frame_release_velocity: float | None = None
@@ -278,6 +285,8 @@ class Shot:
             "frame_release_velocity": number(self.frame_release_velocity),
             **{f"{name}{suffix}": number(getattr(self, f"{name}{suffix}"))
                for name in PEAK_NAMES for suffix in ("", "_time")},
+            "energy_dissipated": (None if self.energy_dissipated is None
+                                  else {name: float(self.energy_dissipated[name]) for name in LOSS_NAMES}),
             "warnings": list(self.warnings),
         }
 
