@@ -40,9 +40,12 @@ DECADE_BAND = (9.0, 11.0)
 
 #: The engine's numbers for the paper's design at dt = 4e-4 s, recorded from
 #: the engine before the frame could roll: a fixed frame must reproduce them bit for bit.
-FIXED_FRAME_AT_4E_4 = {"release_speed": 24.322604321479904, "range": 45.299441909692675,
+#: Range and landing time from the engine before the frame could roll but with the
+#: flight stepped at 10x dt (branch i15-first-contact, commit fb012bd); the rest are
+#: unchanged by that (the machine's stages are stepped as before).
+FIXED_FRAME_AT_4E_4 = {"release_speed": 24.322604321479904, "range": 45.29943957884262,
                        "liftoff_time": 0.1484417433063473, "release_time": 0.3824620184745078,
-                       "landing_time": 3.640023213455544, "min_sling_tension": -3.9844530449001185}
+                       "landing_time": 3.640023136280195, "min_sling_tension": -3.9844530449001185}
 FIXED_FRAME_ENERGY_AT_4E_4 = -0.001323130381022608   # energy.total at release, J
 FIXED_FRAME_DRIFT_AT_4E_4 = 5.434021304306924e-05     # max_joint_drift, m
 
