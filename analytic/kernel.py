@@ -30,9 +30,10 @@ from numba import njit, prange
 from numba.np.unsafe.ndarray import to_fixed_tuple
 
 from analytic.compiled import OPTIONS, limits_, stages_
+from analytic.limits import STAGE_STEP_LIMITS
 from analytic.outcome import LiftoffFailure, Status
 from analytic.parameters import N_PARAMS, Params
-from analytic.stages import EVENT_NAMES, FLIGHT, ROOT_TIME_TOLERANCE, SLIDE, SWING
+from analytic.stages import EVENT_NAMES, FLIGHT, ROOT_NUDGE_ULPS, ROOT_TIME_TOLERANCE, SLIDE, SWING
 
 _JIT = OPTIONS
 # The model's functions, compiled (``analytic.compiled``).
@@ -53,7 +54,8 @@ N_EVENTS = tuple(len(names) for names in EVENT_NAMES)
  LANDING_T, LANDING_X, APEX, END_T, VALUE, STEPS, EVALS) = range(15)
 N_RESULT = 15
 # STATUS holds ``Status.code``; DETAIL, for NEVER_LIFTS_OFF, a ``LiftoffFailure``
-# and for STEP_FAILED the stage; VALUE, for NEVER_FIRES, the arm's acceleration at rest.
+# and for STEP_FAILED the stage; VALUE, for NEVER_FIRES, the arm's acceleration at
+# rest, and for STEP_FAILED 1 if the stage ran out of steps (``STAGE_STEP_LIMITS``).
 OK, NEVER_FIRES, NEVER_LIFTS_OFF, HITS_BASE, NEVER_RELEASES, NO_LANDING, STEP_FAILED = (
     Status.OK.code, Status.NEVER_FIRES.code, Status.NEVER_LIFTS_OFF.code,
     Status.HITS_BASE_BEFORE_RELEASE.code, Status.NEVER_RELEASES.code, Status.NO_LANDING.code,
@@ -243,7 +245,7 @@ def _brent(stage, k, xa, xb, fa, fb, t_old, h, y_old, F, tmp, p):
 
 
 # integrate()'s outcome codes besides an event index.
-_REACHED_END, _FAILED = -1, -2
+_REACHED_END, _FAILED, _OUT_OF_STEPS = -1, -2, -3
 
 
 @njit(**_JIT)
@@ -251,8 +253,9 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts):
     """Integrate ``stage`` from (t0, y0) until a terminal event or ``t_bound``.
 
     Returns ``(code, t_end, y_end, apex)``: code is the index of the terminal
-    event that ended it, ``_REACHED_END`` or ``_FAILED`` (step size underflow
-    or a non-finite state); apex is the largest y[1] at a counted apex root
+    event that ended it, ``_REACHED_END``, ``_FAILED`` (step size underflow
+    or a non-finite state) or ``_OUT_OF_STEPS`` (the stage's ``STAGE_STEP_LIMITS``
+    accepted steps without reaching ``t_bound``); apex is the largest y[1] at a counted apex root
     (flight only; -inf if none). ``counts`` accumulates [steps, evaluations].
     """
     n = y0.shape[0]
@@ -269,10 +272,16 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts):
     t = t0
     h_abs = _initial_step(stage, t0, y, f, t_bound, rtol, atol, p, table)
     counts[1] += 2
+    if not math.isfinite(h_abs):
+        # A non-finite start or derivative: a NaN step would be shrunk forever.
+        return _FAILED, t, y, -math.inf
     apex = -math.inf
     apex_t, apex_y = np.empty(4), np.empty(4)   # counted apex roots within one step
     exponent = -1.0 / (_ERROR_ORDER + 1)
+    steps = 0
     while t < t_bound:
+        if steps == STAGE_STEP_LIMITS[stage]:
+            return _OUT_OF_STEPS, t, y, apex
         min_step = 10.0 * abs(np.nextafter(t, math.inf) - t)
         if h_abs < min_step:
             h_abs = min_step
@@ -300,6 +309,7 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts):
                 h_abs *= _MIN_FACTOR
             rejected = True
         counts[0] += 1
+        steps += 1
         for j in range(n):
             if not math.isfinite(y_new[j]):
                 return _FAILED, t_new, y_new, apex
@@ -337,7 +347,8 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts):
                         apex_t[n_apex], apex_y[n_apex] = t_root, y_root[1]
                         n_apex += 1
                 # Not counted: look for a later root in the same step, past this one.
-                nudge = max(ROOT_TIME_TOLERANCE * 10.0, (t_new - t_root) * 1e-9)
+                nudge = max(ROOT_TIME_TOLERANCE * 10.0, (t_new - t_root) * 1e-9,
+                            ROOT_NUDGE_ULPS * (np.nextafter(abs(t_root), math.inf) - abs(t_root)))
                 if t_root + nudge >= t_new:
                     break
                 start = t_root + nudge
@@ -366,6 +377,13 @@ def params(P):
 
 
 @njit(**_JIT)
+def _step_failed(out, code, stage):
+    """Record a stage whose integration failed (``code``: ``_FAILED`` or ``_OUT_OF_STEPS``)."""
+    out[STATUS], out[DETAIL] = STEP_FAILED, stage
+    out[VALUE] = 1.0 if code == _OUT_OF_STEPS else 0.0
+
+
+@njit(**_JIT)
 def shot(P, table, coef, rtol, atol, out):
     """Simulate the design row ``P`` through all three stages into the result row ``out``.
 
@@ -377,6 +395,11 @@ def shot(P, table, coef, rtol, atol, out):
     counts = np.zeros(2)
     p = params(P)
     ddtheta0, normal0 = fires(p)
+    if not (math.isfinite(ddtheta0) and math.isfinite(normal0)):
+        # The equations cannot be evaluated even at rest (``analytic.reference.simulate``).
+        out[END_T], out[STEPS], out[EVALS] = 0.0, 0.0, 1.0
+        _step_failed(out, _FAILED, SLIDE)
+        return
     if not ddtheta0 < 0.0:
         out[STATUS], out[VALUE], out[END_T] = NEVER_FIRES, ddtheta0, 0.0
         out[STEPS], out[EVALS] = 0.0, 1.0
@@ -391,8 +414,8 @@ def shot(P, table, coef, rtol, atol, out):
     out[STEPS], out[EVALS] = counts[0], counts[1]
     if code != 1:
         out[END_T] = t1
-        if code == _FAILED:
-            out[STATUS], out[DETAIL] = STEP_FAILED, SLIDE
+        if code == _FAILED or code == _OUT_OF_STEPS:
+            _step_failed(out, code, SLIDE)
             return
         out[STATUS] = NEVER_LIFTS_OFF
         out[DETAIL] = UNDER_TIP if code == 0 else (ARM_BACK if code == 2 else TIME_LIMIT)
@@ -404,12 +427,15 @@ def shot(P, table, coef, rtol, atol, out):
     code, t2, y2, _ = integrate(SWING, t1, y2, p.t_limit, coef, rtol, atol, p, table, counts)
     out[STEPS], out[EVALS], out[END_T] = counts[0], counts[1], t2
     if code != 0:
-        if code == _FAILED:
-            out[STATUS], out[DETAIL] = STEP_FAILED, SWING
+        if code == _FAILED or code == _OUT_OF_STEPS:
+            _step_failed(out, code, SWING)
         else:
             out[STATUS] = HITS_BASE if code == 1 else NEVER_RELEASES
         return
     x, y, vx, vy = flight_start(y2, p)
+    if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(vx) and math.isfinite(vy)):
+        _step_failed(out, _FAILED, FLIGHT)
+        return
     out[RELEASE_T], out[RELEASE_X], out[RELEASE_Y], out[RELEASE_VX], out[RELEASE_VY] = t2, x, y, vx, vy
 
     # Stage 3: flight.
@@ -418,8 +444,8 @@ def shot(P, table, coef, rtol, atol, out):
                                    p, table, counts)
     out[STEPS], out[EVALS], out[END_T] = counts[0], counts[1], t3
     if code != 0:
-        if code == _FAILED:
-            out[STATUS], out[DETAIL] = STEP_FAILED, FLIGHT
+        if code == _FAILED or code == _OUT_OF_STEPS:
+            _step_failed(out, code, FLIGHT)
         else:
             out[STATUS] = NO_LANDING
         return
