@@ -17,7 +17,8 @@ import importlib
 #: Public name -> the module that defines it.
 _EXPORTS = {
     "Design": "analytic.design", "Machine": "analytic.design", "Projectile": "analytic.design",
-    "Environment": "analytic.design", "DesignError": "analytic.design",
+    "Environment": "analytic.design", "Base": "analytic.design", "Losses": "analytic.design",
+    "DesignError": "analytic.design",
     "load_design": "analytic.design_file", "save_design": "analytic.design_file",
     "default_design": "analytic.design_file",
     "simulate": "analytic.reference",

@@ -1,15 +1,16 @@
-"""Command line: ``python -m analytic simulate|optimise`` (a thin layer over the library)."""
+"""Command line: ``python -m analytic simulate|aim|chart|optimise|sweep|bench|compile`` (a thin layer over the library)."""
 
 from __future__ import annotations
 
 import argparse
 import json
 import sys
-from pathlib import Path
 
+from analytic.command_line import OutputPathError, negative_numbers_as_values, output_file, output_folder
 from analytic.design import Design, DesignError
 from analytic.design_file import default_design, load_design
 from analytic.report import format_shot
+from analytic.units import LENGTH, SYSTEMS
 
 #: Exit codes: a throw, an unbuildable design, a valid design that does not throw.
 EXIT_OK, EXIT_INVALID, EXIT_NO_THROW = 0, 2, 3
@@ -28,19 +29,123 @@ def _simulate(args: argparse.Namespace) -> int:
     except DesignError as error:
         print(f"invalid design: {error}", file=sys.stderr)
         return EXIT_INVALID
+    try:
+        plot = None if args.plot is None else output_file(args.plot, "--plot")
+    except OutputPathError as error:
+        print(error, file=sys.stderr)
+        return EXIT_INVALID
     shot = simulate(design)
     if args.json:
         print(json.dumps(shot.to_json(), indent=2))
     else:
-        print(format_shot(shot))
-    if args.plot:
+        print(format_shot(shot, args.units))
+    if plot is not None:
         from analytic.plot import save_shot_figure
 
-        Path(args.plot).parent.mkdir(parents=True, exist_ok=True)
-        save_shot_figure(shot, args.plot)
+        save_shot_figure(shot, plot)
         if not args.json:
-            print(f"plot written to {args.plot}")
+            print(f"plot written to {plot}")
     return EXIT_OK if shot.ok else EXIT_NO_THROW
+
+
+def _units_argument(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--units", choices=tuple(SYSTEMS), default="metric",
+                        help="units of the printed table (imperial: ft, lb, ft/s, lbf); JSON stays SI")
+
+
+def _quantity(name: str, text: str, kind) -> float:
+    """A command-line value: a bare number in file units, or a text with units (``analytic.units``)."""
+    from analytic.units import parse
+
+    try:
+        return float(text)
+    except ValueError:
+        return parse(name, text, kind)
+
+
+def _aim(args: argparse.Namespace) -> int:
+    from analytic.aim import aim, check_inputs, default_bounds, format_aim
+    from analytic.fields import field
+
+    try:
+        design = load_design(args.design)
+        target_field = field(args.adjust)
+        target_field.check(design)
+        target = _quantity("target", args.target, LENGTH)
+        within = None if args.within is None else _quantity("within", args.within, LENGTH)
+        if args.bounds is None:
+            bounds = default_bounds(target_field, design)
+        else:
+            parts = args.bounds.split(":")
+            if len(parts) != 2:
+                raise DesignError("bounds", args.bounds, "must be LOW:HIGH")
+            bounds = tuple(_quantity("bounds", part, target_field.kind) for part in parts)
+        check_inputs(target, bounds, within)
+    except DesignError as error:
+        print(f"invalid input: {error}", file=sys.stderr)
+        return EXIT_INVALID
+    result = aim(design, target_field.name, target, bounds=bounds, within=within)
+    if args.json:
+        print(json.dumps(result.to_json(), indent=2))
+    else:
+        print(format_aim(result, args.units))
+    if not result.reached:
+        if result.reachable is None:
+            print("out of reach: no setting within the bounds throws", file=sys.stderr)
+        else:
+            low, high = result.reachable
+            print(f"out of reach: the target {target:g} m is outside the reachable span {low:.3f} .. {high:.3f} m",
+                  file=sys.stderr)
+        return EXIT_NO_THROW
+    return EXIT_OK
+
+
+def _chart(args: argparse.Namespace) -> int:
+    from analytic.chart import chart, save_chart, vary
+    from analytic.fields import field
+
+    try:
+        design = load_design(args.design)
+        varies = []
+        for spec in args.vary:
+            name, equals, rest = spec.partition("=")
+            parts = rest.split(":")
+            if not equals or len(parts) != 3:
+                raise DesignError("vary", spec, "must be FIELD=FROM:TO:STEPS")
+            target_field = field(name)
+            try:
+                steps = int(parts[2])
+            except ValueError:
+                raise DesignError(f"vary {target_field.name} steps", parts[2], "must be a whole number") from None
+            varies.append(vary(name, _quantity(f"vary {target_field.name} from", parts[0], target_field.kind),
+                               _quantity(f"vary {target_field.name} to", parts[1], target_field.kind), steps))
+        if len(varies) > 2:
+            raise DesignError("vary", len(varies), "give one or two fields to vary")
+        if len({v.field.name for v in varies}) != len(varies):
+            raise DesignError("vary", [v.field.name for v in varies], "the same field twice")
+        for v in varies:
+            v.field.check(design)
+        out = output_folder(args.out, "--out")
+    except DesignError as error:
+        print(f"invalid input: {error}", file=sys.stderr)
+        return EXIT_INVALID
+    except OutputPathError as error:
+        print(error, file=sys.stderr)
+        return EXIT_INVALID
+    result = chart(design, varies)
+    csv_path, png_path = save_chart(result, out)
+    thrown = int((result.status == "ok").sum())
+    print(f"{len(result.status)} designs ({thrown} throw) in {result.seconds:.2f} s; "
+          f"written {csv_path} and {png_path}")
+    return EXIT_OK
+
+
+def _compile(args: argparse.Namespace) -> int:
+    from analytic import fast
+
+    seconds = fast.compile(progress=True)
+    print(f"fast path ready ({seconds:.1f} s)")
+    return EXIT_OK
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -50,24 +155,54 @@ def build_parser() -> argparse.ArgumentParser:
     sim = commands.add_parser("simulate", help="simulate one shot")
     sim.add_argument("design", nargs="?", help="design TOML (default: the paper's Table III optimum)")
     sim.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
-    sim.add_argument("--plot", metavar="FILE.png", help="write trajectory, machine at release and energy plot")
+    sim.add_argument("--plot", metavar="FILE.png", help="write trajectory, machine at release, energy and loads plot "
+                                                        "(.png, .pdf or .svg; no extension: .png)")
+    _units_argument(sim)
     sim.set_defaults(func=_simulate)
-    from analytic import bench
 
-    ben = commands.add_parser("bench", help="time the fast path against the scipy reference on the same designs")
-    bench.add_arguments(ben)
-    ben.set_defaults(func=bench.main)
-    try:
-        from analytic.optimise import cli as optimise_cli
-    except ImportError:  # pragma: no cover - the optimiser is optional at import time
-        optimise_cli = None
-    if optimise_cli is not None:
-        opt = commands.add_parser("optimise", help="maximise range over the paper's design variables")
-        optimise_cli.add_arguments(opt)
-        opt.set_defaults(func=optimise_cli.run)
+    aim = commands.add_parser("aim", help="find the setting of one field that lands on a target distance")
+    aim.add_argument("design", help="design TOML")
+    aim.add_argument("--target", required=True, help="distance from the pivot: metres, or with a unit (30m, 100ft)")
+    aim.add_argument("--adjust", required=True, metavar="FIELD",
+                     help="the field to set, dotted (machine.release_angle, projectile.mass) or a machine name")
+    aim.add_argument("--bounds", metavar="LOW:HIGH",
+                     help="settings to search, file units or with units (30:60, 2kg:10kg; default: see README)")
+    aim.add_argument("--within", metavar="D", help="also report the settings landing within D of the target")
+    aim.add_argument("--json", action="store_true", help="print one JSON object (SI, angles in degrees)")
+    _units_argument(aim)
+    aim.set_defaults(func=_aim)
+
+    cha = commands.add_parser("chart", help="range and peak loads against one or two varied fields (CSV and PNG)")
+    cha.add_argument("design", help="design TOML")
+    cha.add_argument("--vary", action="append", required=True, metavar="FIELD=FROM:TO:STEPS",
+                     help="a field and its settings (counterweight_mass=1kg:3kg:9); once or twice")
+    cha.add_argument("--out", required=True, metavar="DIR", help="folder for chart.csv and chart.png")
+    cha.set_defaults(func=_chart)
+    comp = commands.add_parser("compile", help="compile the fast path into its disk cache now "
+                                               "(make does it on install; later runs load it)")
+    comp.set_defaults(func=_compile)
+    # The benchmark times both models, so it lives with the cross-check; the
+    # command line, the top layer, may reach it.
+    from crosscheck import benchmark
+
+    ben = commands.add_parser("bench", help="time both analytic paths (and the engine) on the same designs, "
+                                            "as ratios in one run (python -m crosscheck.benchmark)")
+    benchmark.add_arguments(ben)
+    ben.set_defaults(func=benchmark.main)
+    from analytic.optimise import cli as optimise_cli
+
+    opt = commands.add_parser("optimise", help="maximise range over the paper's design variables")
+    optimise_cli.add_arguments(opt)
+    opt.set_defaults(func=optimise_cli.run)
+    from analytic.sweep import cli as sweep_cli
+
+    swp = commands.add_parser("sweep", help="shoot a grid, sample or uncertain inputs in chunks (in-process or "
+                                            "on Dask), or report on a finished sweep")
+    sweep_cli.add_arguments(swp)
+    swp.set_defaults(func=sweep_cli.run)
     return parser
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
+    args = build_parser().parse_args(negative_numbers_as_values(sys.argv[1:] if argv is None else argv))
     return args.func(args)

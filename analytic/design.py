@@ -204,18 +204,106 @@ class Environment:
         require_number("environment.wind_speed", self.wind_speed)
 
 
+#: How the frame stands: bolted to the ground, or free to roll horizontally.
+MOBILITIES = ("fixed", "rolling")
+
+
+@dataclass(frozen=True)
+class Base:
+    """The frame (pivot, base and everything fixed to them but arm, counterweight and projectile).
+
+    Attributes
+    ----------
+    mobility : ``"fixed"`` (bolted down) or ``"rolling"`` (translates
+        horizontally as one rigid body on frictionless wheels; it does not
+        lift or tip).
+    mass : kg, the frame's effective translational mass (the frame, the
+        wheels and, if wished, the wheels' rotational inertia as I / r^2);
+        required when rolling.
+    """
+
+    mobility: str = "fixed"
+    mass: float | None = None
+
+    def __post_init__(self) -> None:
+        require_choice("base.mobility", self.mobility, MOBILITIES)
+        if self.mass is not None:
+            require_positive("base.mass", self.mass)
+        elif self.mobility == "rolling":
+            raise MissingValueError("base.mass", reason='required value is missing (with mobility = "rolling")')
+
+    @property
+    def rolling(self) -> bool:
+        return self.mobility == "rolling"
+
+
+#: The ``[losses]`` table's joints: each has a Coulomb coefficient and the
+#: radius of the pin (or bearing) it acts at.
+FRICTION_JOINTS = ("axle", "hinge")
+
+
+@dataclass(frozen=True)
+class Losses:
+    """Friction in the machine (``[losses]`` in design files); all zero is the ideal machine.
+
+    Attributes
+    ----------
+    axle_friction : Coulomb coefficient of the main axle in its bearing.
+    axle_radius : m, the axle's radius: the friction torque is
+        ``axle_friction * axle_radius * |axle reaction force|``, opposing the arm's rotation.
+    hinge_friction, hinge_radius : the same for the counterweight's hinge on the
+        short arm, opposing the link's rotation relative to the arm.
+    base_friction : Coulomb coefficient of the projectile (or its sled)
+        sliding on the base in stage 1: ``base_friction * N`` against its sliding.
+
+    A joint's coefficient without its radius (or a radius without its
+    coefficient) is refused: the torque needs both.
+    """
+
+    axle_friction: float = 0.0
+    axle_radius: float = 0.0
+    hinge_friction: float = 0.0
+    hinge_radius: float = 0.0
+    base_friction: float = 0.0
+
+    def __post_init__(self) -> None:
+        for name in ("axle_friction", "axle_radius", "hinge_friction", "hinge_radius", "base_friction"):
+            require_non_negative(f"losses.{name}", getattr(self, name))
+        for joint in FRICTION_JOINTS:
+            coefficient, radius = getattr(self, f"{joint}_friction"), getattr(self, f"{joint}_radius")
+            if radius > 0.0 and coefficient == 0.0:
+                raise DesignError(f"losses.{joint}_radius", radius,
+                                  f"a radius without its coefficient: give losses.{joint}_friction too")
+            if coefficient > 0.0 and radius == 0.0:
+                raise DesignError(f"losses.{joint}_friction", coefficient,
+                                  f"a coefficient without its radius: give losses.{joint}_radius (m) too")
+
+    @property
+    def ideal(self) -> bool:
+        """No friction anywhere (the default)."""
+        return self == Losses()
+
+
 @dataclass(frozen=True)
 class Design:
-    """A whole shot's inputs: machine, projectile and environment."""
+    """A whole shot's inputs: machine, projectile, environment, the frame it stands on and its losses."""
 
     machine: Machine
     projectile: Projectile
     environment: Environment = field(default_factory=Environment)
     name: str = "design"
+    base: Base = field(default_factory=Base)
+    losses: Losses = field(default_factory=Losses)
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str):
             raise DesignError("name", self.name, "must be text")
+        if not isinstance(self.base, Base):
+            raise DesignError("base", self.base, "must be a Base")
+        if not isinstance(self.losses, Losses):
+            raise DesignError("losses", self.losses, "must be a Losses")
+        if not self.losses.ideal:   # until both models have friction (issue 11)
+            raise DesignError("losses", "(the table)", "friction is not modelled yet: leave [losses] out")
 
 
 # --------------------------------------------------------------------------- #

@@ -1,4 +1,4 @@
-"""Design files: TOML in and out (SI units, angles in degrees), every value checked before use."""
+"""Design files: TOML in and out (SI units, angles in degrees, or values with units), every value checked before use."""
 
 from __future__ import annotations
 
@@ -10,8 +10,9 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
-from analytic.design import (BeamArm, Design, DesignError, Environment, Machine, MissingValueError,
+from analytic.design import (Base, BeamArm, Design, DesignError, Environment, Losses, Machine, MissingValueError,
                              Projectile, paper_geometry, require_number)
+from analytic.units import FIELD_KINDS, from_file, to_file_text
 
 _MACHINE_NUMBERS = tuple(f.name for f in dataclasses.fields(Machine) if f.name != "release_rule")
 _ENVIRONMENT_KEYS = tuple(f.name for f in dataclasses.fields(Environment))
@@ -48,11 +49,14 @@ def design_from_dict(data: dict[str, Any], name: str = "design") -> Design:
     DesignError
         naming the field as ``table.key``, its value and the reason.
     """
-    reject_unknown_keys("", require_table("design", data), ("machine", "projectile", "environment", "name"))
+    reject_unknown_keys("", require_table("design", data),
+                        ("machine", "projectile", "environment", "base", "losses", "name"))
     machine = machine_from_dict(data.get("machine"))
     projectile = projectile_from_dict(data.get("projectile"))
     environment = environment_from_dict(data.get("environment"))
-    return Design(machine, projectile, environment, name=data.get("name", name))
+    base = base_from_dict(data.get("base"))
+    losses = losses_from_dict(data.get("losses"))
+    return Design(machine, projectile, environment, name=data.get("name", name), base=base, losses=losses)
 
 
 def machine_from_dict(data: Any) -> Machine:
@@ -107,6 +111,22 @@ def environment_from_dict(data: Any) -> Environment:
     return Environment(**values)
 
 
+def base_from_dict(data: Any) -> Base:
+    """The optional ``[base]`` table: ``mobility`` ("fixed", the default, or "rolling") and ``mass`` (kg)."""
+    values = read_values("base", require_table("base", data, optional=True), numbers=("mass",),
+                         texts=("mobility",))
+    return Base(**values)
+
+
+_LOSSES_KEYS = ("axle_friction", "axle_radius", "hinge_friction", "hinge_radius", "base_friction")
+
+
+def losses_from_dict(data: Any) -> Losses:
+    """The optional ``[losses]`` table: Coulomb coefficients and pin radii (m), each 0 if absent."""
+    values = read_values("losses", require_table("losses", data, optional=True), numbers=_LOSSES_KEYS)
+    return Losses(**values)
+
+
 def beam_arm_from_dict(data: Any, table: str = BEAM_TABLE) -> BeamArm:
     """A beam table (``width``, ``depth``, ``density``, all required), errors named under ``table``.
 
@@ -122,13 +142,33 @@ def beam_arm_from_dict(data: Any, table: str = BEAM_TABLE) -> BeamArm:
         raise DesignError(table + error.field.removeprefix(BEAM_TABLE), error.value, error.reason) from None
 
 
-def design_to_dict(design: Design) -> dict[str, Any]:
-    """The canonical TOML layout of a design (direct form, angles in degrees)."""
+def design_to_dict(design: Design, units: dict[str, str] | None = None) -> dict[str, Any]:
+    """The canonical TOML layout of a design (direct form, angles in degrees).
+
+    Parameters
+    ----------
+    units : write every number as a text with units instead: kind name (``"length"``,
+        ``"mass"``, ... of ``analytic.units``) -> the unit to write it in (pint's
+        spelling, ``"ft"``); kinds not named are written in the file's own units.
+        ``{}`` writes every value with its file unit (``"0.61 m"``).
+    """
     machine = dataclasses.asdict(design.machine)
     machine["release_angle"] = math.degrees(machine["release_angle"])
     projectile = {k: v for k, v in dataclasses.asdict(design.projectile).items() if v is not None}
-    return {"name": design.name, "machine": machine, "projectile": projectile,
-            "environment": dataclasses.asdict(design.environment)}
+    layout = {"name": design.name, "machine": machine, "projectile": projectile,
+              "environment": dataclasses.asdict(design.environment)}
+    if design.base != Base():   # a fixed frame is the default: its table is left out
+        layout["base"] = {k: v for k, v in dataclasses.asdict(design.base).items() if v is not None}
+    if not design.losses.ideal:   # the ideal machine is the default: its table is left out
+        layout["losses"] = dataclasses.asdict(design.losses)
+    if units is not None:
+        for table in layout.values():
+            if isinstance(table, dict):
+                for key, value in table.items():
+                    kind = FIELD_KINDS.get(key)
+                    if kind is not None and kind.file_unit and isinstance(value, float):
+                        table[key] = to_file_text(value, kind, units.get(kind.name))
+    return layout
 
 
 def load_design(path: str | Path) -> Design:
@@ -136,16 +176,17 @@ def load_design(path: str | Path) -> Design:
     return design_from_dict(read_toml(path), name=Path(path).stem)
 
 
-def dumps_design(design: Design) -> str:
-    """The design as TOML text (direct form)."""
+def dumps_design(design: Design, units: dict[str, str] | None = None) -> str:
+    """The design as TOML text (direct form; ``units`` as for ``design_to_dict``)."""
     import tomli_w
 
-    return tomli_w.dumps(design_to_dict(design))
+    return tomli_w.dumps(design_to_dict(design, units))
 
 
-def save_design(design: Design, path: str | Path) -> None:
-    """Write a design as TOML that ``load_design`` reads back to an equal design."""
-    Path(path).write_text(dumps_design(design))
+def save_design(design: Design, path: str | Path, units: dict[str, str] | None = None) -> None:
+    """Write a design as TOML that ``load_design`` reads back to an equal design (with ``units``
+    in other units than the file's own, equal to the last bit or two of each conversion)."""
+    Path(path).write_text(dumps_design(design, units))
 
 
 def default_design() -> Design:
@@ -186,7 +227,8 @@ def read_values(table: str, values: dict[str, Any], *, numbers: tuple[str, ...],
     ----------
     table : the table's name (``machine``), for the errors.
     values : the table as read.
-    numbers : keys whose values must be numbers (returned as float; ``require_number``).
+    numbers : keys whose values must be numbers (returned as float; ``require_number``), bare
+        in the file's units or texts with units (``analytic.units.from_file``).
     texts : keys whose values are passed on as they are, for the design to check as choices.
     required : keys that must be present.
     also_allowed : further keys the caller has taken out of ``values`` (nested tables).
@@ -203,7 +245,7 @@ def read_values(table: str, values: dict[str, Any], *, numbers: tuple[str, ...],
     """
     reject_unknown_keys(table, values, numbers + texts + also_allowed)
     require_keys(table, values, required)
-    return {key: value if key in texts else require_number(f"{table}.{key}", value)
+    return {key: value if key in texts else require_number(f"{table}.{key}", from_file(f"{table}.{key}", value))
             for key, value in values.items()}
 
 

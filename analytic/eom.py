@@ -29,7 +29,9 @@ Stage 2 [3] has the full 3x3 system. Stage 1 [4] keeps the projectile on the
 base, ``La cos(theta) + Ls cos(beta) = -h``; psi is then a function of theta
 (``beta = -arccos(-(h + La cos theta) / Ls)``, the sling pointing forward and
 down), leaving (theta, phi) with the reduced system ``B^T M B``; the base's
-normal force is the constraint's Lagrange multiplier [4.3].
+normal force is the constraint's Lagrange multiplier [4.3]. The forces at the
+joints (axle, hinge, sling) follow from the motion by Newton's law for each
+body [9] (``joint_forces``, ``loads``).
 """
 
 from __future__ import annotations
@@ -68,10 +70,113 @@ def terms(theta, phi, psi, dtheta, dphi, dpsi, p):
 
 
 def swing_accelerations(theta, phi, psi, dtheta, dphi, dpsi, p):
-    """Stage 2: ``(theta'', phi'', psi'')`` from M q'' = f by block elimination (M23 = 0), rad/s^2."""
+    """Stage 2: ``(theta'', phi'', psi'')``, rad/s^2.
+
+    Fixed frame: M q'' = f by block elimination (M23 = 0). Rolling frame:
+    the reduced system of ``rolling_terms`` (M23 != 0), solved whole.
+    """
+    if p.rolling:
+        m11, m12, m13, m22, m23, m33, f1, f2, f3 = rolling_terms(theta, phi, psi, dtheta, dphi, dpsi, p)
+        return solve_symmetric(m11, m12, m13, m22, m23, m33, f1, f2, f3)
     m11, m12, m13, m22, m33, f1, f2, f3 = terms(theta, phi, psi, dtheta, dphi, dpsi, p)
     ddtheta = (f1 - m12 * f2 / m22 - m13 * f3 / m33) / (m11 - m12 * m12 / m22 - m13 * m13 / m33)
     return ddtheta, (f2 - m12 * ddtheta) / m22, (f3 - m13 * ddtheta) / m33
+
+
+def solve_symmetric(a11, a12, a13, a22, a23, a33, r1, r2, r3):
+    """``x`` with ``A x = r`` for the symmetric positive definite 3x3 ``A`` (cofactors; A is well
+    conditioned here: a mass matrix restricted to motions of zero momentum)."""
+    c11 = a22 * a33 - a23 * a23
+    c12 = a13 * a23 - a12 * a33
+    c13 = a12 * a23 - a13 * a22
+    c22 = a11 * a33 - a13 * a13
+    c23 = a12 * a13 - a11 * a23
+    c33 = a11 * a22 - a12 * a12
+    det = a11 * c11 + a12 * c12 + a13 * c13
+    return ((c11 * r1 + c12 * r2 + c13 * r3) / det, (c12 * r1 + c22 * r2 + c23 * r3) / det,
+            (c13 * r1 + c23 * r2 + c33 * r3) / det)
+
+
+# --------------------------------------------------------------------------- #
+# A rolling frame [8]
+# --------------------------------------------------------------------------- #
+# The frame translates by X with nothing pushing it sideways, so the whole
+# machine's horizontal momentum, Mt X' + S', stays zero from rest: X is
+# cyclic and X = (S(q0) - S(q)) / Mt follows from the configuration. S is
+# the moving parts' horizontal mass moment about the pivot and Mt the total
+# mass. Eliminating X from M q'' + b X'' = f and Mt X'' + b.q'' + c = 0
+# (b = dS/dq, c = q'^T (d2S/dq2) q') leaves (M - b b^T / Mt) q'' = f + b c / Mt.
+
+def total_mass(p):
+    """Frame, arm, counterweight and projectile, kg."""
+    return p.Mf + p.mA + p.mW + p.mP
+
+
+def horizontal_moment(theta, phi, psi, p):
+    """S = sum of m x over arm, counterweight and projectile, x from the pivot, kg m."""
+    return (-p.mA * p.d * math.sin(theta) + p.mW * (p.Lb * math.sin(theta) + p.Lw * math.sin(theta + phi))
+            - p.mP * (p.La * math.sin(theta) + p.Ls * math.sin(theta + psi)))
+
+
+def frame_coupling(theta, phi, psi, dtheta, dphi, dpsi, p):
+    """``(b1, b2, b3, c)``: ``b = dS/dq`` and ``c = q'^T (d2S/dq2) q'``, so that ``S'' = b.q'' + c``."""
+    c_th, s_th = math.cos(theta), math.sin(theta)
+    c_w, s_w = math.cos(theta + phi), math.sin(theta + phi)
+    c_b, s_b = math.cos(theta + psi), math.sin(theta + psi)
+    b1 = -p.mA * p.d * c_th + p.mW * (p.Lb * c_th + p.Lw * c_w) - p.mP * (p.La * c_th + p.Ls * c_b)
+    b2 = p.mW * p.Lw * c_w
+    b3 = -p.mP * p.Ls * c_b
+    dw, db = dtheta + dphi, dtheta + dpsi
+    c = ((p.mA * p.d - p.mW * p.Lb + p.mP * p.La) * s_th * dtheta * dtheta
+         - p.mW * p.Lw * s_w * dw * dw + p.mP * p.Ls * s_b * db * db)
+    return b1, b2, b3, c
+
+
+def rolling_terms(theta, phi, psi, dtheta, dphi, dpsi, p):
+    """The swing's system with the frame eliminated: ``M - b b^T / Mt`` and ``f + b c / Mt``.
+
+    Returns ``(m11, m12, m13, m22, m23, m33, f1, f2, f3)`` (M23 is no longer 0).
+    """
+    m11, m12, m13, m22, m33, f1, f2, f3 = terms(theta, phi, psi, dtheta, dphi, dpsi, p)
+    b1, b2, b3, c = frame_coupling(theta, phi, psi, dtheta, dphi, dpsi, p)
+    k = 1.0 / total_mass(p)
+    return (m11 - k * b1 * b1, m12 - k * b1 * b2, m13 - k * b1 * b3, m22 - k * b2 * b2, -k * b2 * b3,
+            m33 - k * b3 * b3, f1 + k * b1 * c, f2 + k * b2 * c, f3 + k * b3 * c)
+
+
+def ground_force(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, p):
+    """The ground's vertical push on the frame, N: ``Mt g + d2/dt2 (sum m y)`` over the moving parts.
+
+    The whole system's vertical momentum changes only by gravity and this
+    push (the base's push on the projectile is internal to it). The frame
+    stays down only while it is positive; ``Mt`` includes the frame only when
+    it rolls (a fixed frame is bolted down and its own weight is not counted).
+    """
+    s_th, c_th = math.sin(theta), math.cos(theta)
+    s_w, c_w = math.sin(theta + phi), math.cos(theta + phi)
+    s_b, c_b = math.sin(theta + psi), math.cos(theta + psi)
+    turn_arm = s_th * ddtheta + c_th * dtheta * dtheta        # -y'' / L of a point along the arm
+    turn_weight = s_w * (ddtheta + ddphi) + c_w * (dtheta + dphi) ** 2
+    turn_sling = s_b * (ddtheta + ddpsi) + c_b * (dtheta + dpsi) ** 2
+    lift = (-p.mA * p.d * turn_arm + p.mW * (p.Lb * turn_arm + p.Lw * turn_weight)
+            - p.mP * (p.La * turn_arm + p.Ls * turn_sling))
+    return (p.mA + p.mW + p.mP + (p.Mf if p.rolling else 0.0)) * p.g + lift
+
+
+def frame_velocity(theta, phi, psi, dtheta, dphi, dpsi, p):
+    """X', m/s: ``-S' / Mt`` (zero momentum); 0 for a fixed frame."""
+    if not p.rolling:
+        return 0.0
+    b1, b2, b3, _ = frame_coupling(theta, phi, psi, dtheta, dphi, dpsi, p)
+    return -(b1 * dtheta + b2 * dphi + b3 * dpsi) / total_mass(p)
+
+
+def frame_displacement(theta, phi, psi, p):
+    """X, m from the frame's place at rest: ``(S(q0) - S(q)) / Mt``; 0 for a fixed frame."""
+    if not p.rolling:
+        return 0.0
+    rest = horizontal_moment(p.theta0, p.phi0, -0.5 * math.pi - p.theta0, p)   # the sling along the base
+    return (rest - horizontal_moment(theta, phi, psi, p)) / total_mass(p)
 
 
 # --------------------------------------------------------------------------- #
@@ -104,28 +209,38 @@ def slide_system(theta, phi, dtheta, dphi, p):
     """The reduced stage-1 system ``[[a, b], [b, e]] [theta'', phi''] = [r1, r2]`` (eq. 4.4).
 
     ``B^T M B`` and ``B^T (f - M [0, 0, c])`` with ``B`` the constraint's
-    Jacobian. Returns ``(a, b, e, r1, r2, m13, m33, f3, s, c, sin_beta)``:
+    Jacobian. Returns ``(a, b, e, r1, r2, m13, m23, m33, f3, s, c, sin_beta)``:
     the system, then what the normal force needs (``slide_accelerations``).
+    With a rolling frame M and f are those of ``rolling_terms`` (M23 != 0).
     """
     psi, dpsi, s, c, sin_beta = slide_constraint(theta, dtheta, p)
+    if p.rolling:
+        m11, m12, m13, m22, m23, m33, f1, f2, f3 = rolling_terms(theta, phi, psi, dtheta, dphi, dpsi, p)
+        a = m11 + 2.0 * s * m13 + s * s * m33
+        r1 = f1 + s * f3 - (m13 + s * m33) * c
+        return a, m12 + s * m23, m22, r1, f2 - m23 * c, m13, m23, m33, f3, s, c, sin_beta
     m11, m12, m13, m22, m33, f1, f2, f3 = terms(theta, phi, psi, dtheta, dphi, dpsi, p)
     a = m11 + 2.0 * s * m13 + s * s * m33
     r1 = f1 + s * f3 - (m13 + s * m33) * c
-    return a, m12, m22, r1, f2, m13, m33, f3, s, c, sin_beta
+    return a, m12, m22, r1, f2, m13, 0.0, m33, f3, s, c, sin_beta
 
 
 def slide_accelerations(theta, phi, dtheta, dphi, p):
     """Stage 1: ``(theta'', phi'', N)``, N the base's normal force on the projectile, N (up positive).
 
     N is the Lagrange multiplier of the constraint (eq. 4.6):
-    ``N = (M31 theta'' + M33 psi'' - f3) / (-Ls sin beta)``.
+    ``N = (M31 theta'' + M32 phi'' + M33 psi'' - f3) / (-Ls sin beta)``, M32 = 0
+    for a fixed frame. The base moves only sideways, so its push stays vertical.
     """
-    a, b, e, r1, r2, m13, m33, f3, s, c, sin_beta = slide_system(theta, phi, dtheta, dphi, p)
+    a, b, e, r1, r2, m13, m23, m33, f3, s, c, sin_beta = slide_system(theta, phi, dtheta, dphi, p)
     det = a * e - b * b
     ddtheta = (r1 * e - r2 * b) / det
     ddphi = (r2 * a - r1 * b) / det
     ddpsi = s * ddtheta + c
-    normal = (m13 * ddtheta + m33 * ddpsi - f3) / (-p.Ls * sin_beta)
+    if p.rolling:
+        normal = (m13 * ddtheta + m23 * ddphi + m33 * ddpsi - f3) / (-p.Ls * sin_beta)
+    else:
+        normal = (m13 * ddtheta + m33 * ddpsi - f3) / (-p.Ls * sin_beta)
     return ddtheta, ddphi, normal
 
 
@@ -136,7 +251,7 @@ def slide_state(theta, phi, dtheta, dphi, p):
 
 
 # --------------------------------------------------------------------------- #
-# Energy and the sling force [2], [5]
+# Energy [2]
 # --------------------------------------------------------------------------- #
 
 def potential_energy(theta, phi, psi, p):
@@ -148,7 +263,8 @@ def potential_energy(theta, phi, psi, p):
 
 
 def kinetic_energy(theta, phi, psi, dtheta, dphi, dpsi, p):
-    """Kinetic energy ``(machine, projectile)``, J (eq. 2.4)."""
+    """Kinetic energy ``(machine, projectile)`` on the ground, J (eq. 2.4; [8] with a rolling frame,
+    whose own kinetic energy is counted with the machine's)."""
     dw = dtheta + dphi
     machine = 0.5 * ((p.IA + p.mA * p.d * p.d) * dtheta * dtheta + p.IW * dw * dw
                      + p.mW * (p.Lb * p.Lb * dtheta * dtheta + p.Lw * p.Lw * dw * dw
@@ -156,17 +272,93 @@ def kinetic_energy(theta, phi, psi, dtheta, dphi, dpsi, p):
     dbeta = dtheta + dpsi
     projectile = 0.5 * p.mP * (p.La * p.La * dtheta * dtheta + p.Ls * p.Ls * dbeta * dbeta
                                + 2.0 * p.La * p.Ls * dtheta * dbeta * math.cos(psi))
+    if p.rolling:
+        # On the ground every part moves with X' besides: the projectile gains
+        # mP X' vx + mP X'^2 / 2, and the frame (counted with the machine) Mf X'^2 / 2.
+        b1, b2, b3, _ = frame_coupling(theta, phi, psi, dtheta, dphi, dpsi, p)
+        moment_rate = b1 * dtheta + b2 * dphi + b3 * dpsi        # S'
+        dx = -moment_rate / total_mass(p)                       # X'
+        vx = -p.La * dtheta * math.cos(theta) - p.Ls * dbeta * math.cos(theta + psi)
+        projectile += p.mP * dx * (vx + 0.5 * dx)
+        machine += dx * (moment_rate - p.mP * vx) + 0.5 * (total_mass(p) - p.mP) * dx * dx
     return machine, projectile
 
 
-def sling_tension(theta, psi, dtheta, dpsi, ddtheta, normal, p):
-    """Tension in the rigid sling, N (negative: the sling pushes), eq. (5.2).
+# --------------------------------------------------------------------------- #
+# Joint forces [9]
+# --------------------------------------------------------------------------- #
+# Newton's second law for each body in the ground frame, given the motion
+# (q, q', q'') and the base's push N: the counterweight is driven only by the
+# hinge and gravity, the projectile only by the sling, the base and gravity,
+# and the arm by the axle, the hinge's and the (massless) sling's reactions
+# and gravity. A rolling frame adds its acceleration X'' to every x.
 
-    From the projectile's equation of motion along the sling,
-    ``T = (N - mP g) cos(beta) + mP (Ls beta'^2 + La theta'^2 cos(psi) - La theta'' sin(psi))``;
-    ``normal`` is the base's push (0 off the base).
+def frame_acceleration(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, p):
+    """X'', m/s^2: ``-(b.q'' + c) / Mt`` (zero momentum, [8]); 0 for a fixed frame."""
+    if not p.rolling:
+        return 0.0
+    b1, b2, b3, c = frame_coupling(theta, phi, psi, dtheta, dphi, dpsi, p)
+    return -(b1 * ddtheta + b2 * ddphi + b3 * ddpsi + c) / total_mass(p)
+
+
+def joint_forces(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, normal, p):
+    """The forces at the machine's joints, N, in the ground frame (x forward, y up), eq. (9.2).
+
+    Returns ``(axle_x, axle_y, hinge_x, hinge_y, sling_x, sling_y)``:
+
+    * axle: the force of the frame on the arm at the axle,
+      ``mA (a_A + g) + H + S`` (the arm's Newton equation);
+    * hinge: the force of the arm on the counterweight at the hinge,
+      ``mW (a_W + g)`` (the counterweight's);
+    * sling: the force of the sling on the projectile,
+      ``mP (a_P + g) - N e_y`` (the projectile's); the sling pulls the arm's
+      tip with the opposite force.
+
+    ``a_*`` are the ground accelerations of the arm's and the counterweight's
+    centres and of the projectile, ``g = (0, g)``; ``normal`` is the base's
+    push on the projectile (0 off the base).
     """
-    dbeta = dtheta + dpsi
-    return ((normal - p.mP * p.g) * math.cos(theta + psi)
-            + p.mP * (p.Ls * dbeta * dbeta + p.La * dtheta * dtheta * math.cos(psi)
-                      - p.La * ddtheta * math.sin(psi)))
+    s_th, c_th = math.sin(theta), math.cos(theta)
+    s_w, c_w = math.sin(theta + phi), math.cos(theta + phi)
+    s_b, c_b = math.sin(theta + psi), math.cos(theta + psi)
+    dw, db = dtheta + dphi, dtheta + dpsi
+    ddw, ddb = ddtheta + ddphi, ddtheta + ddpsi
+    ddx = frame_acceleration(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, p)
+    # d2/dt2 of the unit vector along the long arm, (-sin theta, cos theta) [2.1].
+    arm_x = -c_th * ddtheta + s_th * dtheta * dtheta
+    arm_y = -s_th * ddtheta - c_th * dtheta * dtheta
+    # ... of (sin w, -cos w) along the link [2.2] and of (-sin beta, cos beta) along the sling [2.3].
+    link_x = c_w * ddw - s_w * dw * dw
+    link_y = s_w * ddw + c_w * dw * dw
+    sling_ux = -c_b * ddb + s_b * db * db
+    sling_uy = -s_b * ddb - c_b * db * db
+    hinge_x = p.mW * (ddx - p.Lb * arm_x + p.Lw * link_x)
+    hinge_y = p.mW * (p.g - p.Lb * arm_y + p.Lw * link_y)
+    sling_x = p.mP * (ddx + p.La * arm_x + p.Ls * sling_ux)
+    sling_y = p.mP * (p.g + p.La * arm_y + p.Ls * sling_uy) - normal
+    axle_x = p.mA * (ddx + p.d * arm_x) + hinge_x + sling_x
+    axle_y = p.mA * (p.g + p.d * arm_y) + hinge_y + sling_y
+    return axle_x, axle_y, hinge_x, hinge_y, sling_x, sling_y
+
+
+def loads(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, normal, p):
+    """What a builder sizes the machine for, from ``joint_forces``, eq. (9.3).
+
+    Returns ``(axle_load, hinge_load, tension, projectile_acceleration)``:
+
+    * ``axle_load = |axle force|``, N: what the axle's bearings carry; a
+      bearing's friction torque is ``mu r |F|`` with this ``|F|``;
+    * ``hinge_load = |hinge force|``, N: likewise for the counterweight's hinge;
+    * ``tension``, N: the sling's pull on the projectile along the sling
+      (negative: a rigid sling pushes);
+    * ``projectile_acceleration``, m/s^2: what the projectile feels, the force
+      of the sling and the base on it divided by its mass (gravity excluded;
+      divide by g for "g"s).
+    """
+    axle_x, axle_y, hinge_x, hinge_y, sling_x, sling_y = joint_forces(
+        theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, normal, p)
+    beta = theta + psi
+    tension = sling_x * math.sin(beta) - sling_y * math.cos(beta)   # -S . (-sin beta, cos beta)
+    felt_y = sling_y + normal
+    return (math.sqrt(axle_x * axle_x + axle_y * axle_y), math.sqrt(hinge_x * hinge_x + hinge_y * hinge_y),
+            tension, math.sqrt(sling_x * sling_x + felt_y * felt_y) / p.mP)

@@ -4,8 +4,8 @@
 ``analytic.reference.simulate`` (status, message, lift-off, release, landing,
 apex) without the histories, from the compiled three-stage shot in
 ``analytic.kernel``. ``shoot(designs)`` runs many designs at once on all
-cores (numba threads) and returns arrays (``Shots``): what the optimiser and
-the cross-check use by default.
+cores (Python threads; the compiled shot releases the GIL) and returns
+arrays (``Shots``): what the optimiser and the cross-check use by default.
 
 The two paths run the same model source (``analytic.eom``, ``stages``,
 ``geometry``, ``aero``, ``limits``; compiled here by ``analytic.compiled``),
@@ -23,9 +23,13 @@ loads or builds it and says how long that took; the first shot calls it.
 
 from __future__ import annotations
 
+import contextlib
+import itertools
 import math
+import os
 import sys
 import time
+from concurrent.futures import ThreadPoolExecutor
 from typing import Sequence
 
 import numba
@@ -36,7 +40,7 @@ from analytic import kernel, outcome
 from analytic.aero import DRAG_TABLE
 from analytic.design import Design, swing_time_limit
 from analytic.parameters import N_PARAMS, params
-from analytic.result import Shot, Shots, Status
+from analytic.result import PEAK_NAMES, Shot, Shots, Status
 from analytic.reference import DEFAULT_ATOL, DEFAULT_RTOL
 
 #: Designs a thread takes at a time in ``shoot``.
@@ -73,26 +77,85 @@ def _check_tolerances(rtol: float, atol: float) -> None:
 _compile_seconds: float | None = None
 
 
+def _entry_signature() -> tuple:
+    """numba types of ``kernel.shots``' arguments, as every caller passes them."""
+    rows = np.zeros((1, N_PARAMS))
+    out = np.empty((1, kernel.N_RESULT))
+    return tuple(numba.typeof(a) for a in (rows, 0, 1, DRAG_TABLE, COEFFICIENTS, DEFAULT_RTOL,
+                                           DEFAULT_ATOL, True, out))
+
+
+@contextlib.contextmanager
+def _compile_settings():
+    """numba settings for compiling the kernel: LLVM's loop vectoriser off.
+
+    The kernel's loops run over 4 to 16 entries, too short for vectors to pay;
+    with the vectoriser off a cold compile takes 12 % less time (measured:
+    36 s against 41 s of CPU on 2 cores) and the shots are as fast. No
+    fast-math either way, so the arithmetic is the same.
+    """
+    previous = numba.config.LOOP_VECTORIZE
+    numba.config.LOOP_VECTORIZE = 0
+    try:
+        yield
+    finally:
+        numba.config.LOOP_VECTORIZE = previous
+
+
+@contextlib.contextmanager
+def _compile_progress(enabled: bool):
+    """While compiling (not while loading from the cache): a line on stderr, then a running count."""
+    from numba.core import event
+    from tqdm import tqdm
+
+    class Listener(event.Listener):
+        """Counts the model's and the kernel's functions as they compile (numba's own helpers too,
+        unnamed), and names the one under way."""
+        bar = None
+        under_way: list[str] = []
+
+        def on_start(self, ev):
+            if self.bar is None:
+                print("compiling the fast path once (about 30 s on 2 cores); "
+                      "later runs load it from the cache in about 0.3 s", file=sys.stderr, flush=True)
+                self.bar = tqdm(desc="compiling", unit=" functions", file=sys.stderr, mininterval=0.5)
+            function = ev.data["dispatcher"].py_func
+            if function.__module__.startswith("analytic."):
+                self.under_way.append(function.__name__)
+                self.bar.set_postfix_str(function.__name__, refresh=False)
+
+        def on_end(self, ev):
+            if ev.data["dispatcher"].py_func.__module__.startswith("analytic."):
+                self.under_way.pop()
+                self.bar.set_postfix_str(self.under_way[-1] if self.under_way else "", refresh=False)
+            self.bar.update()
+
+    if not enabled:
+        yield
+        return
+    listener = Listener()
+    with event.install_listener("numba:compile", listener):
+        yield
+    if listener.bar is not None:
+        listener.bar.close()
+
+
 def compile(*, progress: bool = False) -> float:
     """Load the kernel's machine code from the disk cache, or compile and cache it; seconds taken.
 
     Called by the first shot; later calls return the first call's time. In
-    a fresh checkout this compiles (about a minute on 2 cores); afterwards
-    it loads (about 0.3 s). ``progress``: say so on stderr.
+    a fresh checkout this compiles once (about 30 s on 2 cores; ``make``
+    does it when it installs); afterwards it loads (about 0.3 s).
+
+    Parameters
+    ----------
+    progress : when it compiles, say so on stderr and count the functions compiled.
     """
     global _compile_seconds
     if _compile_seconds is None:
-        if progress:
-            print("loading the compiled fast path (a fresh checkout compiles it once, about a minute) ...",
-                  file=sys.stderr, flush=True)
         began = time.perf_counter()
-        rows = np.zeros((1, N_PARAMS))
-        out = np.empty((1, kernel.N_RESULT))
-        args = (rows, DRAG_TABLE, COEFFICIENTS, DEFAULT_RTOL, DEFAULT_ATOL, out)
-        # Compile (or load) without running, so that loading starts no threads
-        # (see ``shoot`` on processes and threads).
-        kernel.shots.compile(tuple(numba.typeof(a) for a in args))
-        kernel.shot.compile(tuple(numba.typeof(a) for a in (rows[0], *args[1:5], out[0])))
+        with _compile_progress(progress), _compile_settings():
+            kernel.shots.compile(_entry_signature())
         _compile_seconds = time.perf_counter() - began
     return _compile_seconds
 
@@ -101,26 +164,29 @@ def compile(*, progress: bool = False) -> float:
 # One design
 # --------------------------------------------------------------------------- #
 
-def simulate_fast(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAULT_ATOL) -> Shot:
-    """``simulate(design)``'s summary, compiled: no histories, energies or sling tension.
+def simulate_fast(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAULT_ATOL,
+                  loads: bool = True) -> Shot:
+    """``simulate(design)``'s summary, compiled: no histories or energies; the peak loads.
 
     Parameters
     ----------
     design : a validated ``Design``.
     rtol, atol : the integrator's tolerances, as for ``analytic.reference.simulate``.
+    loads : find the peak loads (False: they are None, a little sooner; the benchmark
+        measures how much).
 
     Returns
     -------
     Shot
-        Status, message, lift-off, release, landing and apex; a valid design
+        Status, message, lift-off, release, landing, apex and the peak loads; a valid design
         that does not throw is a ``Shot`` with its failure's status, never an
         exception.
     """
     _check_tolerances(rtol, atol)
     compile()
-    out = np.empty(kernel.N_RESULT)
-    kernel.shot(pack(design), DRAG_TABLE, COEFFICIENTS, rtol, atol, out)
-    return to_shot(design, out)
+    out = np.empty((1, kernel.N_RESULT))
+    kernel.shots(pack(design)[np.newaxis], 0, 1, DRAG_TABLE, COEFFICIENTS, rtol, atol, bool(loads), out)
+    return to_shot(design, out[0])
 
 
 def to_shot(design: Design, out: np.ndarray) -> Shot:
@@ -133,10 +199,16 @@ def to_shot(design: Design, out: np.ndarray) -> Shot:
         return None if math.isnan(out[i]) else float(out[i])
 
     fields = dict(liftoff_time=maybe(kernel.LIFTOFF_T))
+    for k, name in enumerate(PEAK_NAMES):
+        if math.isfinite(out[kernel.PEAKS + 2 * k]):
+            fields[name] = float(out[kernel.PEAKS + 2 * k])
+            fields[f"{name}_time"] = float(out[kernel.PEAKS + 2 * k + 1])
     if not math.isnan(out[kernel.RELEASE_T]):
         fields.update(release_time=float(out[kernel.RELEASE_T]),
                       release_position=out[[kernel.RELEASE_X, kernel.RELEASE_Y]].copy(),
-                      release_velocity=out[[kernel.RELEASE_VX, kernel.RELEASE_VY]].copy())
+                      release_velocity=out[[kernel.RELEASE_VX, kernel.RELEASE_VY]].copy(),
+                      frame_release_displacement=float(out[kernel.FRAME_X]),
+                      frame_release_velocity=float(out[kernel.FRAME_V]))
     if status is Status.OK:
         message = outcome.thrown_message(out[kernel.LANDING_X])
         fields.update(landing_time=float(out[kernel.LANDING_T]),
@@ -169,25 +241,54 @@ def failure_message(design: Design, status: Status, detail: float, value: float,
 # Many designs
 # --------------------------------------------------------------------------- #
 
-def _shoot_rows(rows: np.ndarray, rtol: float, atol: float) -> np.ndarray:
-    """The kernel's result rows (S, N_RESULT) for design rows (S, N_PARAMS), on all threads."""
+def default_threads() -> int:
+    """Threads a batch runs on by default: the processors this process may use."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:   # not on Linux
+        return os.cpu_count() or 1
+
+
+def _shoot_rows(rows: np.ndarray, rtol: float, atol: float, threads: int | None,
+                loads: bool = True) -> np.ndarray:
+    """The kernel's result rows (S, N_RESULT) for design rows (S, N_PARAMS), on ``threads`` threads."""
     _check_tolerances(rtol, atol)
     rows = np.ascontiguousarray(rows, dtype=np.float64)
     if rows.ndim != 2 or rows.shape[1] != N_PARAMS:
         raise ValueError(f"designs: expected rows of shape (S, {N_PARAMS}), got {rows.shape}")
+    threads = default_threads() if threads is None else threads
+    loads = bool(loads)
+    if threads < 1:
+        raise ValueError(f"threads = {threads!r}: need at least one")
     compile()
-    out = np.empty((len(rows), kernel.N_RESULT))
-    # Shots differ in cost (by 10x over the paper's bounds): hand them to the
-    # threads a few at a time rather than in one block per thread.
-    with numba.parallel_chunksize(BATCH_CHUNK):
-        kernel.shots(rows, DRAG_TABLE, COEFFICIENTS, rtol, atol, out)
+    n = len(rows)
+    out = np.empty((n, kernel.N_RESULT))
+    threads = min(threads, -(-n // BATCH_CHUNK))
+    if threads <= 1:
+        kernel.shots(rows, 0, n, DRAG_TABLE, COEFFICIENTS, rtol, atol, loads, out)
+        return out
+    # Shots differ in cost (by 10x over the paper's bounds): each thread takes
+    # the next few rows when it is done, rather than one block per thread.
+    # The kernel releases the GIL, and next() on a count is atomic under it.
+    starts = itertools.count(0, BATCH_CHUNK)
+
+    def work() -> None:
+        for start in starts:
+            if start >= n:
+                return
+            kernel.shots(rows, start, min(start + BATCH_CHUNK, n), DRAG_TABLE, COEFFICIENTS, rtol, atol, loads,
+                         out)
+
+    with ThreadPoolExecutor(threads) as pool:
+        for done in [pool.submit(work) for _ in range(threads)]:
+            done.result()
     return out
 
 
 def simulate_fast_many(designs: Sequence[Design], *, rtol: float = DEFAULT_RTOL,
-                       atol: float = DEFAULT_ATOL) -> list[Shot]:
+                       atol: float = DEFAULT_ATOL, threads: int | None = None) -> list[Shot]:
     """``simulate_fast`` for every design in one batch on all cores; one ``Shot`` per design."""
-    out = _shoot_rows(pack_many(designs), rtol, atol)
+    out = _shoot_rows(pack_many(designs), rtol, atol, threads)
     return [to_shot(design, row) for design, row in zip(designs, out, strict=True)]
 
 
@@ -195,22 +296,19 @@ _STATUS_NAMES = np.array([status.value for status in Status])
 
 
 def shoot(designs: Sequence[Design] | np.ndarray, *, rtol: float = DEFAULT_RTOL,
-          atol: float = DEFAULT_ATOL) -> Shots:
-    """Simulate many designs on all cores (numba threads; ``numba.set_num_threads`` limits them).
+          atol: float = DEFAULT_ATOL, threads: int | None = None, loads: bool = True) -> Shots:
+    """Simulate many designs on several threads at once (all this process's processors by default).
 
-    Threads and processes, as measured: numba runs the batch on GNU OpenMP
-    where libgomp is installed (as on our machines; ``numba.threading_layer()``
-    says which), else on its own workqueue, which must be called from one
-    Python thread at a time. A process that has run a batch may fork workers,
-    but a forked worker that runs a batch itself is terminated by GNU OpenMP
-    ("fork() called from a process already using GNU OpenMP"): forked workers
-    must not shoot (the cross-check's run only the engine), and workers that
-    shoot are spawned (Dask's are).
+    The compiled shot releases the GIL, so plain Python threads run shots in
+    parallel; no thread pool of numba's is involved, so a process may shoot
+    from any thread, and fork or spawn workers that shoot too.
 
     Parameters
     ----------
     designs : a sequence of S ``Design``, or their rows, shape (S, N_PARAMS), from ``pack_many``.
     rtol, atol : the integrator's tolerances.
+    threads : threads to run on (default ``default_threads()``).
+    loads : find the peak loads (False: NaN, a little sooner).
 
     Returns
     -------
@@ -218,7 +316,7 @@ def shoot(designs: Sequence[Design] | np.ndarray, *, rtol: float = DEFAULT_RTOL,
         Arrays of length S; a failed design has its status and NaN where it did not reach.
     """
     rows = designs if isinstance(designs, np.ndarray) else pack_many(designs)
-    out = _shoot_rows(rows, rtol, atol)
+    out = _shoot_rows(rows, rtol, atol, threads, loads)
     landed = out[:, kernel.STATUS] == kernel.OK
     return Shots(status=_STATUS_NAMES[out[:, kernel.STATUS].astype(int)],
                  liftoff_time=out[:, kernel.LIFTOFF_T],
@@ -230,4 +328,16 @@ def shoot(designs: Sequence[Design] | np.ndarray, *, rtol: float = DEFAULT_RTOL,
                  apex_height=np.where(landed, out[:, kernel.APEX], np.nan),
                  end_time=out[:, kernel.END_T],
                  steps=out[:, kernel.STEPS].astype(int),
-                 evaluations=out[:, kernel.EVALS].astype(int))
+                 evaluations=out[:, kernel.EVALS].astype(int),
+                 **_peaks(out))
+
+
+def _peaks(out: np.ndarray) -> dict[str, np.ndarray]:
+    """The peak loads and their times of result rows (S, N_RESULT), each (S,), NaN where none."""
+    peaks = {}
+    for k, name in enumerate(PEAK_NAMES):
+        values = out[:, kernel.PEAKS + 2 * k]
+        known = np.isfinite(values)
+        peaks[name] = np.where(known, values, np.nan)
+        peaks[f"{name}_time"] = np.where(known, out[:, kernel.PEAKS + 2 * k + 1], np.nan)
+    return peaks

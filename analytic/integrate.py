@@ -66,7 +66,9 @@ class Segment:
     t_end : float, where it ended, s; y_end : (m,) the state there.
     roots : name -> list of (t, y) for non-terminal events that were counted.
     solution : the continuous solution on [t[0], t_end] (``OdeSolution``; None
-        for a segment of zero length).
+        for a segment of zero length, or when neither samples nor ``continuous`` were asked for).
+    step_t : (k,) the start, every accepted step's end and the end, s.
+    step_y : (k, m) the states there.
     """
 
     t: np.ndarray
@@ -76,12 +78,14 @@ class Segment:
     y_end: np.ndarray
     roots: dict[str, list[tuple[float, np.ndarray]]]
     solution: OdeSolution | None = None
+    step_t: np.ndarray | None = None
+    step_y: np.ndarray | None = None
 
 
 
 def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.ndarray,
               t_end: float, events: tuple[Event, ...] = (), *, rtol: float, atol: float,
-              output_step: float | None, max_steps: int | None = None) -> Segment:
+              output_step: float | None, continuous: bool = False, max_steps: int | None = None) -> Segment:
     """Integrate ``y' = fun(t, y)`` from ``t0`` until a terminal event or ``t_end``.
 
     Parameters
@@ -95,6 +99,7 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
         two ends and no continuous ``solution``; the step's interpolant is then
         built only for a step that holds an event's root (3 evaluations saved
         on every other step).
+    continuous : build the continuous ``solution`` even without samples.
     max_steps : accepted steps allowed before ``t_end`` (the reference path's stages:
         ``analytic.limits.STAGE_STEP_LIMITS``); None for no limit.
 
@@ -106,7 +111,9 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
     """
     solver = DOP853(fun, t0, np.asarray(y0, dtype=float), t_end, rtol=rtol, atol=atol)
     times, states = [t0], [solver.y.copy()]
-    record = output_step is not None
+    step_t, step_y = [t0], [solver.y.copy()]
+    sampled = output_step is not None
+    record = sampled or continuous
     roots: dict[str, list[tuple[float, np.ndarray]]] = {e.name: [] for e in events if not e.terminal}
     step_ends, interpolants = [t0], []
 
@@ -115,15 +122,19 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
         if times[-1] < t_last:
             times.append(t_last)
             states.append(y_last.copy())
+        if step_t[-1] < t_last:
+            step_t.append(t_last)
+            step_y.append(y_last.copy())
         segment = Segment(np.array(times), np.array(states), None, t_last, y_last.copy(), roots,
-                          OdeSolution(step_ends, interpolants) if interpolants else None)
+                          OdeSolution(step_ends, interpolants) if interpolants else None,
+                          np.array(step_t), np.array(step_y))
         return IntegrationError(message, solver.t, step_limit, segment)
 
     if not np.isfinite(solver.h_abs):
         # A non-finite start or derivative: scipy would shrink a NaN step forever.
         raise failure(f"non-finite derivative at the start, t = {t0:.6g} s", t0, solver.y)
     previous = [event.value(t0, solver.y) for event in events]
-    next_output = t0 + output_step if record else np.inf
+    next_output = t0 + output_step if sampled else np.inf
     steps = 0
 
     while solver.status == "running":
@@ -156,6 +167,8 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
         previous = current
 
         t_stop = solver.t if hit is None else hit[0]
+        step_t.append(t_stop)
+        step_y.append(solver.y.copy() if hit is None else dense(t_stop))
         while next_output < t_stop:
             times.append(next_output)
             states.append(dense(next_output))
@@ -168,13 +181,15 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
             for name in roots:
                 roots[name] = [(t, y) for t, y in roots[name] if t <= t_hit]
             return Segment(np.array(times), np.array(states), event.name, t_hit, y_hit, roots,
-                           OdeSolution(step_ends, interpolants) if record else None)
+                           OdeSolution(step_ends, interpolants) if record else None,
+                           np.array(step_t), np.array(step_y))
 
     if times[-1] < solver.t:
         times.append(solver.t)
         states.append(solver.y.copy())
     solution = OdeSolution(step_ends, interpolants) if interpolants else None
-    return Segment(np.array(times), np.array(states), None, solver.t, solver.y.copy(), roots, solution)
+    return Segment(np.array(times), np.array(states), None, solver.t, solver.y.copy(), roots, solution,
+                   np.array(step_t), np.array(step_y))
 
 
 class _LazyDense:

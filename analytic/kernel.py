@@ -7,8 +7,9 @@ events and the limits are the model's (``analytic.eom``, ``analytic.stages``,
 shot at compiled speed: an embedded Dormand-Prince 8(5,3) pair with its
 7th-order dense output (the algorithm of ``scipy.integrate.DOP853``, whose
 published coefficient arrays it is handed at run time), Brent's root finder
-on the dense output, and the three stages in sequence, for one design
-(``shot``) or an array of them on every core (``shots``).
+on the dense output, and the three stages in sequence (``shot``), for a
+range of design rows (``shots``, the one compiled entry point, which
+``analytic.fast`` runs on several threads at once).
 
 Everything is compiled with ``cache=True`` (``analytic.compiled.OPTIONS``):
 the first call in a fresh checkout compiles and writes the machine code to
@@ -26,14 +27,15 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 from numba.np.unsafe.ndarray import to_fixed_tuple
 
 from analytic.compiled import OPTIONS, limits_, stages_
 from analytic.limits import STAGE_STEP_LIMITS
 from analytic.outcome import LiftoffFailure, Status
 from analytic.parameters import N_PARAMS, Params
-from analytic.stages import EVENT_NAMES, FLIGHT, ROOT_NUDGE_ULPS, ROOT_TIME_TOLERANCE, SLIDE, SWING
+from analytic.stages import (EVENT_NAMES, FLIGHT, LOAD_NAMES, PEAK_TIME_TOLERANCE, ROOT_NUDGE_ULPS,
+                             ROOT_TIME_TOLERANCE, SLIDE, SWING)
 
 _JIT = OPTIONS
 # The model's functions, compiled (``analytic.compiled``).
@@ -45,17 +47,25 @@ event_armed = stages_.event_armed
 fires = stages_.fires
 swing_start = stages_.swing_start
 flight_start = stages_.flight_start
+frame_state = stages_.frame_state
+loads_at = stages_.loads_at
 flight_time_limit = limits_.flight_time_limit
 
 N_EVENTS = tuple(len(names) for names in EVENT_NAMES)
 
 # Layout of a result row.
 (STATUS, DETAIL, LIFTOFF_T, RELEASE_T, RELEASE_X, RELEASE_Y, RELEASE_VX, RELEASE_VY,
- LANDING_T, LANDING_X, APEX, END_T, VALUE, STEPS, EVALS) = range(15)
-N_RESULT = 15
+ LANDING_T, LANDING_X, APEX, END_T, VALUE, STEPS, EVALS, FRAME_X, FRAME_V) = range(17)
+#: Where the peak loads start: value then time of each of ``stages.LOAD_NAMES`` in order.
+PEAKS = 17
+N_LOADS = len(LOAD_NAMES)
+N_RESULT = PEAKS + 2 * N_LOADS
 # STATUS holds ``Status.code``; DETAIL, for NEVER_LIFTS_OFF, a ``LiftoffFailure``
-# and for STEP_FAILED the stage; VALUE, for NEVER_FIRES, the arm's acceleration at
-# rest, and for STEP_FAILED 1 if the stage ran out of steps (``STAGE_STEP_LIMITS``).
+# and for STEP_FAILED the stage; VALUE, for NEVER_FIRES, the arm's acceleration at rest,
+# and for STEP_FAILED 1 if the stage ran out of steps (``STAGE_STEP_LIMITS``);
+# FRAME_X, FRAME_V the frame's displacement and velocity at release (0 when fixed);
+# PEAKS + 2 i and PEAKS + 2 i + 1 the largest load i over stages 1-2 and its time
+# (NaN for a machine that never fires, or a step failure).
 OK, NEVER_FIRES, NEVER_LIFTS_OFF, HITS_BASE, NEVER_RELEASES, NO_LANDING, STEP_FAILED = (
     Status.OK.code, Status.NEVER_FIRES.code, Status.NEVER_LIFTS_OFF.code,
     Status.HITS_BASE_BEFORE_RELEASE.code, Status.NEVER_RELEASES.code, Status.NO_LANDING.code,
@@ -84,7 +94,8 @@ def _rk_step(stage, t, y, f, h, coef, K, y_new, f_new, tmp, p, table):
     """One DOP853 step of size h from (t, y) with y'(t) = f; fills K[0:13]."""
     A, B = coef[0], coef[1]
     n = y.shape[0]
-    K[0, :n] = f
+    for j in range(n):
+        K[0, j] = f[j]
     for s in range(1, _N_STAGES):
         for j in range(n):
             acc = 0.0
@@ -98,7 +109,8 @@ def _rk_step(stage, t, y, f, h, coef, K, y_new, f_new, tmp, p, table):
             acc += K[q, j] * B[q]
         y_new[j] = y[j] + h * acc
     derivative(stage, y_new, p, table, f_new)
-    K[_N_STAGES, :n] = f_new
+    for j in range(n):
+        K[_N_STAGES, j] = f_new[j]
 
 
 @njit(**_JIT)
@@ -135,14 +147,18 @@ def _initial_step(stage, t0, y0, f0, t_bound, rtol, atol, p, table):
     if interval == 0.0:
         return 0.0
     n = y0.shape[0]
-    scale = atol + np.abs(y0) * rtol
+    scale, y1, f1 = np.empty(n), np.empty(n), np.empty(n)
+    for j in range(n):
+        scale[j] = atol + abs(y0[j]) * rtol
     d0, d1 = _rms(y0, scale), _rms(f0, scale)
     h0 = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
     h0 = min(h0, interval)
-    y1 = y0 + h0 * f0
-    f1 = np.empty(n)
+    for j in range(n):
+        y1[j] = y0[j] + h0 * f0[j]
     derivative(stage, y1, p, table, f1)
-    d2 = _rms(f1 - f0, scale) / h0
+    for j in range(n):
+        f1[j] -= f0[j]
+    d2 = _rms(f1, scale) / h0
     if d1 <= 1e-15 and d2 <= 1e-15:
         h1 = max(1e-6, h0 * 1e-3)
     else:
@@ -244,12 +260,154 @@ def _brent(stage, k, xa, xb, fa, fb, t_old, h, y_old, F, tmp, p):
     return xcur
 
 
+_SQRT_EPS = math.sqrt(2.2e-16)
+_GOLDEN = 0.5 * (3.0 - math.sqrt(5.0))
+
+
+@njit(**_JIT)
+def _negative_load(t, stage, k, t_old, h, y_old, F, tmp, p):
+    _dense_eval(t, t_old, h, y_old, F, tmp)
+    return -loads_at(stage, tmp, p)[k]
+
+
+@njit(**_JIT)
+def _fminbound(stage, k, a, b, t_old, h, y_old, F, tmp, p):
+    """``(t, value, calls)`` minimising ``-load k`` on [a, b]: Brent's bounded minimiser, step
+    for step scipy's ``minimize_scalar(method="bounded")`` (xatol ``PEAK_TIME_TOLERANCE``, 500 calls)."""
+    xatol = PEAK_TIME_TOLERANCE
+    fulc = a + _GOLDEN * (b - a)
+    nfc, xf = fulc, fulc
+    rat = e = 0.0
+    x = xf
+    fx = _negative_load(x, stage, k, t_old, h, y_old, F, tmp, p)
+    num = 1
+    ffulc = fnfc = fx
+    xm = 0.5 * (a + b)
+    tol1 = _SQRT_EPS * abs(xf) + xatol / 3.0
+    tol2 = 2.0 * tol1
+    while abs(xf - xm) > (tol2 - 0.5 * (b - a)):
+        golden = True
+        if abs(e) > tol1:   # a parabolic fit
+            golden = False
+            r = (xf - nfc) * (fx - ffulc)
+            q = (xf - fulc) * (fx - fnfc)
+            pp = (xf - fulc) * q - (xf - nfc) * r
+            q = 2.0 * (q - r)
+            if q > 0.0:
+                pp = -pp
+            q = abs(q)
+            r = e
+            e = rat
+            if abs(pp) < abs(0.5 * q * r) and pp > q * (a - xf) and pp < q * (b - xf):
+                rat = (pp + 0.0) / q
+                x = xf + rat
+                if (x - a) < tol2 or (b - x) < tol2:
+                    si = (1.0 if xm - xf > 0.0 else -1.0) if xm != xf else 1.0
+                    rat = tol1 * si
+            else:
+                golden = True
+        if golden:
+            e = (a - xf) if xf >= xm else (b - xf)
+            rat = _GOLDEN * e
+        si = (1.0 if rat > 0.0 else -1.0) if rat != 0.0 else 1.0
+        x = xf + si * max(abs(rat), tol1)
+        fu = _negative_load(x, stage, k, t_old, h, y_old, F, tmp, p)
+        num += 1
+        if fu <= fx:
+            if x >= xf:
+                a = xf
+            else:
+                b = xf
+            fulc, ffulc = nfc, fnfc
+            nfc, fnfc = xf, fx
+            xf, fx = x, fu
+        else:
+            if x < xf:
+                a = x
+            else:
+                b = x
+            if fu <= fnfc or nfc == xf:
+                fulc, ffulc = nfc, fnfc
+                nfc, fnfc = x, fu
+            elif fu <= ffulc or fulc == xf or fulc == nfc:
+                fulc, ffulc = x, fu
+        xm = 0.5 * (a + b)
+        tol1 = _SQRT_EPS * abs(xf) + xatol / 3.0
+        tol2 = 2.0 * tol1
+        if num >= 500:
+            break
+    return xf, -fx, num
+
+
+@njit(**_JIT)
+def _refine_peaks(stage, brackets, bracket_y, best, coef, p, table, counts):
+    """Refine each load's largest sample on the two steps beside it.
+
+    ``brackets`` (N_LOADS, 2, 3) holds, for the step ending and the step
+    starting at the sample, ``(t_start, h, t_end)`` (NaN: none) and
+    ``bracket_y`` (N_LOADS, 2, n) the state at ``t_start``. Each step is taken
+    again from there (the same arithmetic, so the same step) to rebuild its
+    interpolant: cheaper than building the interpolant on every step in
+    case it holds a peak. ``best`` (N_LOADS, 2) is updated in place.
+    """
+    n = bracket_y.shape[2]
+    K = np.empty((_N_STAGES + 4, n))
+    F = np.empty((7, n))
+    f, y_new, f_new, tmp = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+    built_t, built_h = math.nan, math.nan   # the step whose interpolant F holds
+    for side in range(2):
+        for k in range(N_LOADS):   # loads often peak on the same step: F is reused then
+            t_start, h, t_end = brackets[k, side, 0], brackets[k, side, 1], brackets[k, side, 2]
+            if math.isnan(t_start) or not t_end > t_start:
+                continue
+            y_start = bracket_y[k, side]
+            if not (t_start == built_t and h == built_h):
+                derivative(stage, y_start, p, table, f)
+                _rk_step(stage, t_start, y_start, f, h, coef, K, y_new, f_new, tmp, p, table)
+                _dense_prepare(stage, t_start, h, y_start, y_new, f_new, coef, K, F, tmp, p, table)
+                counts[1] += 1 + _N_STAGES + 3
+                built_t, built_h = t_start, h
+            t_peak, value, calls = _fminbound(stage, k, t_start, t_end, t_start, h, y_start, F, tmp, p)
+            counts[1] += calls   # each load is one evaluation of the accelerations
+            if value > best[k, 0]:
+                best[k, 0], best[k, 1] = value, t_peak
+
+
+@njit(**_JIT)
+def _sample_loads(stage, t, y, t_start, h, y_start, best, brackets, bracket_y, pending, ended, p, counts):
+    """Compare the loads at (t, y), the end of the step (t_start, h) from ``y_start``, with the
+    largest so far; a new largest keeps that step, and the next step (``pending``) beside it."""
+    values = loads_at(stage, y, p)
+    counts[1] += 1
+    for k in range(N_LOADS):
+        if pending[k]:   # the step after the largest sample
+            brackets[k, 1, 0], brackets[k, 1, 1], brackets[k, 1, 2] = t_start, h, t
+            bracket_y[k, 1, :] = y_start
+            pending[k] = False
+        if values[k] > best[k, 0]:
+            best[k, 0], best[k, 1] = values[k], t
+            if math.isnan(t_start):
+                brackets[k, 0, 0] = math.nan
+            else:
+                brackets[k, 0, 0], brackets[k, 0, 1], brackets[k, 0, 2] = t_start, h, t
+                bracket_y[k, 0, :] = y_start
+            brackets[k, 1, 0] = math.nan
+            pending[k] = not ended
+
+# Each stage gets its own integrator (the stage a compile-time constant), so
+# that the right-hand side is inlined into the step with no branch on the
+# stage. The parts that run only a few times a stage (the first step, the
+# dense output, the root search) take the stage as a run-time number through
+# this array instead: one compiled copy of each rather than three, which
+# saves compile time at no measurable cost per shot.
+_RUNTIME_STAGE = np.arange(4)
+
 # integrate()'s outcome codes besides an event index.
 _REACHED_END, _FAILED, _OUT_OF_STEPS = -1, -2, -3
 
 
 @njit(**_JIT)
-def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts):
+def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks, track_loads):
     """Integrate ``stage`` from (t0, y0) until a terminal event or ``t_bound``.
 
     Returns ``(code, t_end, y_end, apex)``: code is the index of the terminal
@@ -257,12 +415,18 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts):
     or a non-finite state) or ``_OUT_OF_STEPS`` (the stage's ``STAGE_STEP_LIMITS``
     accepted steps without reaching ``t_bound``); apex is the largest y[1] at a counted apex root
     (flight only; -inf if none). ``counts`` accumulates [steps, evaluations].
+    In stages 1 and 2 with ``track_loads``, ``peaks`` (N_LOADS, 2) gets the
+    largest of each load (``stages.loads_at``) and its time, where this stretch
+    beats it: sampled at every step's end and refined on the interpolants
+    beside the largest sample, as ``analytic.reference`` does.
     """
     n = y0.shape[0]
     ne = N_EVENTS[stage]
     K = np.empty((_N_STAGES + 4, n))
     F = np.empty((7, n))
-    y, y_new = y0.copy(), np.empty(n)
+    y, y_new = np.empty(n), np.empty(n)
+    for j in range(n):
+        y[j] = y0[j]
     f, f_new = np.empty(n), np.empty(n)
     tmp, y_root = np.empty(n), np.empty(n)
     previous = np.empty(ne)
@@ -270,13 +434,20 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts):
     for k in range(ne):
         previous[k] = event_value(stage, k, y, p)
     t = t0
-    h_abs = _initial_step(stage, t0, y, f, t_bound, rtol, atol, p, table)
+    h_abs = _initial_step(_RUNTIME_STAGE[stage], t0, y, f, t_bound, rtol, atol, p, table)
     counts[1] += 2
     if not math.isfinite(h_abs):
         # A non-finite start or derivative: a NaN step would be shrunk forever.
         return _FAILED, t, y, -math.inf
     apex = -math.inf
     apex_t, apex_y = np.empty(4), np.empty(4)   # counted apex roots within one step
+    track = track_loads and stage != FLIGHT
+    best = np.full((N_LOADS, 2), -math.inf)
+    brackets = np.full((N_LOADS, 2, 3), math.nan)
+    bracket_y = np.empty((N_LOADS, 2, n))
+    pending = np.zeros(N_LOADS, dtype=np.bool_)
+    if track:
+        _sample_loads(_RUNTIME_STAGE[stage], t0, y, math.nan, 0.0, y, best, brackets, bracket_y, pending, False, p, counts)
     exponent = -1.0 / (_ERROR_ORDER + 1)
     steps = 0
     while t < t_bound:
@@ -330,13 +501,13 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts):
                 if not ((rising and direction >= 0) or (falling and direction <= 0)):
                     break
                 if not dense_ready:
-                    _dense_prepare(stage, t_old, h, y, y_new, f_new, coef, K, F, tmp, p, table)
+                    _dense_prepare(_RUNTIME_STAGE[stage], t_old, h, y, y_new, f_new, coef, K, F, tmp, p, table)
                     counts[1] += 3
                     dense_ready = True
                 if after == 0.0:
                     t_root = t_new
                 else:
-                    t_root = _brent(stage, k, start, t_new, v_start, after, t_old, h, y, F, tmp, p)
+                    t_root = _brent(_RUNTIME_STAGE[stage], k, start, t_new, v_start, after, t_old, h, y, F, tmp, p)
                 _dense_eval(t_root, t_old, h, y, F, y_root)
                 if event_armed(stage, k, y_root, p):
                     if event_terminal(stage, k):
@@ -352,18 +523,37 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts):
                 if t_root + nudge >= t_new:
                     break
                 start = t_root + nudge
-                v_start = _event_at(start, stage, k, t_old, h, y, F, tmp, p)
+                v_start = _event_at(start, _RUNTIME_STAGE[stage], k, t_old, h, y, F, tmp, p)
         for i in range(n_apex):
             if apex_t[i] <= hit_t:
                 apex = max(apex, apex_y[i])
         if hit_k >= 0:
             y_hit = np.empty(n)
             _dense_eval(hit_t, t_old, h, y, F, y_hit)
+            if track:
+                _sample_loads(_RUNTIME_STAGE[stage], hit_t, y_hit, t_old, h, y, best, brackets, bracket_y, pending, True, p,
+                              counts)
+                _finish_peaks(_RUNTIME_STAGE[stage], best, brackets, bracket_y, peaks, coef, p, table, counts)
             return hit_k, hit_t, y_hit, apex
+        if track:
+            _sample_loads(_RUNTIME_STAGE[stage], t_new, y_new, t_old, h, y, best, brackets, bracket_y, pending, False, p,
+                          counts)
         t = t_new
-        y[:] = y_new
-        f[:] = f_new
+        for j in range(n):
+            y[j] = y_new[j]
+            f[j] = f_new[j]
+    if track:
+        _finish_peaks(_RUNTIME_STAGE[stage], best, brackets, bracket_y, peaks, coef, p, table, counts)
     return _REACHED_END, t, y, apex
+
+
+@njit(**_JIT)
+def _finish_peaks(stage, best, brackets, bracket_y, peaks, coef, p, table, counts):
+    """Refine this stretch's largest samples and keep each where it beats ``peaks``."""
+    _refine_peaks(stage, brackets, bracket_y, best, coef, p, table, counts)
+    for k in range(N_LOADS):
+        if best[k, 0] > peaks[k, 0]:
+            peaks[k, 0], peaks[k, 1] = best[k, 0], best[k, 1]
 
 
 # --------------------------------------------------------------------------- #
@@ -383,15 +573,20 @@ def _step_failed(out, code, stage):
     out[VALUE] = 1.0 if code == _OUT_OF_STEPS else 0.0
 
 
-@njit(**_JIT)
-def shot(P, table, coef, rtol, atol, out):
+@njit(inline="always")
+def shot(P, table, coef, rtol, atol, track_loads, out):
     """Simulate the design row ``P`` through all three stages into the result row ``out``.
+
+    Not compiled by itself: ``shots`` is the one entry point, and this is
+    inlined into it, which spares a second optimisation of the whole shot.
 
     The stages and their ends are those of ``analytic.reference.simulate``;
     ``out[STATUS]`` names how it ended and the other entries hold what was
-    reached (NaN otherwise).
+    reached (NaN otherwise). ``track_loads`` False leaves the peak loads NaN
+    (the benchmark measures what finding them costs).
     """
-    out[:] = math.nan
+    for i in range(N_RESULT):
+        out[i] = math.nan
     counts = np.zeros(2)
     p = params(P)
     ddtheta0, normal0 = fires(p)
@@ -406,9 +601,11 @@ def shot(P, table, coef, rtol, atol, out):
         return
 
     # Stage 1: slide on the base until the normal force vanishes.
+    peaks = np.full((N_LOADS, 2), -math.inf)
     y1 = np.array([p.theta0, p.phi0, 0.0, 0.0])
     if normal0 > 0.0:
-        code, t1, y1, _ = integrate(SLIDE, 0.0, y1, p.t_limit, coef, rtol, atol, p, table, counts)
+        code, t1, y1, _ = integrate(SLIDE, 0.0, y1, p.t_limit, coef, rtol, atol, p, table, counts, peaks,
+                                    track_loads)
     else:   # the sling already pulls harder than the projectile's weight
         code, t1 = 1, 0.0
     out[STEPS], out[EVALS] = counts[0], counts[1]
@@ -417,6 +614,7 @@ def shot(P, table, coef, rtol, atol, out):
         if code == _FAILED or code == _OUT_OF_STEPS:
             _step_failed(out, code, SLIDE)
             return
+        _write_peaks(peaks, out)
         out[STATUS] = NEVER_LIFTS_OFF
         out[DETAIL] = UNDER_TIP if code == 0 else (ARM_BACK if code == 2 else TIME_LIMIT)
         return
@@ -424,12 +622,14 @@ def shot(P, table, coef, rtol, atol, out):
 
     # Stage 2: free swing until release.
     y2 = np.array(swing_start(y1, p))
-    code, t2, y2, _ = integrate(SWING, t1, y2, p.t_limit, coef, rtol, atol, p, table, counts)
+    code, t2, y2, _ = integrate(SWING, t1, y2, p.t_limit, coef, rtol, atol, p, table, counts, peaks,
+                                track_loads)
     out[STEPS], out[EVALS], out[END_T] = counts[0], counts[1], t2
     if code != 0:
         if code == _FAILED or code == _OUT_OF_STEPS:
             _step_failed(out, code, SWING)
         else:
+            _write_peaks(peaks, out)
             out[STATUS] = HITS_BASE if code == 1 else NEVER_RELEASES
         return
     x, y, vx, vy = flight_start(y2, p)
@@ -437,11 +637,13 @@ def shot(P, table, coef, rtol, atol, out):
         _step_failed(out, _FAILED, FLIGHT)
         return
     out[RELEASE_T], out[RELEASE_X], out[RELEASE_Y], out[RELEASE_VX], out[RELEASE_VY] = t2, x, y, vx, vy
+    out[FRAME_X], out[FRAME_V] = frame_state(y2, p)
+    _write_peaks(peaks, out)
 
     # Stage 3: flight.
     t_max = t2 + flight_time_limit(y + p.h, vy, p.g)
     code, t3, y3, apex = integrate(FLIGHT, t2, np.array([x, y, vx, vy]), t_max, coef, rtol, atol,
-                                   p, table, counts)
+                                   p, table, counts, peaks, False)
     out[STEPS], out[EVALS], out[END_T] = counts[0], counts[1], t3
     if code != 0:
         if code == _FAILED or code == _OUT_OF_STEPS:
@@ -453,8 +655,19 @@ def shot(P, table, coef, rtol, atol, out):
     out[LANDING_T], out[LANDING_X], out[APEX] = t3, y3[0], max(y, apex) + p.h
 
 
-@njit(parallel=True, **_JIT)
-def shots(designs, table, coef, rtol, atol, out):
-    """``shot`` for every row of ``designs`` (S, N_PARAMS) into ``out`` (S, N_RESULT), on all threads."""
-    for i in prange(designs.shape[0]):
-        shot(designs[i], table, coef, rtol, atol, out[i])
+@njit(**_JIT)
+def _write_peaks(peaks, out):
+    for k in range(N_LOADS):
+        out[PEAKS + 2 * k], out[PEAKS + 2 * k + 1] = peaks[k, 0], peaks[k, 1]
+
+
+@njit(**_JIT)
+def shots(designs, start, stop, table, coef, rtol, atol, track_loads, out):
+    """``shot`` for rows ``start:stop`` of ``designs`` (S, N_PARAMS) into those of ``out`` (S, N_RESULT).
+
+    The one compiled entry point. It releases the GIL (``nogil``), so
+    ``analytic.fast`` runs several calls at once on Python threads, each on
+    its own rows. ``track_loads`` False leaves the peak loads NaN.
+    """
+    for i in range(start, stop):
+        shot(designs[i], table, coef, rtol, atol, track_loads, out[i])

@@ -24,6 +24,8 @@ cd          constant drag coefficient (NaN unless "constant")    projectile.drag
 diameter    projectile diameter, m; area its frontal area, m^2   projectile.diameter
 rho, mu     air density (kg/m^3), viscosity (Pa s)               environment.air_*
 wind        wind speed, m/s, positive = tailwind                 environment.wind_speed
+rolling     1.0 if the frame rolls, 0.0 if it is fixed             base.mobility
+Mf          frame mass, kg (0 for a fixed frame: not read)       base.mass
 t_limit     firing-to-release time limit, s                      (``limits.swing_time_limit``)
 theta0      arm angle at rest, rad                               (``design.initial_angles``)
 phi0        counterweight angle at rest, rad                     (``design.initial_angles``)
@@ -64,6 +66,8 @@ class Params(NamedTuple):
     rho: float
     mu: float
     wind: float
+    rolling: float
+    Mf: float
     t_limit: float
     theta0: float
     phi0: float
@@ -86,4 +90,5 @@ def params(design) -> Params:
         cd=math.nan if proj.drag_coefficient is None else proj.drag_coefficient,
         diameter=proj.diameter, area=math.pi * proj.diameter**2 / 4.0,
         rho=env.air_density, mu=env.air_viscosity, wind=env.wind_speed,
+        rolling=float(design.base.rolling), Mf=design.base.mass if design.base.rolling else 0.0,
         t_limit=swing_time_limit(m, env.gravity), theta0=theta0, phi0=phi0)

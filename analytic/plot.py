@@ -1,4 +1,4 @@
-"""Plots of a shot: trajectory, the machine at release, and the energy budget (Agg, no pyplot)."""
+"""Plots of a shot: trajectory, the machine at release, the energy budget and the loads (Agg, no pyplot)."""
 
 from __future__ import annotations
 
@@ -8,32 +8,43 @@ from pathlib import Path
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
+from matplotlib.patches import Circle
 
 from analytic.geometry import machine_points
 from analytic.result import Shot, Stage
 
 
 def draw_machine(ax, shot: Shot, index: int, alpha: float = 1.0) -> None:
-    """Draw frame, arm, counterweight link and mass, sling and projectile at sample ``index``."""
+    """Draw frame, arm, counterweight link and mass, sling and projectile at sample ``index``.
+
+    On the ground: a rolling frame is drawn where it has rolled to, on wheels.
+    """
     h = shot.design.machine.pivot_height
-    pts = machine_points(shot.q[index], shot.design.machine)
+    x = float(shot.frame_x[index]) if len(shot.frame_x) else 0.0
+    pts = {name: point + np.array([x, 0.0]) for name, point in
+           machine_points(shot.q[index], shot.design.machine).items()}
     pts["weight"] = pts["counterweight"]
-    ax.plot([-0.3 * h, 0.0, 0.3 * h], [-h, 0.0, -h], color="0.4", lw=2, alpha=alpha)
+    ax.plot([x - 0.3 * h, x, x + 0.3 * h], [-h, 0.0, -h], color="0.4", lw=2, alpha=alpha)
+    if shot.design.base.rolling:
+        radius = 0.06 * h
+        ax.plot([x - 0.3 * h, x + 0.3 * h], [-h + 2 * radius, -h + 2 * radius], color="0.4", lw=2, alpha=alpha)
+        for centre in (x - 0.3 * h, x + 0.3 * h):
+            ax.add_patch(Circle((centre, -h + radius), radius, fill=False, color="0.3", lw=1.5, alpha=alpha))
     ax.plot(*np.c_[pts["short_tip"], pts["long_tip"]], color="saddlebrown", lw=3, alpha=alpha)
     ax.plot(*np.c_[pts["short_tip"], pts["weight"]], color="0.2", lw=1.5, alpha=alpha)
     ax.plot(*pts["weight"], "s", color="0.2", ms=10, alpha=alpha)
     ax.plot(*np.c_[pts["long_tip"], pts["projectile"]], color="tab:blue", lw=1, alpha=alpha)
     ax.plot(*pts["projectile"], "o", color="tab:red", ms=5, alpha=alpha)
-    ax.plot(0.0, 0.0, "o", color="k", ms=4)
+    ax.plot(x, 0.0, "o", color="k", ms=4, alpha=alpha)
 
 
 def shot_figure(shot: Shot) -> Figure:
-    """Three panels: the flight, the machine at release (or at the end), the energy over time."""
+    """Four panels: the flight, the machine at release (or at the end), the energy and the loads over time."""
     if len(shot.t) == 0:
         raise ValueError(f"shot of {shot.design.name!r} has no histories to plot (a summary from the "
                          f"fast path or simulate(histories=False)): simulate it with histories")
-    fig = Figure(figsize=(13, 4.2), layout="constrained")
-    ax_flight, ax_machine, ax_energy = fig.subplots(1, 3, gridspec_kw={"width_ratios": [1.6, 1, 1.1]})
+    fig = Figure(figsize=(17, 4.4), layout="constrained")
+    ax_flight, ax_machine, ax_energy, ax_loads = fig.subplots(1, 4, gridspec_kw={"width_ratios": [1.6, 1, 1.1, 1.1]})
     h = shot.design.machine.pivot_height
     title = f"{shot.design.name}: {shot.status.value}"
     if shot.range is not None:
@@ -61,7 +72,8 @@ def shot_figure(shot: Shot) -> Figure:
 
     if shot.energy is not None:
         ax_energy.plot(shot.t, shot.energy.projectile, label="projectile")
-        ax_energy.plot(shot.t, shot.energy.machine, label="arm + counterweight")
+        ax_energy.plot(shot.t, shot.energy.machine,
+                       label="arm + counterweight" + (" + frame" if shot.design.base.rolling else ""))
         ax_energy.plot(shot.t, shot.energy.total, "k--", label="total")
         if shot.liftoff_time is not None:
             ax_energy.axvline(shot.liftoff_time, color="0.6", lw=0.8)
@@ -69,7 +81,37 @@ def shot_figure(shot: Shot) -> Figure:
         ax_energy.set(xlabel="time (s)", ylabel="energy relative to rest (J)",
                       title=f"energy, stages {int(Stage.SLIDE)}-{int(Stage.SWING)}")
         ax_energy.legend(fontsize=8)
+    draw_loads(ax_loads, shot)
     return fig
+
+
+def draw_loads(ax, shot: Shot) -> None:
+    """The joint loads through stages 1-2 (N, left) and the projectile's felt acceleration (g,
+    right), each peak marked."""
+    if len(shot.axle_load) == 0:
+        ax.set_visible(False)
+        return
+    g = shot.design.environment.gravity
+    curves = [(shot.axle_load, shot.peak_axle_load, shot.peak_axle_load_time, "axle", "tab:blue"),
+              (shot.hinge_load, shot.peak_hinge_load, shot.peak_hinge_load_time, "hinge", "tab:green"),
+              (shot.sling_tension, shot.peak_sling_tension, shot.peak_sling_tension_time, "sling tension",
+               "tab:purple")]
+    for values, peak, when, label, color in curves:
+        ax.plot(shot.t, values, color=color, lw=1, label=label)
+        if peak is not None:
+            ax.plot(when, peak, "o", color=color, ms=4)
+    ax.axhline(0.0, color="0.6", lw=0.6)
+    ax.set(xlabel="time (s)", ylabel="force (N)", title="loads (dots: peaks)")
+    ax_g = ax.twinx()
+    ax_g.plot(shot.t, shot.projectile_acceleration / g, color="tab:orange", lw=1, ls="--",
+              label="projectile acceleration")
+    if shot.peak_projectile_acceleration is not None:
+        ax_g.plot(shot.peak_projectile_acceleration_time, shot.peak_projectile_acceleration / g, "o",
+                  color="tab:orange", ms=4)
+    ax_g.set(ylabel="projectile acceleration (g)")
+    handles, labels = ax.get_legend_handles_labels()
+    more = ax_g.get_legend_handles_labels()
+    ax.legend(handles + more[0], labels + more[1], fontsize=8, loc="upper left")
 
 
 def save_figure(figure: Figure, path: str | Path, dpi: int = 110) -> None:

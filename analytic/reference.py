@@ -21,7 +21,7 @@ from analytic.integrate import Event, IntegrationError, Segment, integrate
 from analytic.limits import STAGE_STEP_LIMITS, flight_time_limit
 from analytic.outcome import LiftoffFailure, Stage, Status
 from analytic.parameters import Params, params
-from analytic.result import EnergyBudget, Shot
+from analytic.result import PEAK_NAMES, EnergyBudget, Shot
 
 #: Default integrator tolerances: a 100x tighter run changes the range by
 #: 1.5e-10 relative on the paper's design and by at most 6.5e-9 where a
@@ -47,7 +47,7 @@ _LIFTOFF_FAILURES = {"under_tip": LiftoffFailure.UNDER_TIP, "arm_back": LiftoffF
 # compiled path does silently with its plain floats; numpy's scalars would warn.
 @np.errstate(over="ignore", invalid="ignore", divide="ignore")
 def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAULT_ATOL,
-             histories: bool = True) -> Shot:
+             histories: bool = True, loads: bool = True) -> Shot:
     """Simulate a shot of ``design`` through all three stages.
 
     Parameters
@@ -58,6 +58,8 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
         gives only the summary (status, lift-off, release, landing, apex), the
         same as the fast path ``analytic.fast.simulate_fast``, about 5x sooner;
         the numbers are identical either way.
+    loads : find the peak loads (on the continuous solution of stages 1-2, which
+        costs about as much again as a summary without them); False leaves them None.
 
     Returns
     -------
@@ -90,21 +92,28 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
     try:
         # Stage 1: slide on the base until the normal force vanishes.
         if normal0 > 0.0:
-            slide = _run(stage, p, 0.0, y1, p.t_limit, rtol, atol, output_step)
+            slide = _run(stage, p, 0.0, y1, p.t_limit, rtol, atol, output_step, loads)
+            peaks = _stage_peaks(stage, slide, p, loads)
         else:  # the sling already pulls harder than the projectile's weight
             slide = Segment(np.zeros(1), y1[None, :], "liftoff", 0.0, y1, {})
+            peaks = np.full((len(stages.LOAD_NAMES), 2), -np.inf)
         if histories:
             history.append(_history(Stage.SLIDE, slide, p))
         segments.append((Stage.SLIDE, slide))
         if slide.event != "liftoff":
             return _finish(design, p, history, segments, Status.NEVER_LIFTS_OFF,
-                           outcome.never_lifts_off_message(_LIFTOFF_FAILURES[slide.event], p.t_limit))
+                           outcome.never_lifts_off_message(_LIFTOFF_FAILURES[slide.event], p.t_limit),
+                           **_peak_fields(peaks))
 
         # Stage 2: free swing until release.
         stage = Stage.SWING
         reached["liftoff_time"] = slide.t_end
         swing_start = quietly(stages.swing_start, slide.y_end, p, otherwise=(math.nan,) * 6)
-        swing = _run(stage, p, slide.t_end, np.array(swing_start), p.t_limit, rtol, atol, output_step)
+        swing = _run(stage, p, slide.t_end, np.array(swing_start), p.t_limit, rtol, atol, output_step, loads)
+        stage_peaks = _stage_peaks(stage, swing, p, loads)
+        later = stage_peaks[:, 0] > peaks[:, 0]
+        peaks[later] = stage_peaks[later]
+        reached.update(_peak_fields(peaks))
         if histories:
             history.append(_history(Stage.SWING, swing, p)[1:])   # the first is lift-off, already recorded
         segments.append((Stage.SWING, swing))
@@ -123,11 +132,13 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
         if not np.all(np.isfinite(start)):
             raise IntegrationError("non-finite release state", release_time)
         position, velocity = start[:2], start[2:]
-        reached.update(release_time=release_time, release_position=position, release_velocity=velocity)
+        frame_x, frame_v = stages.frame_state(swing.y_end, p)
+        reached.update(release_time=release_time, release_position=position, release_velocity=velocity,
+                       frame_release_displacement=frame_x, frame_release_velocity=frame_v)
         t_max = release_time + flight_time_limit(position[1] + p.h, velocity[1], p.g)
         flight_step = (max(FLIGHT_OUTPUT_STEP, (t_max - release_time) / HISTORY_SAMPLE_LIMIT)
                        if histories else None)
-        flight = _run(stage, p, release_time, start, t_max, rtol, atol, flight_step)
+        flight = _run(stage, p, release_time, start, t_max, rtol, atol, flight_step, False)
     except IntegrationError as error:
         if stage is not Stage.FLIGHT and error.segment is not None:
             # The motion up to the failure (the flight's is not kept, as for any shot that does not land).
@@ -141,9 +152,37 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
                        outcome.no_landing_message(t_max - release_time), **reached)
     apex = max([position[1]] + [y[1] for _, y in flight.roots["apex"]])
     landing = flight.y_end[:2]
+    if histories:
+        reached.update(_frame_after_release(p, swing.y_end, release_time, flight.t_end, rtol, atol,
+                                            reached["frame_release_displacement"], velocity[0]))
     return _finish(design, p, history, segments, Status.OK, outcome.thrown_message(landing[0]), **reached,
                    landing_time=flight.t_end, landing_position=landing, apex_height=apex + p.h,
                    flight_t=flight.t, flight_path=flight.y[:, :2])
+
+
+def _frame_after_release(p: Params, release_state: np.ndarray, release_time: float, landing_time: float,
+                         rtol: float, atol: float, release_x: float, projectile_vx: float) -> dict:
+    """The frame at landing and its largest speed after release: the machine swings on alone.
+
+    Zero momentum before release leaves the machine with the projectile's
+    opposite, ``-mP vx``, after it.
+    """
+    if not p.rolling:
+        return {"frame_landing_displacement": 0.0, "frame_landing_velocity": 0.0, "after_release_speed": 0.0}
+    start = np.array([release_state[0], release_state[1], release_state[3], release_state[4]])
+
+    def rhs(t, y):
+        out = np.empty(4)
+        stages.machine_derivative(y, p, out)
+        return out
+
+    segment = integrate(rhs, release_time, start, landing_time, (), rtol=rtol, atol=atol,
+                        output_step=SWING_OUTPUT_STEP)
+    momentum = -p.mP * projectile_vx
+    frames = np.array([stages.machine_frame(y, p, momentum, release_time, start, release_x, t)
+                       for t, y in zip(segment.t, segment.y, strict=True)])
+    return {"frame_landing_displacement": float(frames[-1, 0]), "frame_landing_velocity": float(frames[-1, 1]),
+            "after_release_speed": float(np.max(np.abs(frames[:, 1])))}
 
 
 # --------------------------------------------------------------------------- #
@@ -167,8 +206,9 @@ def quietly(function, *args, otherwise):
 
 
 def _run(stage: Stage, p: Params, t0: float, y0: np.ndarray, t_end: float, rtol: float, atol: float,
-         output_step: float | None) -> Segment:
-    """Integrate ``stage`` from (t0, y0) until one of its terminal events or ``t_end``."""
+         output_step: float | None, continuous: bool) -> Segment:
+    """Integrate ``stage`` from (t0, y0) until one of its terminal events or ``t_end``; ``continuous``:
+    keep the continuous solution (on which the peak loads are located)."""
     size = stages.STATE_SIZE[stage]
 
     def rhs(t, y):
@@ -180,7 +220,7 @@ def _run(stage: Stage, p: Params, t0: float, y0: np.ndarray, t_end: float, rtol:
         return out
 
     return integrate(rhs, t0, y0, t_end, _events(stage, p), rtol=rtol, atol=atol, output_step=output_step,
-                     max_steps=STAGE_STEP_LIMITS[stage])
+                     continuous=continuous, max_steps=STAGE_STEP_LIMITS[stage])
 
 
 def _events(stage: Stage, p: Params) -> tuple[Event, ...]:
@@ -205,19 +245,26 @@ def _history(stage: Stage, segment: Segment, p: Params):
     return [(t, stage, full(y), _tension(stage, y, p)) for t, y in zip(segment.t, segment.y, strict=True)]
 
 
-def _tension(stage: Stage, y: np.ndarray, p: Params) -> float:
-    """Sling tension at a stage-1 or stage-2 state (eq. 5.2), N (NaN where ``FLOAT_ERRORS`` say
-    it cannot be computed)."""
-    return quietly(_tension_at, stage, y, p, otherwise=math.nan)
-
-
-def _tension_at(stage: Stage, y: np.ndarray, p: Params) -> float:
+def _accelerations(stage: Stage, state, p: Params) -> tuple[float, float, float]:
+    """``(theta'', phi'', psi'')`` at a full stage-1 or stage-2 state (theta, phi, psi, rates)."""
     if stage is Stage.SLIDE:
-        theta, _, psi, dtheta, _, dpsi = eom.slide_state(*y, p)
-        ddtheta, _, normal = eom.slide_accelerations(*y, p)
-        return eom.sling_tension(theta, psi, dtheta, dpsi, ddtheta, normal, p)
-    ddtheta = eom.swing_accelerations(*y, p)[0]
-    return eom.sling_tension(y[0], y[2], y[3], y[5], ddtheta, 0.0, p)
+        ddtheta, ddphi, _ = eom.slide_accelerations(state[0], state[1], state[3], state[4], p)
+        _, _, s, c, _ = eom.slide_constraint(state[0], state[3], p)
+        return ddtheta, ddphi, s * ddtheta + c
+    return eom.swing_accelerations(*state, p)
+
+
+def jump_warning(force: float, time: float, gravity: float) -> str:
+    """What a negative push of the ground on a rolling frame means for the result."""
+    return (f"the frame would jump: the ground's push on it falls to {force:.3g} N at t = {time:.3f} s, "
+            f"and this model keeps it on the ground, so the result cannot be trusted for a frame "
+            f"this light (roughly {-force / gravity:.2g} kg more would keep it down)")
+
+
+def _tension(stage: Stage, y: np.ndarray, p: Params) -> float:
+    """Sling tension at a stage-1 or stage-2 state (``eom.loads``), N (NaN where ``FLOAT_ERRORS``
+    say it cannot be computed)."""
+    return quietly(lambda: stages.loads_at(int(stage), y, p)[2], otherwise=math.nan)
 
 
 def _smallest_tension(t: np.ndarray, stage: np.ndarray, tension: np.ndarray, segments, p: Params) -> float:
@@ -242,6 +289,42 @@ def _smallest_tension(t: np.ndarray, stage: np.ndarray, tension: np.ndarray, seg
     return float(min(best.fun, tension[i]))
 
 
+def _stage_peaks(stage: Stage, segment: Segment, p: Params, loads: bool = True) -> np.ndarray:
+    """The largest of each load (``stages.LOAD_NAMES``) over a stage-1 or stage-2 segment, and when,
+    shape (N_LOADS, 2).
+
+    Sampled at the start, every accepted step's end and the end, then refined
+    on the continuous solution over the step on either side of the largest
+    sample (Brent's bounded method, ``stages.PEAK_TIME_TOLERANCE``): the
+    compiled path does the same on the same steps. Not ``loads``: none (-inf).
+    """
+    if not loads:
+        return np.full((len(stages.LOAD_NAMES), 2), -np.inf)
+    values = np.array([stages.loads_at(int(stage), y, p) for y in segment.step_y])   # (k, N_LOADS)
+    peaks = np.empty((values.shape[1], 2))
+    for k in range(values.shape[1]):
+        i = int(np.argmax(values[:, k]))
+        peaks[k] = values[i, k], segment.step_t[i]
+        for a, b in ((i - 1, i), (i, i + 1)):
+            if a < 0 or b >= len(segment.step_t) or not segment.step_t[b] > segment.step_t[a]:
+                continue
+            found = minimize_scalar(lambda s: -stages.loads_at(int(stage), segment.solution(s), p)[k],
+                                    bounds=(segment.step_t[a], segment.step_t[b]), method="bounded",
+                                    options={"xatol": stages.PEAK_TIME_TOLERANCE, "maxiter": 500})
+            if -found.fun > peaks[k, 0]:
+                peaks[k] = -found.fun, found.x
+    return peaks
+
+
+def _peak_fields(peaks: np.ndarray) -> dict[str, float]:
+    """``Shot`` fields of the peaks (N_LOADS, 2); none that were never sampled."""
+    fields = {}
+    for (value, time), name in zip(peaks, PEAK_NAMES, strict=True):
+        if np.isfinite(value):
+            fields[name], fields[f"{name}_time"] = float(value), float(time)
+    return fields
+
+
 def _finish(design: Design, p: Params, history, segments, status: Status, message: str, **fields) -> Shot:
     if history is None:   # summary only
         fields.pop("flight_t", None)
@@ -261,11 +344,26 @@ def _finish(design: Design, p: Params, history, segments, status: Status, messag
         k_m, k_p = eom.kinetic_energy(theta, phi, psi, dtheta, dphi, dpsi, p)
         budget[i] = (k_m + v_m - v_machine0, k_p + v_p - v_projectile0)
         path[i] = projectile_state(theta, psi, dtheta, dpsi, p.La, p.Ls)[:2]
+        path[i, 0] += eom.frame_displacement(theta, phi, psi, p)   # on the ground, as the flight is
     energy = EnergyBudget(projectile=budget[:, 1], machine=budget[:, 0], total=budget.sum(axis=1))
+    frame_x = np.array([eom.frame_displacement(*state[:3], p) for state in states])
+    ground = np.array([eom.ground_force(*state, *_accelerations(Stage(k), state, p), p)
+                       for k, state in zip(stage, states, strict=True)])
+    fields["min_ground_force"] = float(ground.min())
+    loads = np.array([stages.loads_at(k, state[[0, 1, 3, 4]] if k == Stage.SLIDE else state, p)
+                      for k, state in zip(stage, states, strict=True)])     # (n, N_LOADS)
+    fields.update(axle_load=loads[:, 0], hinge_load=loads[:, 1], projectile_acceleration=loads[:, 3])
+    if p.rolling and ground.min() < 0.0:
+        fields["warnings"] = (jump_warning(float(ground.min()), float(t[int(np.argmin(ground))]), p.g),)
+    frame_speed = max(abs(eom.frame_velocity(*state, p)) for state in states)
+    after_release = fields.pop("after_release_speed", None)
+    if status is Status.OK:
+        fields["max_frame_speed"] = max(frame_speed, after_release)
     released = None
     if fields.get("release_time") is not None:
         released = v_machine0 - eom.potential_energy(*states[-1, :3], p)[0]
     return Shot(design, status, message, t=t, stage=stage, q=states[:, :3], qdot=states[:, 3:], path=path,
+                frame_x=frame_x if p.rolling else np.empty(0),
                 sling_tension=tension, energy=energy,
                 # A machine that never moves (never fires, or its equations fail at rest) holds
                 # its projectile statically: no tension is defined.

@@ -1,37 +1,59 @@
-"""Human-readable text for a shot (the non-JSON output of ``simulate``)."""
+"""Human-readable text for a shot (the non-JSON output of ``simulate``), in metric or imperial units."""
 
 from __future__ import annotations
 
 import math
 
 from analytic.result import Shot
+from analytic.units import display
 
 
-def format_shot(shot: Shot) -> str:
-    """A table of the shot's outcome, in the units a builder reads (m, m/s, deg, s, %)."""
+def format_shot(shot: Shot, units: str = "metric") -> str:
+    """A table of the shot's outcome, in the units a builder reads.
+
+    Parameters
+    ----------
+    shot : the shot.
+    units : ``"metric"`` (m, m/s, N) or ``"imperial"`` (ft, ft/s, lbf); times in s, angles
+        in deg, the projectile's acceleration in g either way.
+    """
     lines = [f"design   {shot.design.name}", f"status   {shot.status.value}: {shot.message}"]
     rows = []
 
-    def row(label: str, value, unit: str = "", fmt: str = ".4f") -> None:
+    def row(label: str, value, unit: str = "", fmt: str = ".4f", note: str = "") -> None:
         if value is not None:
-            rows.append((label, format(value, fmt), unit))
+            number, shown = display(value, unit, units)
+            rows.append((label, format(number, fmt), f"{shown}{note}"))
+
+    def pair(label: str, values, unit: str, note: str = "") -> None:
+        if values is not None:
+            (x, shown), (y, _) = display(values[0], unit, units), display(values[1], unit, units)
+            rows.append((label, f"({x:.4f}, {y:.4f})", f"{shown}{note}"))
+
+    def at(name: str) -> str:
+        time = getattr(shot, f"{name}_time")
+        return "" if time is None else f" at t = {time:.4f} s"
 
     row("lift-off time", shot.liftoff_time, "s")
     row("release time", shot.release_time, "s")
-    if shot.release_position is not None:
-        x, y = shot.release_position
-        rows.append(("release position", f"({x:.4f}, {y:.4f})", "m from pivot"))
-        vx, vy = shot.release_velocity
-        rows.append(("release velocity", f"({vx:.4f}, {vy:.4f})", "m/s"))
+    pair("release position", shot.release_position, "m", " from pivot")
+    pair("release velocity", shot.release_velocity, "m/s")
     row("release speed", shot.release_speed, "m/s")
     row("launch angle", None if shot.launch_angle is None else math.degrees(shot.launch_angle), "deg", ".3f")
     row("range (from pivot)", shot.range, "m", ".3f")
     row("range (from release)", shot.range_from_release, "m", ".3f")
-    row("apex height", shot.apex_height, "m above base", ".3f")
+    row("apex height", shot.apex_height, "m", ".3f", " above base")
     row("flight time", shot.flight_time, "s")
     row("energy efficiency", None if shot.energy_efficiency is None else 100 * shot.energy_efficiency, "%", ".2f")
     row("range efficiency", None if shot.range_efficiency is None else 100 * shot.range_efficiency, "%", ".2f")
-    row("min sling tension", shot.min_sling_tension, "N (negative: the rigid sling pushed)", ".3f")
+    row("min sling tension", shot.min_sling_tension, "N", ".3f", " (negative: the rigid sling pushed)")
+    row("peak sling tension", shot.peak_sling_tension, "N", ".3f", at("peak_sling_tension"))
+    row("peak axle load", shot.peak_axle_load, "N", ".3f", at("peak_axle_load"))
+    row("peak hinge load", shot.peak_hinge_load, "N", ".3f", at("peak_hinge_load"))
+    if shot.peak_projectile_acceleration is not None:
+        rows.append(("peak projectile accel.", f"{shot.peak_projectile_acceleration / shot.design.environment.gravity:.2f}",
+                     f"g{at('peak_projectile_acceleration')}"))
     width = max((len(r[0]) for r in rows), default=0)
     lines += [f"  {label:<{width}}  {value:>20}  {unit}" for label, value, unit in rows]
+    lines += [f"warning  {warning}" for warning in shot.warnings]
     return "\n".join(lines)

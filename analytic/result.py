@@ -10,17 +10,28 @@ import numpy as np
 
 from analytic.design import Design
 from analytic.outcome import Stage, Status
+from analytic.plausibility import plausibility_warnings
 
-__all__ = ["EnergyBudget", "JSON_KEYS", "Shot", "Shots", "Stage", "Status", "ideal_range"]
+__all__ = ["EnergyBudget", "JSON_KEYS", "PEAK_NAMES", "Shot", "Shots", "Stage", "Status", "ideal_range"]
 
 
+#: The peak loads over stages 1-2, each a ``Shot`` field (and ``<name>_time``), in the order of
+#: ``analytic.stages.LOAD_NAMES``: N, N, N, m/s^2.
+PEAK_NAMES = ("peak_axle_load", "peak_hinge_load", "peak_sling_tension", "peak_projectile_acceleration")
 #: Keys of the ``--json`` object, shared by ``analytic`` and ``engine_model``.
 JSON_KEYS = (
     "design", "status", "message", "liftoff_time", "release_time",
     "release_position", "release_velocity", "release_speed", "launch_angle",
     "range", "range_from_release", "apex_height", "flight_time", "landing_time",
     "landed_behind_pivot", "energy_efficiency", "range_efficiency", "min_sling_tension",
+    "frame_release_displacement", "frame_release_velocity",
+    *(f"{name}{suffix}" for name in PEAK_NAMES for suffix in ("", "_time")),
+    "energy_dissipated", "warnings",
 )
+#: The losses a shot accounts for (``Shot.energy_dissipated``'s keys), J: the
+#: main axle's friction, the counterweight hinge's, the base's (stage 1) and
+#: the air's drag in flight.
+LOSS_NAMES = ("axle", "hinge", "base", "drag")
 
 
 @dataclass(frozen=True)
@@ -28,9 +39,9 @@ class EnergyBudget:
     """Mechanical energy through stages 1 and 2, J; each array has shape (n,) on ``Shot.t``.
 
     ``projectile`` is kinetic plus potential energy of the projectile relative to
-    its start; ``machine`` likewise for arm and counterweight (negative as the
-    counterweight falls); ``total = projectile + machine`` is conserved by the
-    dynamics (drag acts only in flight).
+    its start; ``machine`` likewise for arm and counterweight, and a rolling
+    frame's kinetic energy (negative as the counterweight falls); ``total =
+    projectile + machine`` is conserved by the dynamics (drag acts only in flight).
     """
 
     projectile: np.ndarray
@@ -47,14 +58,18 @@ class Shot:
     when ``status`` is ``NEVER_RELEASES``. The history arrays are empty for a
     summary-only shot (the fast path, or ``simulate(histories=False)``).
 
+    Positions and velocities are in ground coordinates, m from the pivot's
+    position at rest (a mark on the ground); for a fixed frame that is the
+    pivot itself. A rolling frame carries the pivot X along (``frame_*``).
+
     Attributes
     ----------
     design : the design simulated.
     status, message : how it ended, in words a user can act on.
     liftoff_time, release_time, landing_time : s from firing, or None.
-    release_position : (2,) projectile centre at release [x, y], m from the pivot.
-    release_velocity : (2,) projectile velocity at release [vx, vy], m/s.
-    landing_position : (2,) where the projectile reaches base level, m from the pivot.
+    release_position : (2,) projectile centre at release [x, y], m from the pivot at rest.
+    release_velocity : (2,) projectile velocity at release [vx, vy] over the ground, m/s.
+    landing_position : (2,) where the projectile reaches base level, m from the pivot at rest.
     apex_height : highest point of the flight above the base, m.
     min_sling_tension : smallest sling tension in stages 1 and 2, N (negative: the rigid sling pushed).
     t : (n,) sample times through stages 1 and 2, s.
@@ -64,11 +79,37 @@ class Shot:
     energy : ``EnergyBudget`` on ``t``.
     flight_t : (k,) flight sample times, s (from firing).
     flight_path : (k, 2) projectile centre in flight, m from the pivot.
-    path : (n, 2) projectile centre through stages 1 and 2, m from the pivot.
+    path : (n, 2) projectile centre through stages 1 and 2, m from the pivot's place at rest
+        (the pivot itself for a fixed frame), as ``flight_path``.
     counterweight_energy_released : J, potential energy given up by counterweight
         and arm between firing and release.
+    frame_release_displacement, frame_release_velocity : the frame's X (m) and X' (m/s)
+        at release: 0 for a fixed frame, None if not released.
+    frame_landing_displacement, frame_landing_velocity : the same at landing (the
+        machine swings on after release), None where not computed (the fast path).
+    max_frame_speed : largest |X'| from firing to landing, m/s (None where not computed).
+    frame_x : (n,) the frame's X on ``t``, m (empty for a fixed frame or a summary).
+    peak_axle_load, peak_hinge_load : largest force of the frame on the arm at the axle and
+        between the arm and the counterweight at the hinge, N, through stages 1-2
+        (``analytic.eom.loads``: the sizes a bearing's friction would scale with).
+    peak_sling_tension : largest sling tension through stages 1-2, N.
+    peak_projectile_acceleration : largest acceleration the projectile feels (the sling's
+        and the base's force on it over its mass, gravity excluded), m/s^2.
+    peak_*_time : when each peak occurs, s from firing. None for a machine that never
+        fires or a failed integration, and from the engine model.
+    axle_load, hinge_load, projectile_acceleration : (n,) the loads on ``t`` (N, N, m/s^2;
+        empty for a summary).
+    min_ground_force : smallest vertical push of the ground on the frame through stages
+        1-2, N (``analytic.eom.ground_force``; None for a summary). Negative: a
+        frame not bolted down would jump.
+    warnings : what the user should know about this result, in words, () if nothing:
+        one line per implausible input (``analytic.plausibility``, added on
+        construction for every model) after any the model itself gave (for
+        example a rolling frame that would jump).
     diagnostics : how far the model that made the shot can be trusted, or None
         (the engine model's ``EngineDiagnostics``).
+    energy_dissipated : J taken by each loss from firing to the shot's end, keyed
+        ``LOSS_NAMES`` (zeros where a loss is absent), or None where not computed.
     """
 
     design: Design
@@ -82,7 +123,13 @@ class Shot:
     landing_position: np.ndarray | None = None
     apex_height: float | None = None
     min_sling_tension: float | None = None
+    energy_dissipated: dict[str, float] | None = None
     counterweight_energy_released: float | None = None
+    frame_release_displacement: float | None = None
+    frame_release_velocity: float | None = None
+    frame_landing_displacement: float | None = None
+    frame_landing_velocity: float | None = None
+    max_frame_speed: float | None = None
     t: np.ndarray = field(default_factory=lambda: np.empty(0))
     stage: np.ndarray = field(default_factory=lambda: np.empty(0, dtype=int))
     q: np.ndarray = field(default_factory=lambda: np.empty((0, 3)))
@@ -92,11 +139,58 @@ class Shot:
     energy: EnergyBudget | None = None
     flight_t: np.ndarray = field(default_factory=lambda: np.empty(0))
     flight_path: np.ndarray = field(default_factory=lambda: np.empty((0, 2)))
+    frame_x: np.ndarray = field(default_factory=lambda: np.empty(0))
+    min_ground_force: float | None = None
+    peak_axle_load: float | None = None
+    peak_axle_load_time: float | None = None
+    peak_hinge_load: float | None = None
+    peak_hinge_load_time: float | None = None
+    peak_sling_tension: float | None = None
+    peak_sling_tension_time: float | None = None
+    peak_projectile_acceleration: float | None = None
+    peak_projectile_acceleration_time: float | None = None
+    axle_load: np.ndarray = field(default_factory=lambda: np.empty(0))
+    hinge_load: np.ndarray = field(default_factory=lambda: np.empty(0))
+    projectile_acceleration: np.ndarray = field(default_factory=lambda: np.empty(0))
+    warnings: tuple[str, ...] = ()
     diagnostics: Any = None
+
+    def __post_init__(self):
+        # The model's own warnings first, then the plausibility checks; a copy
+        # (dataclasses.replace) passes them all back in, so keep each once.
+        lines = tuple(self.warnings) + tuple(plausibility_warnings(self.design, self))
+        object.__setattr__(self, "warnings", tuple(dict.fromkeys(lines)))
 
     @property
     def ok(self) -> bool:
         return self.status is Status.OK
+
+    def _repr_html_(self) -> str:
+        """A summary table for Jupyter: outcome, release, range and peak loads, any warnings."""
+        import html
+
+        g = self.design.environment.gravity
+        rows = [("status", f"{self.status.value}: {self.message}")]
+
+        def add(label: str, value, fmt: str, unit: str, when: float | None = None) -> None:
+            if value is not None:
+                rows.append((label, f"{value:{fmt}} {unit}" + ("" if when is None else f" at {when:.4f} s")))
+
+        add("range", self.range, ".3f", "m")
+        add("release speed", self.release_speed, ".3f", "m/s")
+        add("launch angle", None if self.launch_angle is None else math.degrees(self.launch_angle), ".2f", "deg")
+        add("release time", self.release_time, ".4f", "s")
+        add("apex height", self.apex_height, ".3f", "m above the base")
+        add("peak sling tension", self.peak_sling_tension, ".2f", "N", self.peak_sling_tension_time)
+        add("peak axle load", self.peak_axle_load, ".2f", "N", self.peak_axle_load_time)
+        add("peak hinge load", self.peak_hinge_load, ".2f", "N", self.peak_hinge_load_time)
+        add("peak projectile acceleration",
+            None if self.peak_projectile_acceleration is None else self.peak_projectile_acceleration / g,
+            ".1f", "g", self.peak_projectile_acceleration_time)
+        rows += [("warning", warning) for warning in self.warnings]
+        body = "".join(f"<tr><th style='text-align:left'>{html.escape(label)}</th>"
+                       f"<td style='text-align:left'>{html.escape(value)}</td></tr>" for label, value in rows)
+        return f"<table><caption>Shot of {html.escape(self.design.name)}</caption>{body}</table>"
 
     def plot(self, path=None, **options):
         """The shot's figure (``analytic.plot.shot_figure``); written to ``path`` if given.
@@ -123,7 +217,8 @@ class Shot:
 
     @property
     def range(self) -> float | None:
-        """Horizontal distance from the pivot to the landing point, m (negative: behind the pivot)."""
+        """Horizontal distance from the pivot's position at rest to the landing point, m
+        (negative: behind it)."""
         return None if self.landing_position is None else float(self.landing_position[0])
 
     @property
@@ -186,6 +281,13 @@ class Shot:
             "energy_efficiency": number(self.energy_efficiency),
             "range_efficiency": number(self.range_efficiency),
             "min_sling_tension": number(self.min_sling_tension),
+            "frame_release_displacement": number(self.frame_release_displacement),
+            "frame_release_velocity": number(self.frame_release_velocity),
+            **{f"{name}{suffix}": number(getattr(self, f"{name}{suffix}"))
+               for name in PEAK_NAMES for suffix in ("", "_time")},
+            "energy_dissipated": (None if self.energy_dissipated is None
+                                  else {name: float(self.energy_dissipated[name]) for name in LOSS_NAMES}),
+            "warnings": list(self.warnings),
         }
 
 
@@ -217,7 +319,11 @@ class Shots:
     range : (S,) m from the pivot to the landing point.
     apex_height : (S,) m above the base.
     end_time : (S,) s, when the shot ended (the failure's instant for a failure).
-    steps, evaluations : (S,) int, accepted integrator steps and right-hand-side evaluations.
+    steps, evaluations : (S,) int, accepted integrator steps and right-hand-side evaluations (with
+        the evaluations of the accelerations that finding the peak loads takes).
+    peak_axle_load, peak_hinge_load, peak_sling_tension, peak_projectile_acceleration : (S,)
+        the largest loads through stages 1-2 (N, N, N, m/s^2; ``Shot``), and each one's
+        ``*_time`` (S,), s.
     """
 
     status: np.ndarray
@@ -231,6 +337,14 @@ class Shots:
     end_time: np.ndarray
     steps: np.ndarray
     evaluations: np.ndarray
+    peak_axle_load: np.ndarray
+    peak_axle_load_time: np.ndarray
+    peak_hinge_load: np.ndarray
+    peak_hinge_load_time: np.ndarray
+    peak_sling_tension: np.ndarray
+    peak_sling_tension_time: np.ndarray
+    peak_projectile_acceleration: np.ndarray
+    peak_projectile_acceleration_time: np.ndarray
 
     @property
     def ok(self) -> np.ndarray:

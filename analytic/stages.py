@@ -26,7 +26,8 @@ from __future__ import annotations
 import math
 
 from analytic.aero import force_factor
-from analytic.eom import slide_accelerations, slide_constraint, swing_accelerations
+from analytic.eom import (frame_coupling, frame_displacement, frame_velocity, horizontal_moment, loads,
+                          slide_accelerations, slide_constraint, swing_accelerations, terms, total_mass)
 from analytic.geometry import projectile_state, release_at
 from analytic.limits import SLING_VERTICAL_LIMIT
 from analytic.outcome import Stage
@@ -91,7 +92,7 @@ def event_value(stage, k, y, p):
         return p.La * math.cos(y[0]) + p.h
     if stage == SWING:
         if k == 0:
-            _, _, vx, vy = projectile_state(y[0], y[2], y[3], y[5], p.La, p.Ls)
+            vx, vy = ground_velocity(y, p)
             return release_at(int(p.rule), p.alpha, y[0], y[2], vx, vy)[0]
         return p.La * math.cos(y[0]) + p.Ls * math.cos(y[0] + y[2]) + p.h
     if k == 0:
@@ -112,9 +113,23 @@ def event_terminal(stage, k):
 def event_armed(stage, k, y, p):
     """Whether a root of the event at ``y`` counts: only the release has a condition."""
     if stage == SWING and k == 0:
-        _, _, vx, vy = projectile_state(y[0], y[2], y[3], y[5], p.La, p.Ls)
+        vx, vy = ground_velocity(y, p)
         return release_at(int(p.rule), p.alpha, y[0], y[2], vx, vy)[1]
     return True
+
+
+def ground_velocity(y, p):
+    """The projectile's velocity on the ground ``(vx, vy)`` at the stage-2 state ``y``, m/s:
+    relative to the pivot plus the frame's (0 for a fixed frame). The velocity
+    release rule reads this one; the sling rule's angle is the same on either."""
+    _, _, vx, vy = projectile_state(y[0], y[2], y[3], y[5], p.La, p.Ls)
+    return vx + frame_velocity(y[0], y[1], y[2], y[3], y[4], y[5], p), vy
+
+
+def frame_state(y, p):
+    """The frame's ``(X, X')`` at the stage-2 state ``y`` (m, m/s; zeros for a fixed frame)."""
+    return (frame_displacement(y[0], y[1], y[2], p),
+            frame_velocity(y[0], y[1], y[2], y[3], y[4], y[5], p))
 
 
 def fires(p):
@@ -131,5 +146,63 @@ def swing_start(y, p):
 
 
 def flight_start(y, p):
-    """The flight start ``(x, y, vx, vy)`` from the stage-2 state at release."""
-    return projectile_state(y[0], y[2], y[3], y[5], p.La, p.Ls)
+    """The flight start ``(x, y, vx, vy)`` on the ground from the stage-2 state at release:
+    x from the pivot's place at rest (where a rolling frame's pivot stood)."""
+    x, height, vx, vy = projectile_state(y[0], y[2], y[3], y[5], p.La, p.Ls)
+    frame_x, frame_v = frame_state(y, p)
+    return x + frame_x, height, vx + frame_v, vy
+
+
+def machine_derivative(y, p, out):
+    """After release: the arm and counterweight swing on alone, y = [theta, phi, theta', phi'].
+
+    The stage-2 system without the projectile (mP = 0 drops its row and
+    column). A rolling frame keeps the machine's momentum from release, which
+    adds only a total derivative to the Lagrangian: the same reduced system
+    as before, with the machine's mass alone (``machine_frame``).
+    """
+    m = p._replace(mP=0.0)
+    m11, m12, _, m22, _, f1, f2, _ = terms(y[0], y[1], 0.0, y[2], y[3], 0.0, m)
+    if p.rolling:
+        b1, b2, _, c = frame_coupling(y[0], y[1], 0.0, y[2], y[3], 0.0, m)
+        k = 1.0 / total_mass(m)
+        m11, m12, m22 = m11 - k * b1 * b1, m12 - k * b1 * b2, m22 - k * b2 * b2
+        f1, f2 = f1 + k * b1 * c, f2 + k * b2 * c
+    det = m11 * m22 - m12 * m12
+    out[0], out[1] = y[2], y[3]
+    out[2], out[3] = (f1 * m22 - f2 * m12) / det, (f2 * m11 - f1 * m12) / det
+
+
+def machine_frame(y, p, momentum, start_time, start_y, start_x, time):
+    """The frame's ``(X, X')`` after release at ``time`` and machine state ``y`` (``machine_derivative``).
+
+    ``momentum`` is the machine's horizontal momentum at release (kg m/s),
+    kept since: ``Mt X' + S' = momentum`` with the machine's own mass and
+    moment, so ``X = start_x + (momentum (t - t_r) - (S(q) - S(q_r))) / Mt``.
+    """
+    m = p._replace(mP=0.0)
+    mass = total_mass(m)
+    b1, b2, _, _ = frame_coupling(y[0], y[1], 0.0, y[2], y[3], 0.0, m)
+    moved = horizontal_moment(y[0], y[1], 0.0, m) - horizontal_moment(start_y[0], start_y[1], 0.0, m)
+    return (start_x + (momentum * (time - start_time) - moved) / mass,
+            (momentum - b1 * y[2] - b2 * y[3]) / mass)
+
+
+#: Peak loads are located on the dense output to this time tolerance, s (plus sqrt(eps) |t|):
+#: Brent's bounded minimiser, scipy's ``minimize_scalar(method="bounded")`` on the reference
+#: path and its port in the compiled one.
+PEAK_TIME_TOLERANCE = 1e-10
+#: What ``loads_at`` returns, in order (``analytic.eom.loads``): N, N, N, m/s^2.
+LOAD_NAMES = ("axle_load", "hinge_load", "sling_tension", "projectile_acceleration")
+
+
+def loads_at(stage, y, p):
+    """``eom.loads`` at the stage-1 state ``[theta, phi, theta', phi']`` or the stage-2
+    state ``[theta, phi, psi, theta', phi', psi']``: the accelerations and the base's
+    push from the stage's own equations (0 push in stage 2)."""
+    if stage == SLIDE:
+        ddtheta, ddphi, normal = slide_accelerations(y[0], y[1], y[2], y[3], p)
+        psi, dpsi, s, c, _ = slide_constraint(y[0], y[2], p)
+        return loads(y[0], y[1], psi, y[2], y[3], dpsi, ddtheta, ddphi, s * ddtheta + c, normal, p)
+    ddtheta, ddphi, ddpsi = swing_accelerations(y[0], y[1], y[2], y[3], y[4], y[5], p)
+    return loads(y[0], y[1], y[2], y[3], y[4], y[5], ddtheta, ddphi, ddpsi, 0.0, p)

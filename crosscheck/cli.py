@@ -12,6 +12,8 @@ from functools import partial
 from tqdm import tqdm
 
 from analytic import fast
+from analytic.command_line import (OutputPathError, negative_numbers_as_values, output_folder,
+                                   positive_float, positive_int)
 from analytic.design import DesignError
 from analytic.result import Shot
 from crosscheck.cases import Case, default_suite, file_cases, sample_cases
@@ -38,8 +40,6 @@ def run_cases(cases: list[Case], dt: float, workers: int, progress: bool = True)
             results.append(task(case, analytic_shot=shot))
             bar.update()
     else:
-        # The workers are forked after the batch above ran here: they run
-        # only the engine, never a batch (``analytic.fast.shoot`` says why).
         with ProcessPoolExecutor(max_workers=workers) as pool:
             results = []
             for result in pool.map(partial(_compare_shot, dt=dt), cases, analytic):
@@ -61,20 +61,25 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--sample", type=int, default=None, metavar="N",
                         help="designs drawn over the paper's Table II bounds (default suite: 24)")
     parser.add_argument("--seed", type=int, default=0, help="seed of the sample (default 0)")
-    parser.add_argument("--dt", type=float, default=DEFAULT_DT, help=f"engine step, s (default {DEFAULT_DT})")
+    parser.add_argument("--dt", type=positive_float, default=DEFAULT_DT, help=f"engine step, s (default {DEFAULT_DT})")
     parser.add_argument("--report", metavar="DIR", help="write crosscheck.json and plots here")
     parser.add_argument("--json", action="store_true", help="print the comparisons as JSON")
-    parser.add_argument("--workers", type=int, default=min(2, os.cpu_count() or 1),
+    parser.add_argument("--table", action="store_true",
+                        help="also print every design's every quantity (always in --report's table.txt)")
+    parser.add_argument("--workers", type=positive_int, default=min(2, os.cpu_count() or 1),
                         help="processes (default: 2, the machine's cores)")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     return parser
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
-    if not (args.dt > 0):
-        print(f"--dt = {args.dt}: must be a positive step in seconds", file=sys.stderr)
-        return EXIT_INVALID
+    args = build_parser().parse_args(negative_numbers_as_values(sys.argv[1:] if argv is None else argv))
+    if args.report:
+        try:
+            output_folder(args.report, "--report")
+        except OutputPathError as error:
+            print(error, file=sys.stderr)
+            return EXIT_INVALID
     try:
         if args.designs:
             cases = file_cases(args.designs) + sample_cases(args.sample or 0, args.seed)
@@ -94,9 +99,10 @@ def main(argv: list[str] | None = None) -> int:
         print(json.dumps({"agree": all(c.agree for c in comparisons),
                           "comparisons": [c.to_json() for c in comparisons]}, indent=2))
     else:
-        print(format_table(comparisons))
-        print()
-        print(format_summary(comparisons, study))
+        if args.table:
+            print(format_table(comparisons))
+            print()
+        print(format_summary(comparisons, study, steps_detail=args.table))
         if args.report:
-            print("report: " + ", ".join(str(p) for p in paths))
+            print(f"report in {args.report}: " + ", ".join(p.name for p in paths))
     return EXIT_AGREE if all(c.agree for c in comparisons) else EXIT_DISAGREE

@@ -58,7 +58,9 @@ def worst_cases(comparisons: list[Comparison]) -> dict[str, dict]:
     return worst
 
 
-def format_summary(comparisons: list[Comparison], study: StepStudy | None) -> str:
+def format_summary(comparisons: list[Comparison], study: StepStudy | None, steps_detail: bool = True) -> str:
+    """The verdict, the worst case per quantity as a fraction of its tolerance, the engine's step and
+    drift, and the convergence study (with a line per step if ``steps_detail``)."""
     agreed = sum(c.agree for c in comparisons)
     outcomes = {}
     for c in comparisons:
@@ -80,20 +82,24 @@ def format_summary(comparisons: list[Comparison], study: StepStudy | None) -> st
     if study is not None:
         lines.append(f"engine convergence on {study.design}: order {study.speed_order:.2f} (release speed), "
                      f"{study.range_order:.2f} (range)")
-        for dt, s, r in zip(study.dt, study.speed_error, study.range_error, strict=True):
-            lines.append(f"  dt {dt:.1e} s   speed error {s:.2e}   range error {r:.2e}")
+        if steps_detail:
+            for dt, s, r in zip(study.dt, study.speed_error, study.range_error, strict=True):
+                lines.append(f"  dt {dt:.1e} s   speed error {s:.2e}   range error {r:.2e}")
     return "\n".join(lines)
 
 
 def write_report(directory: str | Path, comparisons: list[Comparison], study: StepStudy | None) -> list[Path]:
-    """``crosscheck.json`` and three plots in ``directory``; returns the paths written."""
+    """``crosscheck.json``, ``table.txt`` (every design and quantity, and the summary) and three plots
+    in ``directory``; returns the paths written."""
     out = Path(directory)
     out.mkdir(parents=True, exist_ok=True)
+    table = out / "table.txt"
+    table.write_text(format_table(comparisons) + "\n\n" + format_summary(comparisons, study) + "\n")
     report = {"agree": all(c.agree for c in comparisons),
               "comparisons": [c.to_json() for c in comparisons],
               "worst": worst_cases(comparisons),
               "step_study": None if study is None else study.to_json()}
-    paths = [out / "crosscheck.json"]
+    paths = [out / "crosscheck.json", table]
     paths[0].write_text(json.dumps(report, indent=2))
     for name, figure in (("agreement.png", agreement_figure(comparisons)),
                          ("errors.png", error_figure(comparisons))):

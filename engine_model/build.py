@@ -9,6 +9,14 @@ Body frames (pymunk rotates each body about its centre of gravity and reports
 * counterweight: origin and centre of gravity at its centre, hinge at local
   ``(0, counterweight_link)``; so ``body.angle`` is theta + phi.
 * projectile: origin and centre of gravity at its centre.
+* frame (rolling only): origin at the pivot, infinite moment (it never
+  turns), held on a horizontal groove along the ground through the pivot's
+  rest height; so ``body.position.x`` is the frame's displacement X. A fixed
+  frame is the space's static body, origin at the pivot.
+
+pymunk's world coordinates are ground coordinates, with the origin at the
+pivot's position at rest: for a rolling frame every position and velocity
+read from a body is a ground one (its position relative to the pivot plus X).
 
 Every joint has ``error_bias = 0`` (pymunk's error_bias is the fraction of
 joint error left uncorrected after one second; 0 removes the whole error in
@@ -53,6 +61,11 @@ class EngineError(RuntimeError):
 #: machine's largest length, each way from the pivot: the projectile must never
 #: reach its ends (where pymunk's groove also constrains the sliding direction).
 GROOVE_HALF_LENGTH_FACTOR = 10.0
+#: Length of the rail (the groove along the ground) a rolling frame runs on,
+#: each way from the rest position, m: far beyond any frame's travel (a few
+#: metres at most while the projectile flies), since at its ends pymunk's
+#: groove would stop the frame.
+RAIL_HALF_LENGTH = 1e6
 
 
 @dataclass(frozen=True)
@@ -72,6 +85,9 @@ class Rig:
     sling : PinJoint (rigid) or SlideJoint (rope), long tip to projectile.
     groove : GrooveJoint holding the projectile on the base (stage 1).
     sling_kind : ``"rigid"`` or ``"rope"``.
+    frame : the body carrying the pivot and the base: the space's static body
+        for a fixed frame, a dynamic body that only translates for a rolling one.
+    rail : GrooveJoint holding a rolling frame on the ground (None when fixed).
     """
 
     space: pymunk.Space
@@ -83,6 +99,8 @@ class Rig:
     sling: pymunk.Constraint
     groove: pymunk.GrooveJoint
     sling_kind: str
+    frame: pymunk.Body
+    rail: pymunk.GrooveJoint | None = None
 
     @property
     def machine_parts(self) -> tuple:
@@ -134,6 +152,29 @@ def arm_body_properties(design: Design) -> tuple[float, float, float]:
     return mass, cg, pivot_inertia - mass * cg**2
 
 
+def frame_body_mass(design: Design) -> float:
+    """Mass of the pymunk frame body of a rolling design, kg: the frame's less the arm's ballast.
+
+    Ballast at the pivot (``arm_body_properties``) is neutral on a fixed frame,
+    but on a rolling one it moves with the pivot, so it is part of the mass
+    that translates with the frame: taking it off the frame body keeps the
+    translating mass the design's ``base.mass``.
+
+    Raises
+    ------
+    EngineError
+        The frame is no heavier than the ballast (a frame under a few per cent
+        of the counterweight with a light arm): its body would have no mass left.
+    """
+    ballast = arm_body_properties(design)[0] - design.machine.arm_mass
+    mass = design.base.mass - ballast
+    if not mass > 0.0:
+        raise EngineError(f"base.mass = {design.base.mass:g} kg is no heavier than the {ballast:.3g} kg "
+                          f"of ballast the engine puts at the pivot of this light arm (a frame under "
+                          f"{ARM_MASS_FRACTION:.0%} of the counterweight): the engine cannot model it")
+    return mass
+
+
 def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITERATIONS,
           on_base: bool = True) -> Rig:
     """The machine of ``design`` at rest, ready to fire, in a new pymunk Space.
@@ -157,6 +198,11 @@ def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITE
     counterweight's centre (the same dynamics; the body's own rotation is
     decoupled and its moment only a placeholder). A light arm, or one with
     ``arm_inertia = 0``, carries ballast at the pivot (``arm_body_properties``).
+
+    A rolling frame (``design.base.rolling``) is a body of ``frame_body_mass``
+    with an infinite moment on a horizontal groove (``rail``) along the ground;
+    it carries the pivot and the groove that holds the projectile on the base,
+    at the base's height below the pivot. It has no friction and never lifts.
     """
     if sling not in SLINGS:
         raise ValueError(f"sling = {sling!r}: must be one of {', '.join(SLINGS)}")
@@ -172,7 +218,13 @@ def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITE
     space.iterations = int(iterations)
     # No shapes collide, but keep pymunk's pixel-sized defaults out of a metre world.
     space.collision_slop = 1e-6 * machine_length(design)
-    frame = space.static_body
+    if design.base.rolling:
+        frame = pymunk.Body(frame_body_mass(design), math.inf)
+        frame.position = (0.0, 0.0)
+        rail = pymunk.GrooveJoint(space.static_body, frame, (-RAIL_HALF_LENGTH, 0.0),
+                                  (RAIL_HALF_LENGTH, 0.0), (0.0, 0.0))
+    else:
+        frame, rail = space.static_body, None
 
     arm_mass, arm_cg, arm_moment = arm_body_properties(design)
     arm = pymunk.Body(arm_mass, arm_moment)
@@ -209,10 +261,11 @@ def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITE
     groove = pymunk.GrooveJoint(frame, projectile, (-reach, -m.pivot_height),
                                 (reach, -m.pivot_height), (0.0, 0.0))
 
-    joints = [pivot, hinge, sling_joint] + ([groove] if on_base else [])
+    joints = [pivot, hinge, sling_joint] + ([groove] if on_base else []) + ([rail] if rail else [])
     for joint in joints + [groove]:
         joint.error_bias = 0.0
         joint.max_bias = math.inf
         joint.collide_bodies = False
-    space.add(arm, counterweight, projectile, *joints)
-    return Rig(space, arm, counterweight, projectile, pivot, hinge, sling_joint, groove, sling)
+    bodies = [arm, counterweight, projectile] + ([frame] if rail else [])
+    space.add(*bodies, *joints)
+    return Rig(space, arm, counterweight, projectile, pivot, hinge, sling_joint, groove, sling, frame, rail)

@@ -6,11 +6,14 @@ import argparse
 import json
 import sys
 
+from analytic.command_line import (OutputPathError, negative_numbers_as_values, output_folder,
+                                   positive_float, positive_int)
 from analytic.design import Design, DesignError
 from analytic.design_file import default_design, load_design
 from analytic.result import Shot
 from engine_model import DEFAULT_DT, EngineError, simulate
 from engine_model.build import DEFAULT_ITERATIONS, SLINGS
+from engine_model.render import DEFAULT_FPS, SWING_SLOW_MOTION
 
 #: Exit codes: a throw; an engine run that could not be trusted (unstable, joints
 #: apart); an invalid design; a valid design that does not throw.
@@ -19,13 +22,6 @@ EXIT_OK, EXIT_ENGINE_ERROR, EXIT_INVALID, EXIT_NO_THROW = 0, 1, 2, 3
 
 def _design(path: str | None) -> Design:
     return default_design() if path is None else load_design(path)
-
-
-def _positive(text: str) -> float:
-    value = float(text)
-    if not value > 0.0:
-        raise argparse.ArgumentTypeError(f"{text} is not a positive number")
-    return value
 
 
 def _run(args: argparse.Namespace) -> Shot | int:
@@ -58,12 +54,18 @@ def _simulate(args: argparse.Namespace) -> int:
 def _render(args: argparse.Namespace) -> int:
     from engine_model.render import render_shot
 
+    try:
+        output_folder(args.out, "--out")
+    except OutputPathError as error:
+        print(error, file=sys.stderr)
+        return EXIT_INVALID
     shot = _run(args)
     if isinstance(shot, int):
         return shot
-    frames = render_shot(shot, args.out, fps=args.fps, slow_motion=args.slow_motion,
-                         gif=args.gif, progress=not args.quiet)
-    print(f"{len(frames)} frames written to {args.out}" + (" (and shot.gif)" if args.gif else ""))
+    frames = render_shot(shot, args.out, fps=args.fps, swing_slow_motion=args.slow_motion,
+                         gif=args.gif, mp4=args.mp4, progress=not args.quiet)
+    movies = [name for name, asked in (("shot.gif", args.gif), ("shot.mp4", args.mp4)) if asked]
+    print(f"{len(frames)} frames written to {args.out}" + (f" (and {', '.join(movies)})" if movies else ""))
     return EXIT_OK if shot.ok else EXIT_NO_THROW
 
 
@@ -73,8 +75,8 @@ def build_parser() -> argparse.ArgumentParser:
     commands = parser.add_subparsers(dest="command", required=True)
     common = argparse.ArgumentParser(add_help=False)
     common.add_argument("design", nargs="?", help="design TOML (default: the paper's Table III optimum)")
-    common.add_argument("--dt", type=_positive, default=DEFAULT_DT, help=f"fixed step, s (default {DEFAULT_DT:g})")
-    common.add_argument("--iterations", type=int, default=DEFAULT_ITERATIONS,
+    common.add_argument("--dt", type=positive_float, default=DEFAULT_DT, help=f"fixed step, s (default {DEFAULT_DT:g})")
+    common.add_argument("--iterations", type=positive_int, default=DEFAULT_ITERATIONS,
                         help=f"solver iterations per step (default {DEFAULT_ITERATIONS})")
     common.add_argument("--sling", choices=SLINGS, default="rigid",
                         help="rigid rod (default) or rope that goes slack instead of pushing")
@@ -86,10 +88,13 @@ def build_parser() -> argparse.ArgumentParser:
 
     ren = commands.add_parser("render", parents=[common], help="draw the shot as numbered PNG frames")
     ren.add_argument("--out", required=True, help="directory for frame_00000.png, ...")
-    ren.add_argument("--fps", type=_positive, default=30.0, help="frames per second of playback (default 30)")
-    ren.add_argument("--slow-motion", type=_positive, default=1.0,
-                     help="playback this many times slower than real time (default 1)")
+    ren.add_argument("--fps", type=positive_float, default=DEFAULT_FPS,
+                     help=f"frames per second of playback (default {DEFAULT_FPS:g})")
+    ren.add_argument("--slow-motion", type=positive_float, default=SWING_SLOW_MOTION,
+                     help=f"the swing this many times slower than real time (default {SWING_SLOW_MOTION:g};"
+                          f" the flight plays in real time)")
     ren.add_argument("--gif", action="store_true", help="also write shot.gif")
+    ren.add_argument("--mp4", action="store_true", help="also write shot.mp4 (H.264, ffmpeg from imageio-ffmpeg)")
     ren.add_argument("--quiet", action="store_true", help="no progress bar")
     ren.set_defaults(func=_render)
     return parser
@@ -97,5 +102,5 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Run the command line on ``argv`` (default ``sys.argv[1:]``); returns the exit code."""
-    args = build_parser().parse_args(argv)
+    args = build_parser().parse_args(negative_numbers_as_values(sys.argv[1:] if argv is None else argv))
     return args.func(args)

@@ -71,3 +71,26 @@ def interpolate(samples: np.ndarray, fraction: float) -> np.ndarray:
     oldest, before, after = samples[-3], samples[-2], samples[-1]
     # Lagrange weights for the nodes s = -1, 0, 1.
     return (0.5 * s * (s - 1.0)) * oldest + (1.0 - s * s) * before + (0.5 * s * (s + 1.0)) * after
+
+
+def highest(times: np.ndarray, heights: np.ndarray) -> float:
+    """The highest point of a sampled path: the vertex of the parabola through the highest
+    sample and its neighbours (any spacing), or the highest sample at either end.
+
+    Parameters
+    ----------
+    times, heights : (k,) sample instants (s) and heights (m).
+    """
+    i = int(np.argmax(heights))
+    if i == 0 or i == len(heights) - 1:
+        return float(heights[i])
+    # Newton's form about the middle sample, in times relative to it.
+    t0, t2 = times[i - 1] - times[i], times[i + 1] - times[i]
+    y0, y1, y2 = heights[i - 1], heights[i], heights[i + 1]
+    slope0, slope2 = (y1 - y0) / -t0, (y2 - y1) / t2
+    curvature = (slope2 - slope0) / (t2 - t0)
+    if not curvature < 0.0:
+        return float(y1)
+    # y(t) = y1 + slope0 (t) + curvature t (t - t0); its vertex:
+    t_top = (curvature * t0 - slope0) / (2.0 * curvature)
+    return float(y1 + slope0 * t_top + curvature * t_top * (t_top - t0))

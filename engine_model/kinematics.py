@@ -1,13 +1,15 @@
 """Pure functions of recorded body states: coordinates, joint drift, energies and contact forces.
 
-A state row (shape (18,)) holds, for the arm, the counterweight and the
-projectile in turn, six numbers read from pymunk: the body origin ``x, y``
-(m), its ``angle`` (rad), the velocity ``vx, vy`` of the origin (m/s) and
-the angular velocity ``w`` (rad/s). The body frames are those of
-``engine_model.build``: the arm's origin is at the pivot, the others' at
-their centres. Nothing here depends on where pymunk puts a body's centre of
-gravity (the arm may carry ballast at the pivot). A table of rows has shape
-(n, 18).
+A state row (shape (24,)) holds, for the arm, the counterweight, the
+projectile and the frame in turn, six numbers read from pymunk: the body
+origin ``x, y`` (m), its ``angle`` (rad), the velocity ``vx, vy`` of the
+origin (m/s) and the angular velocity ``w`` (rad/s). The body frames are
+those of ``engine_model.build``: the arm's and the frame's origins are at the
+pivot, the others' at their centres; a fixed frame's six numbers are zeros.
+Positions and velocities are ground ones (origin: the pivot at rest), so
+for a rolling frame the frame's ``x`` is its displacement X. Nothing here
+depends on where pymunk puts a body's centre of gravity (the arm may carry
+ballast at the pivot). A table of rows has shape (n, 24).
 
 pymunk integrates with symplectic Euler: after a step to ``t`` the positions
 belong to ``t`` and the velocities to ``t + dt/2``. ``synchronise`` turns such
@@ -27,7 +29,9 @@ import numpy as np
 from analytic.design import Design
 from analytic.result import ideal_range
 
-ARM, COUNTERWEIGHT, PROJECTILE = 0, 6, 12
+ARM, COUNTERWEIGHT, PROJECTILE, FRAME = 0, 6, 12, 18
+BODIES = (ARM, COUNTERWEIGHT, PROJECTILE, FRAME)
+ROW_LENGTH = 24
 X, Y, ANGLE, VX, VY, W = range(6)
 
 
@@ -36,21 +40,37 @@ def column(states: np.ndarray, body: int, quantity: int) -> np.ndarray:
     return states[:, body + quantity]
 
 
-def synchronise(raw: np.ndarray) -> np.ndarray:
-    """Rows with positions at t_k and velocities at t_k, shape (n, 18).
+def synchronise(raw: np.ndarray, rolling: bool = False) -> np.ndarray:
+    """Rows with positions at t_k and velocities at t_k, shape (n, 24).
 
     Parameters
     ----------
-    raw : (n, 18) rows read after each step: positions at t_k, velocities at
+    raw : (n, 24) rows read after each step: positions at t_k, velocities at
         t_k + dt/2. Row 0 is the state after the opening half step from rest,
         so its velocities belong to dt/2 and those at -dt/2 are their mirror
         image (motion from rest is even in time to second order).
+    rolling : the frame rolls; the arm's origin then takes the frame's velocity.
+
+    Notes
+    -----
+    The arm's origin velocity as read is the pivot joint's correction speed
+    ``-error / dt`` relative to the frame, and the pivot's error is the step's
+    chord error, ``(omega dt)^2 arm_cg / 2`` outward along the arm: so the
+    origin seems to move at ``omega^2 arm_cg dt / 2`` toward the pivot, a first-order
+    artefact. Along the arm it is at right angles to the arm's own motion and
+    drops out of energies to first order, but on a rolling frame it would
+    enter the horizontal momentum (and the frame's share of it) directly, so
+    there the origin gets the velocity the pivot joint holds it to, the
+    frame's. A fixed frame keeps the velocity as read, which leaves its
+    results exactly as they have always been reported.
     """
     sync = raw.copy()
-    velocity_columns = [body + q for body in (ARM, COUNTERWEIGHT, PROJECTILE) for q in (VX, VY, W)]
+    velocity_columns = [body + q for body in BODIES for q in (VX, VY, W)]
     half = raw[:, velocity_columns]
     before = np.vstack([-half[:1], half[:-1]])
     sync[:, velocity_columns] = 0.5 * (before + half)
+    if rolling:
+        sync[:, ARM + VX: ARM + VY + 1] = sync[:, FRAME + VX: FRAME + VY + 1]
     return sync
 
 
@@ -140,19 +160,22 @@ def joint_drift(states: np.ndarray, design: Design, sling: str, on_base: np.ndar
 
     Parameters
     ----------
-    states : (n, 18) rows (positions only are used, so raw rows do as well).
+    states : (n, 24) rows (positions only are used, so raw rows do as well).
     sling : ``"rigid"`` or ``"rope"`` (a rope may be shorter than its length).
     on_base : (n,) bool, rows where the groove holds the projectile.
 
     Returns
     -------
-    dict with ``pivot`` (arm origin from the pivot), ``hinge`` (short tip to the
-    counterweight's hinge point, or the link's length error for a point
-    counterweight), ``sling`` (length error, or stretch of a rope) and
-    ``groove`` (height of the projectile centre off the base, 0 off the base).
+    dict with ``pivot`` (arm origin from the frame's pivot), ``hinge`` (short
+    tip to the counterweight's hinge point, or the link's length error for a
+    point counterweight), ``sling`` (length error, or stretch of a rope),
+    ``groove`` (height of the projectile centre off the base, 0 off the base)
+    and, for a rolling frame only, ``rail`` (height of the frame off its rest
+    height: it must neither lift nor sink).
     """
     m = design.machine
-    pivot = np.hypot(column(states, ARM, X), column(states, ARM, Y))
+    frame_x, frame_y = column(states, FRAME, X), column(states, FRAME, Y)
+    pivot = np.hypot(column(states, ARM, X) - frame_x, column(states, ARM, Y) - frame_y)
     hinge = short_tip(states, design)
     centre = position(states, COUNTERWEIGHT)
     if m.counterweight_inertia == 0.0:
@@ -164,8 +187,11 @@ def joint_drift(states: np.ndarray, design: Design, sling: str, on_base: np.ndar
     sling_length = np.hypot(*(position(states, PROJECTILE) - long_tip(states, design)).T)
     stretch = sling_length - m.sling_length
     sling_drift = np.maximum(stretch, 0.0) if sling == "rope" else np.abs(stretch)
-    groove = np.where(on_base, np.abs(column(states, PROJECTILE, Y) + m.pivot_height), 0.0)
-    return {"pivot": pivot, "hinge": hinge_drift, "sling": sling_drift, "groove": groove}
+    groove = np.where(on_base, np.abs(column(states, PROJECTILE, Y) - frame_y + m.pivot_height), 0.0)
+    drift = {"pivot": pivot, "hinge": hinge_drift, "sling": sling_drift, "groove": groove}
+    if design.base.rolling:
+        drift["rail"] = np.abs(frame_y)
+    return drift
 
 
 def potential_energies(states: np.ndarray, design: Design) -> tuple[np.ndarray, np.ndarray]:
@@ -182,10 +208,11 @@ def potential_energies(states: np.ndarray, design: Design) -> tuple[np.ndarray, 
 
 
 def kinetic_energies(states: np.ndarray, design: Design) -> tuple[np.ndarray, np.ndarray]:
-    """Kinetic energy (machine: arm + counterweight; projectile), J, each (n,).
+    """Kinetic energy (machine: arm + counterweight, and a rolling frame; projectile), J, each (n,).
 
     Uses the design's masses and inertias, not the pymunk bodies' (which may
-    carry ballast at the pivot or, for a point counterweight, a placeholder moment).
+    carry ballast at the pivot or, for a point counterweight, a placeholder
+    moment; a rolling frame's body is lighter by that ballast).
     """
     m = design.machine
 
@@ -196,7 +223,26 @@ def kinetic_energies(states: np.ndarray, design: Design) -> tuple[np.ndarray, np
     machine = (translation(arm_centre_velocity, m.arm_mass) + 0.5 * m.arm_inertia * column(states, ARM, W)**2
                + translation(velocity(states, COUNTERWEIGHT), m.counterweight_mass)
                + 0.5 * m.counterweight_inertia * column(states, COUNTERWEIGHT, W)**2)
+    if design.base.rolling:
+        machine = machine + translation(velocity(states, FRAME), design.base.mass)
     return machine, translation(velocity(states, PROJECTILE), design.projectile.mass)
+
+
+def horizontal_momentum(states: np.ndarray, design: Design) -> np.ndarray:
+    """Horizontal momentum of frame, arm, counterweight and projectile, kg m/s, shape (n,).
+
+    No horizontal force acts on a rolling machine as a whole (the rail only
+    pushes up), so this is conserved through stages 1 and 2. Design masses, as
+    in ``kinetic_energies``; a fixed frame's own is taken as 0 (the ground
+    holds it, so the sum is not conserved then).
+    """
+    m = design.machine
+    arm_centre_velocity = point_velocity(states, ARM, arm_centre(states, design))[:, 0]
+    momentum = (m.arm_mass * arm_centre_velocity + m.counterweight_mass * column(states, COUNTERWEIGHT, VX)
+                + design.projectile.mass * column(states, PROJECTILE, VX))
+    if design.base.rolling:
+        momentum = momentum + design.base.mass * column(states, FRAME, VX)
+    return momentum
 
 
 def energy_budget(states: np.ndarray, design: Design) -> tuple[np.ndarray, np.ndarray]:
@@ -264,17 +310,20 @@ def constraint_residuals(raw: np.ndarray, design: Design, sling: str, on_base: n
 
     Parameters
     ----------
-    raw : (n, 18) raw rows: positions at t_k, velocities after the step's solve.
+    raw : (n, 24) raw rows: positions at t_k, velocities after the step's solve.
     on_base : (n,) bool, rows whose step had the groove.
     steps : (n,) step length that produced each row, s.
 
     Returns
     -------
-    dict with ``pivot``, ``hinge``, ``sling``, ``groove``. A rope only counts
-    where it is stretched and still stretching faster than it is being pulled in.
+    dict with ``pivot``, ``hinge``, ``sling``, ``groove`` and, for a rolling
+    frame, ``rail`` (``joint_drift``'s keys). A rope only counts where it is
+    stretched and still stretching faster than it is being pulled in.
     """
     m = design.machine
-    pivot = np.hypot(*(velocity(raw, ARM) + position(raw, ARM) / steps[:, None]).T)
+    frame_y, frame_vy = column(raw, FRAME, Y), column(raw, FRAME, VY)
+    pivot = np.hypot(*(velocity(raw, ARM) - velocity(raw, FRAME)
+                       + (position(raw, ARM) - position(raw, FRAME)) / steps[:, None]).T)
     tip, short = long_tip(raw, design), short_tip(raw, design)
     centre = position(raw, COUNTERWEIGHT)
     if m.counterweight_inertia == 0.0:
@@ -294,9 +343,12 @@ def constraint_residuals(raw: np.ndarray, design: Design, sling: str, on_base: n
         sling_miss = np.where(stretched, np.maximum(sling_miss, 0.0), 0.0)
     else:
         sling_miss = np.abs(sling_miss)
-    height = column(raw, PROJECTILE, Y) + m.pivot_height
-    groove = np.where(on_base, np.abs(column(raw, PROJECTILE, VY) + height / steps), 0.0)
-    return {"pivot": pivot, "hinge": hinge_miss, "sling": sling_miss, "groove": groove}
+    height = column(raw, PROJECTILE, Y) - frame_y + m.pivot_height
+    groove = np.where(on_base, np.abs(column(raw, PROJECTILE, VY) - frame_vy + height / steps), 0.0)
+    residual = {"pivot": pivot, "hinge": hinge_miss, "sling": sling_miss, "groove": groove}
+    if design.base.rolling:
+        residual["rail"] = np.abs(frame_vy + frame_y / steps)
+    return residual
 
 
 def _distance_miss(a: np.ndarray, velocity_a: np.ndarray, b: np.ndarray, velocity_b: np.ndarray,

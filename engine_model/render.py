@@ -1,16 +1,21 @@
 """Draw a shot as numbered PNG frames (and an optional GIF) off-screen with matplotlib's Agg canvas.
 
 Frames are drawn from the recorded ``Shot`` alone (coordinates, projectile path,
-flight path), at fixed intervals of simulated time. The camera starts on the
-machine and widens to keep the projectile's trace in view, so the last frame,
-at the landing instant, shows the whole flight. The machine is not simulated
-after release: it is drawn as it was at release. Frames are deterministic: the
-PNGs carry no software version or time stamp.
+flight path), time-warped: the swing in slow motion, the flight in real time,
+with the playback speed shown. Every frame has one view of the whole shot, so
+the ground carries a fixed scale in metres, and an inset shows the machine
+close up; the landing is marked with the range, and the last frame sums the
+shot up. The machine is drawn as it was at release from then on (the
+``Shot`` records its motion only up to release). A rolling frame is drawn on
+two wheels, carried along by its displacement, the wheels turning as they
+roll. Frames are deterministic: the PNGs carry no software version or
+time stamp.
 """
 
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -18,6 +23,8 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle
+from matplotlib.transforms import Affine2D
+from matplotlib.ticker import FuncFormatter
 
 from analytic.design import Design
 from analytic.geometry import machine_points
@@ -36,6 +43,18 @@ COUNTERWEIGHT_DRAW_DENSITY = 7200.0
 MARGIN = 0.06
 #: Most trace points drawn (the trace is thinned evenly beyond this).
 TRACE_POINTS = 1500
+#: Playback: frames per second; the swing (under half a second) in slow motion
+#: by this factor, about 3 s on screen; the flight at this multiple of real
+#: time; the last frame, with the summary, held this many seconds.
+DEFAULT_FPS = 25.0
+SWING_SLOW_MOTION = 8.0
+FLIGHT_SPEED = 1.0
+FINAL_HOLD = 2.0
+#: The machine's close-up: (left, bottom, width, height) as fractions of the frame.
+INSET = (0.01, 0.52, 0.30, 0.42)
+#: A rolling frame's wheels, drawn with this radius as a fraction of the pivot
+#: height (for the picture only: the model's frame has no wheel size).
+WHEEL_RADIUS_FRACTION = 0.12
 
 _STAGE_NAMES = {Stage.SLIDE: "stage 1: slide", Stage.SWING: "stage 2: swing", Stage.FLIGHT: "stage 3: flight"}
 
@@ -51,6 +70,8 @@ class FrameState:
     long_tip, short_tip, counterweight, projectile : part positions.
     sling_attached : draw the sling (until release).
     trace : (k, 2) projectile path so far.
+    frame_x : the frame's displacement, m (0 for a fixed frame); the part
+        positions already include it.
     """
 
     time: float
@@ -61,6 +82,7 @@ class FrameState:
     projectile: np.ndarray
     sling_attached: bool
     trace: np.ndarray
+    frame_x: float = 0.0
 
 
 def end_time(shot: Shot) -> float:
@@ -68,19 +90,34 @@ def end_time(shot: Shot) -> float:
     return shot.landing_time if shot.landing_time is not None else float(shot.t[-1])
 
 
-def frame_times(shot: Shot, fps: float, slow_motion: float = 1.0) -> np.ndarray:
-    """Instants drawn, s: every ``1 / (fps * slow_motion)`` s of simulated time from 0, plus the end.
+def frame_times(shot: Shot, fps: float, swing_slow_motion: float = SWING_SLOW_MOTION,
+                flight_speed: float = FLIGHT_SPEED) -> tuple[np.ndarray, np.ndarray]:
+    """Instants drawn and the playback speed of each (time-warped), ending at the shot's end.
+
+    Until release a frame every ``1 / (fps * swing_slow_motion)`` s of
+    simulated time (slow motion: the swing lasts under half a second); in
+    flight every ``flight_speed / fps`` s.
 
     Returns
     -------
-    (n,) times; the last is ``end_time(shot)`` (added if not on the grid).
+    times : (n,) s from firing, increasing; the last is ``end_time(shot)``.
+    speed : (n,) playback speed at each frame, as a multiple of real time (< 1: slow motion).
     """
-    interval = 1.0 / (fps * slow_motion)
     end = end_time(shot)
-    times = interval * np.arange(int(math.floor(end / interval + 1e-9)) + 1)
-    if end - times[-1] > 1e-9 * interval:
-        times = np.append(times, end)
-    return times
+    release = shot.release_time if shot.release_time is not None else math.inf
+    times, speeds, time = [], [], 0.0
+    while time < end - 1e-9 / fps:
+        speed = 1.0 / swing_slow_motion if time < release else flight_speed
+        times.append(time)
+        speeds.append(speed)
+        # Frames on a grid of each phase, so that the release instant starts the flight's grid.
+        following = time + speed / fps
+        if time < release < following:
+            following = release
+        time = following
+    times.append(end)
+    speeds.append(speeds[-1] if speeds else flight_speed)
+    return np.array(times), np.array(speeds)
 
 
 def frame_state(shot: Shot, time: float) -> FrameState:
@@ -90,6 +127,10 @@ def frame_state(shot: Shot, time: float) -> FrameState:
     swing_time = min(time, float(shot.t[-1]))
     q = np.array([np.interp(swing_time, shot.t, shot.q[:, i]) for i in range(3)])
     points = machine_points(q, shot.design.machine)
+    frame_x = 0.0
+    if shot.design.base.rolling and len(shot.frame_x):
+        frame_x = float(np.interp(swing_time, shot.t, shot.frame_x))
+        points = {name: point + np.array([frame_x, 0.0]) for name, point in points.items()}
     on_machine = shot.t <= swing_time
     trace = [shot.path[on_machine]]
     if in_flight:
@@ -101,24 +142,20 @@ def frame_state(shot: Shot, time: float) -> FrameState:
         projectile = np.array([np.interp(swing_time, shot.t, shot.path[:, i]) for i in range(2)])
         stage = Stage(int(shot.stage[max(int(np.searchsorted(shot.t, swing_time, side="right")) - 1, 0)]))
         label = _STAGE_NAMES[stage]
-    if not shot.ok and time >= float(shot.t[-1]):
+    if shot.landing_time is not None and time >= shot.landing_time:
+        label = "landed"
+    elif not shot.ok and time >= float(shot.t[-1]):
         label = f"{label} - {shot.status.value}"
     trace.append(projectile[None, :])
     return FrameState(time, label, points["long_tip"], points["short_tip"], points["counterweight"],
-                      projectile, not in_flight, np.vstack(trace))
+                      projectile, not in_flight, np.vstack(trace), frame_x)
 
 
-def camera(design: Design, state: FrameState) -> tuple[float, float, float, float]:
-    """View (x_min, x_max, y_min, y_max), m: the machine's reach and the trace so far, with a
-    margin, widened to the frame's aspect ratio (the base stays at the bottom)."""
-    m = design.machine
-    reach = max(m.arm_long + m.sling_length, m.arm_short + m.counterweight_link)
-    x_min, x_max = min(-reach, state.trace[:, 0].min()), max(reach, state.trace[:, 0].max())
-    y_min, y_max = -m.pivot_height, max(reach, state.trace[:, 1].max())
+def _fit(x_min: float, x_max: float, y_min: float, y_max: float, aspect: float) -> tuple[float, ...]:
+    """The box with a margin, widened to ``aspect`` (width / height), its bottom kept."""
     width, height = x_max - x_min, y_max - y_min
     x_min, x_max = x_min - MARGIN * width, x_max + MARGIN * width
     y_min, y_max = y_min - MARGIN * height, y_max + MARGIN * height
-    aspect = FRAME_SIZE[0] / FRAME_SIZE[1]
     width, height = x_max - x_min, y_max - y_min
     if width / height < aspect:
         extra = 0.5 * (aspect * height - width)
@@ -128,6 +165,29 @@ def camera(design: Design, state: FrameState) -> tuple[float, float, float, floa
     return x_min, x_max, y_min, y_max
 
 
+def _reach(design: Design) -> float:
+    m = design.machine
+    return max(m.arm_long + m.sling_length, m.arm_short + m.counterweight_link)
+
+
+def camera(design: Design, state: FrameState) -> tuple[float, float, float, float]:
+    """View (x_min, x_max, y_min, y_max), m: the machine's reach and ``state``'s trace, with a
+    margin, widened to the frame's aspect ratio (the base stays at the bottom).
+
+    ``render_shot`` calls it once, with the whole shot's trace, so that every
+    frame has the same ground scale."""
+    reach, h = _reach(design), design.machine.pivot_height
+    return _fit(min(state.frame_x - reach, state.trace[:, 0].min()),
+                max(state.frame_x + reach, state.trace[:, 0].max()),
+                -h, max(reach, state.trace[:, 1].max()), FRAME_SIZE[0] / FRAME_SIZE[1])
+
+
+def machine_view(design: Design) -> tuple[float, float, float, float]:
+    """The inset's view, m: the machine's reach from the base up, at the inset's aspect ratio."""
+    reach, h = _reach(design), design.machine.pivot_height
+    return _fit(-reach, reach, -h, reach, INSET[2] * FRAME_SIZE[0] / (INSET[3] * FRAME_SIZE[1]))
+
+
 def pixel(view: tuple[float, float, float, float], point: np.ndarray) -> tuple[float, float]:
     """Where a point (m) falls in a frame drawn with ``view``: (column, row) in px from the top left."""
     x_min, x_max, y_min, y_max = view
@@ -135,21 +195,34 @@ def pixel(view: tuple[float, float, float, float], point: np.ndarray) -> tuple[f
             (y_max - point[1]) / (y_max - y_min) * FRAME_SIZE[1])
 
 
-class _Drawing:
-    """One matplotlib Figure (Agg canvas) and its artists, updated frame by frame."""
+class _Machine:
+    """The machine's artists on one axes (the whole scene, or the inset's close-up)."""
 
-    def __init__(self, design: Design):
+    def __init__(self, ax, design: Design, marker_px: float):
         m = design.machine
-        self.design = design
-        self.figure = Figure(figsize=FRAME_INCHES, dpi=FRAME_DPI)
-        FigureCanvasAgg(self.figure)
-        ax = self.figure.add_axes((0.0, 0.0, 1.0, 1.0))
-        ax.set_axis_off()
-        self.axes = ax
         h = m.pivot_height
         foot = 0.5 * h
         self.base, = ax.plot([], [], color="#5a4a3a", linewidth=2.0)
-        ax.plot([-foot, 0.0, foot], [-h, 0.0, -h], color="#7a6a5a", linewidth=2.5, solid_joinstyle="miter")
+        self.wheels = []
+        if design.base.rolling:
+            # Legs down to the axles, a beam between them, and two wheels
+            # whose spokes turn as they roll without slipping.
+            wheel = WHEEL_RADIUS_FRACTION * h
+            axle = wheel - h
+            self.frame_lines, = ax.plot([], [], color="#7a6a5a", linewidth=2.5, solid_joinstyle="miter")
+            self.frame_shape = np.array([[-foot, axle], [0.0, 0.0], [foot, axle], [-foot, axle]])
+            for centre in (-foot, foot):
+                rim = Circle((centre, axle), wheel, facecolor="none", edgecolor="#303030", linewidth=2.0,
+                             zorder=2)
+                spokes, = ax.plot([centre - wheel, centre + wheel, np.nan, centre, centre],
+                                  [axle, axle, np.nan, axle - wheel, axle + wheel],
+                                  color="#303030", linewidth=1.0, zorder=2)
+                ax.add_patch(rim)
+                self.wheels.append((rim, spokes, centre, axle, wheel))
+            # The mark on the ground under the pivot at rest, which ranges are measured from.
+            ax.plot([0.0], [-h], marker="^", color="#5a4a3a", markersize=7, zorder=1)
+        else:
+            ax.plot([-foot, 0.0, foot], [-h, 0.0, -h], color="#7a6a5a", linewidth=2.5, solid_joinstyle="miter")
         self.trace, = ax.plot([], [], color="#f0a030", linewidth=1.0, linestyle=(0, (2, 2)))
         self.sling, = ax.plot([], [], color="#404040", linewidth=1.0)
         self.link, = ax.plot([], [], color="#404040", linewidth=1.5)
@@ -157,18 +230,25 @@ class _Drawing:
         radius = (3.0 * m.counterweight_mass / (4.0 * math.pi * COUNTERWEIGHT_DRAW_DENSITY)) ** (1.0 / 3.0)
         self.counterweight = Circle((0.0, 0.0), radius, color="#303030", zorder=3)
         ax.add_patch(self.counterweight)
-        ax.plot([0.0], [0.0], marker="o", color="black", markersize=4, zorder=4)
+        self.pivot, = ax.plot([0.0], [0.0], marker="o", color="black", markersize=4, zorder=4)
         self.projectile, = ax.plot([], [], marker="o", linestyle="none", color=PROJECTILE_COLOUR,
-                                   markersize=PROJECTILE_MARKER_PX * 72.0 / FRAME_DPI, zorder=5)
-        self.text = ax.text(0.01, 0.98, "", transform=ax.transAxes, va="top", ha="left",
-                            family="monospace", fontsize=11)
+                                   markersize=marker_px * 72.0 / FRAME_DPI, zorder=5)
+        self.ax, self.h = ax, h
 
     def draw(self, state: FrameState, view: tuple[float, float, float, float]) -> None:
         x_min, x_max, y_min, y_max = view
-        self.axes.set_xlim(x_min, x_max)
-        self.axes.set_ylim(y_min, y_max)
-        h = self.design.machine.pivot_height
-        self.base.set_data([x_min, x_max], [-h, -h])
+        self.ax.set_xlim(x_min, x_max)
+        self.ax.set_ylim(y_min, y_max)
+        self.base.set_data([x_min, x_max], [-self.h, -self.h])
+        if self.wheels:
+            x = state.frame_x
+            self.frame_lines.set_data(self.frame_shape[:, 0] + x, self.frame_shape[:, 1])
+            self.pivot.set_data([x], [0.0])
+            for rim, spokes, centre, axle, radius in self.wheels:
+                rim.center = (centre + x, axle)
+                # Rolling forward (x growing) turns a wheel clockwise by x / radius.
+                turn = Affine2D().rotate_around(centre, axle, -x / radius).translate(x, 0.0)
+                spokes.set_transform(turn + self.ax.transData)
         self.arm.set_data([state.short_tip[0], state.long_tip[0]], [state.short_tip[1], state.long_tip[1]])
         self.link.set_data([state.short_tip[0], state.counterweight[0]],
                            [state.short_tip[1], state.counterweight[1]])
@@ -180,7 +260,68 @@ class _Drawing:
         trace = state.trace[:: max(1, len(state.trace) // TRACE_POINTS)]
         self.trace.set_data(trace[:, 0], trace[:, 1])
         self.projectile.set_data([state.projectile[0]], [state.projectile[1]])
-        self.text.set_text(f"{self.design.name}\nt = {state.time:7.4f} s  {state.label}")
+
+
+class _Drawing:
+    """One matplotlib Figure (Agg canvas): the whole scene with a ground scale in metres, the
+    machine close up in an inset, the time and playback speed, the landing and a summary."""
+
+    def __init__(self, design: Design, inset: bool = True):
+        self.design = design
+        self.figure = Figure(figsize=FRAME_INCHES, dpi=FRAME_DPI)
+        FigureCanvasAgg(self.figure)
+        ax = self.figure.add_axes((0.0, 0.0, 1.0, 1.0))
+        # The ground scale: metre ticks along the base, inside the frame.
+        for side in ("top", "right", "left"):
+            ax.spines[side].set_visible(False)
+        ax.spines["bottom"].set_position(("data", -design.machine.pivot_height))
+        ax.spines["bottom"].set_color("#5a4a3a")
+        ax.tick_params(axis="x", direction="inout", pad=-14, labelsize=8, colors="#5a4a3a")
+        ax.tick_params(axis="y", left=False, labelleft=False)
+        ax.xaxis.set_major_formatter(FuncFormatter(lambda x, _: f"{x:g} m"))
+        ax.set_facecolor("none")
+        self.scene = _Machine(ax, design, PROJECTILE_MARKER_PX)
+        self.landing, = ax.plot([], [], marker="v", linestyle="none", color="#2060c0", markersize=9, zorder=6)
+        self.landing_text = ax.text(0.0, 0.0, "", color="#2060c0", ha="center", va="bottom", fontsize=11,
+                                    fontweight="bold", zorder=6)
+        self.text = ax.text(0.99, 0.98, "", transform=ax.transAxes, va="top", ha="right",
+                            family="monospace", fontsize=11)
+        self.summary = ax.text(0.5, 0.55, "", transform=ax.transAxes, va="center", ha="center",
+                               family="monospace", fontsize=12, zorder=7,
+                               bbox=dict(boxstyle="round", facecolor="white", edgecolor="#808080", alpha=0.9))
+        self.inset = None
+        if inset:
+            inset_ax = self.figure.add_axes(INSET)
+            inset_ax.set_xticks([])
+            inset_ax.set_yticks([])
+            for spine in inset_ax.spines.values():
+                spine.set_color("#a0a0a0")
+            inset_ax.set_title("the machine, close up", fontsize=9, loc="left")
+            self.inset = _Machine(inset_ax, design, 0.6 * PROJECTILE_MARKER_PX)
+            self.inset_view = machine_view(design)
+
+    def draw(self, state: FrameState, view: tuple[float, float, float, float], speed: float | None = None,
+             shot: Shot | None = None) -> None:
+        self.scene.draw(state, view)
+        if self.inset is not None:
+            # The close-up follows a rolling frame.
+            x_min, x_max, y_min, y_max = self.inset_view
+            self.inset.draw(state, (x_min + state.frame_x, x_max + state.frame_x, y_min, y_max))
+        playback = "" if speed is None else (f"  {1.0 / speed:g}x slow motion" if speed < 1.0
+                                             else "  real time" if speed == 1.0 else f"  {speed:g}x")
+        self.text.set_text(f"{self.design.name}\nt = {state.time:7.4f} s  {state.label}{playback}")
+        landed = shot is not None and shot.landing_time is not None and state.time >= shot.landing_time
+        if landed:
+            x = float(shot.landing_position[0])
+            self.landing.set_data([x], [-self.design.machine.pivot_height])
+            self.landing_text.set_position((x, -self.design.machine.pivot_height + 0.03 * (view[3] - view[2])))
+            self.landing_text.set_text(f"{shot.range:.1f} m")
+            self.summary.set_text(summary(shot))
+            self.summary.set_visible(True)
+        else:
+            self.landing.set_data([], [])
+            self.landing_text.set_text("")
+            self.summary.set_visible(False)
 
     def pixels(self) -> np.ndarray:
         self.figure.canvas.draw()
@@ -190,16 +331,29 @@ class _Drawing:
         self.figure.savefig(path, dpi=FRAME_DPI, format="png", metadata={"Software": None})
 
 
+def summary(shot: Shot) -> str:
+    """The last frame's box: what the shot did, in a builder's units."""
+    lines = [f"range {shot.range:.2f} m", f"release speed {shot.release_speed:.2f} m/s",
+             f"launch angle {math.degrees(shot.launch_angle):.1f} deg", f"apex {shot.apex_height:.2f} m",
+             f"flight {shot.flight_time:.2f} s"]
+    return "\n".join(lines)
+
+
 def draw_frame(design: Design, state: FrameState, view: tuple[float, float, float, float]) -> np.ndarray:
-    """One frame as pixels, shape (FRAME_SIZE[1], FRAME_SIZE[0], 4), RGBA uint8."""
-    drawing = _Drawing(design)
+    """One frame of the whole scene (no inset) as pixels, shape (FRAME_SIZE[1], FRAME_SIZE[0], 4), RGBA uint8."""
+    drawing = _Drawing(design, inset=False)
     drawing.draw(state, view)
     return drawing.pixels()
 
 
-def render_shot(shot: Shot, out_dir: str | Path, *, fps: float = 30.0, slow_motion: float = 1.0,
-                gif: bool = False, progress: bool = True) -> list[Path]:
-    """Write ``frame_00000.png``, ... (one per ``frame_times``) to ``out_dir``, and ``shot.gif`` if asked.
+def render_shot(shot: Shot, out_dir: str | Path, *, fps: float = DEFAULT_FPS,
+                swing_slow_motion: float = SWING_SLOW_MOTION, flight_speed: float = FLIGHT_SPEED,
+                gif: bool = False, mp4: bool = False, progress: bool = True) -> list[Path]:
+    """Write ``frame_00000.png``, ... (one per ``frame_times``) to ``out_dir``; ``shot.gif`` and
+    ``shot.mp4`` if asked, the last frame held for ``FINAL_HOLD`` s in both.
+
+    Every frame has the same view (the whole shot, a fixed ground scale in
+    metres) with the machine close up in an inset.
 
     Returns
     -------
@@ -209,24 +363,51 @@ def render_shot(shot: Shot, out_dir: str | Path, *, fps: float = 30.0, slow_moti
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
+    times, speeds = frame_times(shot, fps, swing_slow_motion, flight_speed)
+    view = camera(shot.design, frame_state(shot, float(times[-1])))
     drawing = _Drawing(shot.design)
-    paths = []
-    for i, time in enumerate(tqdm(frame_times(shot, fps, slow_motion), desc="frames", unit="frame",
-                                  disable=not progress)):
-        state = frame_state(shot, float(time))
-        drawing.draw(state, camera(shot.design, state))
+    paths, frames = [], []
+    for i, (time, speed) in enumerate(tqdm(list(zip(times, speeds)), desc="frames", unit="frame",
+                                           disable=not progress, file=sys.stderr)):
+        drawing.draw(frame_state(shot, float(time)), view, float(speed), shot)
         path = out / f"frame_{i:05d}.png"
         drawing.save(path)
         paths.append(path)
+        if gif or mp4:
+            frames.append(drawing.pixels()[:, :, :3])
+    if frames:
+        frames += [frames[-1]] * int(round(FINAL_HOLD * fps))
     if gif:
-        write_gif(paths, out / "shot.gif", fps)
+        write_gif(frames, out / "shot.gif", fps, progress)
+    if mp4:
+        write_mp4(frames, out / "shot.mp4", fps, progress)
     return paths
 
 
-def write_gif(frames: list[Path], path: Path, fps: float) -> None:
-    """Assemble PNG frames into a looping GIF with Pillow (installed with matplotlib)."""
-    from PIL import Image
+def write_gif(frames: list[np.ndarray], path: Path, fps: float, progress: bool = False) -> None:
+    """A looping GIF of RGB frames ((rows, columns, 3) uint8) through imageio's Pillow plugin."""
+    import imageio.v3 as iio
+    from tqdm import tqdm
 
-    images = [Image.open(frame).convert("RGB").convert("P", palette=Image.Palette.ADAPTIVE) for frame in frames]
-    images[0].save(path, save_all=True, append_images=images[1:], duration=round(1000.0 / fps), loop=0,
-                   optimize=False)
+    with tqdm(total=len(frames) + 1, desc=f"writing {path.name}", unit="frame", disable=not progress,
+              file=sys.stderr) as bar:
+        with iio.imopen(path, "w", plugin="pillow") as writer:
+            for frame in frames:
+                writer.write(frame, duration=round(1000.0 / fps), loop=0, is_batch=False)
+                bar.update()
+        bar.update()
+
+
+def write_mp4(frames: list[np.ndarray], path: Path, fps: float, progress: bool = False) -> None:
+    """An H.264 MP4 of RGB frames through imageio-ffmpeg's packaged ffmpeg (no system install)."""
+    import imageio_ffmpeg
+    from tqdm import tqdm
+
+    rows, columns = frames[0].shape[:2]
+    writer = imageio_ffmpeg.write_frames(str(path), (columns, rows), fps=fps, codec="libx264",
+                                         macro_block_size=2, ffmpeg_log_level="error",
+                                         output_params=["-fflags", "+bitexact"])
+    writer.send(None)
+    for frame in tqdm(frames, desc=f"writing {path.name}", unit="frame", disable=not progress, file=sys.stderr):
+        writer.send(np.ascontiguousarray(frame))
+    writer.close()

@@ -21,6 +21,14 @@ _FIELDS = (
     ("range_efficiency", "range efficiency", "", "{:.2%}"),
     ("min_sling_tension", "min sling tension", "N (< 0: sling pushed)", "{:.4f}"),
 )
+#: (Shot attribute, label, unit, format): a rolling frame's motion, printed for rolling frames only.
+_FRAME_FIELDS = (
+    ("frame_release_displacement", "frame at release", "m from rest", "{:+.5f}"),
+    ("frame_release_velocity", "frame velocity at release", "m/s", "{:+.5f}"),
+    ("frame_landing_displacement", "frame at landing", "m from rest", "{:+.5f}"),
+    ("frame_landing_velocity", "frame velocity at landing", "m/s", "{:+.5f}"),
+    ("max_frame_speed", "largest frame speed", "m/s", "{:.5f}"),
+)
 
 
 def format_shot(shot: Shot) -> str:
@@ -30,10 +38,18 @@ def format_shot(shot: Shot) -> str:
     rows = [("design", data["design"], ""), ("status", data["status"], data["message"])]
     rows += [(label, fmt.format(data[key]), unit)
              for key, label, unit, fmt in _FIELDS if data[key] is not None]
+    if shot.design.base.rolling:
+        rows += [(label, fmt.format(getattr(shot, name)), unit)
+                 for name, label, unit, fmt in _FRAME_FIELDS if getattr(shot, name) is not None]
     diagnostics = shot.diagnostics
     rows += [("engine", f"dt {diagnostics.dt:g} s, {diagnostics.iterations} iterations",
               f"{diagnostics.sling} sling"),
              ("max joint drift", f"{diagnostics.max_joint_drift:.3g}", "m"),
              ("energy error", f"{diagnostics.energy_error:.3g}", "of the counterweight's available energy")]
+    if shot.design.base.rolling:
+        rows += [("momentum error", f"{diagnostics.momentum_error:.3g}", "of the largest frame momentum"),
+                 ("energy error after release", f"{diagnostics.after_release_energy_error:.3g}",
+                  "of the counterweight's available energy")]
+    rows += [("warning", warning, "") for warning in shot.warnings]
     width = max(len(label) for label, _, _ in rows)
     return "\n".join(f"{label:<{width}}  {value}  {unit}".rstrip() for label, value, unit in rows)

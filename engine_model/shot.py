@@ -5,6 +5,10 @@ landing, failures) are watched after every step and located between steps by
 quadratic interpolation (``engine_model.events``). pymunk's velocities run
 half a step ahead of its positions; every quantity reported pairs a position
 with the velocity of the same instant (``engine_model.kinematics.synchronise``).
+
+A rolling frame is one more body (``engine_model.build``); after release its
+machine is stepped on to the landing instant (``engine_model.after_release``)
+for the frame's position there.
 """
 
 from __future__ import annotations
@@ -22,6 +26,7 @@ from analytic.limits import SLING_VERTICAL_LIMIT, swing_time_limit
 from analytic.outcome import LiftoffFailure
 from analytic.result import EnergyBudget, Shot, Stage, Status
 from engine_model import kinematics as kin
+from engine_model.after_release import MACHINE_JOINTS, AfterRelease, run_after_release
 from engine_model.build import DEFAULT_ITERATIONS, EngineError, Rig, build, machine_length
 from engine_model.events import crossing_fraction, interpolate
 from engine_model.flight import fly
@@ -68,13 +73,22 @@ class EngineDiagnostics:
     sling : ``"rigid"`` or ``"rope"``.
     machine_steps, flight_steps : pymunk steps in stages 1-2 and in flight.
     joint_drift : largest separation of each joint's anchors, m (keys ``pivot``,
-        ``hinge``, ``sling``, ``groove``).
+        ``hinge``, ``sling``, ``groove``, and ``rail`` for a rolling frame).
     max_joint_drift : the largest of those, m.
     energy_error : largest change of mechanical energy through stages 1-2, as a
         fraction of the energy the counterweight can give up (it is conserved
         there; a rope that snaps taut loses some, as a real one would).
     solver_residual : largest miss of a joint's target velocity, m/s
         (``engine_model.kinematics.constraint_residuals``).
+    momentum_error : rolling frame only (0 for a fixed one): largest change of
+        the whole machine's horizontal momentum through stages 1-2, as a
+        fraction of the largest momentum the frame takes up (no horizontal
+        force acts, so it is conserved).
+    after_release_steps : rolling frame only: pymunk steps of the machine from
+        release to landing (``engine_model.after_release``); its drift and
+        solver residual are in ``joint_drift`` and ``solver_residual`` too.
+    after_release_energy_error : its largest change of the machine's energy,
+        as a fraction of the energy the counterweight can give up.
     """
 
     dt: float
@@ -86,6 +100,9 @@ class EngineDiagnostics:
     max_joint_drift: float = 0.0
     energy_error: float = 0.0
     solver_residual: float = 0.0
+    momentum_error: float = 0.0
+    after_release_steps: int = 0
+    after_release_energy_error: float = 0.0
 
 
 @dataclass
@@ -107,11 +124,12 @@ _ORIGIN = (0.0, 0.0)
 
 
 def read_state(rig: Rig) -> tuple[float, ...]:
-    """The 18 numbers of a state row (``engine_model.kinematics``) read from the bodies."""
-    a, c, p = rig.arm, rig.counterweight, rig.projectile
+    """The 24 numbers of a state row (``engine_model.kinematics``) read from the bodies."""
+    a, c, p, f = rig.arm, rig.counterweight, rig.projectile, rig.frame
     return (*a.position, a.angle, *a.velocity_at_local_point(_ORIGIN), a.angular_velocity,
             *c.position, c.angle, *c.velocity, c.angular_velocity,
-            *p.position, p.angle, *p.velocity, p.angular_velocity)
+            *p.position, p.angle, *p.velocity, p.angular_velocity,
+            *f.position, f.angle, *f.velocity, f.angular_velocity)
 
 
 def simulate(design: Design, *, dt: float = DEFAULT_DT, iterations: int = DEFAULT_ITERATIONS,
@@ -133,25 +151,29 @@ def simulate(design: Design, *, dt: float = DEFAULT_DT, iterations: int = DEFAUL
     -------
     Shot
         As the analytic model's, with histories: ``t`` (n,), ``q`` and ``qdot``
-        (n, 3), ``path`` (n, 2), ``sling_tension`` (n,) and ``energy`` on the
-        steps of stages 1-2 (the last sample is the release instant, if any);
-        ``flight_t`` (k,) and ``flight_path`` (k, 2) on the flight's steps.
-        ``shot.diagnostics`` is the run's ``EngineDiagnostics``.
+        (n, 3), ``path`` (n, 2), ``sling_tension`` (n,), ``frame_x`` (n,) and
+        ``energy`` on the steps of stages 1-2 (the last sample is the release
+        instant, if any); ``flight_t`` (k,) and ``flight_path`` (k, 2) on the
+        flight's steps. Positions are over the ground from the pivot's rest
+        position. ``shot.diagnostics`` is the run's ``EngineDiagnostics``.
 
     Raises
     ------
     EngineError
-        The design cannot be modelled (a massless arm), or the run cannot be
-        trusted: non-finite values, the solver unconverged (``RESIDUAL_LIMIT``),
-        an energy jump (``ENERGY_LIMIT``) or joints apart (``DRIFT_LIMIT``); use
-        a smaller ``dt`` or more ``iterations``.
+        The design cannot be modelled (a massless arm, a rolling frame no
+        heavier than the arm's ballast), or the run cannot be trusted:
+        non-finite values, the solver unconverged (``RESIDUAL_LIMIT``; a
+        rolling frame far lighter than the counterweight), an energy jump
+        (``ENERGY_LIMIT``) or joints apart (``DRIFT_LIMIT``), in stages 1-2 or
+        in a rolling machine's run after release; use a smaller ``dt`` or more
+        ``iterations``.
     """
     if not (math.isfinite(dt) and dt > 0.0):
         raise ValueError(f"dt = {dt!r}: must be a positive number of seconds")
     run, rig = _run_machine(design, dt, iterations, sling)
     raw = np.array(run.raw)
     on_base = np.array(run.on_base)
-    sync = kin.synchronise(raw)
+    sync = kin.synchronise(raw, design.base.rolling)
     drift = kin.joint_drift(raw, design, sling, on_base)
     steps = np.full(len(raw), dt)
     steps[0] = 0.5 * dt
@@ -175,17 +197,39 @@ def simulate(design: Design, *, dt: float = DEFAULT_DT, iterations: int = DEFAUL
         flight = fly(design, release_time, position, velocity, dt)
         flight_steps = flight.steps
         fields.update(release_time=release_time, release_position=position,
-                      release_velocity=velocity, flight_t=flight.t, flight_path=flight.path)
+                      release_velocity=velocity, flight_t=flight.t, flight_path=flight.path,
+                      frame_release_displacement=_frame(release_state, kin.X, design),
+                      frame_release_velocity=_frame(release_state, kin.VX, design))
         if flight.landed:
             fields.update(landing_time=flight.landing_time, landing_position=flight.landing_position,
-                          apex_height=float(flight.path[:, 1].max() + design.machine.pivot_height))
+                          apex_height=flight.apex + design.machine.pivot_height)
         else:
             run.status, run.message = Status.NO_LANDING, outcome.no_landing_message(flight.limit)
     fields["min_sling_tension"] = (smallest_sample(tension) if sling == "rigid"
                                    else float(tension.min()))
+    fields["max_frame_speed"] = largest_speed(kin.column(sync, kin.FRAME, kin.VX)) if design.base.rolling else 0.0
     shot = _assemble(design, run, times, sync, tension, fields)
-    diagnostics = _diagnose(design, dt, iterations, sling, len(raw), flight_steps, drift, residual, shot)
+    diagnostics = _diagnose(design, dt, iterations, sling, len(raw), flight_steps, drift, residual, shot, sync)
+    if shot.landing_time is not None:
+        if not design.base.rolling:
+            shot = dataclasses.replace(shot, frame_landing_displacement=0.0, frame_landing_velocity=0.0)
+        else:
+            # The machine was trusted up to release; only then is it worth stepping on.
+            after = run_after_release(design, shot.release_time, release_state, shot.landing_time, dt,
+                                      iterations, STARTUP_ITERATIONS)
+            landing = after.landing_state
+            shot = dataclasses.replace(
+                shot, frame_landing_displacement=float(landing[kin.FRAME + kin.X]),
+                frame_landing_velocity=float(landing[kin.FRAME + kin.VX]),
+                max_frame_speed=max(shot.max_frame_speed,
+                                    largest_speed(kin.column(after.states, kin.FRAME, kin.VX))))
+            diagnostics = _diagnose_after_release(design, dt, iterations, after, diagnostics)
     return dataclasses.replace(shot, diagnostics=diagnostics)
+
+
+def _frame(state: np.ndarray, quantity: int, design: Design) -> float:
+    """The frame's ``quantity`` (``kin.X`` or ``kin.VX``) in a row: 0.0 for a fixed frame."""
+    return float(state[kin.FRAME + quantity]) if design.base.rolling else 0.0
 
 
 def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tuple[_Run, Rig]:
@@ -346,7 +390,7 @@ def _assemble(design: Design, run: _Run, times: np.ndarray, sync: np.ndarray,
         released = float(potential[0] - potential[1])
     return Shot(design, status, message, t=times, stage=stage.astype(int), q=q, qdot=qdot,
                 path=kin.position(sync, kin.PROJECTILE).copy(), sling_tension=tension, energy=energy,
-                counterweight_energy_released=released,
+                counterweight_energy_released=released, frame_x=kin.column(sync, kin.FRAME, kin.X).copy(),
                 **fields)
 
 
@@ -369,31 +413,90 @@ def smallest_sample(values: np.ndarray) -> float:
     return float(at - (after - before) ** 2 / (8.0 * curvature))
 
 
+def largest_speed(velocity: np.ndarray) -> float:
+    """The largest |value| of a sampled smooth velocity (each sign's extreme as in ``smallest_sample``)."""
+    return max(-smallest_sample(velocity), -smallest_sample(-velocity), 0.0)
+
+
 def _diagnose(design: Design, dt: float, iterations: int, sling: str, machine_steps: int,
               flight_steps: int, drift: dict[str, np.ndarray], residual: dict[str, np.ndarray],
-              shot: Shot) -> EngineDiagnostics:
+              shot: Shot, sync: np.ndarray) -> EngineDiagnostics:
     """Summarise drift, solver residual and energy; raise ``EngineError`` if any shows a run gone wrong."""
     advice = f"with dt = {dt:g} s and {iterations} iterations: use a smaller dt or more iterations"
     largest_miss = {name: float(values.max()) for name, values in residual.items()}
-    worst_miss = max(largest_miss, key=largest_miss.get)
-    speed_limit = RESIDUAL_LIMIT * math.sqrt(design.environment.gravity * machine_length(design))
-    if not largest_miss[worst_miss] <= speed_limit:
-        raise EngineError(f"the solver did not converge: the {worst_miss} joint missed its target "
-                          f"velocity by {largest_miss[worst_miss]:.3g} m/s (limit {speed_limit:.3g} m/s) "
-                          f"{advice} (a light arm under a heavy counterweight needs many iterations)")
+    _require_converged(design, largest_miss, advice)
     # A rope that snaps taut loses energy, as a real one would; it must never gain any.
     change = shot.energy.total / kin.available_energy(design)
     energy_error = float(np.abs(change).max())
-    if not (energy_error if sling == "rigid" else float(change.max())) <= ENERGY_LIMIT:
-        raise EngineError(f"the engine went unstable: the machine's energy changed by "
-                          f"{energy_error:.3g} of the counterweight's available energy {advice}")
+    _require_energy_kept(energy_error if sling == "rigid" else float(change.max()), energy_error, advice)
     largest = {name: float(values.max()) for name, values in drift.items()}
-    worst = max(largest, key=largest.get)
-    limit = DRIFT_LIMIT * machine_length(design)
-    if not largest[worst] <= limit:
-        raise EngineError(f"the {worst} joint came apart by {largest[worst]:.3g} m (limit {limit:.3g} m) "
-                          f"{advice}")
+    _require_together(design, largest, advice)
+    momentum_error = 0.0
+    if design.base.rolling:
+        momentum = kin.horizontal_momentum(sync, design)
+        taken_up = float(np.abs(design.base.mass * kin.column(sync, kin.FRAME, kin.VX)).max())
+        if taken_up > 0.0:
+            momentum_error = float(np.abs(momentum - momentum[0]).max()) / taken_up
     return EngineDiagnostics(dt=dt, iterations=iterations, sling=sling, machine_steps=machine_steps,
                              flight_steps=flight_steps, joint_drift=largest,
-                             max_joint_drift=largest[worst], energy_error=energy_error,
-                             solver_residual=largest_miss[worst_miss])
+                             max_joint_drift=max(largest.values()), energy_error=energy_error,
+                             solver_residual=max(largest_miss.values()), momentum_error=momentum_error)
+
+
+def _diagnose_after_release(design: Design, dt: float, iterations: int, after: AfterRelease,
+                            diagnostics: EngineDiagnostics) -> EngineDiagnostics:
+    """``diagnostics`` with the run after release's drift, residual and energy; raise ``EngineError``
+    (with the same limits as stages 1-2) if any shows it gone wrong."""
+    advice = (f"after release, with dt = {dt:g} s and {iterations} iterations: use a smaller dt or "
+              f"more iterations")
+    if not np.all(np.isfinite(after.raw)):
+        raise EngineError(f"the engine went unstable (non-finite state) {advice}")
+    on_base = np.zeros(len(after.raw), dtype=bool)
+    steps = np.full(len(after.raw), dt)
+    steps[0] = 0.5 * dt
+    residual = kin.constraint_residuals(after.raw, design, "rigid", on_base, steps)
+    miss = {name: float(residual[name].max()) for name in MACHINE_JOINTS}
+    _require_converged(design, miss, advice)
+    energy_error = float(np.abs(kin.energy_budget(after.states, design)[0]).max()) / kin.available_energy(design)
+    _require_energy_kept(energy_error, energy_error, advice)
+    drift = kin.joint_drift(after.raw, design, "rigid", on_base)
+    largest = dict(diagnostics.joint_drift)
+    for name in MACHINE_JOINTS:
+        largest[name] = max(largest[name], float(drift[name].max()))
+    _require_together(design, largest, advice)
+    return dataclasses.replace(diagnostics, joint_drift=largest, max_joint_drift=max(largest.values()),
+                               solver_residual=max(diagnostics.solver_residual, *miss.values()),
+                               after_release_steps=after.steps, after_release_energy_error=energy_error)
+
+
+def _require_converged(design: Design, largest_miss: dict[str, float], advice: str) -> None:
+    """Raise ``EngineError`` if a joint's largest miss of its target velocity is over ``RESIDUAL_LIMIT``,
+    naming the light bodies that make pymunk's iterative solver converge slowly."""
+    joint = max(largest_miss, key=largest_miss.get)
+    limit = RESIDUAL_LIMIT * math.sqrt(design.environment.gravity * machine_length(design))
+    if largest_miss[joint] <= limit:
+        return
+    m = design.machine
+    light = (f"a light arm ({m.arm_mass:g} kg) or a light rolling frame ({design.base.mass:g} kg)"
+             if design.base.rolling else "a light arm")
+    raise EngineError(f"the solver did not converge, so the result cannot be trusted: the {joint} joint "
+                      f"missed its target velocity by {largest_miss[joint]:.3g} m/s (limit {limit:.3g} m/s) "
+                      f"{advice} ({light} joined to a heavy counterweight ({m.counterweight_mass:g} kg) "
+                      f"needs many iterations)")
+
+
+def _require_energy_kept(change: float, energy_error: float, advice: str) -> None:
+    """Raise ``EngineError`` if the energy ``change`` (a fraction of the available energy) is over
+    ``ENERGY_LIMIT``; the message gives ``energy_error``, its size."""
+    if not change <= ENERGY_LIMIT:
+        raise EngineError(f"the engine went unstable: the machine's energy changed by "
+                          f"{energy_error:.3g} of the counterweight's available energy {advice}")
+
+
+def _require_together(design: Design, largest_drift: dict[str, float], advice: str) -> None:
+    """Raise ``EngineError`` if a joint came apart by more than ``DRIFT_LIMIT`` of the machine's length."""
+    joint = max(largest_drift, key=largest_drift.get)
+    limit = DRIFT_LIMIT * machine_length(design)
+    if not largest_drift[joint] <= limit:
+        raise EngineError(f"the {joint} joint came apart by {largest_drift[joint]:.3g} m (limit {limit:.3g} m) "
+                          f"{advice}")

@@ -1,26 +1,12 @@
-"""Shared fixtures: the default design and variants of it."""
+"""Fixtures: the default design and its vacuum twin (shared material lives in ``support``)."""
 
 from __future__ import annotations
-
-import dataclasses
 
 import pytest
 
 from analytic.design import Design
 from analytic.design_file import default_design
-
-
-def with_machine(design: Design, **changes) -> Design:
-    """``design`` with machine fields replaced (validated again)."""
-    return dataclasses.replace(design, machine=dataclasses.replace(design.machine, **changes))
-
-
-def with_projectile(design: Design, **changes) -> Design:
-    return dataclasses.replace(design, projectile=dataclasses.replace(design.projectile, **changes))
-
-
-def with_environment(design: Design, **changes) -> Design:
-    return dataclasses.replace(design, environment=dataclasses.replace(design.environment, **changes))
+from support import with_projectile
 
 
 @pytest.fixture(scope="session")

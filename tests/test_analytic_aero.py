@@ -7,6 +7,8 @@ import pytest
 from scipy.interpolate import PchipInterpolator
 
 from analytic import aero
+from analytic.parameters import params
+from support import with_projectile
 
 # Sea-level air and a regulation golf ball (minimum diameter, R&A/USGA Rules of Equipment).
 AIR_DENSITY = 1.225
@@ -33,8 +35,17 @@ def morrison_2013(re):
             + 0.25 * (re / 1e6) / (1.0 + re / 1e6))
 
 
-def test_drag_models_are_the_shared_contract():
-    assert aero.DRAG_MODELS == ("none", "constant", "smooth-sphere", "golf-ball")
+@pytest.mark.parametrize("model", aero.DRAG_MODELS)
+def test_each_drag_name_reaches_its_own_curve_through_its_code(table3, model):
+    # A design names its drag model; the model's numbers (``analytic.parameters``) carry it as
+    # a code, which ``force_factor`` dispatches on. The code must select the curve the name does,
+    # from creeping flow through the golf ball's crisis to past the smooth sphere's.
+    p = params(with_projectile(table3, drag=model, drag_coefficient=0.45 if model == "constant" else None))
+    constant = None if math.isnan(p.cd) else p.cd
+    for re in (1e-3, 1e2, 1e5, 5e5):
+        speed = re * p.mu / (p.rho * p.diameter)
+        factor = aero.force_factor(int(p.drag), speed, p.diameter, p.rho, p.mu, p.cd, aero.DRAG_TABLE)
+        assert factor == pytest.approx(aero.drag_coefficient(model, re, constant) * speed, rel=1e-12), re
 
 
 # --------------------------------------------------------------------------- #

@@ -13,7 +13,8 @@ from analytic.cli import EXIT_INVALID, EXIT_NO_THROW, EXIT_OK, main
 from analytic.design_file import default_design, dumps_design, save_design
 from analytic.result import JSON_KEYS
 
-from conftest import with_machine
+from analytic.result import Status
+from support import failure_designs
 
 
 def test_json_has_every_contract_key(capsys):
@@ -46,9 +47,9 @@ def test_invalid_design_file_exits_2_naming_the_field(tmp_path, capsys):
     assert "sling_length = -0.61: must be positive" in err
 
 
-def test_a_design_that_does_not_throw_exits_non_zero(tmp_path, capsys, table3):
+def test_a_design_that_does_not_throw_exits_non_zero(tmp_path, capsys):
     path = tmp_path / "weak.toml"
-    save_design(with_machine(table3, counterweight_mass=0.2), path)
+    save_design(failure_designs()[Status.NEVER_FIRES], path)
     assert main(["simulate", "--json", str(path)]) == EXIT_NO_THROW
     out = json.loads(capsys.readouterr().out)
     assert out["status"] == "never_fires" and out["range"] is None

@@ -13,7 +13,7 @@ import tomli_w
 from analytic.design import BeamArm, DesignError, MissingValueError, initial_angles, paper_geometry
 from analytic.design_file import (default_design, design_from_dict, design_to_dict, dumps_design, load_design, save_design)
 
-from conftest import with_environment, with_machine, with_projectile
+from support import NOT_NUMBERS, table3_file, with_environment, with_machine, with_projectile
 
 
 def _raises(field: str, reason_part: str):
@@ -142,21 +142,6 @@ def test_dumps_is_loadable_toml(table3):
 # Every value of every table is checked before any arithmetic uses it
 # --------------------------------------------------------------------------- #
 
-#: Values of the wrong kind for a number, as a TOML file can hold them, and the reason each gets.
-NOT_NUMBERS = {
-    "text": ("43.4 deg", "must be a number"),
-    "list": ([43.4], "must be a number"),
-    "table": ({"value": 43.4}, "must be a number"),
-    "bool": (True, "must be a number"),
-    "date": (datetime.date(1979, 5, 27), "must be a number"),
-    "datetime": (datetime.datetime(1979, 5, 27, 7, 32, tzinfo=datetime.timezone.utc), "must be a number"),
-    "nan": (math.nan, "must be finite"),
-    "inf": (math.inf, "must be finite"),
-    "minus-inf": (-math.inf, "must be finite"),
-    "huge": (1e300, "must lie between"),
-    "huge-negative": (-1e300, "must lie between"),
-    "huge-integer": (10**400, "must lie between"),   # tomllib reads it: beyond any float
-}
 #: Values of the wrong kind for a text choice (release_rule, drag).
 NOT_CHOICES = {"number": 1.0, "list": ["velocity"], "table": {"rule": "velocity"}, "bool": False,
                "date": datetime.date(1979, 5, 27), "wrong-case": "Velocity"}
@@ -172,7 +157,7 @@ def _forms() -> dict[str, dict]:
     beam = design_to_dict(default_design())
     for key in ("arm_mass", "arm_cg", "arm_inertia"):
         del beam["machine"][key]
-    beam["machine"]["arm_beam"] = {"width": 0.019, "depth": 0.038, "density": 450.0}
+    beam["machine"]["arm_beam"] = table3_file()["machine"]["arm_beam"]
     return {"direct": direct, "paper": paper, "beam": beam}
 
 

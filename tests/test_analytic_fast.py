@@ -4,11 +4,12 @@ Three layers: the compiled model is the model's own code and evaluates
 exactly what the Python model does at random states; whole shots agree with
 ``simulate`` (1e-7 relative in range, 1e-6 s in event times, the same
 outcome and message); the batch gives what single shots give. Timings are
-the benchmark's business (``python -m analytic bench``), not these tests'.
+the benchmark's business (``python -m crosscheck.benchmark``), not these tests'.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import inspect
 import json
 import math
@@ -18,19 +19,19 @@ import sys
 
 import numpy as np
 import pytest
-from conftest import with_environment, with_machine, with_projectile
 from hypothesis import HealthCheck, given, settings
-from test_analytic_hypothesis import paper_designs
 
 from analytic import aero, compiled, eom, fast, geometry, kernel, stages
 from analytic.aero import DRAG_TABLE
-from analytic.bench import bench_designs
-from analytic.bench import main as bench_main
+from analytic.design import Base
 from analytic.cli import build_parser
+from crosscheck.benchmark import bench_designs
+from crosscheck.benchmark import main as bench_main
 from analytic.parameters import N_PARAMS, params
 from analytic.reference import simulate
 from analytic.result import Status
-from crosscheck.cases import exercise_cases, failure_cases, paper_cases, sample_cases
+from support import (failure_designs, paper_designs, table3_variants, table_ii_sample, with_environment,
+                     with_machine, with_projectile)
 
 #: The agreement targets between the two paths (the fast path's specification).
 RANGE_REL = 1e-7
@@ -91,10 +92,13 @@ def test_slide_constraint_is_nan_out_of_the_slings_reach(table3):
 @pytest.mark.parametrize("rule, alpha_deg", [("velocity", 43.4), ("velocity", -60.0),
                                              ("sling", -40.0), ("sling", 30.0)])
 @pytest.mark.parametrize("drag", ["golf-ball", "smooth-sphere"])
-def test_compiled_stages_are_bit_identical_to_the_python_ones(table3, rule, alpha_deg, drag):
-    """Right-hand sides, event values and armed checks of every stage."""
+@pytest.mark.parametrize("frame", [None, 5.0], ids=["fixed", "rolling-5kg"])
+def test_compiled_stages_are_bit_identical_to_the_python_ones(table3, rule, alpha_deg, drag, frame):
+    """Right-hand sides, event values and armed checks of every stage, on a fixed and a rolling frame."""
     design = with_projectile(with_machine(table3, release_rule=rule, release_angle=math.radians(alpha_deg)),
                              drag=drag)
+    if frame is not None:
+        design = dataclasses.replace(design, base=Base("rolling", frame))
     p = params(design)
     reach = math.acos(-p.h / p.La)
     for y in _random_states(200, 4):
@@ -172,16 +176,16 @@ def test_reference_summary_is_the_full_simulation_without_histories(table3):
         assert getattr(summary, name) == getattr(full, name)
 
 
-@pytest.mark.parametrize("case", paper_cases() + exercise_cases(), ids=lambda c: c.name)
-def test_every_input_agrees(case):
-    """Both release rules, every drag model, wind both ways, counterweight inertia 0 and large."""
-    _assert_agree(case.design)
+@pytest.mark.parametrize("design", table3_variants().values(), ids=lambda d: d.name)
+def test_every_input_agrees(design):
+    """Both release rules, every drag model, wind both ways, counterweight inertia 0 and large, light and heavy arms."""
+    _assert_agree(design)
 
 
-@pytest.mark.parametrize("case", failure_cases(), ids=lambda c: c.name)
-def test_every_failure_is_the_same_failure(case):
-    _, got = _assert_agree(case.design)
-    assert got.status.value == case.expected
+@pytest.mark.parametrize("status", failure_designs(), ids=lambda s: s.value)
+def test_every_failure_is_the_same_failure(status):
+    _, got = _assert_agree(failure_designs()[status])
+    assert got.status is status
 
 
 #: A design in the paper's variables (short arm, link, clearance, sling in m;
@@ -203,8 +207,8 @@ def test_both_kinds_of_never_lifting_off_agree(mass, reason):
 
 
 def test_seeded_sample_agrees():
-    for case in sample_cases(16, seed=7):
-        _assert_agree(case.design)
+    for design in table_ii_sample(16, seed=7):
+        _assert_agree(design)
 
 
 def test_bench_sample_agrees_design_by_design():
@@ -235,7 +239,7 @@ def test_headwind_strong_enough_to_blow_the_ball_back_agrees(table3):
 # --------------------------------------------------------------------------- #
 
 def test_batch_equals_single_shots_bit_for_bit():
-    designs = [c.design for c in sample_cases(24, seed=3) + failure_cases()]
+    designs = table_ii_sample(24, seed=3) + list(failure_designs().values())
     batch = fast.shoot(designs)
     assert len(batch) == len(designs)
 
@@ -255,7 +259,7 @@ def test_batch_equals_single_shots_bit_for_bit():
 
 
 def test_many_shots_equal_single_ones(table3):
-    designs = [table3] + [c.design for c in failure_cases()]
+    designs = [table3] + list(failure_designs().values())
     many = fast.simulate_fast_many(designs)
     for design, shot in zip(designs, many, strict=True):
         single = fast.simulate_fast(design)
@@ -275,7 +279,7 @@ def test_a_failed_step_is_a_step_failed_shot_with_its_instant_and_stage(table3, 
 
 
 def test_batch_accepts_packed_rows_and_reports_its_work():
-    designs = [c.design for c in sample_cases(6, seed=5)]
+    designs = table_ii_sample(6, seed=5)
     from_designs, from_rows = fast.shoot(designs), fast.shoot(fast.pack_many(designs))
     np.testing.assert_array_equal(from_designs.range, from_rows.range)
     thrown = from_rows.ok
@@ -311,8 +315,8 @@ def test_looser_tolerance_stays_within_the_target(table3):
 
 def test_a_new_process_loads_the_machine_code_from_the_disk_cache():
     code = ("from analytic import fast, kernel; fast.compile(); "
-            "print(kernel.shot.stats.cache_hits and sum(kernel.shot.stats.cache_hits.values()), "
-            "sum(kernel.shot.stats.cache_misses.values()))")
+            "print(kernel.shots.stats.cache_hits and sum(kernel.shots.stats.cache_hits.values()), "
+            "sum(kernel.shots.stats.cache_misses.values()))")
     done = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True,
                           env=dict(os.environ))
     hits, misses = (int(v) for v in done.stdout.split())
@@ -320,13 +324,19 @@ def test_a_new_process_loads_the_machine_code_from_the_disk_cache():
 
 
 def test_bench_json_has_the_figures_and_the_paths_agree(capsys):
-    args = build_parser().parse_args(["bench", "--json", "--designs", "4", "--repeat", "1",
-                                      "--no-cold", "--quiet"])
+    args = build_parser().parse_args(["bench", "--json", "--designs", "4", "--repeat", "1", "--quiet",
+                                      "--sweep-shots", "0"])
     assert bench_main(args) == 0
     figures = json.loads(capsys.readouterr().out)
     for key in ("reference_median_shot_s", "fast_median_shot_s", "speedup", "batch_shots_per_s",
-                "max_range_rel_diff", "compile_s"):
+                "max_range_rel_diff", "compile_s", "cache_load_s"):
         assert math.isfinite(figures[key]) and figures[key] >= 0.0, key
     assert figures["designs"] == 5 and figures["status_mismatches"] == []
     assert figures["max_range_rel_diff"] <= RANGE_REL
     assert figures["max_event_time_diff_s"] <= EVENT_TIME
+    assert not figures["compile_measured_cold"]   # compiling cold is asked for, never the default
+    # The models part: ratios to its baseline, the first entry.
+    ratios = [m["ratio"] for m in figures["models"]]
+    assert ratios[0] == 1.0 and all(r > 0.0 for r in ratios)
+    fast_entry = next(m for m in figures["models"] if m["label"] == "analytic fast path")
+    assert fast_entry["ratio"] < 1.0   # compiled beats the reference (measured: about 1/700)

@@ -13,9 +13,7 @@ from analytic.optimise.constraints import feasible
 from analytic.optimise.problem import load_problem, variables_of
 from analytic.reference import simulate
 
-from conftest import with_machine
-from test_analytic_optimise_known import (ANGLE_TOLERANCE_DEG, RANGE_TOLERANCE,
-                                          release_angle_problem_dict)
+from support import ANGLE_TOLERANCE_DEG, RANGE_TOLERANCE, release_angle_problem_dict, with_machine
 
 
 @pytest.fixture(scope="module")

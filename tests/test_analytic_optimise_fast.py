@@ -15,8 +15,7 @@ from analytic.optimise.report import display
 from analytic.optimise.robust import release_scatter
 from analytic.optimise.search import Settings, maximise
 from analytic.result import Shots, Status
-
-from test_analytic_optimise_run import SEED_DESIGN_AGREEMENT, SEED_RANGE_AGREEMENT
+from support import SEED_DESIGN_AGREEMENT, SEED_RANGE_AGREEMENT
 
 #: The two paths share equations, integrator and events, so their ranges differ by
 #: round-off only (measured: < 3e-13 relative on the candidates below, at both tolerances).
@@ -100,7 +99,7 @@ def test_paths_give_the_same_ranges_at_scatter_nodes(problem, table3):
 def test_a_failure_the_candidates_never_reach_is_counted_under_its_status(problem, values, monkeypatch, status):
     # None of the candidates above fails a step or never lands: the batch is
     # stood in for, to show that every status is counted under its own name.
-    def shoot(rows, *, rtol, atol):
+    def shoot(rows, *, rtol, atol, threads, loads=True):
         return Shots(status=np.array([status.value] * len(rows)), **{
             name: np.full(len(rows), math.nan) for name in Shots.__dataclass_fields__ if name != "status"})
 

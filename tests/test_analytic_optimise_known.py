@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import tomllib
 
 import numpy as np
 import pytest
@@ -12,43 +11,21 @@ from scipy.optimize import minimize_scalar
 
 from analytic.design_file import default_design
 from analytic.optimise.evaluate import Evaluator
-from analytic.optimise.problem import VARIABLE_NAMES, design_at, problem_from_dict, variables_of
+from analytic.optimise.problem import design_at, problem_from_dict, variables_of
 from analytic.optimise.robust import release_scatter
 from analytic.optimise.search import Settings, maximise
 from analytic.geometry import projectile_state
 from analytic.parameters import params
 from analytic.result import Stage
 from analytic.reference import simulate
+from support import ANGLE_TOLERANCE_DEG, RANGE_TOLERANCE, RESIDUAL_LIMIT, release_angle_problem_dict
 
-from test_analytic_optimise_problem import PROBLEM_FILE
-
-#: The answer below comes from a cubic spline through swing samples 0.5 ms apart;
-#: it moves by 1e-7 m (2e-9 relative) and 4e-5 deg if a 3-point parabola is used
-#: instead, so these bound the comparison with room to spare.
-RANGE_TOLERANCE = 1e-8
-ANGLE_TOLERANCE_DEG = 1e-3
-#: SLSQP stops once a step gains < ftol = 1e-10 of the (scaled) range; with this
-#: problem's curvature (about 2400 m per unit coordinate squared) that leaves a slope
-#: of up to sqrt(2 * 2400 * 6e-9) = 5e-3 m per unit, 1e-4 of the 62 m range.
-RESIDUAL_LIMIT = 1e-4
 #: Release-angle scatter of the robust variant (the brief's default), rad.
 SIGMA = math.radians(2.0)
 #: The expected range reads the spline at nodes up to 7.5 deg off its maximum; the
 #: same bounds hold there (measured: 6e-10 relative and 1e-6 deg).
 ROBUST_RANGE_TOLERANCE = RANGE_TOLERANCE
 ROBUST_ANGLE_TOLERANCE_DEG = ANGLE_TOLERANCE_DEG
-
-
-def release_angle_problem_dict() -> dict:
-    """The paper's problem file with every variable but the release angle fixed at Table III, in vacuum."""
-    with PROBLEM_FILE.open("rb") as handle:
-        data = tomllib.load(handle)
-    values = variables_of(default_design().machine)
-    for name, value in zip(VARIABLE_NAMES[:5], values[:5], strict=True):
-        data["variables"][name] = {"value": math.degrees(value) if name.endswith("angle") else value}
-    data["projectile"]["drag"] = "none"
-    data["name"] = "release-angle-vacuum"
-    return data
 
 
 def release_angle_problem():

@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import math
 import re
-import tomllib
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -18,16 +16,7 @@ from analytic.optimise.constraints import (CONSTRAINT_NAMES, axle_distance, cons
 from analytic.optimise.problem import (VARIABLE_NAMES, default_problem, design_at, from_unit,
                                        problem_from_dict, to_unit, variables_of)
 from analytic.optimise.report import PAPER_RATIOS, ratios
-
-from test_analytic_design import NOT_NUMBERS
-
-PROBLEM_FILE = Path(__file__).parents[1] / "analytic" / "data" / "paper_problem.toml"
-
-
-def problem_dict() -> dict:
-    """The default problem file as a dict, to vary in tests."""
-    with PROBLEM_FILE.open("rb") as handle:
-        return tomllib.load(handle)
+from support import NOT_NUMBERS, problem_dict, table3_beam
 
 
 def test_default_bounds_are_table_ii():
@@ -49,6 +38,14 @@ def test_counterweight_sphere_matches_the_table3_file(table3):
         table3.machine.counterweight_inertia, rel=5e-4)
 
 
+def test_arm_beam_is_the_table3_files(table3):
+    # Both files assume the same pine beam; the problem's arm must rebuild the default design's.
+    problem = default_problem()
+    m = table3.machine
+    assert problem.arm == table3_beam()
+    assert problem.arm.properties(m.arm_long, m.arm_short) == (m.arm_mass, m.arm_cg, m.arm_inertia)
+
+
 def test_table3_design_round_trips(table3):
     # Table III's h = 59.42 cm = 24.05 + 19.37 + a clearance of 16.00 cm, theta0 = asin(59.42 / 70.06).
     values = variables_of(table3.machine)
@@ -61,10 +58,12 @@ def test_table3_design_round_trips(table3):
 
 
 def test_table3_ratios_are_the_published_table_iv(table3):
-    # Table IV: 2.91:1, 0.87:1, 143:1 (rounded as published).
+    # Table IV: L_Al : L_As 2.91, L_S : L_Al 0.87, m_W : m_P 143 (rounded as published); the
+    # report prints the same numbers as the paper's column.
+    table_iv = (2.91, 0.87, 143.0)
     long_short, sling_long, masses = ratios(default_problem(), variables_of(table3.machine))
-    assert round(long_short, 2) == PAPER_RATIOS[0] and round(sling_long, 2) == PAPER_RATIOS[1]
-    assert round(masses) == PAPER_RATIOS[2]
+    assert (round(long_short, 2), round(sling_long, 2), round(masses)) == table_iv
+    assert PAPER_RATIOS == table_iv
 
 
 def test_unit_coordinates_round_trip():
@@ -233,6 +232,15 @@ def test_the_command_refuses_a_bad_problem_value_with_exit_2(tmp_path, capsys, k
     assert "invalid problem: variables.release_angle.lower = " in err and reason in err
 
 
-def test_variable_order_is_the_papers():
-    assert VARIABLE_NAMES == ("arm_short", "counterweight_link", "clearance", "sling_length",
-                              "starting_angle", "release_angle")
+def test_each_variable_lands_where_its_name_says():
+    # Every vector is in VARIABLE_NAMES order: six distinct values, each found again in the
+    # machine by what it means (clearance and starting angle through the paper's geometry).
+    problem = default_problem()
+    assert [variable.name for variable in problem.variables] == list(VARIABLE_NAMES)
+    values = np.array([0.11, 0.22, 0.33, 0.44, math.radians(55.0), math.radians(-12.0)])
+    m = design_at(problem, values).machine
+    meaning = {"arm_short": m.arm_short, "counterweight_link": m.counterweight_link,
+               "clearance": m.pivot_height - m.arm_short - m.counterweight_link, "sling_length": m.sling_length,
+               "starting_angle": math.asin(m.pivot_height / m.arm_long), "release_angle": m.release_angle}
+    assert [meaning[name] for name in VARIABLE_NAMES] == pytest.approx(values, abs=1e-12)
+    assert variables_of(m) == pytest.approx(values, abs=1e-12)

@@ -13,18 +13,11 @@ from analytic.optimise.problem import default_problem, design_at, variables_of
 from analytic.optimise.report import display
 from analytic.optimise.search import Settings, maximise
 from analytic.reference import DEFAULT_RTOL
-
-from test_analytic_optimise_known import RESIDUAL_LIMIT
+from support import RESIDUAL_LIMIT, SEED_DESIGN_AGREEMENT, SEED_RANGE_AGREEMENT
 
 SEEDS = (0, 1, 2)
 #: Re-simulated at a 100x tighter integrator tolerance, the optimum's range may move by this (relative).
 TOLERANCE_CHANGE_LIMIT = 1e-6
-#: Seeds agree on the range to this (relative): the range carries ~4e-11 relative
-#: noise at rtol 1e-10, and SLSQP stops once a step gains < 1e-10 (its ftol).
-SEED_RANGE_AGREEMENT = 1e-8
-#: ... and on every design variable to 0.01 cm or 0.01 deg, the resolution of the
-#: paper's Table III (what a builder could tell apart).
-SEED_DESIGN_AGREEMENT = 0.01
 
 
 @pytest.fixture(scope="module")
@@ -73,7 +66,7 @@ def test_optimum_beats_the_papers_design_under_the_same_problem(problem, optima,
 
 @pytest.mark.parametrize("seed", SEEDS)
 def test_optimum_is_a_first_order_point_and_nothing_failed_there(optima, seed):
-    # What SLSQP's ftol leaves of the slope is worked out in test_analytic_optimise_known.py.
+    # What SLSQP's ftol leaves of the slope is worked out at RESIDUAL_LIMIT (support.py).
     optimum = optima[seed]
     assert optimum.first_order.residual < RESIDUAL_LIMIT
     assert all(value >= 0.0 for value in optimum.first_order.bound_multipliers.values())

@@ -51,6 +51,7 @@ import sympy as sp
 import sympy.physics.mechanics as me
 
 import paper_equations as paper
+from analytic.design_file import default_design
 from paper_equations import PaperParams
 
 #: Agreement asked of a right equation, relative to the natural size of the
@@ -75,14 +76,20 @@ MIN_SIN_BETA = 0.2
 #: their error grows with |cos(Aq + Sq)|; 0.2 keeps it well above DISAGREE_REL).
 MIN_COS_BETA = 0.2
 
-#: The paper's Table III optimum (cm -> m), counterweight 6.5 kg and golf ball
-#: 45.6 g (section III), g = 9.81 m/s^2 (Definitions). The paper gives no arm
-#: mass, cg or inertia; these are the documented assumption in
-#: analytic/data/paper_table3.toml (uniform pine beam 19 x 38 mm), and the
-#: counterweight inertia is a cast-iron sphere (same file).
-TABLE3 = PaperParams(LAl=0.7006, LAs=0.2405, LAcg=0.23005, LS=0.6100, LW=0.1937,
-                     mA=0.30578, mW=6.5, mP=0.0456, IA3=0.022606, IW3=0.009345, Grav=9.81)
-TABLE3_PIVOT_HEIGHT = 0.5942
+
+def _table3() -> tuple[PaperParams, float]:
+    """The default design in the paper's symbols, and its pivot height: Table III's lengths, the
+    6.5 kg counterweight and 45.6 g ball (section III), g = 9.81 m/s^2 (Definitions), and the
+    arm and counterweight assumed in analytic/data/paper_table3.toml (the paper gives neither)."""
+    design = default_design()
+    m = design.machine
+    return PaperParams(LAl=m.arm_long, LAs=m.arm_short, LAcg=m.arm_cg, LS=m.sling_length,
+                       LW=m.counterweight_link, mA=m.arm_mass, mW=m.counterweight_mass,
+                       mP=design.projectile.mass, IA3=m.arm_inertia, IW3=m.counterweight_inertia,
+                       Grav=design.environment.gravity), m.pivot_height
+
+
+TABLE3, TABLE3_PIVOT_HEIGHT = _table3()
 
 
 # --------------------------------------------------------------------------- #

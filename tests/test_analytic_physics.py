@@ -14,7 +14,7 @@ from analytic.parameters import params
 from analytic.result import Stage, Status
 from analytic.reference import DEFAULT_ATOL, DEFAULT_RTOL, simulate
 
-from conftest import with_environment, with_machine, with_projectile
+from support import with_environment, with_machine, with_projectile
 
 
 @pytest.fixture(scope="module")

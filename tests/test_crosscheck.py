@@ -2,33 +2,46 @@
 
 from __future__ import annotations
 
-import ast
 import dataclasses
+import functools
 import json
-from pathlib import Path
 
 import pytest
 
 from analytic.design_file import save_design
 from analytic import outcome
 from analytic.result import Shot, Status
-from conftest import with_machine
-from crosscheck import tolerances
+from crosscheck import tolerances as tol
 from crosscheck.cases import exercise_cases, failure_cases, paper_cases, sample_cases
 from crosscheck.cli import EXIT_AGREE, EXIT_DISAGREE, main
 from crosscheck.compare import compare, engine_simulate, step_study
-from engine_model import EngineError
+from engine_model import DEFAULT_DT, EngineError
+from support import failure_designs, with_machine
 
 FAST = {"table3", "sling-rule", "constant-drag", "fails-never_fires", "fails-never_lifts_off"}
+
+#: Modelling mistakes an engine could make, each a change to the machine it is handed.
+MISTAKES = {
+    "counterweight-inertia-x3": lambda m: {"counterweight_inertia": 3.0 * m.counterweight_inertia},
+    "arm-inertia-+10pc": lambda m: {"arm_inertia": 1.1 * m.arm_inertia},
+}
 
 
 def _fast_cases():
     return [c for c in paper_cases() + exercise_cases() + failure_cases() if c.name in FAST]
 
 
+@functools.cache
+def _compared(name: str, mistake: str | None = None):
+    """``compare`` on a case of the fast subset, once a session; with ``mistake``, against an
+    engine handed the mistaken machine."""
+    case = next(c for c in _fast_cases() if c.name == name)
+    return compare(case) if mistake is None else compare(case, engine=_engine_with_changes(MISTAKES[mistake]))
+
+
 @pytest.mark.parametrize("case", _fast_cases(), ids=lambda c: c.name)
 def test_models_agree_on_the_fast_subset(case):
-    result = compare(case)
+    result = _compared(case.name)
     failing = [(r.quantity, r.analytic, r.engine, r.tolerance) for r in result.rows if not r.ok]
     assert result.agree, f"{case.name}: {result.error or failing}"
     assert result.rows[0].quantity == "outcome"
@@ -37,8 +50,7 @@ def test_models_agree_on_the_fast_subset(case):
 def test_the_reference_path_can_stand_in_for_the_fast_one():
     from analytic.reference import simulate
 
-    case = paper_cases()[0]
-    reference, default = compare(case, analytic=simulate), compare(case)
+    reference, default = compare(paper_cases()[0], analytic=simulate), _compared("table3")
     assert reference.agree and default.agree
     for a, b in zip(reference.rows, default.rows, strict=True):
         assert a.quantity == b.quantity and a.engine == b.engine
@@ -72,7 +84,8 @@ def test_a_flight_that_never_lands_is_compared_like_any_outcome():
     # A flight past its bound used to raise in the engine, uncaught, ending the
     # whole cross-check (this design even came out "thrown": its explicit drag
     # overshot in one step). The analytic side stands in with its verdict on
-    # this design (no_landing within 64.9 s: tests/test_analytic_failures.py).
+    # this design (measured: `python -m analytic simulate analytic/data/designs/fails-no_landing.toml`
+    # says no_landing within 64.9 s, the flight bound of analytic.limits for its release).
     case = next(c for c in failure_cases() if c.expected == Status.NO_LANDING.value)
     verdict = Shot(case.design, Status.NO_LANDING, outcome.no_landing_message(64.9))
     result = compare(case, analytic_shot=verdict)
@@ -80,13 +93,9 @@ def test_a_flight_that_never_lands_is_compared_like_any_outcome():
     assert (result.analytic_status, result.engine_status) == ("no_landing", "no_landing")
 
 
-@pytest.mark.parametrize("mistake", [
-    lambda m: {"counterweight_inertia": 3.0 * m.counterweight_inertia},
-    lambda m: {"arm_inertia": 1.1 * m.arm_inertia},
-], ids=["counterweight-inertia-x3", "arm-inertia-+10pc"])
+@pytest.mark.parametrize("mistake", MISTAKES)
 def test_a_perturbed_model_is_reported_as_disagreement(mistake):
-    table3 = paper_cases()[0]
-    result = compare(table3, engine=_engine_with_changes(mistake))
+    result = _compared("table3", mistake)
     assert not result.agree
     assert {r.quantity for r in result.rows if not r.ok} & {"release_speed", "range", "release_time"}
 
@@ -99,13 +108,47 @@ def _engine_with_changes(mistake):
     return engine
 
 
-def test_every_tolerance_states_its_reason():
-    source = Path(tolerances.__file__).read_text()
-    lines = source.splitlines()
-    for node in ast.parse(source).body:
-        if isinstance(node, ast.Assign) and node.targets[0].id.isupper():
-            assert lines[node.lineno - 2].startswith("#:") or lines[node.lineno - 3].startswith("#:"), \
-                f"{node.targets[0].id} has no reason"
+#: Each tolerance is at least this many times the engine's own error at the
+#: default step on Table III and its sling-rule variant, room for designs that
+#: whip harder. Measured (``python -m crosscheck --report DIR``): the tolerances
+#: are 230x (apex height, sling rule) to 5000x (event times) those errors; 300x
+#: the release speed's and 370x the range's on Table III.
+ENGINE_ERROR_MARGIN = 100
+#: What each known modelling mistake must push out of tolerance on Table III.
+#: Measured: the threefold counterweight inertia costs 12x to 28x each
+#: tolerance; the arm's extra 10 % 2.4x to 7.6x, except the release height,
+#: which it moves by 0.4 mm. Under the velocity rule both models release on the
+#: set angle whatever the machine, so no mistake shows in the launch angle.
+CAUGHT = {
+    "counterweight-inertia-x3": {"liftoff_time", "release_time", "release_x", "release_y", "release_vx",
+                                 "release_vy", "release_speed", "range", "apex_height"},
+    "arm-inertia-+10pc": {"liftoff_time", "release_time", "release_x", "release_vx", "release_vy",
+                          "release_speed", "range", "apex_height"},
+}
+#: The worst sampled design's release-speed error was 9x its energy error
+#: (crosscheck/tolerances.py, ENGINE_ENERGY_TRUST).
+SPEED_PER_ENERGY_ERROR = 9.0
+
+
+def test_each_tolerance_lies_between_the_engines_error_and_a_modelling_mistakes():
+    for name in ("table3", "sling-rule"):
+        result = _compared(name)
+        assert result.engine_dt == DEFAULT_DT, f"{name}: not trusted at the default step"
+        for row in result.rows[1:]:
+            assert ENGINE_ERROR_MARGIN * abs(row.difference) <= row.tolerance, \
+                f"{name}, {row.quantity}: engine error {row.difference:.3g} {row.unit}, tolerance {row.tolerance:.3g}"
+    for mistake, quantities in CAUGHT.items():
+        rows = {row.quantity: row for row in _compared("table3", mistake).rows}
+        for quantity in quantities:
+            row = rows[quantity]
+            assert abs(row.difference) > row.tolerance, \
+                f"{mistake} passes {quantity}: error {row.difference:.3g} {row.unit}, tolerance {row.tolerance:.3g}"
+    # A run is trusted up to an energy error whose speed error still fits the speed's budget.
+    assert SPEED_PER_ENERGY_ERROR * tol.ENGINE_ENERGY_TRUST <= tol.RELEASE_SPEED_REL
+
+
+def test_the_failure_cases_are_the_known_failure_designs():
+    assert {Status(case.expected): case.design for case in failure_cases()} == failure_designs()
 
 
 def test_sample_is_seeded_and_covers_both_arms():
@@ -132,18 +175,27 @@ def test_engine_converges_with_order_two():
 
 
 @pytest.mark.slow
-def test_full_default_suite_agrees(tmp_path):
+def test_full_default_suite_agrees(tmp_path, capsys):
     code = main(["--report", str(tmp_path), "--no-progress"])
     report = json.loads((tmp_path / "crosscheck.json").read_text())
     failing = [c["case"] for c in report["comparisons"] if not c["agree"]]
     assert code == EXIT_AGREE, f"disagreeing designs: {failing}"
-    assert {p.name for p in tmp_path.iterdir()} == {"crosscheck.json", "agreement.png", "errors.png", "convergence.png"}
+    assert {p.name for p in tmp_path.iterdir()} == {"crosscheck.json", "table.txt", "agreement.png", "errors.png",
+                                                    "convergence.png"}
+    # The terminal gets the verdict and the worst case per quantity; every design's rows go to table.txt.
+    printed = capsys.readouterr().out.splitlines()
+    assert len(printed) < 20 and printed[0].startswith(f"{len(report['comparisons'])} of ")
+    assert len((tmp_path / "table.txt").read_text().splitlines()) > 10 * len(report["comparisons"])
 
 
-def test_benchmark_reports_ratios_to_its_baseline(capsys):
-    from crosscheck.benchmark import main as benchmark_main
-
-    assert benchmark_main(["--repeat", "1"]) == 0
-    lines = capsys.readouterr().out.splitlines()
-    assert "1.0000 x baseline" in lines[1] and len(lines) == 7
-    assert any("fast path" in line for line in lines)
+@pytest.mark.slow   # --report runs the engine's step study
+def test_the_full_table_is_printed_only_when_asked(tmp_path, capsys, table3):
+    path = tmp_path / "t3.toml"
+    save_design(table3, path)
+    assert main([str(path), "--workers", "1", "--no-progress", "--report", str(tmp_path / "r")]) == EXIT_AGREE
+    short = capsys.readouterr().out
+    assert "tolerance" in short and "verdict" not in short
+    assert short.splitlines()[-1].startswith(f"report in {tmp_path / 'r'}: crosscheck.json, table.txt")
+    assert "verdict" in (tmp_path / "r" / "table.txt").read_text()
+    assert main([str(path), "--workers", "1", "--no-progress", "--table"]) == EXIT_AGREE
+    assert capsys.readouterr().out.startswith("design ")

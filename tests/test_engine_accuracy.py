@@ -1,35 +1,28 @@
-"""The engine against the analytic model: agreement at the default step, second-order convergence."""
+"""The engine against the analytic model: within the cross-check's tolerances, second-order convergence."""
 
 from __future__ import annotations
-
-import math
 
 import pytest
 
 from analytic.design_file import default_design
 from analytic.reference import simulate as analytic_simulate
-from conftest import with_environment, with_machine, with_projectile
+from crosscheck import tolerances as tol
 from engine_model import DEFAULT_DT, simulate
+from support import table3_variants
 
-#: The brief's agreement for release speed and range: 0.05 per cent. Measured on
-#: the paper's design: 7e-6 and 1.1e-5 at the default step (engine's O(dt^2)
-#: error; the analytic model's own is below 1e-7).
-AGREEMENT = 5e-4
+#: The counterweight's energy released by release goes as the release speed
+#: squared, so its budget is twice the speed's.
+ENERGY_RELEASED_REL = 2.0 * tol.RELEASE_SPEED_REL
 #: Halving the step should cut the error about fourfold (second order); this
 #: band leaves room for the O(dt^3) terms at these steps.
 CONVERGENCE_BAND = (3.0, 5.0)
 
-CASES = {
-    "table3-golf-ball": lambda d: d,
-    "vacuum": lambda d: with_projectile(d, drag="none"),
-    "smooth-sphere-headwind": lambda d: with_environment(with_projectile(d, drag="smooth-sphere"), wind_speed=-5.0),
-    "constant-drag-tailwind": lambda d: with_environment(
-        with_projectile(d, drag="constant", drag_coefficient=0.4), wind_speed=4.0),
-    "point-counterweight": lambda d: with_machine(d, counterweight_inertia=0.0),
-    "light-arm-with-ballast": lambda d: with_machine(d, arm_mass=0.05),
-    "arm-centre-on-short-side": lambda d: with_machine(d, arm_cg=-0.1),
-    "sling-rule": lambda d: with_machine(d, release_rule="sling", release_angle=math.radians(20.0)),
-}
+#: Variants of Table III that the engine builds differently (no drag, wind in
+#: either drag, a point counterweight on a distance joint, a light arm with
+#: ballast, an arm centre on the short side, the sling rule). Measured errors:
+#: 3e-3 to 5e-3 of the speed and range tolerances, 5e-4 of the times.
+CASES = ("table3", "vacuum", "smooth-sphere-headwind", "constant-drag-tailwind", "point-counterweight",
+         "light-arm", "arm-centre-on-short-side", "sling-rule-ahead")
 
 
 @pytest.fixture(scope="module")
@@ -46,18 +39,20 @@ def _errors(shot, reference) -> tuple[float, float]:
     return (shot.release_speed / reference.release_speed - 1.0, shot.range / reference.range - 1.0)
 
 
-@pytest.mark.parametrize("case", list(CASES))
-def test_release_and_range_agree_with_the_analytic_model(table3, case):
-    design = CASES[case](table3)
-    expected = analytic_simulate(design)
-    shot = simulate(design)
+@pytest.mark.parametrize("case", CASES)
+def test_release_and_range_agree_with_the_analytic_model(case):
+    design = table3_variants()[case]
+    expected, shot = analytic_simulate(design), simulate(design)
     assert expected.ok and shot.ok, (expected.message, shot.message)
-    speed_error, range_error = _errors(shot, expected)
-    assert abs(speed_error) < AGREEMENT, f"release speed {shot.release_speed} vs {expected.release_speed}"
-    assert abs(range_error) < AGREEMENT, f"range {shot.range} vs {expected.range}"
-    assert shot.launch_angle == pytest.approx(expected.launch_angle, abs=AGREEMENT)
-    for name in ("liftoff_time", "release_time", "landing_time", "apex_height", "counterweight_energy_released"):
-        assert getattr(shot, name) == pytest.approx(getattr(expected, name), rel=AGREEMENT), name
+    speed = expected.release_speed
+    limits = {"release_speed": tol.RELEASE_SPEED_REL * speed,
+              "range": tol.RANGE_REL * max(abs(expected.range), tol.RANGE_FLOOR),
+              "launch_angle": tol.LAUNCH_ANGLE, "apex_height": tol.APEX_HEIGHT_REL * expected.apex_height,
+              "liftoff_time": tol.EVENT_TIME, "release_time": tol.EVENT_TIME, "landing_time": tol.EVENT_TIME,
+              "counterweight_energy_released": ENERGY_RELEASED_REL * expected.counterweight_energy_released}
+    for name, limit in limits.items():
+        a, e = getattr(expected, name), getattr(shot, name)
+        assert abs(e - a) <= limit, f"{name}: engine {e}, analytic {a}, limit {limit:.3g}"
 
 
 def test_error_falls_fourfold_when_the_step_is_halved(table3, reference):

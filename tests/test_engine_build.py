@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from analytic.design_file import default_design
-from conftest import with_machine
+from support import with_machine
 from engine_model.build import EngineError, arm_body_properties, build
 
 

@@ -11,8 +11,8 @@ from scipy.integrate import solve_ivp
 from analytic.design_file import default_design
 from analytic.aero import drag_coefficient
 from analytic.limits import flight_time_limit
-from conftest import with_environment, with_projectile
-from crosscheck.cases import failure_cases
+from analytic.result import Status
+from support import failure_designs, with_environment, with_projectile
 from engine_model import flight as flight_module
 from engine_model.build import EngineError
 from engine_model.events import crossing_fraction, interpolate
@@ -49,7 +49,8 @@ def test_flight_without_drag_lands_where_the_parabola_does():
     time = (velocity[1] + math.sqrt(velocity[1]**2 + 2 * g * (position[1] + h))) / g
     assert flight.landing_time == pytest.approx(0.4 + time, rel=1e-12)
     assert flight.landing_position[0] == pytest.approx(position[0] + velocity[0] * time, rel=1e-12)
-    assert flight.path[:, 1].max() == pytest.approx(position[1] + velocity[1]**2 / (2 * g), abs=g * 1e-6 / 8)
+    # The apex is the vertex through the highest samples: exact on this parabola too.
+    assert flight.apex == pytest.approx(position[1] + velocity[1]**2 / (2 * g), rel=1e-12)
 
 
 def test_drag_with_wind_matches_an_independent_integration():
@@ -129,9 +130,9 @@ def test_a_flight_gone_non_finite_is_an_engine_error(monkeypatch):
 
 
 def _balloon():
-    """The cross-check's no-landing design and the state the engine releases it in
-    (``simulate`` at the default step): 1.42 m above the base, flung down at 33 m/s."""
-    design = next(c.design for c in failure_cases() if c.expected == "no_landing")
+    """The known no-landing design and the state the engine releases it in
+    (measured: ``simulate`` at the default step): 1.42 m above the base, flung down at 33 m/s."""
+    design = failure_designs()[Status.NO_LANDING]
     return design, np.array([0.95073617, 0.82894282]), np.array([16.53552727, -28.64037337])
 
 

@@ -1,11 +1,14 @@
 """engine_model may use analytic's shared contract and nothing of its model, so the cross-check stays honest.
 
 Allowed: ``analytic.design`` and ``analytic.design_file`` (the design
-description and its files), ``analytic.aero`` (drag tables, which the design
+description and its files), ``analytic.units`` (the units a file's values may
+carry, which the file reader converts), ``analytic.aero`` (drag tables, which the design
 needs), ``analytic.result`` (the shared result types), ``analytic.outcome``
 (statuses and outcome messages), ``analytic.limits`` (the bounds that end a
-stage or a shot) and ``analytic.geometry`` (part positions from coordinates
-and the release rule). None of them holds any dynamics: no equations of
+stage or a shot), ``analytic.geometry`` (part positions from coordinates
+and the release rule), ``analytic.command_line`` (the command lines' checks
+of output paths and options) and ``analytic.plausibility`` (warnings on
+implausible inputs, which every shot carries). None of them holds any dynamics: no equations of
 motion, no integrator, no event loop. Everything else of ``analytic``
 (equations, simulators, integrators) is what the engine is checked against,
 and must not leak in.
@@ -21,8 +24,9 @@ from pathlib import Path
 
 import pytest
 
-ALLOWED = {"analytic", "analytic.design", "analytic.design_file", "analytic.aero", "analytic.result",
-           "analytic.outcome", "analytic.limits", "analytic.geometry"}
+ALLOWED = {"analytic", "analytic.design", "analytic.design_file", "analytic.units", "analytic.aero",
+           "analytic.result", "analytic.outcome", "analytic.limits", "analytic.geometry", "analytic.command_line",
+           "analytic.plausibility"}
 PACKAGE = Path(__file__).resolve().parents[1] / "engine_model"
 MODULES = sorted(p.stem for p in PACKAGE.glob("*.py") if p.stem != "__main__")
 

@@ -2,15 +2,17 @@
 
 from __future__ import annotations
 
-import math
+import dataclasses
 import struct
 
 import numpy as np
 import pytest
 
+from analytic.design import Base
 from analytic.design_file import default_design
-from engine_model.render import (FRAME_SIZE, PROJECTILE_COLOUR, FrameState, draw_frame, frame_times,
-                                 render_shot)
+from engine_model.render import (FINAL_HOLD, FRAME_SIZE, PROJECTILE_COLOUR, WHEEL_RADIUS_FRACTION, FrameState,
+                                 camera, draw_frame, frame_state, frame_times, render_shot, summary)
+from analytic.geometry import machine_points
 from engine_model import simulate
 
 
@@ -32,22 +34,51 @@ def _png_size_and_chunks(path) -> tuple[tuple[int, int], list[bytes]]:
     return (width, height), chunks
 
 
-def test_frames_at_fixed_intervals_up_to_the_landing(shot, tmp_path):
-    fps = 4.0
-    paths = render_shot(shot, tmp_path, fps=fps, progress=False)
-    # Every 0.25 s from 0 through the landing, and the landing itself.
-    expected = math.floor(shot.landing_time * fps) + 1 + (shot.landing_time * fps % 1 > 1e-9)
-    assert len(paths) == expected
-    assert [p.name for p in paths] == [f"frame_{i:05d}.png" for i in range(expected)]
-    assert frame_times(shot, fps)[-1] == shot.landing_time
+def test_frames_are_time_warped_slow_swing_real_time_flight_up_to_the_landing(shot, tmp_path):
+    fps, slow = 4.0, 8.0
+    times, speeds = frame_times(shot, fps, swing_slow_motion=slow, flight_speed=1.0)
+    paths = render_shot(shot, tmp_path, fps=fps, swing_slow_motion=slow, progress=False)
+    assert [p.name for p in paths] == [f"frame_{i:05d}.png" for i in range(len(times))]
+    assert times[0] == 0.0 and times[-1] == shot.landing_time and np.all(np.diff(times) > 0.0)
+    swing = times[:-1] < shot.release_time
+    steps = np.diff(times)
+    # A frame every 1/32 s of simulated time through the swing, every 1/4 s in flight (the
+    # last of each phase may be shorter: the release and the landing are frames too).
+    assert steps[swing][:-1] == pytest.approx(1.0 / (fps * slow))
+    assert steps[~swing][:-1] == pytest.approx(1.0 / fps)
+    in_swing = times < shot.release_time
+    assert np.all(speeds[in_swing] == 1.0 / slow) and np.all(speeds[~in_swing] == 1.0)
+    assert shot.release_time in times   # the flight's grid starts at the release
     size, chunks = _png_size_and_chunks(paths[-1])
     assert size == FRAME_SIZE == (960, 540)
     assert not {b"tEXt", b"iTXt", b"zTXt", b"tIME"} & set(chunks)  # nothing that varies between runs
 
 
+def test_every_frame_has_the_same_view_and_the_last_sums_up(shot):
+    times, _ = frame_times(shot, 4.0)
+    view = camera(shot.design, frame_state(shot, float(times[-1])))
+    # The whole flight and the machine in view: a fixed ground scale for every frame.
+    assert view[0] < -1.0 and view[1] > shot.range and view[3] > shot.apex_height - shot.design.machine.pivot_height
+    assert frame_state(shot, float(times[-1])).label == "landed"
+    text = summary(shot)
+    assert text.startswith(f"range {shot.range:.2f} m") and "release speed" in text
+
+
+def test_gif_and_mp4_are_written_with_the_last_frame_held(shot, tmp_path):
+    from PIL import Image
+
+    paths = render_shot(shot, tmp_path, fps=2.0, gif=True, mp4=True, progress=False)
+    with Image.open(tmp_path / "shot.gif") as gif:
+        # Pillow folds the held copies of the last frame into one longer frame.
+        assert gif.n_frames == len(paths) and gif.size == (960, 540)
+        gif.seek(gif.n_frames - 1)
+        assert gif.info["duration"] == 500 * (1 + round(FINAL_HOLD * 2.0))
+    assert (tmp_path / "shot.mp4").stat().st_size > 1000
+
+
 def test_the_same_shot_renders_byte_identical_frames(shot, tmp_path):
     first = render_shot(shot, tmp_path / "a", fps=2.0, gif=True, progress=False)
-    second = render_shot(shot, tmp_path / "b", fps=2.0, gif=True, progress=False)
+    second = render_shot(shot, tmp_path / "b", fps=2.0, gif=True, progress=False)   # frames and GIF alike
     for a, b in zip(first + [tmp_path / "a" / "shot.gif"], second + [tmp_path / "b" / "shot.gif"], strict=True):
         assert a.read_bytes() == b.read_bytes(), a.name
 
@@ -65,3 +96,46 @@ def test_the_projectile_is_drawn_where_it_is(shot):
     rows, cols = np.nonzero(np.all(np.abs(pixels[:, :, :3] - red) < 40, axis=2))
     assert len(rows) > 20, "projectile not drawn"
     assert (cols.mean(), rows.mean()) == pytest.approx((420.0, 300.0), abs=1.0)
+
+
+def _dark_columns(pixels: np.ndarray, rows: slice) -> np.ndarray:
+    """Columns of the near-black (#303030) pixels within ``rows``: wheels, or the counterweight."""
+    band = pixels[rows, :, :3].astype(int)
+    return np.nonzero(np.all(np.abs(band - 0x30) < 24, axis=2))[1]
+
+
+@pytest.mark.parametrize("frame_x", [0.0, 1.0, -0.5])
+def test_a_rolling_frame_is_drawn_on_wheels_where_it_is(shot, frame_x):
+    # The view of the test above (60 px/m, y = -1..8 m): the wheels stand on the
+    # base at y = -h, so they fill rows (8 + h) * 60 upwards by 2 r * 60 px, and
+    # they are centred at x = frame_x -/+ h/2, columns (frame_x -/+ h/2 + 2) * 60.
+    design = dataclasses.replace(shot.design, base=Base("rolling", 20.0))
+    h = design.machine.pivot_height
+    state = FrameState(time=0.0, label="test", long_tip=np.array([frame_x - 0.5, 0.5]),
+                       short_tip=np.array([frame_x + 0.2, 3.0]), counterweight=np.array([frame_x + 0.2, 5.0]),
+                       projectile=np.array([5.0, 3.0]), sling_attached=False,
+                       trace=np.array([[5.0, 3.0]]), frame_x=frame_x)
+    view = (-2.0, 14.0, -1.0, 8.0)
+    ground_row = round((8.0 + h) * 60.0)
+    wheel_rows = slice(ground_row - round(2 * WHEEL_RADIUS_FRACTION * h * 60.0), ground_row)
+    columns = _dark_columns(draw_frame(design, state, view), wheel_rows)
+    left, right = columns[columns < (frame_x + 2.0) * 60.0], columns[columns > (frame_x + 2.0) * 60.0]
+    assert len(left) > 20 and len(right) > 20, "wheels not drawn"
+    assert left.mean() == pytest.approx((frame_x - 0.5 * h + 2.0) * 60.0, abs=1.5)
+    assert right.mean() == pytest.approx((frame_x + 0.5 * h + 2.0) * 60.0, abs=1.5)
+    # A fixed frame stands on the base with no wheels.
+    fixed = dataclasses.replace(state, frame_x=0.0)
+    assert len(_dark_columns(draw_frame(shot.design, fixed, view), wheel_rows)) == 0
+
+
+def test_frames_of_a_rolling_shot_follow_its_frame(shot):
+    rolling_shot = simulate(dataclasses.replace(shot.design, base=Base("rolling", 2.0)), dt=4e-4)
+    moving = int(np.argmax(np.abs(rolling_shot.frame_x)))
+    state = frame_state(rolling_shot, float(rolling_shot.t[moving]))
+    assert state.frame_x == rolling_shot.frame_x[moving] != 0.0
+    # Every part is drawn carried along by the frame (positions relative to the pivot, plus X).
+    points = machine_points(rolling_shot.q[moving], rolling_shot.design.machine)
+    for part in ("long_tip", "short_tip", "counterweight"):
+        assert getattr(state, part) == pytest.approx(points[part] + [state.frame_x, 0.0], abs=1e-12), part
+    assert state.projectile == pytest.approx(rolling_shot.path[moving], abs=1e-12)   # already over the ground
+    assert camera(rolling_shot.design, state)[0] < state.frame_x - rolling_shot.design.machine.arm_long

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from analytic.design_file import default_design
-from analytic.optimise.evaluate import FAST, Evaluator
+from analytic.optimise.evaluate import FAILURE_RANGE, FAST, Evaluator
 from analytic.optimise.problem import Problem, default_problem, load_problem, variables_of
 from analytic.optimise.report import PAPER_LABEL
 from analytic.optimise.robust import DEFAULT_NODES, Scatter, release_scatter
@@ -43,6 +43,8 @@ class Optimisation:
     scatter : the release-angle scatter of the robust variant, or ``None``.
     node_ranges : with a scatter, the same labels -> (n_nodes,) ranges at its
         quadrature nodes, m; else ``None``.
+    peaks : the same labels -> their peak loads (``analytic.result.PEAK_NAMES`` -> N or m/s^2;
+        empty for a design that does not throw).
     sensitivity : the range along each free variable through the optimum.
     path : ``"fast"`` or ``"reference"``, how the shots were simulated.
     seconds : wall time.
@@ -54,6 +56,7 @@ class Optimisation:
     ranges: dict[str, float]
     scatter: Scatter | None
     node_ranges: dict[str, np.ndarray] | None
+    peaks: dict[str, dict[str, float]]
     sensitivity: Sensitivity
     path: str
     seconds: float
@@ -104,25 +107,31 @@ def optimise(problem: Problem, *, seed: int = 0, robust_sigma: float | None = No
     ------
     ValueError
         For a ``robust_sigma`` that is not a positive angle, fewer than one
-        node, an unknown path or fewer than one worker.
+        node, an unknown path or fewer than one worker; or a ``robust_sigma`` with a
+        problem that limits or minimises loads (not offered: the loads are the
+        nominal shot's).
     """
     if robust_sigma is not None and not (math.isfinite(robust_sigma) and robust_sigma > 0.0):
         raise ValueError(f"robust_sigma = {robust_sigma!r}: must be a positive angle in rad")
+    if robust_sigma is not None and problem.outcome_constraints:
+        raise ValueError("robust_sigma: a problem with [loads] is optimised for the nominal shot only")
     began = time.perf_counter()
     settings = Settings(seed=seed)
     scatter = None if robust_sigma is None else release_scatter(robust_sigma, nodes)
-    paper = variables_of(default_design().machine)
+    paper = problem.complete(variables_of(default_design().machine))
     with Evaluator(problem, path=path, workers=workers) as evaluator:
         optima = {"optimum": maximise(problem, evaluator, settings, progress=progress)}
         if scatter is not None:
             optima["robust optimum"] = maximise(problem, evaluator, settings, scatter=scatter,
                                                 start=optima["optimum"].values, progress=progress)
         designs = {PAPER_LABEL: paper} | {label: o.values for label, o in optima.items()}
-        ranges = dict(zip(designs, evaluator.scores(list(designs.values()), settings.final_tolerance), strict=True))
+        throws = evaluator.throws(np.array(list(designs.values())), settings.final_tolerance, loads=True)
+        ranges = {label: (FAILURE_RANGE if t.range is None else t.range) for label, t in zip(designs, throws, strict=True)}
+        peaks = {label: t.loads for label, t in zip(designs, throws, strict=True)}
         node_ranges = None if scatter is None else dict(zip(designs, evaluator.node_ranges(
             list(designs.values()), settings.final_tolerance, scatter), strict=True))
         sensitivity = scan(evaluator, problem, optima["optimum"].values, optima["optimum"].score,
                            settings.search_tolerance)
     return Optimisation(problem=problem, optima=optima, paper=paper, ranges=ranges, scatter=scatter,
-                        node_ranges=node_ranges, sensitivity=sensitivity, path=evaluator.path,
+                        node_ranges=node_ranges, peaks=peaks, sensitivity=sensitivity, path=evaluator.path,
                         seconds=time.perf_counter() - began)

@@ -15,6 +15,7 @@ import math
 import sys
 from pathlib import Path
 
+from analytic.command_line import OutputPathError, negative_numbers_as_values, output_folder
 from analytic.design import DesignError
 from analytic.design_file import save_design
 from analytic.optimise import Optimisation, optimise
@@ -62,11 +63,18 @@ def run(args: argparse.Namespace) -> int:
         print(f"invalid --robust {args.robust!r}: the standard deviation must be a positive angle in deg",
               file=sys.stderr)
         return EXIT_INVALID
+    if args.robust is not None and problem.outcome_constraints:
+        print(f"invalid --robust {args.robust!r}: a problem with [loads] is optimised for the nominal shot only",
+              file=sys.stderr)
+        return EXIT_INVALID
     if args.nodes < 1 or (args.workers is not None and args.workers < 1):
         print("invalid --nodes / --workers: must be at least 1", file=sys.stderr)
         return EXIT_INVALID
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    try:
+        out = output_folder(args.out, "--out")
+    except OutputPathError as error:
+        print(error, file=sys.stderr)
+        return EXIT_INVALID
     result = optimise(problem, seed=args.seed, path=args.path, workers=args.workers,
                       robust_sigma=None if args.robust is None else math.radians(args.robust),
                       nodes=args.nodes, progress=not args.quiet)
@@ -81,7 +89,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m analytic optimise",
                                      description="Maximise range over the paper's design variables.")
     add_arguments(parser)
-    return run(parser.parse_args(argv))
+    return run(parser.parse_args(negative_numbers_as_values(sys.argv[1:] if argv is None else argv)))
 
 
 def write_outputs(result: Optimisation, out: Path) -> str:

@@ -10,7 +10,7 @@ Two paths shoot the candidates, with the same answers (to round-off, ~1e-12
 relative in range, except where a machine swings chaotically for seconds before
 it releases; ``tests/test_analytic_optimise_fast.py``): ``"fast"`` (the default)
 hands each batch to the compiled kernel in one call (``analytic.fast.shoot``,
-numba threads on every core); ``"reference"`` runs ``analytic.reference`` one
+threads on every core); ``"reference"`` runs ``analytic.reference`` one
 shot at a time in a pool of worker processes, kept to compare against.
 """
 
@@ -19,17 +19,16 @@ from __future__ import annotations
 import multiprocessing
 from collections import Counter
 from concurrent.futures import ProcessPoolExecutor
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Self
 
-import numba
 import numpy as np
 
 from analytic import fast
 from analytic.design import DesignError
-from analytic.optimise.problem import Problem, VARIABLE_NAMES, design_at
+from analytic.optimise.problem import LOADS, Problem, design_at
 from analytic.optimise.robust import Scatter, expected, release_scatter
-from analytic.result import Status
+from analytic.result import PEAK_NAMES, Status
 from analytic.reference import simulate
 
 #: Score of a candidate that does not throw, m. Any throw does better: with the
@@ -49,40 +48,49 @@ PATHS = (FAST, REFERENCE)
 DEFAULT_PROCESSES = 2
 
 
+#: Score of a candidate that does not throw when a peak load is minimised (minus a load, N):
+#: below any load a throw that keeps its range could have.
+FAILURE_LOAD_SCORE = -1e9
+
+
 @dataclass(frozen=True)
 class Throw:
-    """One shot reduced to what the optimiser needs: the range (m), or the failure kind."""
+    """One shot reduced to what the optimiser needs: the range (m), or the failure kind, and
+    the peak loads (``analytic.result.PEAK_NAMES`` -> N or m/s^2; empty for a failure)."""
 
     range: float | None
     failure: str | None = None
+    loads: dict[str, float] = field(default_factory=dict)
 
 
-def throw(problem: Problem, values: np.ndarray, tolerance: float) -> Throw:
+def throw(problem: Problem, values: np.ndarray, tolerance: float, loads: bool = True) -> Throw:
     """Simulate the design at ``values`` (shape (6,), m and rad) with rtol = atol = ``tolerance``.
 
-    The reference path: ``analytic.reference.simulate``.
+    The reference path: ``analytic.reference.simulate``; ``loads``: find the peak loads too.
     """
     try:
         design = design_at(problem, values)
     except DesignError:
         return Throw(None, DESIGN_ERROR)
     try:
-        shot = simulate(design, rtol=tolerance, atol=tolerance, histories=False)
+        shot = simulate(design, rtol=tolerance, atol=tolerance, histories=False, loads=loads)
     except ValueError:
         # simulate promises a Status for every valid design; count the ones where
         # it raises instead, so the search goes on and the report shows them.
         return Throw(None, SIMULATOR_ERROR)
     if not shot.ok:
         return Throw(None, shot.status.value)
-    return Throw(shot.range)
+    return Throw(shot.range, loads={name: getattr(shot, name) for name in PEAK_NAMES} if loads else {})
 
 
-def fast_throws(problem: Problem, values: np.ndarray, tolerance: float) -> list[Throw]:
+def fast_throws(problem: Problem, values: np.ndarray, tolerance: float,
+                threads: int | None = None, loads: bool = True) -> list[Throw]:
     """``throw`` for every row of ``values`` (shape (S, 6), m and rad) on the fast path, in one batch.
 
     The designs are built here (``DesignError``: not shot) and every buildable
     one goes to the kernel in a single ``analytic.fast.shoot`` call, which
-    shares them among numba's threads.
+    shares them among ``threads`` threads (default: every processor); ``loads``: find the
+    peak loads too.
     """
     results: list[Throw | None] = [None] * len(values)
     built, rows = [], []
@@ -95,10 +103,11 @@ def fast_throws(problem: Problem, values: np.ndarray, tolerance: float) -> list[
             built.append(i)
             rows.append(fast.pack(design))
     if rows:
-        shots = fast.shoot(np.array(rows), rtol=tolerance, atol=tolerance)
-        for i, status, distance in zip(built, shots.status.tolist(), shots.range.tolist(), strict=True):
-            results[i] = (Throw(distance) if status == Status.OK.value
-                          else Throw(None, status))
+        shots = fast.shoot(np.array(rows), rtol=tolerance, atol=tolerance, threads=threads, loads=loads)
+        for j, (i, status, distance) in enumerate(zip(built, shots.status.tolist(), shots.range.tolist(),
+                                                      strict=True)):
+            peaks = {name: float(getattr(shots, name)[j]) for name in PEAK_NAMES} if loads else {}
+            results[i] = Throw(distance, loads=peaks) if status == Status.OK.value else Throw(None, status)
     return results
 
 
@@ -110,12 +119,12 @@ def _start_worker(problem: Problem) -> None:
     _worker_problem = problem
 
 
-def _throw_in_worker(task: tuple[np.ndarray, float]) -> Throw:
+def _throw_in_worker(task: tuple[np.ndarray, float, bool]) -> Throw:
     return throw(_worker_problem, *task)
 
 
 class Evaluator:
-    """Scores designs of one problem on the fast path (numba threads) or the reference path (processes).
+    """Scores designs of one problem on the fast path (threads) or the reference path (processes).
 
     Use as a context manager (on the reference path it owns a process pool
     when ``workers > 1``). Those workers are spawned, so a script that makes
@@ -125,7 +134,7 @@ class Evaluator:
     ----------
     problem : the problem whose designs are scored.
     path : ``"fast"`` or ``"reference"`` (module docstring).
-    workers : threads (fast path; default, and at most, every one numba has)
+    workers : threads (fast path; default ``analytic.fast.default_threads()``)
         or worker processes (reference path; default ``DEFAULT_PROCESSES``)
         shooting at once.
 
@@ -140,19 +149,18 @@ class Evaluator:
         if path not in PATHS:
             raise ValueError(f"path = {path!r}: must be one of {', '.join(PATHS)}")
         if workers is None:
-            workers = numba.config.NUMBA_NUM_THREADS if path == FAST else DEFAULT_PROCESSES
+            workers = fast.default_threads() if path == FAST else DEFAULT_PROCESSES
         if workers < 1:
             raise ValueError(f"workers = {workers!r}: need at least one")
-        if path == FAST:
-            workers = min(workers, numba.config.NUMBA_NUM_THREADS)
         self.problem = problem
         self.path = path
         self.failures: Counter[str] = Counter()
         self.shots = 0
         self._pool = None
+        self._outcomes: dict[tuple[bytes, float], tuple[float, np.ndarray]] = {}
         if path == REFERENCE and workers > 1:
-            # spawn, not fork: the parent may run threads (tqdm's monitor, numba's
-            # pool), and forking a threaded process can deadlock.
+            # spawn, not fork: the parent may run threads (tqdm's monitor, a
+            # batch's), and forking a threaded process can deadlock.
             self._pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"),
                                              initializer=_start_worker, initargs=(problem,))
         self.workers = workers
@@ -168,33 +176,31 @@ class Evaluator:
             self._pool.shutdown()
             self._pool = None
 
-    def throws(self, values: np.ndarray, tolerance: float) -> list[Throw]:
+    def throws(self, values: np.ndarray, tolerance: float, loads: bool | None = None) -> list[Throw]:
         """Shoot each design once, in parallel (on the fast path in one batch), counting failures.
 
         Parameters
         ----------
-        values : (S, 6) design vectors, m and rad.
+        values : (S, n) design vectors (``problem.variables``), m, rad and kg.
+        loads : find the peak loads; by default only when the problem constrains them.
         """
-        values = np.asarray(values, dtype=float).reshape(-1, len(VARIABLE_NAMES))
+        values = np.asarray(values, dtype=float).reshape(-1, len(self.problem.variables))
+        if loads is None:
+            loads = bool(self.problem.outcome_constraints)
         if self.path == FAST:
-            results = self._fast_throws(values, tolerance)
+            results = self._fast_throws(values, tolerance, loads)
         elif self._pool is None:
-            results = [throw(self.problem, v, tolerance) for v in values]
+            results = [throw(self.problem, v, tolerance, loads) for v in values]
         else:
-            tasks = [(v, tolerance) for v in values]
+            tasks = [(v, tolerance, loads) for v in values]
             chunk = max(1, len(tasks) // (4 * self.workers))
             results = list(self._pool.map(_throw_in_worker, tasks, chunksize=chunk))
         self.shots += len(results)
         self.failures.update(r.failure for r in results if r.failure is not None)
         return results
 
-    def _fast_throws(self, values: np.ndarray, tolerance: float) -> list[Throw]:
-        previous = numba.get_num_threads()
-        numba.set_num_threads(self.workers)
-        try:
-            return fast_throws(self.problem, values, tolerance)
-        finally:
-            numba.set_num_threads(previous)
+    def _fast_throws(self, values: np.ndarray, tolerance: float, loads: bool) -> list[Throw]:
+        return fast_throws(self.problem, values, tolerance, self.workers, loads)
 
     def node_ranges(self, values: np.ndarray, tolerance: float, scatter: Scatter,
                     failure_range: float = FAILURE_RANGE) -> np.ndarray:
@@ -202,11 +208,11 @@ class Evaluator:
 
         Parameters
         ----------
-        values : (S, 6) set design vectors; each is shot with its release angle
+        values : (S, n) set design vectors; each is shot with its release angle
             (index 5) moved by every node offset.
         failure_range : what a failed shot scores (``nan`` to mark it instead).
         """
-        values = np.asarray(values, dtype=float).reshape(-1, len(VARIABLE_NAMES))
+        values = np.asarray(values, dtype=float).reshape(-1, len(self.problem.variables))
         offsets = scatter.offsets
         shots = np.repeat(values, len(offsets), axis=0)
         shots[:, 5] += np.tile(offsets, len(values))
@@ -214,5 +220,45 @@ class Evaluator:
         return np.array(ranges).reshape(len(values), len(offsets))
 
     def scores(self, values: np.ndarray, tolerance: float, scatter: Scatter = NO_SCATTER) -> np.ndarray:
-        """Range (no scatter) or expected range (with scatter) of each design, shape (S,), m."""
+        """Range (no scatter) or expected range (with scatter) of each design, shape (S,), m;
+        for a problem that minimises a load, minus that peak load (``outcomes``)."""
+        if self.problem.minimise is not None:
+            if scatter.sigma != 0.0:
+                raise ValueError("a problem that minimises a load has no release-angle scatter variant")
+            return self.outcomes(values, tolerance)[0]
         return expected(scatter, self.node_ranges(values, tolerance, scatter))
+
+    def outcomes(self, values: np.ndarray, tolerance: float) -> tuple[np.ndarray, np.ndarray]:
+        """Score and the constraints on what each shot does, from one shot a design (nominal).
+
+        The score is as ``scores``. The constraints (``problem.outcome_constraints``) are
+        relative margins, feasible when >= 0: ``1 - peak / limit`` for each load limit and
+        ``range / min_range - 1`` when a load is minimised; -1 each for a failed shot. Shots
+        are remembered by design and tolerance: the global stage asks for a generation's
+        constraints and then its scores.
+
+        Returns
+        -------
+        scores : (S,), m (or -N, -m/s^2).
+        margins : (S, m) with m = len(problem.outcome_constraints).
+        """
+        values = np.asarray(values, dtype=float).reshape(-1, len(self.problem.variables))
+        missing = [v for v in values if (v.tobytes(), tolerance) not in self._outcomes]
+        if missing:
+            for v, result in zip(missing, self.throws(np.array(missing), tolerance), strict=True):
+                self._outcomes[(v.tobytes(), tolerance)] = self._outcome(result)
+        rows = [self._outcomes[(v.tobytes(), tolerance)] for v in values]
+        margins = np.array([r[1] for r in rows]).reshape(len(values), len(self.problem.outcome_constraints))
+        return np.array([r[0] for r in rows]), margins
+
+    def _outcome(self, result: Throw) -> tuple[float, np.ndarray]:
+        problem = self.problem
+        count = len(problem.outcome_constraints)
+        if result.range is None:
+            failed = FAILURE_RANGE if problem.minimise is None else FAILURE_LOAD_SCORE
+            return failed, -np.ones(count)
+        margins = [1.0 - result.loads[LOADS[load]] / limit for load, limit in problem.load_limits]
+        if problem.minimise is not None:
+            margins.append(result.range / problem.min_range - 1.0)
+            return -result.loads[LOADS[problem.minimise]], np.array(margins)
+        return result.range, np.array(margins)

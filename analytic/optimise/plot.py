@@ -19,7 +19,7 @@ from analytic.optimise.sensitivity import Sensitivity
 _LABELS = {"arm_short": ("short arm $L_{As}$", "cm"), "counterweight_link": ("weight link $L_W$", "cm"),
            "clearance": ("clearance", "cm"), "sling_length": ("sling $L_S$", "cm"),
            "starting_angle": (r"starting angle $\theta_0$", "deg"),
-           "release_angle": (r"release angle $\theta$", "deg")}
+           "release_angle": (r"release angle $\theta$", "deg"), "frame_mass": ("frame mass", "kg")}
 
 
 def convergence_figure(optima: dict[str, Optimum]) -> Figure:
@@ -42,14 +42,24 @@ def convergence_figure(optima: dict[str, Optimum]) -> Figure:
                 gap = np.maximum(optimum.score - history.best[mask], 1e-12)
                 gap_ax.semilogy(shots[mask], gap, style, ms=3, label=f"{label}: {stage} stage")
         offset = shots[-1]
-    best_ax.set(xlabel="shots simulated", ylabel="best range so far (m; robust: expected range)",
+    score = score_label(next(iter(optima.values())).problem)
+    best_ax.set(xlabel="shots simulated",
+                ylabel=f"best {score} so far" + (" (robust: expected range)" if "range" in score else ""),
                 title="convergence")
-    gap_ax.set(xlabel="shots simulated", ylabel="final - best so far (m)",
+    gap_ax.set(xlabel="shots simulated", ylabel="final - best so far",
                title="shortfall from the final optimum")
     for ax in (best_ax, gap_ax):
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=8)
     return figure
+
+
+def score_label(problem: Problem) -> str:
+    """What the optimiser maximises, for an axis: the range, or minus a peak load."""
+    if problem.minimise is None:
+        return "range (m)"
+    unit = "m/s^2" if problem.minimise == "projectile_acceleration" else "N"
+    return f"minus the peak {problem.minimise.replace('_', ' ')} ({unit})"
 
 
 def sensitivity_figure(problem: Problem, sensitivity: Sensitivity, title: str) -> Figure:
@@ -63,8 +73,10 @@ def sensitivity_figure(problem: Problem, sensitivity: Sensitivity, title: str) -
     rows = math.ceil(count / columns)
     figure = Figure(figsize=(4.2 * columns, 3.3 * rows), layout="constrained")
     axes = np.atleast_1d(figure.subplots(rows, columns, squeeze=False).ravel())
-    label = "expected range (m)" if sensitivity.scatter.sigma > 0 else "range (m)"
-    for ax, row, index in zip(axes, range(count), sensitivity.variables, strict=True):
+    label = "expected range (m)" if sensitivity.scatter.sigma > 0 else score_label(problem)
+    for ax in axes[count:]:   # a grid of 3 columns may have more panels than variables
+        ax.set_visible(False)
+    for ax, row, index in zip(axes[:count], range(count), sensitivity.variables, strict=True):
         name = problem.variables[index].name
         x = display(name, sensitivity.grid[row])
         y = sensitivity.scores[row]

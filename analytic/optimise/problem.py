@@ -14,6 +14,7 @@ form, ``table.field = value: reason``.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -21,10 +22,10 @@ from typing import Any
 
 import numpy as np
 
-from analytic.design import (RELEASE_RULES, BeamArm, Design, DesignError, Environment, Machine,
+from analytic.design import (RELEASE_RULES, Base, BeamArm, Design, DesignError, Environment, Machine,
                              Projectile, paper_geometry, require_choice, require_non_negative,
                              require_number, require_positive)
-from analytic.design_file import (beam_arm_from_dict, environment_from_dict, projectile_from_dict,
+from analytic.design_file import (base_from_dict, beam_arm_from_dict, environment_from_dict, projectile_from_dict,
                                   read_toml, read_values, reject_unknown_keys, require_table)
 
 #: The design variables in the paper's order (Table II), the order of every vector here.
@@ -32,10 +33,17 @@ VARIABLE_NAMES = ("arm_short", "counterweight_link", "clearance", "sling_length"
                   "starting_angle", "release_angle")
 #: Variables that are angles (degrees in files and tables, radians inside).
 ANGLE_VARIABLES = ("starting_angle", "release_angle")
+#: A seventh variable, present only when a rolling frame's mass is free between bounds, kg.
+FRAME_MASS = "frame_mass"
 
 _TABLES = ("name", "variables", "constraints", "counterweight", "arm_beam", "projectile",
-           "environment", "release")
+           "environment", "release", "base", "loads")
 _CONSTRAINT_KEYS = ("max_footprint", "max_height", "axle_radius")
+#: The loads a problem may limit or minimise (``[loads]``): the name in the file -> the
+#: ``Shot`` peak it bounds (N, N, N, m/s^2).
+LOADS = {"axle_load": "peak_axle_load", "hinge_load": "peak_hinge_load",
+         "sling_tension": "peak_sling_tension", "projectile_acceleration": "peak_projectile_acceleration"}
+_LOAD_KEYS = tuple(f"max_{name}" for name in LOADS) + ("min_range",)
 
 
 @dataclass(frozen=True)
@@ -65,7 +73,8 @@ class Problem:
     Attributes
     ----------
     name : label used in reports and output files.
-    variables : the six ``Variable`` in ``VARIABLE_NAMES`` order.
+    variables : the six ``Variable`` in ``VARIABLE_NAMES`` order, and a seventh,
+        ``frame_mass`` (kg), when a rolling frame's mass is free between bounds.
     max_footprint : m, limit on the machine's horizontal span at rest.
     max_height : m, limit on the pivot height.
     axle_radius : m, radius of the axle the counterweight must clear at rest.
@@ -73,7 +82,15 @@ class Problem:
     counterweight_density : kg/m^3; the counterweight is a solid sphere of it.
     arm : the beam the arm is cut from.
     projectile, environment : as in a design.
-    release_rule : ``"velocity"`` or ``"sling"`` (``analytic.design.release_function``).
+    release_rule : ``"velocity"`` or ``"sling"`` (``analytic.geometry.release_value``).
+    base : the frame every design stands on (``analytic.design.Base``); with a
+        ``frame_mass`` variable, its mass is the variable's.
+    load_limits : ``(load, limit)`` pairs, a load of ``LOADS`` whose peak through
+        stages 1-2 must stay at or below the limit (N; m/s^2 for the projectile's
+        acceleration).
+    minimise : a load of ``LOADS`` to minimise instead of maximising the range, with the
+        range held at ``min_range`` (m) or more: a gentler machine for the same throw.
+    min_range : m, with ``minimise``.
     """
 
     name: str
@@ -87,11 +104,30 @@ class Problem:
     projectile: Projectile
     environment: Environment
     release_rule: str = "velocity"
+    base: Base = Base()
+    load_limits: tuple[tuple[str, float], ...] = ()
+    minimise: str | None = None
+    min_range: float | None = None
 
     def __post_init__(self) -> None:
-        if tuple(v.name for v in self.variables) != VARIABLE_NAMES:
-            raise DesignError("variables", [v.name for v in self.variables],
-                              f"must be exactly {', '.join(VARIABLE_NAMES)} in that order")
+        for load, limit in self.load_limits:
+            require_choice("loads", load, tuple(LOADS))
+            require_positive(f"loads.max_{load}", limit)
+        if self.minimise is not None:
+            require_choice("loads.minimise", self.minimise, tuple(LOADS))
+            if self.min_range is None:
+                raise DesignError("loads.min_range", None, "required with loads.minimise: the range to keep")
+            require_positive("loads.min_range", self.min_range)
+        elif self.min_range is not None:
+            raise DesignError("loads.min_range", self.min_range, "only used with loads.minimise; give both")
+        names = tuple(v.name for v in self.variables)
+        if names not in (VARIABLE_NAMES, VARIABLE_NAMES + (FRAME_MASS,)):
+            raise DesignError("variables", list(names),
+                              f"must be exactly {', '.join(VARIABLE_NAMES)} in that order "
+                              f"(and {FRAME_MASS} last for a rolling frame of free mass)")
+        if FRAME_MASS in names and not self.base.rolling:
+            raise DesignError("base.mass", (self.variables[-1].lower, self.variables[-1].upper),
+                              'bounds on the frame mass need mobility = "rolling"')
         if not isinstance(self.name, str):
             raise DesignError("name", self.name, "must be text")
         for name, key in (("max_footprint", "constraints.max_footprint"),
@@ -103,22 +139,44 @@ class Problem:
         require_choice("release.rule", self.release_rule, RELEASE_RULES)
         limits = {"arm_short": (0.0, math.inf), "counterweight_link": (0.0, math.inf),
                   "clearance": (0.0, math.inf), "sling_length": (0.0, math.inf),
-                  "starting_angle": (0.0, math.pi / 2), "release_angle": (-math.pi / 2, math.pi / 2)}
+                  "starting_angle": (0.0, math.pi / 2), "release_angle": (-math.pi / 2, math.pi / 2),
+                  FRAME_MASS: (0.0, math.inf)}
         for variable in self.variables:
             low, high = limits[variable.name]
             if not (low < variable.lower and variable.upper < high):
-                raise DesignError(f"variables.{variable.name}", (variable.lower, variable.upper),
-                                  f"bounds must lie strictly between {low:g} and {high:g} "
-                                  f"({'rad' if variable.name in ANGLE_VARIABLES else 'm'})")
+                unit = "rad" if variable.name in ANGLE_VARIABLES else ("kg" if variable.name == FRAME_MASS else "m")
+                field = "base.mass" if variable.name == FRAME_MASS else f"variables.{variable.name}"
+                raise DesignError(field, (variable.lower, variable.upper),
+                                  f"bounds must lie strictly between {low:g} and {high:g} ({unit})")
+
+    @property
+    def outcome_constraints(self) -> tuple[str, ...]:
+        """Names of the constraints on what a shot does (its loads, its range), in the order of
+        ``analytic.optimise.evaluate.Evaluator.outcomes``; empty for the paper's problem."""
+        names = tuple(f"peak {load.replace('_', ' ')} <= {limit:g}" for load, limit in self.load_limits)
+        return names + ((f"range >= {self.min_range:g} m",) if self.minimise is not None else ())
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """The variables' names, in order (6, or 7 with a free frame mass)."""
+        return tuple(v.name for v in self.variables)
+
+    def complete(self, values: np.ndarray) -> np.ndarray:
+        """Six design variables completed to this problem's vector: with a free frame
+        mass, the lightest frame allowed is appended (the lower bound)."""
+        values = np.asarray(values, dtype=float)
+        if len(values) == len(self.variables):
+            return values
+        return np.append(values, [v.lower for v in self.variables[len(values):]])
 
     @property
     def lower(self) -> np.ndarray:
-        """Lower bounds, shape (6,)."""
+        """Lower bounds, shape (n,): n = 6, or 7 with a free frame mass."""
         return np.array([v.lower for v in self.variables])
 
     @property
     def upper(self) -> np.ndarray:
-        """Upper bounds, shape (6,)."""
+        """Upper bounds, shape (n,)."""
         return np.array([v.upper for v in self.variables])
 
     @property
@@ -138,19 +196,21 @@ class Problem:
 
 
 def design_at(problem: Problem, values: np.ndarray, name: str = "optimum") -> Design:
-    """The design for a full vector of the six design variables.
+    """The design for a full vector of the problem's design variables.
 
     Parameters
     ----------
-    values : (6,) in ``VARIABLE_NAMES`` order, m and rad. Bounds are not
-        enforced (finite-difference steps may cross them); buildability is.
+    values : (n,) in the order of ``problem.variables`` (``VARIABLE_NAMES``, then
+        ``frame_mass`` if free), m, rad and kg. Bounds are not enforced
+        (finite-difference steps may cross them); buildability is.
 
     Raises
     ------
     DesignError
         if the combination cannot be built.
     """
-    arm_short, link, clearance, sling, starting_angle, release_angle = (float(v) for v in values)
+    arm_short, link, clearance, sling, starting_angle, release_angle = (float(v) for v in values[:6])
+    base = problem.base if len(values) == 6 else dataclasses.replace(problem.base, mass=float(values[6]))
     pivot_height, arm_long = paper_geometry(arm_short, link, clearance, starting_angle)
     arm_mass, arm_cg, arm_inertia = problem.arm.properties(arm_long, arm_short)
     machine = Machine(pivot_height=pivot_height, arm_long=arm_long, arm_short=arm_short,
@@ -158,7 +218,7 @@ def design_at(problem: Problem, values: np.ndarray, name: str = "optimum") -> De
                       counterweight_mass=problem.counterweight_mass, counterweight_link=link,
                       counterweight_inertia=problem.counterweight_inertia, sling_length=sling,
                       release_angle=release_angle, release_rule=problem.release_rule)
-    return Design(machine, problem.projectile, problem.environment, name=name)
+    return Design(machine, problem.projectile, problem.environment, name=name, base=base)
 
 
 def variables_of(machine: Machine) -> np.ndarray:
@@ -217,9 +277,14 @@ def problem_from_dict(data: dict[str, Any], name: str = "problem") -> Problem:
                                 numbers=("mass", "density"), required=("mass", "density"))
     release = read_values("release", require_table("release", data.get("release"), optional=True),
                           numbers=(), texts=("rule",))
+    base, frame_mass = _base(data.get("base"))
+    loads = require_table("loads", data.get("loads"), optional=True)
+    reject_unknown_keys("loads", loads, _LOAD_KEYS + ("minimise",))
+    minimise = loads.get("minimise")
+    loads = read_values("loads", {k: v for k, v in loads.items() if k != "minimise"}, numbers=_LOAD_KEYS)
     return Problem(
         name=data.get("name", name),
-        variables=tuple(_variable(key, variables.get(key)) for key in VARIABLE_NAMES),
+        variables=tuple(_variable(key, variables.get(key)) for key in VARIABLE_NAMES) + frame_mass,
         max_footprint=constraints["max_footprint"],
         max_height=constraints["max_height"],
         axle_radius=constraints["axle_radius"],
@@ -229,6 +294,10 @@ def problem_from_dict(data: dict[str, Any], name: str = "problem") -> Problem:
         projectile=projectile_from_dict(data.get("projectile")),
         environment=environment_from_dict(data.get("environment")),
         release_rule=release.get("rule", "velocity"),
+        base=base,
+        load_limits=tuple((name, loads[f"max_{name}"]) for name in LOADS if f"max_{name}" in loads),
+        minimise=minimise,
+        min_range=loads.get("min_range"),
     )
 
 
@@ -242,9 +311,24 @@ def default_problem() -> Problem:
     return load_problem(Path(__file__).parents[1] / "data" / "paper_problem.toml")
 
 
-def _variable(key: str, entry: Any) -> Variable:
+def _base(entry: Any) -> tuple[Base, tuple[Variable, ...]]:
+    """The ``[base]`` table: as in a design file, or with ``mass = { lower = .., upper = .. }``
+    to make the rolling frame's mass a design variable (``frame_mass``)."""
+    table = require_table("base", entry, optional=True)
+    mass = table.get("mass")
+    if not isinstance(mass, dict):
+        return base_from_dict(entry), ()
+    try:
+        variable = _variable(FRAME_MASS, mass, table="base.mass")
+    except DesignError as error:   # a Variable names itself under [variables]: name the file's field
+        raise DesignError("base.mass", error.value, error.reason) from None
+    base = base_from_dict({**table, "mass": variable.lower})
+    return base, (() if variable.fixed else (variable,))
+
+
+def _variable(key: str, entry: Any, table: str | None = None) -> Variable:
     """One ``[variables]`` entry: bounds, or a fixed value (degrees for angles in the file)."""
-    table = f"variables.{key}"
+    table = table or f"variables.{key}"
     entry = require_table(table, entry)
     if "value" in entry:
         lower = upper = read_values(table, entry, numbers=("value",))["value"]

@@ -9,7 +9,7 @@ import numpy as np
 
 from analytic.optimise.constraints import (CONSTRAINT_NAMES, axle_distance, constraint_values,
                                            footprint)
-from analytic.optimise.problem import ANGLE_VARIABLES, Problem, design_at
+from analytic.optimise.problem import ANGLE_VARIABLES, FRAME_MASS, LOADS, Problem, design_at
 from analytic.optimise.robust import Scatter, expected, spread
 from analytic.optimise.search import Optimum
 
@@ -34,7 +34,10 @@ _DIMENSIONS = (("L_Al  long arm", "arm_long", "cm"), ("L_As  short arm", "arm_sh
 
 
 def display(name: str, value):
-    """A design variable's value(s) in the units of tables and plots: cm for lengths, deg for angles."""
+    """A design variable's value(s) in the units of tables and plots: cm for lengths, deg for angles,
+    kg for the frame's mass."""
+    if name == FRAME_MASS:
+        return np.asarray(value)
     return np.degrees(value) if name in ANGLE_VARIABLES else 100.0 * np.asarray(value)
 
 
@@ -107,11 +110,15 @@ def format_first_order(optimum: Optimum) -> str:
     lines = [("First-order optimality (KKT, finite differences; a multiplier is the range gained per unit"
               " the bound or limit is relaxed)")]
     for name, side in fo.active_bounds.items():
-        per = "deg" if name in ANGLE_VARIABLES else "cm"
-        scale = math.radians(1.0) if per == "deg" else 0.01
+        per, scale = (("deg", math.radians(1.0)) if name in ANGLE_VARIABLES
+                      else ("kg", 1.0) if name == FRAME_MASS else ("cm", 0.01))
         lines.append(f"  bound {side:<5} {name:<20} multiplier {fo.bound_multipliers[name] * scale:10.4f} m per {per}")
     for name in fo.active_constraints:
-        lines.append(f"  constraint {name:<32} multiplier {fo.constraint_multipliers[name] * 0.01:10.4f} m per cm")
+        if name in CONSTRAINT_NAMES:
+            lines.append(f"  constraint {name:<32} multiplier {fo.constraint_multipliers[name] * 0.01:10.4f} m per cm")
+        else:   # an outcome constraint: a relative margin
+            lines.append(f"  constraint {name:<32} multiplier {fo.constraint_multipliers[name] * 0.01:10.4f}"
+                         f" of the score per 1 % of the limit")
     if not fo.active_bounds and not fo.active_constraints:
         lines.append("  nothing active: an interior maximum")
     lines.append(f"  stationarity residual {fo.residual:.1e} (range still to gain per bound width, relative)")
@@ -132,7 +139,9 @@ def format_search(label: str, optimum: Optimum) -> str:
              f"  shots {optimum.shots}" + (" (each quadrature node one)" if optimum.scatter.nodes > 1 else "")
              + f", failed to throw: {failures}",
              f"  global stage {global_stage}; local stage: {optimum.local_message}",
-             f"  optimum {optimum.score:.6f} m at integrator tolerance {optimum.settings.final_tolerance:g}",
+             (f"  optimum {optimum.score:.6f} m" if optimum.problem.minimise is None else
+              f"  optimum peak {optimum.problem.minimise.replace('_', ' ')} {-optimum.score:.6f}")
+             + f" at integrator tolerance {optimum.settings.final_tolerance:g}",
              f"  wall time {optimum.seconds:.1f} s"]
     return "\n".join(lines)
 
@@ -153,19 +162,41 @@ def format_scatter(scatter: Scatter, rows: list[tuple[str, float, np.ndarray]]) 
     return "\n".join(lines)
 
 
+def format_peaks(problem: Problem, peaks: dict[str, dict[str, float]]) -> str:
+    """Each design's peak loads through stages 1-2 beside the problem's limits."""
+    labels = list(peaks)
+    width = max(16, *(len(label) + 2 for label in labels))
+    limits = dict(problem.load_limits)
+    lines = ["Peak loads (stages 1-2)" + ("; limits: " + ", ".join(f"{load} {limit:g}" for load, limit in
+                                                                  problem.load_limits) if limits else ""),
+             f"{'':<34}" + "".join(f"{label:>{width}}" for label in labels)]
+    for load, name in LOADS.items():
+        unit = "m/s^2" if load == "projectile_acceleration" else "N"
+        row = "".join(f"{peaks[label][name]:>{width}.2f}" if name in peaks[label] else f"{'-':>{width}}"
+                      for label in labels)
+        lines.append(f"{'  ' + load.replace('_', ' ') + ' (' + unit + ')':<34}{row}")
+    return "\n".join(lines)
+
+
 def format_report(result: Optimisation) -> str:
     """The whole report: the problem, Tables III and IV, the limits, each search and its first-order
     check, the release-angle scatter (if any) and the wall time."""
     problem, optima, ranges, scatter = result.problem, result.optima, result.ranges, result.scatter
     columns = [("paper", result.paper, PAPER_RANGE), (PAPER_LABEL, result.paper, ranges[PAPER_LABEL])]
     columns += [(label, optimum.values, ranges[label]) for label, optimum in optima.items()]
-    sections = [f"Problem {problem.name!r}: maximise range"
+    goal = ("maximise range" if problem.minimise is None else
+            f"minimise the peak {problem.minimise.replace('_', ' ')} with a range of at least {problem.min_range:g} m")
+    if problem.load_limits:
+        goal += "; peak loads at most " + ", ".join(f"{load.replace('_', ' ')} {limit:g}"
+                                                    for load, limit in problem.load_limits)
+    sections = [f"Problem {problem.name!r}: {goal}"
                 + ("" if scatter is None else f"; robust variant: maximise the expected range when the "
                    f"release angle scatters, sigma {math.degrees(scatter.sigma):g} deg (local stage "
                    f"from the optimum)"),
                 "Columns: the paper's published Table III optimum; the same design under this problem "
                 "and our model; " + "; ".join(f"our {label}" for label in optima),
-                format_tables(problem, columns), format_constraints(problem, columns)]
+                format_tables(problem, columns), format_constraints(problem, columns),
+                format_peaks(problem, {label: result.peaks[label] for label in [PAPER_LABEL, *optima]})]
     for label, optimum in optima.items():
         sections += [format_search(label, optimum), format_first_order(optimum)]
     if scatter is not None:

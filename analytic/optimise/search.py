@@ -32,8 +32,8 @@ from scipy.optimize import NonlinearConstraint, differential_evolution, minimize
 
 from analytic.optimise.constraints import FEASIBILITY_TOLERANCE
 from analytic.optimise.evaluate import NO_SCATTER, Evaluator
-from analytic.optimise.kkt import (FirstOrder, constraint_jacobian, first_order, range_gradient,
-                                   unit_constraints)
+from analytic.optimise.kkt import (FirstOrder, constraint_jacobian, first_order, outcome_gradient,
+                                   range_gradient, unit_constraints)
 from analytic.optimise.problem import Problem, from_unit, to_unit
 from analytic.optimise.robust import Scatter
 from analytic.reference import DEFAULT_RTOL
@@ -42,6 +42,9 @@ from analytic.reference import DEFAULT_RTOL
 #: less than this: 1e-10 of ~50 m is 5 nm, just above the range's noise at the
 #: default integrator tolerance (~2e-9 m, ``kkt.RANGE_STEP``).
 LOCAL_FTOL = 1e-10
+#: An outcome constraint (a relative margin: a load limit, the least range) counts as met down
+#: to this: SLSQP meets such a limit to a few 1e-5 of itself (``kkt.OUTCOME_ACTIVE_TOLERANCE``).
+OUTCOME_FEASIBILITY = 1e-4
 
 
 @dataclass(frozen=True)
@@ -153,7 +156,7 @@ def maximise(problem: Problem, evaluator: Evaluator, settings: Settings = Settin
     else:
         unit, global_score = to_unit(problem, start), math.nan
     global_values = from_unit(problem, unit)
-    unit, message, score, gradient = _local_stage(
+    unit, message, score, gradient, outcomes = _local_stage(
         problem, evaluator, settings, scatter, unit, record,
         tqdm(total=settings.local_maxiter, desc="local (SLSQP)", unit="it", disable=not progress, leave=False))
     stage, shots, best = zip(*records, strict=True)
@@ -164,7 +167,7 @@ def maximise(problem: Problem, evaluator: Evaluator, settings: Settings = Settin
                    history=History(np.array(stage), np.array(shots),
                                    np.array([b if math.isfinite(b) else math.nan for b in best])),
                    failures=dict(failures), shots=evaluator.shots - shots0, local_message=message,
-                   first_order=first_order(problem, unit, score, gradient),
+                   first_order=first_order(problem, unit, score, gradient, *outcomes),
                    seconds=time.perf_counter() - began)
 
 
@@ -176,10 +179,15 @@ def _global_stage(problem, evaluator, settings, scatter, record, bar):
         values = np.array([from_unit(problem, u) for u in units.T]).reshape(-1, len(problem.variables))
         return -evaluator.scores(values, settings.search_tolerance, scatter)
 
-    def constraints(units: np.ndarray) -> np.ndarray:  # (n, S) -> (5, S); (n,) -> (5,) at set-up
+    def constraints(units: np.ndarray) -> np.ndarray:  # (n, S) -> (5 + m, S); (n,) -> (5 + m,) at set-up
         if units.ndim == 1:
-            return unit_constraints(problem, units)
-        return np.array([unit_constraints(problem, u) for u in units.T]).T
+            return constraints(units[:, None])[:, 0]
+        geometric = np.array([unit_constraints(problem, u) for u in units.T]).T
+        if not problem.outcome_constraints:
+            return geometric
+        # What the shots do (their loads, their range): shot once, remembered for the scores.
+        values = np.array([from_unit(problem, u) for u in units.T]).reshape(-1, len(problem.variables))
+        return np.vstack([geometric, evaluator.outcomes(values, settings.search_tolerance)[1].T])
 
     def callback(intermediate_result) -> None:
         record("global", -intermediate_result.fun)
@@ -195,9 +203,12 @@ def _global_stage(problem, evaluator, settings, scatter, record, bar):
 
 
 def _local_stage(problem, evaluator, settings, scatter, unit, record, bar):
-    """SLSQP from ``unit``; returns the point, SLSQP's message, and the score and gradient there."""
+    """SLSQP from ``unit``; returns the point, SLSQP's message, the score and gradient there, and
+    the outcome constraints and their Jacobian there (``(None, None)`` without them)."""
     tolerance = settings.final_tolerance
     cache: dict[bytes, tuple[float, np.ndarray | None]] = {}
+    outcome_cache: dict[bytes, tuple] = {}
+    with_outcomes = bool(problem.outcome_constraints)
 
     def score(u: np.ndarray) -> float:
         key = u.tobytes()
@@ -205,7 +216,15 @@ def _local_stage(problem, evaluator, settings, scatter, unit, record, bar):
             cache[key] = (float(evaluator.scores(from_unit(problem, u)[None], tolerance, scatter)[0]), None)
         return cache[key][0]
 
+    def differentiated(u: np.ndarray) -> tuple:
+        key = u.tobytes()
+        if key not in outcome_cache:
+            outcome_cache[key] = outcome_gradient(evaluator, problem, u, tolerance)
+        return outcome_cache[key]
+
     def gradient(u: np.ndarray) -> np.ndarray:
+        if with_outcomes:
+            return differentiated(u)[1]
         key = u.tobytes()
         if key not in cache or cache[key][1] is None:
             cache[key] = range_gradient(evaluator, problem, u, tolerance, scatter)
@@ -218,16 +237,26 @@ def _local_stage(problem, evaluator, settings, scatter, unit, record, bar):
         record("local", score(u))
         bar.update()
 
+    constraints = [{"type": "ineq", "fun": lambda u: unit_constraints(problem, u),
+                    "jac": lambda u: constraint_jacobian(problem, u)}]
+    if with_outcomes:
+        constraints.append({"type": "ineq", "fun": lambda u: differentiated(u)[2],
+                            "jac": lambda u: differentiated(u)[3]})
+
+    def feasible(u: np.ndarray) -> bool:
+        return (np.min(unit_constraints(problem, u)) >= -FEASIBILITY_TOLERANCE
+                and (not with_outcomes or np.min(differentiated(u)[2]) >= -OUTCOME_FEASIBILITY))
+
     with bar:
         result = minimize(lambda u: -score(u) / scale, unit, jac=lambda u: -gradient(u) / scale,
-                          method="SLSQP", bounds=[(0.0, 1.0)] * len(unit),
-                          constraints={"type": "ineq", "fun": lambda u: unit_constraints(problem, u),
-                                       "jac": lambda u: constraint_jacobian(problem, u)},
+                          method="SLSQP", bounds=[(0.0, 1.0)] * len(unit), constraints=constraints,
                           callback=callback,
                           options={"maxiter": settings.local_maxiter, "ftol": LOCAL_FTOL})
     best = np.clip(result.x, 0.0, 1.0)
     message = str(result.message)
-    # SLSQP may end on a worse or infeasible point after a failed line search.
-    if score(best) < score(unit) or np.min(unit_constraints(problem, best)) < -FEASIBILITY_TOLERANCE:
+    # SLSQP may end on a worse or infeasible point after a failed line search; from an
+    # infeasible start (the global stage found nothing feasible) any feasible point is better.
+    if not feasible(best) or (feasible(unit) and score(best) < score(unit)):
         best, message = unit, f"{message} (kept the starting point)"
-    return best, message, score(best), gradient(best)
+    outcomes = differentiated(best)[2:] if with_outcomes else (None, None)
+    return best, message, score(best), gradient(best), outcomes

@@ -1,0 +1,144 @@
+"""Checks every command line makes before any work: where its output goes, and its numeric options.
+
+Every command that writes files takes its paths through here (``--out``,
+``--report``, ``--plot``), so that a path that cannot be written is refused
+at once, as a one-line message and exit code 2, rather than as a traceback
+after minutes of simulation; and so that the path a command prints is the
+path it writes. Plain ``pathlib`` and ``os``; nothing here computes anything.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+from pathlib import Path
+
+#: Figure formats the Agg canvas writes without any other program.
+PLOT_FORMATS = (".png", ".pdf", ".svg")
+#: A token that is a negative number (``-1e-4``, ``-.5``, ``-inf``): an option's value, not an option.
+_NEGATIVE_NUMBER = re.compile(r"^-(\d|\.\d|inf|nan)", re.IGNORECASE)
+
+
+class OutputPathError(ValueError):
+    """An output path that cannot be written; the message says which, why and what to do."""
+
+
+def _existing_ancestor(path: Path) -> Path:
+    for candidate in (path, *path.parents):
+        if candidate.exists():
+            return candidate
+    return Path(".")
+
+
+def _check_creatable(option: str, given: str, folder: Path) -> None:
+    """``folder`` exists as a writable folder afterwards, or OutputPathError."""
+    ancestor = _existing_ancestor(folder)
+    if not ancestor.is_dir():
+        raise OutputPathError(f"{option} {given}: {ancestor} is a file, so nothing can be written under it; "
+                              f"choose a path outside it")
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise OutputPathError(f"{option} {given}: cannot create the folder {folder} ({error.strerror}); "
+                              f"choose a folder you can write to") from None
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise OutputPathError(f"{option} {given}: the folder {folder} is not writable; "
+                              f"choose a folder you can write to")
+
+
+def output_folder(given: str | os.PathLike, option: str = "--out") -> Path:
+    """Check, and create, the folder a command will write into.
+
+    Parameters
+    ----------
+    given : the folder as the user gave it.
+    option : the option's name, for the message.
+
+    Returns
+    -------
+    Path
+        The folder, existing and writable.
+
+    Raises
+    ------
+    OutputPathError
+        It is an existing file, lies under a file, or cannot be created or written.
+    """
+    folder = Path(given)
+    if folder.exists() and not folder.is_dir():
+        raise OutputPathError(f"{option} {given}: is a file, not a folder; give a folder "
+                              f"(it is created if missing)")
+    _check_creatable(option, str(given), folder)
+    return folder
+
+
+def output_file(given: str | os.PathLike, option: str = "--plot", formats: tuple[str, ...] = PLOT_FORMATS) -> Path:
+    """Check the path of one file a command will write, and create its folder.
+
+    A path without an extension gets the first of ``formats`` (``shot`` ->
+    ``shot.png``); the path returned is the one to write and to print.
+
+    Parameters
+    ----------
+    given : the file as the user gave it.
+    option : the option's name, for the message.
+    formats : the extensions allowed, the default first.
+
+    Returns
+    -------
+    Path
+        The file's path, its extension one of ``formats``, its folder existing and writable.
+
+    Raises
+    ------
+    OutputPathError
+        An unsupported extension, an existing folder of that name, a folder
+        under a file, or a folder that cannot be created or written.
+    """
+    path = Path(given)
+    if not path.suffix:
+        path = path.with_name(path.name + formats[0])
+    elif path.suffix.lower() not in formats:
+        raise OutputPathError(f"{option} {given}: cannot write {path.suffix} files; "
+                              f"use one of {', '.join(formats)}")
+    if path.is_dir():
+        raise OutputPathError(f"{option} {given}: {path} is a folder; give a file name")
+    _check_creatable(option, str(given), path.parent)
+    return path
+
+
+def negative_numbers_as_values(argv: list[str]) -> list[str]:
+    """``["--dt", "-1e-4"]`` as ``["--dt=-1e-4"]``, so that argparse reads a negative
+    number as the option's value (and its own check rejects it) instead of as an
+    unknown option, which it reports as "expected one argument"."""
+    joined: list[str] = []
+    for token in argv:
+        if (joined and joined[-1].startswith("--") and "=" not in joined[-1]
+                and _NEGATIVE_NUMBER.match(token)):
+            joined[-1] = f"{joined[-1]}={token}"
+        else:
+            joined.append(token)
+    return joined
+
+
+def positive_int(text: str) -> int:
+    """argparse type: a whole number of at least 1."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{text} must be at least 1")
+    return value
+
+
+def positive_float(text: str) -> float:
+    """argparse type: a finite number above 0."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not 0.0 < value < float("inf"):
+        raise argparse.ArgumentTypeError(f"{text} must be a positive number")
+    return value

@@ -1,0 +1,92 @@
+"""A design's numeric fields by their file names (``machine.counterweight_mass``), read and replaced.
+
+What the builders' tools (``analytic.aim``, ``analytic.chart``) vary. A field
+is named as in a design file, table first (``machine.release_angle``,
+``projectile.mass``, ``environment.wind_speed``, ``base.mass``); a bare
+machine name (``release_angle``) means the machine's. Values are in the
+file's units (SI, angles in degrees): ``get`` and ``replace`` convert to and
+from the design's radians, and ``replace`` builds a new design through the
+design's own checks.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+from analytic.design import Base, Design, DesignError, Environment, Losses, Machine, Projectile
+from analytic.units import ANGLE, FIELD_KINDS, Kind
+
+#: The tables of a design and the dataclass each holds.
+_TABLES = {"machine": Machine, "projectile": Projectile, "environment": Environment, "base": Base,
+           "losses": Losses}
+#: Fields of those dataclasses that are not numbers (choices), refused as fields to vary.
+_CHOICES = {"release_rule", "drag", "mobility"}
+
+
+@dataclass(frozen=True)
+class Field:
+    """One numeric field of a design: ``table.key``, its kind and unit in files."""
+
+    table: str
+    key: str
+
+    @property
+    def name(self) -> str:
+        return f"{self.table}.{self.key}"
+
+    @property
+    def kind(self) -> Kind:
+        return FIELD_KINDS[self.key]
+
+    @property
+    def unit(self) -> str:
+        """Its unit in files and in the tools' output (SI; ``deg`` for angles)."""
+        return "deg" if self.kind is ANGLE else self.kind.file_unit.replace(" ", "")
+
+    def get(self, design: Design) -> float | None:
+        """The field's value in ``design``, in file units (None: not set, e.g. a fixed frame's mass)."""
+        value = getattr(getattr(design, self.table), self.key)
+        if value is None:
+            return None
+        return math.degrees(value) if self.kind is ANGLE else float(value)
+
+    def check(self, design: Design) -> float:
+        """The field's value in ``design`` (file units); ``DesignError`` if the design does not use it."""
+        value = self.get(design)
+        if value is None:
+            reason = ('the frame is fixed: give [base] mobility = "rolling" and a mass to vary it'
+                      if self.table == "base" else "this design does not set it")
+            raise DesignError("field", self.name, reason)
+        return value
+
+    def replace(self, design: Design, value: float) -> Design:
+        """``design`` with this field set to ``value`` (file units); ``DesignError`` if it cannot be built."""
+        inner = math.radians(value) if self.kind is ANGLE else float(value)
+        part = dataclasses.replace(getattr(design, self.table), **{self.key: inner})
+        return dataclasses.replace(design, **{self.table: part})
+
+
+def field(name: str) -> Field:
+    """The ``Field`` named ``name`` (dotted, or a bare machine name).
+
+    Raises
+    ------
+    DesignError
+        naming it, if no design has such a field or it is not a number (a choice).
+    """
+    if not isinstance(name, str) or not name:
+        raise DesignError("field", name, "must name a design field, e.g. machine.release_angle")
+    table, _, key = name.rpartition(".")
+    table = table or "machine"
+    if table not in _TABLES:
+        raise DesignError("field", name, f"unknown table {table!r}; expected one of {', '.join(_TABLES)}")
+    keys = [f.name for f in dataclasses.fields(_TABLES[table])]
+    dotted = f"{table}.{key}"
+    if key in _CHOICES and key in keys:
+        raise DesignError("field", dotted, "is a choice, not a number; only numeric fields can be adjusted")
+    if key not in keys or key not in FIELD_KINDS:
+        numeric = [k for k in keys if k not in _CHOICES]
+        raise DesignError("field", dotted, f"no such field in [{table}]; expected one of {', '.join(numeric)}")
+    return Field(table, key)

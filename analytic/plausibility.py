@@ -1,0 +1,74 @@
+"""Warnings for valid designs far outside anything buildable: the shot runs, and says which input is implausible.
+
+A design is valid when every value is a finite number in range
+(``analytic.design``); it can still describe a machine no one could build or
+weather no one has seen, and then the numbers that come out are arithmetic,
+not predictions. ``plausibility_warnings(design, shot)`` says so, one line
+per implausible input, each naming the field, its value and the limit it
+passes. Every ``Shot``, from either model, carries them in ``shot.warnings``
+(and ``--json`` in ``"warnings"``, empty when there is nothing to say).
+
+The limits are deliberately far from the usual: a warning means "this is not
+a trebuchet on Earth", never "this is an unusual trebuchet".
+"""
+
+from __future__ import annotations
+
+import math
+
+#: m/s. The strongest surface wind gust measured: 113 m/s (408 km/h), Barrow
+#: Island, Australia, 10 April 1996 (World Meteorological Organization's
+#: archive of weather extremes).
+MAX_WIND_SPEED = 113.0
+#: m/s. The speed of sound in air at 20 deg C. The drag curves
+#: (``analytic.aero``) are for incompressible flow; beyond this the projectile
+#: meets a shock wave they know nothing of.
+SPEED_OF_SOUND = 343.0
+#: Counterweight to projectile mass. The paper's design has 143 (6.5 kg :
+#: 45.6 g); 10^4 is two orders of magnitude past it, where the arm and sling
+#: the model takes as rigid and massless-jointed would have to carry the
+#: counterweight's whole force into a projectile of next to no mass.
+MAX_MASS_RATIO = 1e4
+#: m/s^2. Gravity at the surface of the Moon (1.62) and of Jupiter's cloud
+#: tops (24.8), the extremes among bodies in the solar system one speaks of
+#: standing on.
+GRAVITY_RANGE = (1.62, 24.8)
+
+
+def plausibility_warnings(design, shot) -> tuple[str, ...]:
+    """One line per input of ``design`` that makes ``shot`` implausible, in field order; () if none.
+
+    Parameters
+    ----------
+    design : the ``analytic.design.Design`` that was shot.
+    shot : its ``analytic.result.Shot`` (only ``release_velocity`` is read).
+
+    Returns
+    -------
+    tuple of str
+        Each names the field (``table.field``) or the result, its value, the
+        limit and why the limit matters.
+    """
+    m, projectile, env = design.machine, design.projectile, design.environment
+    found = []
+    if projectile.mass >= m.counterweight_mass:
+        found.append(f"projectile.mass = {projectile.mass:g} kg is not lighter than machine.counterweight_mass"
+                     f" = {m.counterweight_mass:g} kg: a counterweight lifts a projectile many times"
+                     f" lighter (143 times in the paper's design)")
+    elif m.counterweight_mass / projectile.mass > MAX_MASS_RATIO:
+        found.append(f"machine.counterweight_mass / projectile.mass = {m.counterweight_mass / projectile.mass:.3g}"
+                     f" is beyond {MAX_MASS_RATIO:g}: no arm or sling stays rigid between such masses,"
+                     f" as the model assumes")
+    if abs(env.wind_speed) > MAX_WIND_SPEED:
+        found.append(f"environment.wind_speed = {env.wind_speed:g} m/s is beyond the strongest wind ever"
+                     f" measured ({MAX_WIND_SPEED:g} m/s)")
+    low, high = GRAVITY_RANGE
+    if not low <= env.gravity <= high:
+        found.append(f"environment.gravity = {env.gravity:g} m/s^2 is outside {low:g}-{high:g} m/s^2,"
+                     f" the Moon to Jupiter")
+    if shot.release_velocity is not None:
+        speed = math.hypot(*(float(v) for v in shot.release_velocity))
+        if speed > SPEED_OF_SOUND:
+            found.append(f"the release speed, {speed:.4g} m/s, is beyond the speed of sound"
+                         f" ({SPEED_OF_SOUND:g} m/s): the drag curves hold only well below it")
+    return tuple(found)

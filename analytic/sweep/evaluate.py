@@ -1,0 +1,68 @@
+"""One chunk of a sweep, computed: its inputs, then the fast path's batch (or the test function) on them.
+
+``chunk_table(sweep, chunk)`` is the whole unit of work an executor runs,
+in this process or on a Dask worker: a function of ``(sweep, chunk)``
+alone, so the same chunk gives the same numbers wherever it runs.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from analytic.sweep.designs import kernel_rows
+from analytic.sweep.expand import chunk_inputs
+from analytic.sweep.spec import Sweep
+
+#: The outcome columns of a trebuchet sweep, after the inputs and ``status``
+#: (``analytic.result.Shots``' arrays; release position and velocity by component).
+OUTCOMES = ("range", "liftoff_time", "release_time", "landing_time", "release_x", "release_y",
+            "release_vx", "release_vy", "apex_height", "end_time", "steps", "evaluations")
+
+
+def chunk_table(sweep: Sweep, chunk: int, threads: int | None = None) -> dict[str, np.ndarray]:
+    """Chunk ``chunk`` of ``sweep`` as columns, each of shape (m,), its batch on ``threads``
+    threads (default: every processor this process may use).
+
+    Returns
+    -------
+    dict
+        ``index`` (int64, the rows' positions in the sweep), each varied field
+        (file units), ``status`` (str) and the outcomes: ``OUTCOMES`` for a
+        trebuchet (SI; NaN where a shot did not get there), ``y`` for a test function.
+    """
+    index, inputs = chunk_inputs(sweep, chunk)
+    table = {"index": index, **inputs}
+    if sweep.base.kind == "function":
+        from SALib.test_functions import Ishigami
+
+        table["status"] = np.full(len(index), "ok")
+        table["y"] = Ishigami.evaluate(np.column_stack([inputs[f] for f in sweep.fields]))
+        return table
+    from analytic import fast
+
+    # The table holds no peak loads, so the batch does not look for them.
+    shots = fast.shoot(kernel_rows(sweep.base, inputs), threads=threads, loads=False)
+    table.update(status=shots.status, range=shots.range, liftoff_time=shots.liftoff_time,
+                 release_time=shots.release_time, landing_time=shots.landing_time,
+                 release_x=shots.release_position[:, 0], release_y=shots.release_position[:, 1],
+                 release_vx=shots.release_velocity[:, 0], release_vy=shots.release_velocity[:, 1],
+                 apex_height=shots.apex_height, end_time=shots.end_time, steps=shots.steps,
+                 evaluations=shots.evaluations)
+    return table
+
+
+def model_identity(sweep: Sweep) -> dict:
+    """What, besides the sweep, decides its numbers: the model's sources and the integrator's tolerances.
+
+    Stored with the results, so that chunks computed by another version of
+    the model are never mixed with these.
+    """
+    if sweep.base.kind == "function":
+        from importlib.metadata import version
+
+        return {"function": sweep.base.name, "salib": version("SALib")}
+    from analytic import compiled
+    from analytic.reference import DEFAULT_ATOL, DEFAULT_RTOL
+
+    return {"sources_sha256": compiled.source_fingerprint(compiled.SOURCES), "rtol": DEFAULT_RTOL,
+            "atol": DEFAULT_ATOL}

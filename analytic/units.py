@@ -1,0 +1,178 @@
+"""Values with units at the edge (files, command lines, printed tables): pint outside, SI and radians inside.
+
+A value in a design or problem file may be a bare number, in the file's own
+units (SI, angles in degrees), or a text with units, ``"61 cm"``,
+``"14 lb"``, ``"43.4 deg"``, ``"1.2 kg/m^3"``, that pint reads and
+converts to the file's units before anything else sees it. Every field's
+kind (a length, a mass, ...) is known here by its key, so a unit of the
+wrong kind (``sling_length = "3 kg"``) is refused naming the field, the
+value and the kind expected. Output can be shown in metric or imperial
+units (``display``); the model never sees any of it.
+
+pint is imported only when a text value or an imperial table needs it: a
+unit registry takes a moment to build, and a file of bare numbers needs none.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from typing import Any, NamedTuple
+
+from analytic.design import DesignError
+
+
+class Kind(NamedTuple):
+    """What a field measures: its name for messages, pint's dimensionality, its unit in
+    files (SI; degrees for angles) and an example for messages."""
+
+    name: str
+    dimensionality: str
+    file_unit: str
+    example: str
+
+
+LENGTH = Kind("length", "[length]", "m", '"61 cm" or "2 ft"')
+MASS = Kind("mass", "[mass]", "kg", '"6.5 kg" or "14 lb"')
+ANGLE = Kind("angle", "", "deg", '"43.4 deg" or "0.76 rad"')
+INERTIA = Kind("moment of inertia", "[mass] * [length] ** 2", "kg * m ** 2", '"0.0093 kg m^2"')
+DENSITY = Kind("density", "[mass] / [length] ** 3", "kg / m ** 3", '"1.2 kg/m^3"')
+VISCOSITY = Kind("viscosity", "[mass] / [length] / [time]", "Pa * s", '"1.81e-5 Pa s"')
+ACCELERATION = Kind("acceleration", "[length] / [time] ** 2", "m / s ** 2", '"9.81 m/s^2" or "50 g0"')
+SPEED = Kind("speed", "[length] / [time]", "m / s", '"3 m/s" or "10 ft/s"')
+FORCE = Kind("force", "[length] * [mass] / [time] ** 2", "N", '"200 N" or "45 lbf"')
+NUMBER = Kind("pure number", "", "", "0.47")
+
+#: The kind of every numeric key of a design or problem file (the key alone decides it;
+#: a problem's ``lower``, ``upper`` and ``value`` take their table's, see ``kind_of``).
+FIELD_KINDS = {
+    "pivot_height": LENGTH, "arm_long": LENGTH, "arm_short": LENGTH, "arm_cg": LENGTH, "clearance": LENGTH,
+    "counterweight_link": LENGTH, "sling_length": LENGTH, "diameter": LENGTH, "width": LENGTH,
+    "depth": LENGTH, "max_footprint": LENGTH, "max_height": LENGTH, "axle_radius": LENGTH,
+    "min_range": LENGTH,
+    "arm_mass": MASS, "counterweight_mass": MASS, "mass": MASS, "frame_mass": MASS,
+    "arm_inertia": INERTIA, "counterweight_inertia": INERTIA,
+    "release_angle": ANGLE, "starting_angle": ANGLE,
+    "drag_coefficient": NUMBER, "axle_friction": NUMBER, "hinge_friction": NUMBER, "base_friction": NUMBER,
+    "hinge_radius": LENGTH,
+    "gravity": ACCELERATION, "max_projectile_acceleration": ACCELERATION,
+    "air_density": DENSITY, "density": DENSITY,
+    "air_viscosity": VISCOSITY,
+    "wind_speed": SPEED,
+    "max_sling_tension": FORCE, "max_axle_load": FORCE, "max_hinge_load": FORCE,
+}
+_BOUND_KEYS = ("lower", "upper", "value")
+
+
+@functools.cache
+def registry():
+    """pint's unit registry, built once (it takes a moment)."""
+    import pint
+
+    return pint.UnitRegistry(cache_folder=":auto:")
+
+
+def kind_of(field: str) -> Kind | None:
+    """The kind of a file field named ``table.key`` (``variables.sling_length.lower``: a length)."""
+    parts = field.split(".")
+    key = parts[-2] if parts[-1] in _BOUND_KEYS and len(parts) > 1 else parts[-1]
+    return FIELD_KINDS.get(key)
+
+
+def from_file(field: str, value: Any) -> Any:
+    """A file value in the file's units: a text with units converted, anything else as it is
+    (for the design's checks to judge: ``analytic.design.require_number``).
+
+    Parameters
+    ----------
+    field : the value's place, ``table.key``; its key decides the kind (``FIELD_KINDS``).
+    value : as read from the file.
+
+    Raises
+    ------
+    DesignError
+        for a text without a unit ("must be a number"), with an unknown unit, or with a
+        unit of the wrong kind, naming the field, the value and the kind expected.
+    """
+    if not isinstance(value, str):
+        return value
+    from analytic.design import require_number
+
+    kind = kind_of(field)
+    if kind is None:
+        raise DesignError(field, value, "must be a number")
+    try:
+        return require_number(field, parse(field, value, kind))
+    except DesignError as error:   # name the value as the file has it
+        raise DesignError(field, value, error.reason) from None
+
+
+def parse(field: str, text: str, kind: Kind) -> float | int:
+    """The quantity ``text`` in ``kind.file_unit``, as a float; ``DesignError`` naming ``field`` otherwise."""
+    import pint
+
+    expected = f"expected a {kind.name}, e.g. {kind.example}"
+    if not any(character.isdigit() for character in text):   # pint reads "m" alone as 1 m
+        raise DesignError(field, text, f"must be a number, or a {kind.name} with a unit: there is no number; "
+                                       f"{expected}")
+    try:
+        quantity = registry().Quantity(text)
+    except pint.UndefinedUnitError as error:
+        names = ", ".join(repr(name) for name in error.unit_names)
+        raise DesignError(field, text, f"must be a number, or a {kind.name} with a unit: unknown unit {names}; "
+                                       f"{expected}") from None
+    except Exception:   # pint's parser raises assorted errors for text that is no expression at all
+        raise DesignError(field, text, f"must be a number, or a {kind.name} with a unit; {expected}") from None
+    if not isinstance(quantity, registry().Quantity):   # a bare number in text
+        quantity = registry().Quantity(quantity)
+    if quantity.unitless:
+        if kind is NUMBER:
+            raise DesignError(field, text, "must be a number")
+        raise DesignError(field, text, f"must be a number (in {kind.file_unit}), or a {kind.name} with a unit; "
+                                       f"{expected}")
+    if kind is ANGLE:
+        compatible = quantity.dimensionless and quantity.units != registry().dimensionless
+    else:
+        compatible = kind.dimensionality != "" and quantity.check(kind.dimensionality)
+    if not compatible:
+        found = "a pure number" if quantity.dimensionless else f"{quantity.dimensionality}"
+        raise DesignError(field, text, f"has the wrong kind of unit ({found}); {expected}")
+    magnitude = quantity.to(kind.file_unit).magnitude
+    if isinstance(magnitude, bool) or not isinstance(magnitude, (int, float)):
+        raise DesignError(field, text, "must be a real number with a unit")
+    return magnitude   # an int beyond any float is left for require_number to refuse by its size
+
+
+def to_file_text(value: float, kind: Kind, unit: str | None = None) -> str:
+    """``value`` (in ``kind.file_unit``) as a text with units for a file, in ``unit`` (pint's
+    spelling) or the file's own; ``parse`` reads it back (exactly in the file's own unit)."""
+    if unit is None or unit == kind.file_unit:
+        return f"{value!r} {kind.file_unit}"
+    converted = registry().Quantity(value, kind.file_unit).to(unit).magnitude
+    return f"{float(converted)!r} {unit}"
+
+
+# --------------------------------------------------------------------------- #
+# Showing numbers
+# --------------------------------------------------------------------------- #
+
+#: Unit systems for printed output (``--units``): SI unit -> (shown unit, pint's spelling).
+SYSTEMS = {
+    "metric": {},
+    "imperial": {"m": ("ft", "ft"), "kg": ("lb", "lb"), "m/s": ("ft/s", "ft / s"), "N": ("lbf", "lbf"),
+                 "m/s^2": ("ft/s^2", "ft / s ** 2"), "J": ("ft lbf", "ft * lbf")},
+}
+_PINT_SI = {"m": "m", "kg": "kg", "m/s": "m / s", "N": "N", "m/s^2": "m / s ** 2", "J": "J"}
+
+
+def display(value: float, unit: str, system: str = "metric") -> tuple[float, str]:
+    """``value`` in the SI ``unit`` as it is shown in ``system``: ``(number, unit label)``.
+
+    Units the system leaves alone (s, deg, %, and everything in ``metric``) pass unchanged.
+    """
+    if system not in SYSTEMS:
+        raise ValueError(f"units = {system!r}: must be one of {', '.join(SYSTEMS)}")
+    shown = SYSTEMS[system].get(unit)
+    if shown is None or value is None or not math.isfinite(value):
+        return value, (unit if shown is None else shown[0])
+    return float(registry().Quantity(value, _PINT_SI[unit]).to(shown[1]).magnitude), shown[0]

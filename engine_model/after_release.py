@@ -1,0 +1,141 @@
+"""The machine after release: a rolling frame, arm and counterweight stepped on, without the projectile.
+
+A fixed frame stays where it is, but a rolling one keeps moving while the
+projectile flies: the arm and counterweight swing on and push it to and fro,
+its centre of mass drifting at the speed the release left it. Where the frame
+is when the projectile lands is part of the result, so the machine is stepped
+on from the release instant to the landing instant in a space of its own.
+
+It starts from the interpolated state at the release instant, not from the
+last stage 2 step (which had the sling still pulling for part of a step):
+pymunk moves positions with the velocities it holds before it updates them,
+so placing each body half a step back along its velocity and stepping half a
+step puts the positions at the release instant and the velocities half a step
+on, the leapfrog start the machine had at firing.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pymunk
+
+from analytic.design import Design
+from engine_model import kinematics as kin
+from engine_model.build import Rig, build
+from engine_model.events import interpolate
+
+#: The joints that remain after release (``engine_model.kinematics.joint_drift``'s keys).
+MACHINE_JOINTS = ("pivot", "hinge", "rail")
+
+
+@dataclass(frozen=True)
+class AfterRelease:
+    """The machine stepped from the release instant to the landing instant.
+
+    Attributes
+    ----------
+    t : (k,) s from firing: the release instant, every step, and the landing instant last.
+    states : (k, 24) synchronised rows (``engine_model.kinematics``) on ``t``;
+        the projectile's columns hold its state at release (it is not in the space).
+    raw : (k - 1, 24) rows as read after each step (velocities half a step on).
+    steps : pymunk steps taken (the opening half step counted as one).
+    """
+
+    t: np.ndarray
+    states: np.ndarray
+    raw: np.ndarray
+    steps: int
+
+    @property
+    def landing_state(self) -> np.ndarray:
+        """(24,) the synchronised row at the landing instant."""
+        return self.states[-1]
+
+
+def place(body: pymunk.Body, row: np.ndarray, part: int, lead: float) -> None:
+    """Put ``body`` where pymunk's next step of ``lead`` s brings it to the row's position and angle.
+
+    Parameters
+    ----------
+    row : (24,) synchronised state; ``part`` the body's column offset in it.
+    lead : s; the body is set back by its velocity times ``lead`` (0 places it as is).
+    """
+    x, y, angle, vx, vy, spin = (float(v) for v in row[part: part + 6])
+    body.angle = angle
+    body.position = (x, y)
+    # pymunk's velocity is its centre of gravity's; the row holds the origin's.
+    offset = body.local_to_world(body.center_of_gravity) - body.position
+    centre_velocity = (vx - spin * offset.y, vy + spin * offset.x)
+    body.velocity = centre_velocity
+    body.angular_velocity = spin
+    if lead:
+        # Setting the angle turns the body about its centre of gravity; moving
+        # the origin then moves that centre by as much.
+        body.angle = angle - spin * lead
+        body.position = body.position - pymunk.Vec2d(*centre_velocity) * lead
+
+
+def run_after_release(design: Design, release_time: float, release_state: np.ndarray,
+                      landing_time: float, dt: float, iterations: int, startup_iterations: int) -> AfterRelease:
+    """Step the machine of a rolling ``design`` without its projectile from release to landing.
+
+    Parameters
+    ----------
+    release_time, landing_time : s from firing.
+    release_state : (24,) synchronised row at the release instant.
+    dt : the fixed step, s (the stage 1-2 step).
+    iterations : solver iterations per step; ``startup_iterations`` for the
+        opening half step, which has no previous impulses to start from.
+
+    Returns
+    -------
+    AfterRelease, the landing instant interpolated (quadratic) between the
+    last steps. The caller checks its drift, residual and energy.
+    """
+    rig = build(design, sling="rigid", iterations=iterations, on_base=False)
+    rig.space.remove(rig.sling, rig.projectile)
+    bodies = _bodies(rig)
+    for part, body in bodies.items():
+        place(body, release_state, part, 0.5 * dt if part != kin.PROJECTILE else 0.0)
+    rig.space.iterations = max(startup_iterations, iterations)
+    rig.space.step(0.5 * dt)
+    rig.space.iterations = iterations
+    raw = [_read(bodies)]
+    # At least two full steps, so that the landing is interpolated through three rows.
+    count = max(int(np.ceil((landing_time - release_time) / dt)), 2)
+    for _ in range(count):
+        rig.space.step(dt)
+        raw.append(_read(bodies))
+    raw = np.array(raw)
+    states = _synchronise(raw, release_state)
+    times = release_time + dt * np.arange(len(raw))
+    fraction = (landing_time - times[-2]) / dt
+    landing = interpolate(states[-3:], fraction)
+    return AfterRelease(np.append(times[:-1], landing_time), np.vstack([states[:-1], landing]), raw,
+                        len(raw))
+
+
+def _bodies(rig: Rig) -> dict[int, pymunk.Body]:
+    return {kin.ARM: rig.arm, kin.COUNTERWEIGHT: rig.counterweight, kin.PROJECTILE: rig.projectile,
+            kin.FRAME: rig.frame}
+
+
+def _read(bodies: dict[int, pymunk.Body]) -> tuple[float, ...]:
+    row = []
+    for body in bodies.values():
+        row += [*body.position, body.angle, *body.velocity_at_local_point((0.0, 0.0)), body.angular_velocity]
+    return tuple(row)
+
+
+def _synchronise(raw: np.ndarray, start: np.ndarray) -> np.ndarray:
+    """``kinematics.synchronise`` for a run that starts moving: row 0 takes the start's velocities.
+
+    The velocity half a step before row 0 is the one whose mean with row 0's
+    half-step velocity is the release state's own.
+    """
+    velocity_columns = [body + q for body in kin.BODIES for q in (kin.VX, kin.VY, kin.W)]
+    sync = kin.synchronise(raw, rolling=True)
+    sync[0, velocity_columns] = start[velocity_columns]
+    return sync

@@ -1,0 +1,207 @@
+"""What several test files share: design variants, the known designs, Table II samples, shared limits.
+
+Test files import shared material from here and from no other test file;
+``conftest.py`` holds only fixtures. The designs come from the project's own
+files (``analytic/data``), so no number of theirs is typed twice.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import datetime
+import math
+import tomllib
+from pathlib import Path
+
+import numpy as np
+from hypothesis import strategies as st
+
+import analytic
+from analytic.design import BeamArm, Design
+from analytic.design_file import beam_arm_from_dict, default_design, load_design
+from analytic.optimise.problem import VARIABLE_NAMES, default_problem, design_at, from_unit, variables_of
+from analytic.result import Status
+
+DATA = Path(analytic.__file__).with_name("data")
+#: The default design (the paper's Table III) and the optimiser's problem (Table II).
+TABLE3_FILE = DATA / "paper_table3.toml"
+PROBLEM_FILE = DATA / "paper_problem.toml"
+#: One known design per failure status, ``fails-<status>.toml``; the cross-check reads them too.
+FAILURE_DESIGN_DIR = DATA / "designs"
+
+
+# --------------------------------------------------------------------------- #
+# Variants of a design
+# --------------------------------------------------------------------------- #
+
+def with_machine(design: Design, **changes) -> Design:
+    """``design`` with machine fields replaced (validated again)."""
+    return dataclasses.replace(design, machine=dataclasses.replace(design.machine, **changes))
+
+
+def with_projectile(design: Design, **changes) -> Design:
+    return dataclasses.replace(design, projectile=dataclasses.replace(design.projectile, **changes))
+
+
+def with_environment(design: Design, **changes) -> Design:
+    return dataclasses.replace(design, environment=dataclasses.replace(design.environment, **changes))
+
+
+def table3_variants() -> dict[str, Design]:
+    """Table III and variants that each exercise one input, by name: the release rules at
+    several angles, every drag model, wind both ways, counterweight inertia 0 and large,
+    heavy and light arms, an arm whose centre lies on the short side."""
+    t3 = default_design()
+    deg = math.radians
+    variants = {
+        "table3": t3,
+        "release-61deg": with_machine(t3, release_angle=deg(61.0)),  # the prototype's, paper section IV
+        "downward-release": with_machine(t3, release_angle=deg(-30.0)),
+        "very-late-release": with_machine(t3, release_angle=deg(-75.0)),
+        "steep-release": with_machine(t3, release_angle=deg(75.0)),
+        "sling-rule-behind": with_machine(t3, release_rule="sling", release_angle=deg(-40.0)),
+        "sling-rule-ahead": with_machine(t3, release_rule="sling", release_angle=deg(20.0)),
+        "point-counterweight": with_machine(t3, counterweight_inertia=0.0),
+        "large-counterweight-inertia": with_machine(t3, counterweight_inertia=0.08),
+        "heavy-arm": with_machine(t3, arm_mass=1.2, arm_inertia=0.09),
+        "light-arm": with_machine(t3, arm_mass=0.05),  # under 2 % of the counterweight: engine ballast
+        "arm-centre-on-short-side": with_machine(t3, arm_cg=-0.1),
+        "vacuum": with_projectile(t3, drag="none"),
+        "constant-drag-tailwind": with_environment(with_projectile(t3, drag="constant", drag_coefficient=0.4),
+                                                   wind_speed=4.0),
+        "smooth-sphere-headwind": with_environment(with_projectile(t3, drag="smooth-sphere"), wind_speed=-5.0),
+        "golf-ball-tailwind": with_environment(t3, wind_speed=5.0),
+        "golf-ball-headwind": with_environment(t3, wind_speed=-5.0),
+    }
+    return {name: dataclasses.replace(design, name=name) for name, design in variants.items()}
+
+
+# --------------------------------------------------------------------------- #
+# The project's own files
+# --------------------------------------------------------------------------- #
+
+def table3_file() -> dict:
+    """The default design's file as ``tomllib`` reads it (its beam table, say)."""
+    with TABLE3_FILE.open("rb") as handle:
+        return tomllib.load(handle)
+
+
+def table3_beam() -> BeamArm:
+    """The pine beam the default design's arm is cut from (its file's ``[machine.arm_beam]``)."""
+    return beam_arm_from_dict(table3_file()["machine"]["arm_beam"])
+
+
+def problem_dict() -> dict:
+    """The default problem file as a dict, to vary in tests."""
+    with PROBLEM_FILE.open("rb") as handle:
+        return tomllib.load(handle)
+
+
+def release_angle_problem_dict() -> dict:
+    """The paper's problem file with every variable but the release angle fixed at Table III, in vacuum."""
+    data = problem_dict()
+    values = variables_of(default_design().machine)
+    for name, value in zip(VARIABLE_NAMES[:5], values[:5], strict=True):
+        data["variables"][name] = {"value": math.degrees(value) if name.endswith("angle") else value}
+    data["projectile"]["drag"] = "none"
+    data["name"] = "release-angle-vacuum"
+    return data
+
+
+# --------------------------------------------------------------------------- #
+# Designs that do not throw
+# --------------------------------------------------------------------------- #
+
+def failure_designs() -> dict[Status, Design]:
+    """The known design for each failure status, read from ``analytic/data/designs``."""
+    paths = sorted(FAILURE_DESIGN_DIR.glob("fails-*.toml"))
+    return {Status(path.stem.removeprefix("fails-")): load_design(path) for path in paths}
+
+
+#: A phrase each failure's message must hold (``analytic.outcome`` writes them for both models).
+PHRASES = {Status.NEVER_FIRES: "cannot lift the arm", Status.NEVER_LIFTS_OFF: "never lifts off",
+           Status.HITS_BASE_BEFORE_RELEASE: "came back down to the base",
+           Status.NEVER_RELEASES: "never reached the release angle",
+           Status.NO_LANDING: "did not come down"}
+
+
+# --------------------------------------------------------------------------- #
+# Designs over the paper's Table II bounds
+# --------------------------------------------------------------------------- #
+
+#: A few grams of arm: nearly massless, the other extreme from the default's pine beam.
+LIGHT_ARM = BeamArm(width=0.005, depth=0.005, density=100.0)
+
+
+def table_ii_sample(count: int, seed: int) -> list[Design]:
+    """``count`` designs drawn uniformly over the problem file's bounds (seeded), alternating
+    the problem's arm (the default design's pine beam) and ``LIGHT_ARM``."""
+    problem = default_problem()
+    arms = (problem.arm, LIGHT_ARM)
+    units = np.random.default_rng(seed).uniform(0.0, 1.0, size=(count, len(problem.free)))
+    return [design_at(dataclasses.replace(problem, arm=arms[i % 2]), from_unit(problem, unit),
+                      name=f"table-ii-{seed}-{i:03d}") for i, unit in enumerate(units)]
+
+
+@st.composite
+def paper_designs(draw) -> Design:
+    """A design over the problem file's Table II bounds (angles drawn in degrees, as the paper
+    gives them), with the pine or the light arm and either release rule; the problem's
+    counterweight, golf ball and air."""
+    problem = default_problem()
+    arm = draw(st.sampled_from([problem.arm, LIGHT_ARM]))
+    values = {}
+    for name in ("arm_short", "counterweight_link", "clearance", "starting_angle", "sling_length", "release_angle"):
+        variable = problem.variables[VARIABLE_NAMES.index(name)]
+        if name.endswith("angle"):
+            values[name] = math.radians(draw(st.floats(math.degrees(variable.lower), math.degrees(variable.upper))))
+        else:
+            values[name] = draw(st.floats(variable.lower, variable.upper))
+    rule = draw(st.sampled_from(["velocity", "sling"]))
+    vector = np.array([values[name] for name in VARIABLE_NAMES])
+    return design_at(dataclasses.replace(problem, arm=arm, release_rule=rule), vector, name="sampled")
+
+
+# --------------------------------------------------------------------------- #
+# Values of the wrong kind, as a TOML file can hold them
+# --------------------------------------------------------------------------- #
+
+#: Each with the reason a number field gives for refusing it (design and problem files alike).
+NOT_NUMBERS = {
+    "text": ("forty-three", "must be a number"),   # no quantity pint reads (units: test_analytic_units.py)
+    "list": ([43.4], "must be a number"),
+    "table": ({"value": 43.4}, "must be a number"),
+    "bool": (True, "must be a number"),
+    "date": (datetime.date(1979, 5, 27), "must be a number"),
+    "datetime": (datetime.datetime(1979, 5, 27, 7, 32, tzinfo=datetime.timezone.utc), "must be a number"),
+    "nan": (math.nan, "must be finite"),
+    "inf": (math.inf, "must be finite"),
+    "minus-inf": (-math.inf, "must be finite"),
+    "huge": (1e300, "must lie between"),
+    "huge-negative": (-1e300, "must lie between"),
+    "huge-integer": (10**400, "must lie between"),   # tomllib reads it: beyond any float
+}
+
+
+# --------------------------------------------------------------------------- #
+# Limits shared by the optimiser's tests
+# --------------------------------------------------------------------------- #
+
+#: The release-angle problem's known answer comes from a cubic spline through
+#: swing samples 0.5 ms apart; it moves by 1e-7 m (2e-9 relative) and 4e-5 deg
+#: if a 3-point parabola is used instead, so these bound the comparison with
+#: room to spare (test_analytic_optimise_known.py).
+RANGE_TOLERANCE = 1e-8
+ANGLE_TOLERANCE_DEG = 1e-3
+#: SLSQP stops once a step gains < ftol = 1e-10 of the (scaled) range; with the
+#: release-angle problem's curvature (about 2400 m per unit coordinate squared)
+#: that leaves a slope of up to sqrt(2 * 2400 * 6e-9) = 5e-3 m per unit, 1e-4 of
+#: the 62 m range.
+RESIDUAL_LIMIT = 1e-4
+#: Seeds of the paper's problem agree on the range to this (relative): the range
+#: carries ~4e-11 relative noise at rtol 1e-10, and SLSQP stops once a step
+#: gains < 1e-10 (its ftol).
+SEED_RANGE_AGREEMENT = 1e-8
+#: ... and on every design variable to 0.01 cm or 0.01 deg, the resolution of the
+#: paper's Table III (what a builder could tell apart).
+SEED_DESIGN_AGREEMENT = 0.01

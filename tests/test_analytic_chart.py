@@ -1,0 +1,89 @@
+"""Calibration charts: the CSV's rows and gaps, the figure, and bad input (exit 2, nothing written)."""
+
+from __future__ import annotations
+
+import csv
+
+import numpy as np
+import pytest
+
+from analytic import cli, fast
+from analytic.chart import chart, chart_figure, vary
+from analytic.design_file import save_design
+from analytic.fields import field
+
+
+def _rows(path):
+    with path.open() as handle:
+        return list(csv.DictReader(handle))
+
+
+def test_one_field_writes_a_row_a_design_with_the_loads(table3, tmp_path):
+    path = tmp_path / "d.toml"
+    save_design(table3, path)
+    assert cli.main(["chart", str(path), "--vary", "counterweight_mass=1kg:3kg:9", "--out", str(tmp_path / "c")]) == 0
+    rows = _rows(tmp_path / "c" / "chart.csv")
+    assert len(rows) == 9
+    assert list(rows[0])[:3] == ["machine.counterweight_mass [kg]", "status", "range [m]"]
+    masses = [float(r["machine.counterweight_mass [kg]"]) for r in rows]
+    assert masses == pytest.approx(np.linspace(1.0, 3.0, 9).tolist())
+    # Each row is the fast path's shot of that design.
+    shots = fast.shoot([field("counterweight_mass").replace(table3, m) for m in masses])
+    for row, i in zip(rows, range(9), strict=True):
+        assert row["status"] == shots.status[i]
+        assert float(row["range [m]"]) == shots.range[i]
+        assert float(row["peak_axle_load [N]"]) == shots.peak_axle_load[i]
+        assert float(row["peak_projectile_acceleration [m/s^2]"]) == shots.peak_projectile_acceleration[i]
+    assert (tmp_path / "c" / "chart.png").stat().st_size > 10_000
+
+
+def test_failures_are_gaps_with_their_status(table3, tmp_path):
+    # A 10 g counterweight cannot lift the arm: never_fires, with an empty range, not a zero.
+    result = chart(table3, [vary("counterweight_mass", 0.01, 6.5, 4)])
+    assert result.status[0] == "never_fires" and np.isnan(result.range[0])
+    assert np.all(np.isnan([result.loads[name][0] for name in result.loads]))
+    path = tmp_path / "chart.csv"
+    from analytic.chart import write_csv
+
+    write_csv(result, path)
+    first = _rows(path)[0]
+    assert first["status"] == "never_fires" and first["range [m]"] == "" and first["peak_axle_load [N]"] == ""
+
+
+def test_a_setting_that_cannot_be_built_is_a_gap_named_design_error(table3):
+    # A link this long would strike the base: the design refuses it.
+    result = chart(table3, [vary("counterweight_link", 0.1, 0.5, 5)])
+    assert "design_error" in result.status.tolist() and "ok" in result.status.tolist()
+    assert np.all(np.isnan(result.range[result.status == "design_error"]))
+
+
+def test_two_fields_make_a_grid_and_a_map(table3, tmp_path):
+    result = chart(table3, [vary("counterweight_mass", 2.0, 8.0, 20), vary("projectile.mass", 0.03, 0.2, 20)])
+    assert result.settings.shape == (400, 2) and result.shape == (20, 20)
+    # The last field varies fastest.
+    assert result.settings[1, 0] == result.settings[0, 0] and result.settings[1, 1] > result.settings[0, 1]
+    figure = chart_figure(result)
+    assert len([ax for ax in figure.axes if ax.get_visible()]) >= 6
+
+
+@pytest.mark.parametrize("varies, words", [
+    (["release_rule=1:2:3"], ["machine.release_rule", "not a number"]),
+    (["nothing=1:2:3"], ["machine.nothing", "no such field"]),
+    (["counterweight_mass=3:3:5"], ["counterweight_mass", "empty range"]),
+    (["counterweight_mass=1:3:1"], ["steps", "at least 2"]),
+    (["counterweight_mass=1:3:many"], ["steps", "whole number"]),
+    (["counterweight_mass=1m:3m:4"], ["counterweight_mass from = '1m'", "mass"]),
+    (["counterweight_mass=1:3"], ["FIELD=FROM:TO:STEPS"]),
+    (["counterweight_mass=1:3:3", "counterweight_mass=1:3:3"], ["same field twice"]),
+    (["counterweight_mass=1:3:3", "sling_length=0.3:0.6:3", "projectile.mass=0.03:0.1:3"], ["one or two"]),
+], ids=lambda v: " ".join(v) if isinstance(v, list) else None)
+def test_bad_input_exits_2_and_writes_nothing(table3, tmp_path, capsys, varies, words):
+    path = tmp_path / "d.toml"
+    save_design(table3, path)
+    argv = ["chart", str(path), "--out", str(tmp_path / "c")]
+    for spec in varies:
+        argv += ["--vary", spec]
+    assert cli.main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("invalid input: ") and all(w in err for w in words), err
+    assert not (tmp_path / "c").exists()
