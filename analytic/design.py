@@ -42,6 +42,14 @@ MAX_SLING_RELEASE_ANGLE = math.radians(180.0)
 #: this models (a 20 t counterweight, a 20 m arm), and it keeps the squares and
 #: products the model forms of its inputs far from overflowing.
 MAX_MAGNITUDE = 1e6
+#: Shortest sling, as a fraction of the long arm. At rest the projectile lies on
+#: the base a sling's length from the arm tip, at the angle whose cosine is the
+#: tip's height above the base over the sling; rounding leaves that height off
+#: by up to 3.3e-16 arm_long (``arm_long cos(theta0) + pivot_height`` over every
+#: proportion of the two), so below 1e-5 arm_long the start angle would be set
+#: by rounding to worse than the integrator's tolerance (1e-10), and below about
+#: 3e-16 it is undefined. No sling that short is a sling.
+MIN_SLING_FRACTION = 1e-5
 
 
 class DesignError(ValueError):
@@ -131,6 +139,10 @@ class Machine:
             raise DesignError("machine.arm_long", self.arm_long,
                               f"the long arm cannot reach the base: it must be longer than "
                               f"pivot_height ({self.pivot_height:g} m)")
+        if not self.sling_length >= MIN_SLING_FRACTION * self.arm_long:
+            raise DesignError("machine.sling_length", self.sling_length,
+                              f"shorter than {MIN_SLING_FRACTION:g} of arm_long ({self.arm_long:g} m): the "
+                              f"sling's angle at rest would be set by rounding")
         if self.arm_short + self.counterweight_link >= self.pivot_height:
             raise DesignError("machine.counterweight_link", self.counterweight_link,
                               f"the counterweight would strike the base: arm_short + "

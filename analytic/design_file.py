@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
+import re
 import tomllib
 from pathlib import Path
 from typing import Any
@@ -20,6 +22,8 @@ _ARM_KEYS = ("arm_mass", "arm_cg", "arm_inertia")
 _PAPER_KEYS = ("clearance", "starting_angle")
 #: Where a design file keeps the beam, and so where ``BeamArm`` says its fields are.
 BEAM_TABLE = "machine.arm_beam"
+#: A key TOML writes without quotes.
+_BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")
 
 
 def design_from_dict(data: dict[str, Any], name: str = "design") -> Design:
@@ -252,8 +256,15 @@ def reject_unknown_keys(table: str, values: dict[str, Any], allowed: tuple[str, 
     """
     for key in values:
         if key not in allowed:
-            raise DesignError(f"{table}.{key}" if table else key, values[key],
+            name = toml_key(key)
+            raise DesignError(f"{table}.{name}" if table else name, values[key],
                               f"unknown key; expected one of {', '.join(allowed)}")
+
+
+def toml_key(key: str) -> str:
+    """``key`` as a TOML file writes it: bare if it can be, else quoted with escapes, so that an
+    error naming it stays on one line (a key may hold any text, a newline included)."""
+    return key if _BARE_KEY.fullmatch(key) else json.dumps(key)
 
 
 def read_toml(path: str | Path) -> dict[str, Any]:

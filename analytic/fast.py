@@ -234,7 +234,7 @@ def failure_message(design: Design, status: Status, detail: float, value: float,
         return outcome.never_releases_message(m.release_rule, m.release_angle, t_limit)
     if status is Status.NO_LANDING:
         return outcome.no_landing_message(end_time - release_time)
-    return outcome.step_failed_message(end_time, outcome.Stage(int(detail)))
+    return outcome.step_failed_message(end_time, outcome.Stage(int(detail)), step_limit=value == 1.0)
 
 
 # --------------------------------------------------------------------------- #

@@ -18,15 +18,19 @@ import numpy as np
 from scipy.integrate import DOP853, OdeSolution
 from scipy.optimize import brentq
 
-from analytic.stages import ROOT_TIME_TOLERANCE
+from analytic.stages import ROOT_NUDGE_ULPS, ROOT_TIME_TOLERANCE
 
 
 class IntegrationError(RuntimeError):
-    """The solver failed (step size underflow, non-finite state) at ``time``, s."""
+    """The solver failed (step size underflow, non-finite state, or ``step_limit``: it took
+    ``max_steps`` steps without finishing) at ``time``, s; ``segment`` is what it integrated
+    until then (a ``Segment`` ending at the last finite state, or None)."""
 
-    def __init__(self, message: str, time: float):
+    def __init__(self, message: str, time: float, step_limit: bool = False, segment=None):
         super().__init__(message)
         self.time = time
+        self.step_limit = step_limit
+        self.segment = segment
 
 
 @dataclass(frozen=True)
@@ -81,7 +85,7 @@ class Segment:
 
 def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.ndarray,
               t_end: float, events: tuple[Event, ...] = (), *, rtol: float, atol: float,
-              output_step: float | None, continuous: bool = False) -> Segment:
+              output_step: float | None, continuous: bool = False, max_steps: int | None = None) -> Segment:
     """Integrate ``y' = fun(t, y)`` from ``t0`` until a terminal event or ``t_end``.
 
     Parameters
@@ -96,23 +100,53 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
         built only for a step that holds an event's root (3 evaluations saved
         on every other step).
     continuous : build the continuous ``solution`` even without samples.
+    max_steps : accepted steps allowed before ``t_end`` (the reference path's stages:
+        ``analytic.limits.STAGE_STEP_LIMITS``); None for no limit.
+
+    Raises
+    ------
+    IntegrationError
+        The step size fell below the resolution of t, the state became
+        non-finite, or ``max_steps`` steps did not reach the end.
     """
     solver = DOP853(fun, t0, np.asarray(y0, dtype=float), t_end, rtol=rtol, atol=atol)
-    previous = [event.value(t0, solver.y) for event in events]
     times, states = [t0], [solver.y.copy()]
     step_t, step_y = [t0], [solver.y.copy()]
     sampled = output_step is not None
     record = sampled or continuous
-    next_output = t0 + output_step if sampled else np.inf
     roots: dict[str, list[tuple[float, np.ndarray]]] = {e.name: [] for e in events if not e.terminal}
     step_ends, interpolants = [t0], []
 
+    def failure(message: str, t_last: float, y_last: np.ndarray, step_limit: bool = False) -> IntegrationError:
+        """The error, with the segment integrated up to the last finite state ``(t_last, y_last)``."""
+        if times[-1] < t_last:
+            times.append(t_last)
+            states.append(y_last.copy())
+        if step_t[-1] < t_last:
+            step_t.append(t_last)
+            step_y.append(y_last.copy())
+        segment = Segment(np.array(times), np.array(states), None, t_last, y_last.copy(), roots,
+                          OdeSolution(step_ends, interpolants) if interpolants else None,
+                          np.array(step_t), np.array(step_y))
+        return IntegrationError(message, solver.t, step_limit, segment)
+
+    if not np.isfinite(solver.h_abs):
+        # A non-finite start or derivative: scipy would shrink a NaN step forever.
+        raise failure(f"non-finite derivative at the start, t = {t0:.6g} s", t0, solver.y)
+    previous = [event.value(t0, solver.y) for event in events]
+    next_output = t0 + output_step if sampled else np.inf
+    steps = 0
+
     while solver.status == "running":
+        if max_steps is not None and steps >= max_steps:
+            raise failure(f"{max_steps} steps did not reach the end, at t = {solver.t:.6g} s with a step "
+                          f"of {solver.step_size:.3g} s", solver.t, solver.y, step_limit=True)
         message = solver.step()
+        steps += 1
         if solver.status == "failed":
-            raise IntegrationError(f"integration failed at t = {solver.t:.6g} s: {message}", solver.t)
+            raise failure(f"integration failed at t = {solver.t:.6g} s: {message}", solver.t, solver.y)
         if not np.all(np.isfinite(solver.y)):
-            raise IntegrationError(f"non-finite state at t = {solver.t:.6g} s", solver.t)
+            raise failure(f"non-finite state at t = {solver.t:.6g} s", solver.t_old, solver.y_old)
         dense = solver.dense_output() if record else _LazyDense(solver)
         if record:
             step_ends.append(solver.t)
@@ -189,8 +223,9 @@ def _crossings(event: Event, before: float, after: float, dense, t_old: float, t
             return
         t_root = t_new if after == 0.0 else brentq(value, start, t_new, xtol=ROOT_TIME_TOLERANCE, rtol=4 * np.finfo(float).eps)
         yield t_root
-        # Rejected: look for a later root in the same step, past this one.
-        nudge = max(ROOT_TIME_TOLERANCE * 10, (t_new - t_root) * 1e-9)
+        # Rejected: look for a later root in the same step, past this one (``ROOT_NUDGE_ULPS``).
+        nudge = max(ROOT_TIME_TOLERANCE * 10, (t_new - t_root) * 1e-9,
+                    ROOT_NUDGE_ULPS * (np.nextafter(abs(t_root), np.inf) - abs(t_root)))
         if t_root + nudge >= t_new:
             return
         start = t_root + nudge

@@ -31,10 +31,11 @@ from numba import njit
 from numba.np.unsafe.ndarray import to_fixed_tuple
 
 from analytic.compiled import OPTIONS, limits_, stages_
+from analytic.limits import STAGE_STEP_LIMITS
 from analytic.outcome import LiftoffFailure, Status
 from analytic.parameters import N_PARAMS, Params
-from analytic.stages import (EVENT_NAMES, FLIGHT, LOAD_NAMES, PEAK_TIME_TOLERANCE, ROOT_TIME_TOLERANCE, SLIDE,
-                             SWING)
+from analytic.stages import (EVENT_NAMES, FLIGHT, LOAD_NAMES, PEAK_TIME_TOLERANCE, ROOT_NUDGE_ULPS,
+                             ROOT_TIME_TOLERANCE, SLIDE, SWING)
 
 _JIT = OPTIONS
 # The model's functions, compiled (``analytic.compiled``).
@@ -60,7 +61,8 @@ PEAKS = 17
 N_LOADS = len(LOAD_NAMES)
 N_RESULT = PEAKS + 2 * N_LOADS
 # STATUS holds ``Status.code``; DETAIL, for NEVER_LIFTS_OFF, a ``LiftoffFailure``
-# and for STEP_FAILED the stage; VALUE, for NEVER_FIRES, the arm's acceleration at rest;
+# and for STEP_FAILED the stage; VALUE, for NEVER_FIRES, the arm's acceleration at rest,
+# and for STEP_FAILED 1 if the stage ran out of steps (``STAGE_STEP_LIMITS``);
 # FRAME_X, FRAME_V the frame's displacement and velocity at release (0 when fixed);
 # PEAKS + 2 i and PEAKS + 2 i + 1 the largest load i over stages 1-2 and its time
 # (NaN for a machine that never fires, or a step failure).
@@ -401,7 +403,7 @@ def _sample_loads(stage, t, y, t_start, h, y_start, best, brackets, bracket_y, p
 _RUNTIME_STAGE = np.arange(4)
 
 # integrate()'s outcome codes besides an event index.
-_REACHED_END, _FAILED = -1, -2
+_REACHED_END, _FAILED, _OUT_OF_STEPS = -1, -2, -3
 
 
 @njit(**_JIT)
@@ -409,8 +411,9 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
     """Integrate ``stage`` from (t0, y0) until a terminal event or ``t_bound``.
 
     Returns ``(code, t_end, y_end, apex)``: code is the index of the terminal
-    event that ended it, ``_REACHED_END`` or ``_FAILED`` (step size underflow
-    or a non-finite state); apex is the largest y[1] at a counted apex root
+    event that ended it, ``_REACHED_END``, ``_FAILED`` (step size underflow
+    or a non-finite state) or ``_OUT_OF_STEPS`` (the stage's ``STAGE_STEP_LIMITS``
+    accepted steps without reaching ``t_bound``); apex is the largest y[1] at a counted apex root
     (flight only; -inf if none). ``counts`` accumulates [steps, evaluations].
     In stages 1 and 2 with ``track_loads``, ``peaks`` (N_LOADS, 2) gets the
     largest of each load (``stages.loads_at``) and its time, where this stretch
@@ -433,6 +436,9 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
     t = t0
     h_abs = _initial_step(_RUNTIME_STAGE[stage], t0, y, f, t_bound, rtol, atol, p, table)
     counts[1] += 2
+    if not math.isfinite(h_abs):
+        # A non-finite start or derivative: a NaN step would be shrunk forever.
+        return _FAILED, t, y, -math.inf
     apex = -math.inf
     apex_t, apex_y = np.empty(4), np.empty(4)   # counted apex roots within one step
     track = track_loads and stage != FLIGHT
@@ -443,7 +449,10 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
     if track:
         _sample_loads(_RUNTIME_STAGE[stage], t0, y, math.nan, 0.0, y, best, brackets, bracket_y, pending, False, p, counts)
     exponent = -1.0 / (_ERROR_ORDER + 1)
+    steps = 0
     while t < t_bound:
+        if steps == STAGE_STEP_LIMITS[stage]:
+            return _OUT_OF_STEPS, t, y, apex
         min_step = 10.0 * abs(np.nextafter(t, math.inf) - t)
         if h_abs < min_step:
             h_abs = min_step
@@ -471,6 +480,7 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
                 h_abs *= _MIN_FACTOR
             rejected = True
         counts[0] += 1
+        steps += 1
         for j in range(n):
             if not math.isfinite(y_new[j]):
                 return _FAILED, t_new, y_new, apex
@@ -508,7 +518,8 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
                         apex_t[n_apex], apex_y[n_apex] = t_root, y_root[1]
                         n_apex += 1
                 # Not counted: look for a later root in the same step, past this one.
-                nudge = max(ROOT_TIME_TOLERANCE * 10.0, (t_new - t_root) * 1e-9)
+                nudge = max(ROOT_TIME_TOLERANCE * 10.0, (t_new - t_root) * 1e-9,
+                            ROOT_NUDGE_ULPS * (np.nextafter(abs(t_root), math.inf) - abs(t_root)))
                 if t_root + nudge >= t_new:
                     break
                 start = t_root + nudge
@@ -555,6 +566,13 @@ def params(P):
     return Params(*to_fixed_tuple(P, N_PARAMS))
 
 
+@njit(**_JIT)
+def _step_failed(out, code, stage):
+    """Record a stage whose integration failed (``code``: ``_FAILED`` or ``_OUT_OF_STEPS``)."""
+    out[STATUS], out[DETAIL] = STEP_FAILED, stage
+    out[VALUE] = 1.0 if code == _OUT_OF_STEPS else 0.0
+
+
 @njit(inline="always")
 def shot(P, table, coef, rtol, atol, track_loads, out):
     """Simulate the design row ``P`` through all three stages into the result row ``out``.
@@ -572,6 +590,11 @@ def shot(P, table, coef, rtol, atol, track_loads, out):
     counts = np.zeros(2)
     p = params(P)
     ddtheta0, normal0 = fires(p)
+    if not (math.isfinite(ddtheta0) and math.isfinite(normal0)):
+        # The equations cannot be evaluated even at rest (``analytic.reference.simulate``).
+        out[END_T], out[STEPS], out[EVALS] = 0.0, 0.0, 1.0
+        _step_failed(out, _FAILED, SLIDE)
+        return
     if not ddtheta0 < 0.0:
         out[STATUS], out[VALUE], out[END_T] = NEVER_FIRES, ddtheta0, 0.0
         out[STEPS], out[EVALS] = 0.0, 1.0
@@ -588,8 +611,8 @@ def shot(P, table, coef, rtol, atol, track_loads, out):
     out[STEPS], out[EVALS] = counts[0], counts[1]
     if code != 1:
         out[END_T] = t1
-        if code == _FAILED:
-            out[STATUS], out[DETAIL] = STEP_FAILED, SLIDE
+        if code == _FAILED or code == _OUT_OF_STEPS:
+            _step_failed(out, code, SLIDE)
             return
         _write_peaks(peaks, out)
         out[STATUS] = NEVER_LIFTS_OFF
@@ -603,13 +626,16 @@ def shot(P, table, coef, rtol, atol, track_loads, out):
                                 track_loads)
     out[STEPS], out[EVALS], out[END_T] = counts[0], counts[1], t2
     if code != 0:
-        if code == _FAILED:
-            out[STATUS], out[DETAIL] = STEP_FAILED, SWING
+        if code == _FAILED or code == _OUT_OF_STEPS:
+            _step_failed(out, code, SWING)
         else:
             _write_peaks(peaks, out)
             out[STATUS] = HITS_BASE if code == 1 else NEVER_RELEASES
         return
     x, y, vx, vy = flight_start(y2, p)
+    if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(vx) and math.isfinite(vy)):
+        _step_failed(out, _FAILED, FLIGHT)
+        return
     out[RELEASE_T], out[RELEASE_X], out[RELEASE_Y], out[RELEASE_VX], out[RELEASE_VY] = t2, x, y, vx, vy
     out[FRAME_X], out[FRAME_V] = frame_state(y2, p)
     _write_peaks(peaks, out)
@@ -620,8 +646,8 @@ def shot(P, table, coef, rtol, atol, track_loads, out):
                                    p, table, counts, peaks, False)
     out[STEPS], out[EVALS], out[END_T] = counts[0], counts[1], t3
     if code != 0:
-        if code == _FAILED:
-            out[STATUS], out[DETAIL] = STEP_FAILED, FLIGHT
+        if code == _FAILED or code == _OUT_OF_STEPS:
+            _step_failed(out, code, FLIGHT)
         else:
             out[STATUS] = NO_LANDING
         return

@@ -11,6 +11,8 @@ from __future__ import annotations
 import enum
 import math
 
+from analytic.limits import STAGE_STEP_LIMITS
+
 
 class Status(str, enum.Enum):
     """How a shot ended. Only ``OK`` is a throw; the rest are named failures of a valid design."""
@@ -87,10 +89,13 @@ def no_landing_message(flight_time_limit: float) -> str:
             f"(is the wind or the drag far outside anything real?)")
 
 
-def step_failed_message(time: float, stage: Stage) -> str:
+def step_failed_message(time: float, stage: Stage, step_limit: bool = False) -> str:
+    """``step_limit``: the stage used up its ``analytic.limits.STAGE_STEP_LIMITS`` steps (else the
+    step size fell below the resolution of t, or the state became non-finite)."""
+    why = (f"it took {STAGE_STEP_LIMITS[int(stage)]} steps without finishing the stage" if step_limit else
+           "the step size fell below the resolution of t or the state became non-finite")
     return (f"the integrator could not continue at t = {time:.6g} s in stage {int(stage)} "
-            f"({Stage(stage).name.lower()}): the step size fell below the resolution of t "
-            f"or the state became non-finite; the design is probably far outside anything buildable")
+            f"({Stage(stage).name.lower()}): {why}; the design is probably far outside anything buildable")
 
 
 def thrown_message(range_: float) -> str:

@@ -8,6 +8,8 @@ and the sling tension for plots.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from scipy.optimize import minimize_scalar
 
@@ -16,7 +18,7 @@ from analytic.aero import DRAG_TABLE
 from analytic.design import Design
 from analytic.geometry import projectile_state
 from analytic.integrate import Event, IntegrationError, Segment, integrate
-from analytic.limits import flight_time_limit
+from analytic.limits import STAGE_STEP_LIMITS, flight_time_limit
 from analytic.outcome import LiftoffFailure, Stage, Status
 from analytic.parameters import Params, params
 from analytic.result import PEAK_NAMES, EnergyBudget, Shot
@@ -29,11 +31,21 @@ DEFAULT_ATOL = 1e-10
 #: Sample spacing of the returned histories (stages 1-2, flight), s.
 SWING_OUTPUT_STEP = 5e-4
 FLIGHT_OUTPUT_STEP = 5e-3
+#: Most samples a stage's history may hold: a stage whose time limit would take
+#: more at the spacings above is sampled more sparsely, so that a machine slowed
+#: a thousandfold (a weak gravity, a vast size) cannot fill the memory. At
+#: 2e5 the spacings hold up to time limits of 100 s (stages 1-2; 17 s over the
+#: paper's bounds) and 1000 s of flight (a vacuum flight of 9 s).
+HISTORY_SAMPLE_LIMIT = 200_000
 
 _LIFTOFF_FAILURES = {"under_tip": LiftoffFailure.UNDER_TIP, "arm_back": LiftoffFailure.ARM_BACK,
                      None: LiftoffFailure.TIME_LIMIT}
 
 
+# A trial step of a stiff or extreme design may overflow or divide by zero: the
+# integrator rejects such a step (or ends the shot as step_failed), as the
+# compiled path does silently with its plain floats; numpy's scalars would warn.
+@np.errstate(over="ignore", invalid="ignore", divide="ignore")
 def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAULT_ATOL,
              histories: bool = True, loads: bool = True) -> Shot:
     """Simulate a shot of ``design`` through all three stages.
@@ -55,16 +67,22 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
         A valid design that does not throw is a ``Shot`` whose ``status``
         names the failure and whose ``message`` explains it, never an exception.
     """
-    output_step = SWING_OUTPUT_STEP if histories else None
-    flight_step = FLIGHT_OUTPUT_STEP if histories else None
     p = params(design)
+    output_step = max(SWING_OUTPUT_STEP, p.t_limit / HISTORY_SAMPLE_LIMIT) if histories else None
     machine = design.machine
     history = [] if histories else None
     segments = []
     reached = {}   # what the shot got to: lift-off, then release
 
     y1 = np.array([p.theta0, p.phi0, 0.0, 0.0])
-    ddtheta0, normal0 = stages.fires(p)
+    ddtheta0, normal0 = quietly(stages.fires, p, otherwise=(math.nan, math.nan))
+    if not (math.isfinite(ddtheta0) and math.isfinite(normal0)):
+        # The equations cannot be evaluated even at rest: the design's numbers over- or
+        # underflow the model's products (a mass or length near the ends of the float range).
+        if histories:
+            history.append([(0.0, Stage.SLIDE, eom.slide_state(*y1, p), _tension(Stage.SLIDE, y1, p))])
+        return _finish(design, p, history, segments, Status.STEP_FAILED,
+                       outcome.step_failed_message(0.0, Stage.SLIDE))
     if not ddtheta0 < 0.0:
         if histories:
             history.append([(0.0, Stage.SLIDE, eom.slide_state(*y1, p), _tension(Stage.SLIDE, y1, p))])
@@ -90,8 +108,8 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
         # Stage 2: free swing until release.
         stage = Stage.SWING
         reached["liftoff_time"] = slide.t_end
-        swing = _run(stage, p, slide.t_end, np.array(stages.swing_start(slide.y_end, p)), p.t_limit,
-                     rtol, atol, output_step, loads)
+        swing_start = quietly(stages.swing_start, slide.y_end, p, otherwise=(math.nan,) * 6)
+        swing = _run(stage, p, slide.t_end, np.array(swing_start), p.t_limit, rtol, atol, output_step, loads)
         stage_peaks = _stage_peaks(stage, swing, p, loads)
         later = stage_peaks[:, 0] > peaks[:, 0]
         peaks[later] = stage_peaks[later]
@@ -110,16 +128,25 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
         # Stage 3: flight.
         stage = Stage.FLIGHT
         release_time = swing.t_end
-        start = np.array(stages.flight_start(swing.y_end, p))
+        start = np.array(quietly(stages.flight_start, swing.y_end, p, otherwise=(math.nan,) * 4))
+        if not np.all(np.isfinite(start)):
+            raise IntegrationError("non-finite release state", release_time)
         position, velocity = start[:2], start[2:]
         frame_x, frame_v = stages.frame_state(swing.y_end, p)
         reached.update(release_time=release_time, release_position=position, release_velocity=velocity,
                        frame_release_displacement=frame_x, frame_release_velocity=frame_v)
         t_max = release_time + flight_time_limit(position[1] + p.h, velocity[1], p.g)
+        flight_step = (max(FLIGHT_OUTPUT_STEP, (t_max - release_time) / HISTORY_SAMPLE_LIMIT)
+                       if histories else None)
         flight = _run(stage, p, release_time, start, t_max, rtol, atol, flight_step, False)
     except IntegrationError as error:
+        if stage is not Stage.FLIGHT and error.segment is not None:
+            # The motion up to the failure (the flight's is not kept, as for any shot that does not land).
+            if histories:
+                history.append(_history(stage, error.segment, p)[0 if stage is Stage.SLIDE else 1:])
+            segments.append((stage, error.segment))
         return _finish(design, p, history, segments, Status.STEP_FAILED,
-                       outcome.step_failed_message(error.time, stage), **reached)
+                       outcome.step_failed_message(error.time, stage, error.step_limit), **reached)
     if flight.event != "landing":
         return _finish(design, p, history, segments, Status.NO_LANDING,
                        outcome.no_landing_message(t_max - release_time), **reached)
@@ -162,6 +189,22 @@ def _frame_after_release(p: Params, release_state: np.ndarray, release_time: flo
 # A stage under scipy
 # --------------------------------------------------------------------------- #
 
+#: What Python's float arithmetic raises where the compiled path's IEEE
+#: arithmetic (numba's ``error_model="numpy"``) quietly gives inf or NaN: a
+#: division by zero, the sine of an overflowed angle, an overflowing power. A
+#: trial stage of an extreme design can get there; the integrator then rejects
+#: the step, or the shot ends as step_failed, on both paths alike.
+FLOAT_ERRORS = (ArithmeticError, ValueError)
+
+
+def quietly(function, *args, otherwise):
+    """``function(*args)``, or ``otherwise`` where Python's floats raise one of ``FLOAT_ERRORS``."""
+    try:
+        return function(*args)
+    except FLOAT_ERRORS:
+        return otherwise
+
+
 def _run(stage: Stage, p: Params, t0: float, y0: np.ndarray, t_end: float, rtol: float, atol: float,
          output_step: float | None, continuous: bool) -> Segment:
     """Integrate ``stage`` from (t0, y0) until one of its terminal events or ``t_end``; ``continuous``:
@@ -170,19 +213,23 @@ def _run(stage: Stage, p: Params, t0: float, y0: np.ndarray, t_end: float, rtol:
 
     def rhs(t, y):
         out = np.empty(size)
-        stages.derivative(stage, y, p, DRAG_TABLE, out)
+        try:
+            stages.derivative(stage, y, p, DRAG_TABLE, out)
+        except FLOAT_ERRORS:
+            out[:] = math.nan   # the compiled path's inf or NaN: a rejected step
         return out
 
     return integrate(rhs, t0, y0, t_end, _events(stage, p), rtol=rtol, atol=atol, output_step=output_step,
-                     continuous=continuous)
+                     continuous=continuous, max_steps=STAGE_STEP_LIMITS[stage])
 
 
 def _events(stage: Stage, p: Params) -> tuple[Event, ...]:
     """The stage's events (``analytic.stages``) as the integrator's ``Event`` objects, in order."""
     def event(k: int, name: str) -> Event:
-        return Event(name, lambda t, y: stages.event_value(stage, k, y, p),
+        # A value or condition Python cannot compute is NaN or false, as compiled: no root there.
+        return Event(name, lambda t, y: quietly(stages.event_value, stage, k, y, p, otherwise=math.nan),
                      direction=stages.event_direction(stage, k),
-                     armed=lambda t, y: stages.event_armed(stage, k, y, p),
+                     armed=lambda t, y: quietly(stages.event_armed, stage, k, y, p, otherwise=False),
                      terminal=stages.event_terminal(stage, k))
 
     return tuple(event(k, name) for k, name in enumerate(stages.EVENT_NAMES[stage]))
@@ -215,8 +262,9 @@ def jump_warning(force: float, time: float, gravity: float) -> str:
 
 
 def _tension(stage: Stage, y: np.ndarray, p: Params) -> float:
-    """Sling tension at a stage-1 or stage-2 state (``eom.loads``), N."""
-    return stages.loads_at(int(stage), y, p)[2]
+    """Sling tension at a stage-1 or stage-2 state (``eom.loads``), N (NaN where ``FLOAT_ERRORS``
+    say it cannot be computed)."""
+    return quietly(lambda: stages.loads_at(int(stage), y, p)[2], otherwise=math.nan)
 
 
 def _smallest_tension(t: np.ndarray, stage: np.ndarray, tension: np.ndarray, segments, p: Params) -> float:
@@ -317,7 +365,7 @@ def _finish(design: Design, p: Params, history, segments, status: Status, messag
     return Shot(design, status, message, t=t, stage=stage, q=states[:, :3], qdot=states[:, 3:], path=path,
                 frame_x=frame_x if p.rolling else np.empty(0),
                 sling_tension=tension, energy=energy,
-                # A machine that never moves holds its projectile statically: no tension is defined.
-                min_sling_tension=None if status is Status.NEVER_FIRES else _smallest_tension(
-                    t, stage, tension, segments, p),
+                # A machine that never moves (never fires, or its equations fail at rest) holds
+                # its projectile statically: no tension is defined.
+                min_sling_tension=None if not segments else _smallest_tension(t, stage, tension, segments, p),
                 counterweight_energy_released=released, **fields)

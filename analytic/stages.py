@@ -39,6 +39,12 @@ STATE_SIZE = (0, 4, 6, 4)
 EVENT_NAMES = ((), ("under_tip", "liftoff", "arm_back"), ("release", "hits_base"), ("landing", "apex"))
 #: Event roots are located to this absolute time tolerance, s (Brent's method on the dense output).
 ROOT_TIME_TOLERANCE = 1e-14
+#: A root that does not count is stepped past by at least this many units in the
+#: last place of t before the search goes on: Brent's method stops within
+#: ``ROOT_TIME_TOLERANCE + 4 eps |t|`` (up to 8 units), which past t = 64 s is more
+#: than the ten tolerances stepped otherwise; past t = 450 s those are less than
+#: one unit, and the search would find the same root again forever.
+ROOT_NUDGE_ULPS = 8.0
 
 
 def derivative(stage, y, p, table, out):

@@ -1,0 +1,280 @@
+"""Hypothesis strategies for the fuzz tests: design files mutated every way, and valid extreme designs.
+
+Kept apart from ``test_fuzz.py`` so that the strategies read as a description
+of what is generated, and the tests as what must hold for it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import datetime
+import math
+
+from hypothesis import reject
+from hypothesis import strategies as st
+
+from analytic.aero import DRAG_MODELS
+from analytic.design import (MAX_MAGNITUDE, MAX_SLING_RELEASE_ANGLE, MAX_VELOCITY_RELEASE_ANGLE,
+                             MIN_SLING_FRACTION, Design, DesignError, Environment, Machine, Projectile)
+from analytic.design_file import design_to_dict, default_design
+from analytic.geometry import RELEASE_RULES
+
+# --------------------------------------------------------------------------- #
+# Numbers across their whole valid range
+# --------------------------------------------------------------------------- #
+
+#: The smallest positive float (subnormal), the smallest normal one: the valid
+#: range's lower end for a positive number, as a file may give it.
+SMALLEST_POSITIVE = 5e-324
+SMALLEST_NORMAL = 2.2250738585072014e-308
+#: One value in this many is drawn from the ends of the valid range rather than from its bulk.
+EDGE_ODDS = 8
+
+
+def log_uniform(low: float, high: float) -> st.SearchStrategy[float]:
+    """Floats spread evenly over the decades from ``low`` to ``high`` (both positive)."""
+    return st.floats(math.log10(low), math.log10(high)).map(lambda e: min(max(10.0**e, low), high))
+
+
+def sometimes(edges: list[float], bulk: st.SearchStrategy[float]) -> st.SearchStrategy[float]:
+    """``bulk``, or one of the ``edges`` of the valid range about once in ``EDGE_ODDS``."""
+    return st.integers(0, EDGE_ODDS - 1).flatmap(lambda i: st.sampled_from(edges) if i == 0 else bulk)
+
+
+def positive(low: float) -> st.SearchStrategy[float]:
+    """A positive number: log-uniform from ``low`` up to the largest a file may hold, or an end
+    of that range (the smallest positive float, the smallest normal one, the largest)."""
+    return sometimes([SMALLEST_POSITIVE, SMALLEST_NORMAL, MAX_MAGNITUDE], log_uniform(low, MAX_MAGNITUDE))
+
+
+def non_negative(low: float) -> st.SearchStrategy[float]:
+    """``positive(low)``, or zero."""
+    return st.one_of(st.just(0.0), positive(low))
+
+
+def signed(low: float) -> st.SearchStrategy[float]:
+    """Zero, or a number of magnitude log-uniform from ``low`` to the largest, either sign."""
+    magnitude = sometimes([MAX_MAGNITUDE], log_uniform(low, MAX_MAGNITUDE))
+    return st.one_of(st.just(0.0), magnitude, magnitude.map(lambda x: -x))
+
+
+def fraction() -> st.SearchStrategy[float]:
+    """A number strictly between 0 and 1: uniform, or within a few decades of either end."""
+    near_zero = log_uniform(1e-12, 0.5)
+    return st.one_of(st.floats(0.0, 1.0, exclude_min=True, exclude_max=True), near_zero,
+                     near_zero.map(lambda x: 1.0 - x))
+
+
+def open_angle(limit: float) -> st.SearchStrategy[float]:
+    """An angle strictly between ``-limit`` and ``limit``, rad: anywhere, or near either end or zero."""
+    return st.one_of(st.floats(-limit, limit, exclude_min=True, exclude_max=True),
+                     fraction().map(lambda f: limit * (1.0 - f)),
+                     fraction().map(lambda f: -limit * (1.0 - f)),
+                     st.just(0.0))
+
+
+# --------------------------------------------------------------------------- #
+# Valid but extreme designs
+# --------------------------------------------------------------------------- #
+
+#: Smallest value of the bulk of each kind of quantity, SI: lengths over 15
+#: decades, masses over 26 (down to a 1e-20 kg projectile), the rest alike.
+LENGTH_LOW, MASS_LOW, INERTIA_LOW = 1e-9, 1e-20, 1e-20
+GRAVITY_LOW, DENSITY_LOW, VISCOSITY_LOW, WIND_LOW, DRAG_COEFFICIENT_LOW = 1e-6, 1e-12, 1e-12, 1e-6, 1e-6
+
+
+def mass_near(reference: float, low: float, high: float) -> st.SearchStrategy[float]:
+    """A mass anywhere in its valid range, or ``reference`` times a ratio log-uniform from ``low``
+    to ``high``: independent masses would make half the machines too weak to fire."""
+    relative = log_uniform(low, high).map(lambda r: min(MAX_MAGNITUDE, max(SMALLEST_POSITIVE, reference * r)))
+    return st.one_of(positive(MASS_LOW), relative)
+
+
+@st.composite
+def extreme_machines(draw) -> Machine:
+    """A machine with every number across its valid range and the lengths in any proportion
+    the contract allows (the long arm reaches the base, the counterweight clears it)."""
+    arm_long = draw(sometimes([MAX_MAGNITUDE], log_uniform(LENGTH_LOW, MAX_MAGNITUDE)))
+    pivot_height = arm_long * draw(fraction())
+    arm_short = pivot_height * draw(fraction())
+    counterweight_link = (pivot_height - arm_short) * draw(fraction())
+    # The arm's centre of mass anywhere on it, the pivot included.
+    arm_cg = draw(st.one_of(st.just(0.0), fraction().map(lambda f: -arm_short + f * (arm_long + arm_short))))
+    sling_length = min(MAX_MAGNITUDE, arm_long * draw(log_uniform(MIN_SLING_FRACTION, 1e12)))
+    counterweight_mass = draw(positive(MASS_LOW))
+    rule = draw(st.sampled_from(RELEASE_RULES))
+    limit = MAX_VELOCITY_RELEASE_ANGLE if rule == "velocity" else MAX_SLING_RELEASE_ANGLE
+    try:
+        return Machine(pivot_height=pivot_height, arm_long=arm_long, arm_short=arm_short,
+                       arm_mass=draw(mass_near(counterweight_mass, 1e-6, 10.0)), arm_cg=arm_cg,
+                       arm_inertia=draw(non_negative(INERTIA_LOW)),
+                       counterweight_mass=counterweight_mass, counterweight_link=counterweight_link,
+                       counterweight_inertia=draw(non_negative(INERTIA_LOW)), sling_length=sling_length,
+                       release_angle=draw(open_angle(limit)), release_rule=rule)
+    except DesignError:
+        # A product above underflowed to zero or rounded onto a bound: not a valid design.
+        reject()
+
+
+@st.composite
+def extreme_projectiles(draw, counterweight_mass: float) -> Projectile:
+    drag = draw(st.sampled_from(DRAG_MODELS))
+    coefficient = draw(positive(DRAG_COEFFICIENT_LOW)) if drag == "constant" else None
+    return Projectile(mass=draw(mass_near(counterweight_mass, 1e-9, 1.0)), diameter=draw(positive(LENGTH_LOW)),
+                      drag=drag, drag_coefficient=coefficient)
+
+
+@st.composite
+def extreme_environments(draw) -> Environment:
+    return Environment(gravity=draw(positive(GRAVITY_LOW)), air_density=draw(non_negative(DENSITY_LOW)),
+                       air_viscosity=draw(positive(VISCOSITY_LOW)), wind_speed=draw(signed(WIND_LOW)))
+
+
+@st.composite
+def wholly_extreme_designs(draw) -> Design:
+    """Every number of the design drawn across its valid range."""
+    machine = draw(extreme_machines())
+    return Design(machine, draw(extreme_projectiles(machine.counterweight_mass)), draw(extreme_environments()),
+                  name="extreme")
+
+
+#: Parts of a design that can be taken from another valid design without breaking the
+#: contract's relations between fields (the lengths go together, the rule with its angle,
+#: the drag model with its coefficient).
+PARTS = {
+    "machine": (("pivot_height", "arm_long", "arm_short", "arm_cg", "counterweight_link", "sling_length"),
+                ("arm_mass",), ("arm_inertia",), ("counterweight_mass",), ("counterweight_inertia",),
+                ("release_angle", "release_rule")),
+    "projectile": (("mass",), ("diameter",), ("drag", "drag_coefficient")),
+    "environment": (("gravity",), ("air_density",), ("air_viscosity",), ("wind_speed",)),
+}
+
+
+@st.composite
+def partly_extreme_designs(draw) -> Design:
+    """The default design with a few of its parts (``PARTS``) taken from a wholly extreme one:
+    a working machine with one or two absurd numbers gets to release and flight, where the
+    wholly extreme ones mostly stop early."""
+    base, extreme = default_design(), draw(wholly_extreme_designs())
+    parts = [(table, fields) for table, groups in PARTS.items() for fields in groups]
+    chosen = draw(st.lists(st.sampled_from(parts), min_size=1, max_size=3, unique=True))
+    tables = {table: {f.name: getattr(getattr(base, table), f.name) for f in dataclasses.fields(getattr(base, table))}
+              for table in PARTS}
+    for table, fields in chosen:
+        for name in fields:
+            tables[table][name] = getattr(getattr(extreme, table), name)
+    try:
+        return Design(Machine(**tables["machine"]), Projectile(**tables["projectile"]),
+                      Environment(**tables["environment"]), name="partly-extreme")
+    except DesignError:
+        # The default's arm on extreme lengths (its centre of mass off the arm) and the like.
+        reject()
+
+
+def extreme_designs() -> st.SearchStrategy[Design]:
+    """Valid designs with numbers anywhere in their valid range: both release rules, every drag
+    model, wind either way; wholly extreme, or the default with a few extreme parts."""
+    return st.one_of(wholly_extreme_designs(), partly_extreme_designs())
+
+
+# --------------------------------------------------------------------------- #
+# Design files, mutated
+# --------------------------------------------------------------------------- #
+
+def file_forms() -> dict[str, dict]:
+    """The default design as each file form holds it: direct, the paper's variables, an arm cut
+    from a beam, and both alternatives together."""
+    beam = {"width": 0.019, "depth": 0.038, "density": 450.0}
+
+    def form(paper: bool, with_beam: bool) -> dict:
+        data = design_to_dict(default_design())
+        if paper:
+            for key in ("pivot_height", "arm_long"):
+                del data["machine"][key]
+            data["machine"].update(clearance=0.16, starting_angle=58.0)
+        if with_beam:
+            for key in ("arm_mass", "arm_cg", "arm_inertia"):
+                del data["machine"][key]
+            data["machine"]["arm_beam"] = dict(beam)
+        return data
+
+    return {"direct": form(False, False), "paper": form(True, False), "beam": form(False, True),
+            "paper-beam": form(True, True)}
+
+
+#: Text without the surrogates a UTF-8 file cannot hold.
+TEXT = st.text(st.characters(blacklist_categories=("Cs",)), max_size=12)
+#: Keys a table might be given by mistake: the alternative forms' keys in the wrong place,
+#: near-misses of real ones, and arbitrary text.
+STRAY_KEYS = st.one_of(
+    st.sampled_from(["clearance", "starting_angle", "arm_beam", "arm_mass", "arm_cg", "arm_inertia",
+                     "pivot_height", "arm_long", "drag_coefficient", "name", "machine", "projectile",
+                     "environment", "width", "Sling_length", "sling-length", "release angle", "gravity "]),
+    TEXT)
+
+#: Numbers no design accepts anywhere: not finite, or beyond +-1e6 in SI.
+OUT_OF_RANGE_NUMBERS = st.one_of(
+    st.sampled_from([math.nan, math.inf, -math.inf, 1e300, -1e300, 1.000001e6, -1.000001e6, 10**400, -10**400]),
+    st.floats(min_value=1.0000001e6, allow_infinity=False), st.floats(max_value=-1.0000001e6, allow_infinity=False),
+    st.integers(min_value=1_000_001, max_value=10**30), st.integers(max_value=-1_000_001, min_value=-10**30))
+#: Numbers a design may accept or refuse by field: zero, signs, the ends of the range, anything finite.
+ANY_NUMBERS = st.one_of(
+    OUT_OF_RANGE_NUMBERS,
+    st.sampled_from([0.0, -0.0, -1.0, 1e6, -1e6, SMALLEST_POSITIVE, -SMALLEST_POSITIVE, 1e-300, 90.0, 180.0]),
+    st.floats(allow_nan=False, allow_infinity=False), st.integers(min_value=-10**7, max_value=10**7))
+#: Values of every other kind a TOML file can hold, none of them a number or a valid table.
+NOT_NUMBERS = st.recursive(
+    st.one_of(TEXT, st.booleans(), st.dates(), st.times(),
+              st.datetimes(timezones=st.one_of(st.none(), st.just(datetime.timezone.utc)))),
+    lambda inner: st.one_of(st.lists(inner, max_size=3), st.dictionaries(STRAY_KEYS, inner, max_size=2)),
+    max_leaves=4)
+
+
+def _paths(data: dict, prefix: tuple[str, ...] = ()) -> list[tuple[str, ...]]:
+    """Every key's path in the nested tables, tables included."""
+    paths = []
+    for key, value in data.items():
+        paths.append(prefix + (key,))
+        if isinstance(value, dict):
+            paths += _paths(value, prefix + (key,))
+    return paths
+
+
+def _tables(data: dict, prefix: tuple[str, ...] = ()) -> list[tuple[str, ...]]:
+    """The path of every table, the top level (``()``) included."""
+    return [prefix] + [path for key, value in data.items() if isinstance(value, dict)
+                       for path in _tables(value, prefix + (key,))]
+
+
+def _at(data: dict, path: tuple[str, ...]) -> dict:
+    for key in path:
+        data = data[key]
+    return data
+
+
+@st.composite
+def design_files(draw, numbers: st.SearchStrategy = ANY_NUMBERS) -> tuple[dict, list[tuple[str, ...]]]:
+    """A design file's tables, one of the forms (``file_forms``) with up to three mutations, and
+    the paths the mutations touched.
+
+    Each mutation puts a value of any kind TOML holds (``numbers`` or ``NOT_NUMBERS``) at an
+    existing key or table, deletes one, or adds a stray key (``STRAY_KEYS``) to a table.
+    """
+    data = file_forms()[draw(st.sampled_from(sorted(file_forms())))]
+    touched = []
+    for _ in range(draw(st.integers(0, 3))):
+        kind = draw(st.sampled_from(["set", "delete", "add"]))
+        if kind == "add":
+            table = draw(st.sampled_from(_tables(data)))
+            path = table + (draw(STRAY_KEYS),)
+        else:
+            paths = _paths(data)
+            if not paths:
+                continue
+            path = draw(st.sampled_from(paths))
+        if kind == "delete":
+            del _at(data, path[:-1])[path[-1]]
+        else:
+            _at(data, path[:-1])[path[-1]] = draw(st.one_of(numbers, NOT_NUMBERS))
+        touched.append(path)
+    return data, touched

@@ -1,0 +1,262 @@
+"""Fuzzing every entry point: no design file and no valid design ends in a traceback, a hang or a NaN.
+
+Over generated design files (``fuzz_designs.design_files``: every form, values of every kind TOML
+holds where numbers, texts or tables belong, missing keys and tables, stray keys, absurd numbers)
+each command line exits 2 with one line naming the field before any simulation starts, or runs the
+valid design to its outcome's exit code; reading a file raises only ``DesignError``. Over valid but
+extreme designs (``fuzz_designs.extreme_designs``: every number across its valid range) both
+analytic paths end in a known ``Status`` with a message, finite numbers wherever the shot got, and
+the same status; the engine gives a ``Shot`` or ``EngineError``.
+
+The examples are derandomized, so every run (and CI) sees the same ones; the quick suite runs a
+few hundred, the ``slow`` tests the thousands.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+import math
+import re
+import tempfile
+import tomllib
+from pathlib import Path
+from unittest import mock
+
+import numpy as np
+import pytest
+import tomli_w
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import analytic.cli
+import analytic.reference
+import crosscheck.cli
+import engine_model.cli
+from analytic import Shot, Status, shoot, simulate, simulate_fast
+from analytic.design import DesignError
+from analytic.design_file import design_from_dict, toml_key
+from analytic.fast import simulate_fast_many
+from engine_model import EngineError
+from engine_model import simulate as engine_simulate
+from fuzz_designs import OUT_OF_RANGE_NUMBERS, design_files, extreme_designs
+
+
+def fuzz(examples: int):
+    """Hypothesis settings of every test here: ``examples`` derandomized examples, no deadline
+    (an extreme design may take seconds), no example database (the runs repeat exactly)."""
+    return settings(max_examples=examples, deadline=None, derandomize=True, database=None,
+                    suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large,
+                                           HealthCheck.filter_too_much])
+
+
+# --------------------------------------------------------------------------- #
+# Design files
+# --------------------------------------------------------------------------- #
+
+def _read_back(data: dict) -> tuple[str, dict]:
+    """The file's text, and its tables as the commands read them."""
+    text = tomli_w.dumps(data)
+    return text, tomllib.loads(text)
+
+
+def _check_refusal(error: DesignError, touched: list[tuple[str, ...]]) -> None:
+    """A refusal names, in one line, a field of a table the mutations touched."""
+    assert "\n" not in str(error) and str(error).startswith(error.field)
+    tables = {toml_key(path[0]) for path in touched}
+    assert any(error.field == table or error.field.startswith(table + ".") for table in tables), (
+        error.field, touched)
+
+
+def _design_or_error(parsed: dict, name: str):
+    try:
+        return design_from_dict(parsed, name=name)
+    except DesignError as error:
+        return error
+
+
+@fuzz(300)
+@given(design_files())
+def test_reading_a_generated_file_gives_a_design_or_design_error(file):
+    data, touched = file
+    result = _design_or_error(_read_back(data)[1], "fuzzed")   # anything but DesignError escapes
+    if isinstance(result, DesignError):
+        _check_refusal(result, touched)
+
+
+@pytest.mark.slow
+@fuzz(3000)
+@given(design_files())
+def test_reading_many_generated_files_gives_designs_or_design_errors(file):
+    test_reading_a_generated_file_gives_a_design_or_design_error.hypothesis.inner_test(file)
+
+
+#: Each command line, how it is run on a file, what it simulates with (patched to count its
+#: calls), and the exit codes of a valid design: the analytic model's 0 (a throw) or 3 (a named
+#: failure); the engine's also 1 (a run it cannot trust); the cross-check's 0 or 1 (agreement).
+COMMANDS = {
+    "analytic": (lambda path: analytic.cli.main(["simulate", path, "--json"]),
+                 (analytic.reference, "simulate"), {0, 3}),
+    "engine_model": (lambda path: engine_model.cli.main(["simulate", path, "--json"]),
+                     (engine_model.cli, "simulate"), {0, 1, 3}),
+    "crosscheck": (lambda path: crosscheck.cli.main([path, "--json", "--workers", "1", "--no-progress"]),
+                   (crosscheck.cli, "run_cases"), {0, 1}),
+}
+
+
+def _run_command(command: str, data: dict, touched: list[tuple[str, ...]]) -> None:
+    run, (module, simulator), valid_codes = COMMANDS[command]
+    text, parsed = _read_back(data)
+    with tempfile.TemporaryDirectory() as directory:
+        path = Path(directory) / "fuzzed.toml"
+        path.write_text(text, encoding="utf-8")
+        expected = _design_or_error(parsed, path.stem)
+        out, err = io.StringIO(), io.StringIO()
+        with mock.patch.object(module, simulator, wraps=getattr(module, simulator)) as work, \
+                contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+            code = run(str(path))   # an exception escaping main fails the test
+    if isinstance(expected, DesignError):
+        assert code == 2 and work.call_count == 0
+        assert err.getvalue() == f"invalid design: {expected}\n"
+        _check_refusal(expected, touched)
+    else:
+        assert code in valid_codes, (code, err.getvalue())
+        report = json.loads(out.getvalue(), parse_constant=_refuse_non_finite)
+        if command == "engine_model" and code == 1:
+            assert err.getvalue().startswith("engine error: ") and not out.getvalue()
+        elif command == "crosscheck":
+            assert report["agree"] == (code == 0)
+        else:
+            assert Status(report["status"]) and report["message"]
+
+
+def _refuse_non_finite(constant: str):
+    raise AssertionError(f"{constant} in the JSON output")
+
+
+#: Quick and slow example counts per command. Most files are invalid and refused at once; a
+#: valid one costs a reference shot with histories (analytic), an engine run (about a second
+#: on the default's numbers) or both models and the comparison (crosscheck).
+QUICK_FILES = {"analytic": 100, "engine_model": 25, "crosscheck": 25}
+SLOW_FILES = {"analytic": 800, "engine_model": 120, "crosscheck": 120}
+
+
+def _file_strategy(command: str):
+    # The engine's runs on valid extreme designs are fuzzed apart, on fewer designs: its
+    # files hold the default's numbers or ones no field accepts, so a valid one runs in a second.
+    return design_files() if command == "analytic" else design_files(numbers=OUT_OF_RANGE_NUMBERS)
+
+
+@pytest.mark.parametrize("command", COMMANDS)
+def test_every_command_refuses_a_bad_file_naming_the_field_or_runs_a_good_one(command):
+    @fuzz(QUICK_FILES[command])
+    @given(_file_strategy(command))
+    def check(file):
+        _run_command(command, *file)
+
+    check()
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("command", COMMANDS)
+def test_every_command_on_many_files(command):
+    @fuzz(SLOW_FILES[command])
+    @given(_file_strategy(command))
+    def check(file):
+        _run_command(command, *file)
+
+    check()
+
+
+# --------------------------------------------------------------------------- #
+# Valid extreme designs
+# --------------------------------------------------------------------------- #
+
+_NOT_A_NUMBER = re.compile(r"\b(nan|inf)\b", re.IGNORECASE)
+#: Statuses reached only after release: the shot has a release state.
+_RELEASED = {Status.OK, Status.NO_LANDING}
+
+
+def _check_shot(shot: Shot) -> None:
+    """A known status, a message without NaN or inf, finite numbers wherever the shot got."""
+    assert isinstance(shot.status, Status) and shot.message and not _NOT_A_NUMBER.search(shot.message)
+    scalars = [shot.liftoff_time, shot.release_time, shot.landing_time, shot.apex_height,
+               shot.min_sling_tension, shot.counterweight_energy_released]
+    assert all(math.isfinite(v) for v in scalars if v is not None), scalars
+    for pair in (shot.release_position, shot.release_velocity, shot.landing_position):
+        assert pair is None or np.all(np.isfinite(pair))
+    if shot.status in _RELEASED:
+        assert shot.release_time is not None and shot.release_speed is not None
+    elif shot.status is not Status.STEP_FAILED:
+        assert shot.release_time is None
+    assert (shot.landing_time is not None) == shot.ok and (shot.apex_height is not None) == shot.ok
+    for history in (shot.t, shot.q, shot.qdot, shot.path, shot.flight_t, shot.flight_path):
+        assert np.all(np.isfinite(history))
+    json.dumps(shot.to_json(), allow_nan=False)
+
+
+#: Designs per batch: a batch runs in one call on every core, so thousands are cheap.
+BATCH = 50
+
+
+def _check_batch(designs) -> None:
+    shots = shoot(designs)
+    singles = simulate_fast_many(designs)
+    assert list(shots.status) == [s.status.value for s in singles]
+    for shot in singles:
+        _check_shot(shot)
+    released = np.isin(shots.status, [s.value for s in _RELEASED])
+    assert np.all(np.isfinite(shots.release_velocity[released])) and np.all(np.isfinite(shots.end_time))
+    assert np.all(np.isfinite(shots.range[shots.ok])) and np.all(np.isnan(shots.range[~shots.ok]))
+
+
+@fuzz(4)
+@given(st.lists(extreme_designs(), min_size=BATCH, max_size=BATCH))
+def test_a_batch_of_extreme_designs_ends_in_named_outcomes(designs):
+    _check_batch(designs)
+
+
+@pytest.mark.slow
+@fuzz(40)
+@given(st.lists(extreme_designs(), min_size=BATCH, max_size=BATCH))
+def test_many_batches_of_extreme_designs_end_in_named_outcomes(designs):
+    _check_batch(designs)
+
+
+def _check_both_paths(design) -> None:
+    print("DESIGN", repr(design), flush=True)
+    import faulthandler; faulthandler.dump_traceback_later(60, exit=True)
+    reference, fast = simulate(design), simulate_fast(design)
+    _check_shot(reference)
+    _check_shot(fast)
+    assert reference.status is fast.status, (reference.message, fast.message)
+
+
+@fuzz(30)
+@given(extreme_designs())
+def test_an_extreme_design_ends_alike_on_both_analytic_paths(design):
+    _check_both_paths(design)
+
+
+@pytest.mark.slow
+@fuzz(300)
+@given(extreme_designs())
+def test_many_extreme_designs_end_alike_on_both_analytic_paths(design):
+    _check_both_paths(design)
+
+
+def _check_engine(design) -> None:
+    try:
+        shot = engine_simulate(design)
+    except EngineError as error:
+        assert str(error)
+        return
+    _check_shot(shot)
+
+
+@pytest.mark.slow
+@fuzz(15)
+@given(extreme_designs())
+def test_the_engine_gives_a_shot_or_engine_error_on_extreme_designs(design):
+    _check_engine(design)
