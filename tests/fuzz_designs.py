@@ -10,7 +10,6 @@ import dataclasses
 import datetime
 import math
 
-from hypothesis import reject
 from hypothesis import strategies as st
 
 from analytic.aero import DRAG_MODELS
@@ -113,7 +112,7 @@ def extreme_machines(draw) -> Machine:
                        release_angle=draw(open_angle(limit)), release_rule=rule)
     except DesignError:
         # A product above underflowed to zero or rounded onto a bound: not a valid design.
-        reject()
+        return None
 
 
 @st.composite
@@ -131,9 +130,11 @@ def extreme_environments(draw) -> Environment:
 
 
 @st.composite
-def wholly_extreme_designs(draw) -> Design:
-    """Every number of the design drawn across its valid range."""
+def wholly_extreme_designs(draw) -> Design | None:
+    """Every number of the design drawn across its valid range (None: the draw is no valid design)."""
     machine = draw(extreme_machines())
+    if machine is None:
+        return None
     return Design(machine, draw(extreme_projectiles(machine.counterweight_mass)), draw(extreme_environments()),
                   name="extreme")
 
@@ -151,11 +152,13 @@ PARTS = {
 
 
 @st.composite
-def partly_extreme_designs(draw) -> Design:
+def partly_extreme_designs(draw) -> Design | None:
     """The default design with a few of its parts (``PARTS``) taken from a wholly extreme one:
     a working machine with one or two absurd numbers gets to release and flight, where the
-    wholly extreme ones mostly stop early."""
+    wholly extreme ones mostly stop early (None: the draw is no valid design)."""
     base, extreme = default_design(), draw(wholly_extreme_designs())
+    if extreme is None:
+        return None
     parts = [(table, fields) for table, groups in PARTS.items() for fields in groups]
     chosen = draw(st.lists(st.sampled_from(parts), min_size=1, max_size=3, unique=True))
     tables = {table: {f.name: getattr(getattr(base, table), f.name) for f in dataclasses.fields(getattr(base, table))}
@@ -168,13 +171,22 @@ def partly_extreme_designs(draw) -> Design:
                       Environment(**tables["environment"]), name="partly-extreme")
     except DesignError:
         # The default's arm on extreme lengths (its centre of mass off the arm) and the like.
-        reject()
+        return None
 
 
 def extreme_designs() -> st.SearchStrategy[Design]:
     """Valid designs with numbers anywhere in their valid range: both release rules, every drag
     model, wind either way; wholly extreme, or the default with a few extreme parts."""
-    return st.one_of(wholly_extreme_designs(), partly_extreme_designs())
+    return st.one_of(wholly_extreme_designs(), partly_extreme_designs()).filter(lambda d: d is not None)
+
+
+def extreme_batches(size: int) -> st.SearchStrategy[list[Design]]:
+    """Lists of up to ``size`` extreme designs (at least half of them): the draws that are no
+    valid design are dropped rather than the whole batch (a batch of 50 valid draws in a row
+    is rare: hypothesis would give up)."""
+    return (st.lists(st.one_of(wholly_extreme_designs(), partly_extreme_designs()), min_size=size, max_size=size)
+            .map(lambda designs: [d for d in designs if d is not None])
+            .filter(lambda designs: len(designs) >= size // 2))
 
 
 # --------------------------------------------------------------------------- #

@@ -244,3 +244,32 @@ def test_each_variable_lands_where_its_name_says():
                "starting_angle": math.asin(m.pivot_height / m.arm_long), "release_angle": m.release_angle}
     assert [meaning[name] for name in VARIABLE_NAMES] == pytest.approx(values, abs=1e-12)
     assert variables_of(m) == pytest.approx(values, abs=1e-12)
+
+
+def test_a_problems_losses_are_every_candidates():
+    # [losses] in a problem file is read as in a design file and carried by every design.
+    data = problem_dict()
+    data["losses"] = {"axle_friction": 0.15, "axle_radius": "6.4 mm", "base_friction": 0.3}
+    problem = problem_from_dict(data)
+    assert (problem.losses.axle_friction, problem.losses.axle_radius, problem.losses.base_friction) == (
+        0.15, pytest.approx(0.0064), 0.3)
+    values = np.array([(v.lower + v.upper) / 2 for v in problem.variables])
+    try:
+        design = design_at(problem, values)
+    except DesignError as error:   # non-ideal losses are refused until both models have friction
+        assert error.field == "losses"
+    else:
+        assert design.losses == problem.losses
+    assert default_problem().losses.ideal and design_at(default_problem(), values).losses.ideal
+
+
+@pytest.mark.parametrize(("entry", "field"), [({"axle_friction": -0.1, "axle_radius": 0.01}, "losses.axle_friction"),
+                                              ({"hinge_radius": 0.005}, "losses.hinge_radius"),
+                                              ({"base_friction": "lots"}, "losses.base_friction"),
+                                              ({"bearing": 0.1}, "losses.bearing")])
+def test_a_problems_bad_losses_name_the_field(entry, field):
+    data = problem_dict()
+    data["losses"] = entry
+    with pytest.raises(DesignError) as raised:
+        problem_from_dict(data)
+    assert raised.value.field == field

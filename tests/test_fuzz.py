@@ -28,7 +28,6 @@ import numpy as np
 import pytest
 import tomli_w
 from hypothesis import HealthCheck, given, settings
-from hypothesis import strategies as st
 
 import analytic.cli
 import analytic.reference
@@ -40,7 +39,7 @@ from analytic.design_file import design_from_dict, toml_key
 from analytic.fast import simulate_fast_many
 from engine_model import EngineError
 from engine_model import simulate as engine_simulate
-from fuzz_designs import OUT_OF_RANGE_NUMBERS, design_files, extreme_designs
+from fuzz_designs import OUT_OF_RANGE_NUMBERS, design_files, extreme_batches, extreme_designs
 
 
 def fuzz(examples: int):
@@ -212,21 +211,19 @@ def _check_batch(designs) -> None:
 
 
 @fuzz(4)
-@given(st.lists(extreme_designs(), min_size=BATCH, max_size=BATCH))
+@given(extreme_batches(BATCH))
 def test_a_batch_of_extreme_designs_ends_in_named_outcomes(designs):
     _check_batch(designs)
 
 
 @pytest.mark.slow
 @fuzz(40)
-@given(st.lists(extreme_designs(), min_size=BATCH, max_size=BATCH))
+@given(extreme_batches(BATCH))
 def test_many_batches_of_extreme_designs_end_in_named_outcomes(designs):
     _check_batch(designs)
 
 
 def _check_both_paths(design) -> None:
-    print("DESIGN", repr(design), flush=True)
-    import faulthandler; faulthandler.dump_traceback_later(60, exit=True)
     reference, fast = simulate(design), simulate_fast(design)
     _check_shot(reference)
     _check_shot(fast)

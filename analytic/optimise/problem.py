@@ -22,10 +22,11 @@ from typing import Any
 
 import numpy as np
 
-from analytic.design import (RELEASE_RULES, Base, BeamArm, Design, DesignError, Environment, Machine,
+from analytic.design import (RELEASE_RULES, Base, BeamArm, Design, DesignError, Environment, Losses, Machine,
                              Projectile, paper_geometry, require_choice, require_non_negative,
                              require_number, require_positive)
-from analytic.design_file import (base_from_dict, beam_arm_from_dict, environment_from_dict, projectile_from_dict,
+from analytic.design_file import (base_from_dict, beam_arm_from_dict, environment_from_dict, losses_from_dict,
+                                  projectile_from_dict,
                                   read_toml, read_values, reject_unknown_keys, require_table)
 
 #: The design variables in the paper's order (Table II), the order of every vector here.
@@ -37,7 +38,7 @@ ANGLE_VARIABLES = ("starting_angle", "release_angle")
 FRAME_MASS = "frame_mass"
 
 _TABLES = ("name", "variables", "constraints", "counterweight", "arm_beam", "projectile",
-           "environment", "release", "base", "loads")
+           "environment", "release", "base", "loads", "losses")
 _CONSTRAINT_KEYS = ("max_footprint", "max_height", "axle_radius")
 #: The loads a problem may limit or minimise (``[loads]``): the name in the file -> the
 #: ``Shot`` peak it bounds (N, N, N, m/s^2).
@@ -85,6 +86,8 @@ class Problem:
     release_rule : ``"velocity"`` or ``"sling"`` (``analytic.geometry.release_value``).
     base : the frame every design stands on (``analytic.design.Base``); with a
         ``frame_mass`` variable, its mass is the variable's.
+    losses : the friction every design has (``analytic.design.Losses``, ``[losses]`` as in
+        design files); the ideal machine by default.
     load_limits : ``(load, limit)`` pairs, a load of ``LOADS`` whose peak through
         stages 1-2 must stay at or below the limit (N; m/s^2 for the projectile's
         acceleration).
@@ -105,6 +108,7 @@ class Problem:
     environment: Environment
     release_rule: str = "velocity"
     base: Base = Base()
+    losses: Losses = Losses()
     load_limits: tuple[tuple[str, float], ...] = ()
     minimise: str | None = None
     min_range: float | None = None
@@ -218,7 +222,7 @@ def design_at(problem: Problem, values: np.ndarray, name: str = "optimum") -> De
                       counterweight_mass=problem.counterweight_mass, counterweight_link=link,
                       counterweight_inertia=problem.counterweight_inertia, sling_length=sling,
                       release_angle=release_angle, release_rule=problem.release_rule)
-    return Design(machine, problem.projectile, problem.environment, name=name, base=base)
+    return Design(machine, problem.projectile, problem.environment, name=name, base=base, losses=problem.losses)
 
 
 def variables_of(machine: Machine) -> np.ndarray:
@@ -295,6 +299,7 @@ def problem_from_dict(data: dict[str, Any], name: str = "problem") -> Problem:
         environment=environment_from_dict(data.get("environment")),
         release_rule=release.get("rule", "velocity"),
         base=base,
+        losses=losses_from_dict(data.get("losses")),
         load_limits=tuple((name, loads[f"max_{name}"]) for name in LOADS if f"max_{name}" in loads),
         minimise=minimise,
         min_range=loads.get("min_range"),

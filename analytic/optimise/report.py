@@ -69,6 +69,11 @@ def format_tables(problem: Problem, columns: list[tuple[str, np.ndarray, float]]
     width = 16
     head = f"{'':<24}" + "".join(f"{c[0]:>{width}}" for c in columns)
     lines = ["Table III (optimisation results; lengths cm, angles deg)", head]
+    if not problem.losses.ideal:
+        losses = problem.losses
+        lines.insert(1, f"with losses: axle {losses.axle_friction:g} x {1000 * losses.axle_radius:g} mm, "
+                        f"hinge {losses.hinge_friction:g} x {1000 * losses.hinge_radius:g} mm, "
+                        f"base {losses.base_friction:g} (Coulomb coefficients x pin radii)")
     dims = [dimensions(problem, values) for _, values, _ in columns]
     for label, key, unit in _DIMENSIONS:
         digits = 1 if unit == "deg" and key == "release_angle" else 2
