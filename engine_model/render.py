@@ -327,8 +327,17 @@ class _Drawing:
         self.figure.canvas.draw()
         return np.asarray(self.figure.canvas.buffer_rgba()).copy()
 
-    def save(self, path: Path) -> None:
-        self.figure.savefig(path, dpi=FRAME_DPI, format="png", metadata={"Software": None})
+    def save(self, path: Path) -> np.ndarray:
+        """Draw once, write the PNG from the canvas's pixels, and return them (RGBA).
+
+        One draw per frame rather than two (``savefig`` would draw the figure
+        again); Pillow writes no time stamp or version, so frames stay deterministic.
+        """
+        from PIL import Image
+
+        pixels = self.pixels()
+        Image.fromarray(pixels, "RGBA").save(path, format="PNG", dpi=(FRAME_DPI, FRAME_DPI))
+        return pixels
 
 
 def summary(shot: Shot) -> str:
@@ -371,10 +380,10 @@ def render_shot(shot: Shot, out_dir: str | Path, *, fps: float = DEFAULT_FPS,
                                            disable=not progress, file=sys.stderr)):
         drawing.draw(frame_state(shot, float(time)), view, float(speed), shot)
         path = out / f"frame_{i:05d}.png"
-        drawing.save(path)
+        pixels = drawing.save(path)
         paths.append(path)
         if gif or mp4:
-            frames.append(drawing.pixels()[:, :, :3])
+            frames.append(pixels[:, :, :3])
     if frames:
         frames += [frames[-1]] * int(round(FINAL_HOLD * fps))
     if gif:
