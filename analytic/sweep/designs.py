@@ -62,6 +62,7 @@ def base_row(base: Base, values: dict[str, float]) -> tuple[np.ndarray, dict[str
     m = design.machine
     for name in ("pivot_height", "arm_long", "arm_mass", "arm_cg", "arm_inertia"):
         si[f"machine.{name}"] = getattr(m, name)
+    si["projectile.drag_factor"] = design.projectile.drag_factor
     return np.array(params(design), dtype=np.float64), si
 
 
@@ -112,7 +113,9 @@ def kernel_rows(base: Base, columns: dict[str, np.ndarray]) -> np.ndarray:
     for field in varied & set(PARAM_OF_FIELD):
         rows[:, _COLUMN[PARAM_OF_FIELD[field]]] = values[field]
     if "projectile.diameter" in varied:
-        rows[:, _COLUMN["area"]] = per_row(lambda d: math.pi * d**2 / 4.0, "projectile.diameter")
+        # ``Projectile.drag_area``: the frontal area, then the base's drag factor (not a sweep field).
+        factor = si["projectile.drag_factor"]
+        rows[:, _COLUMN["area"]] = per_row(lambda d: math.pi * d**2 / 4.0 * factor, "projectile.diameter")
     if varied & set(_TIME_LIMIT_INPUTS):
         lengths = largest_length(_Machine({f: np.broadcast_to(values[f], (size,)) for f in values
                                            if f.startswith("machine.")}))
