@@ -47,6 +47,9 @@ FAILURE_RESIDUAL = 1e6
 SINGULAR_RATIO = 1e-6
 #: A fitted value closer than this (fraction of its scale) to a bound is "at the bound".
 AT_BOUND = 1e-6
+#: A weighted residual beyond this many standard deviations at the fit is reported (a
+#: measurement the model cannot meet within the bounds, or an uncertainty stated too small).
+MISFIT = 3.0
 #: Most residual evaluations (each shoots every shot once).
 MAX_EVALUATIONS = 200
 #: The fit's stopping tolerances (``least_squares``' ftol, xtol, gtol): relative changes of
@@ -124,7 +127,8 @@ class Calibration:
     at_bound : (P,) which parameters ended on one of their bounds.
     singular : (P,) which parameters the data cannot fix (the Jacobian's null space).
     warnings : one line each, for the report.
-    evaluations : residual evaluations (each shoots every shot); shots : shots simulated.
+    evaluations : residual evaluations (each shoots every shot); shots : shots simulated;
+        failed_shots : those of them that did not throw (or could not be built) on the way.
     message : ``least_squares``' own; converged : its success flag; seconds : wall time.
     """
 
@@ -143,6 +147,7 @@ class Calibration:
     warnings: tuple[str, ...]
     evaluations: int
     shots: int
+    failed_shots: int
     message: str
     converged: bool
     seconds: float
@@ -179,6 +184,7 @@ class _Model:
         self.spec = spec
         self.cache: dict[bytes, tuple[np.ndarray, tuple[Prediction, ...]]] = {}
         self.shots = 0
+        self.failed_shots = 0
         self.bar = tqdm(desc="calibrate", unit=" shots", file=sys.stderr, disable=not progress, leave=False)
         p = spec.parameters
         self.lower = np.array([q.lower for q in p])
@@ -193,6 +199,7 @@ class _Model:
                                         for shot, prediction in zip(self.spec.shots, predictions, strict=True)])
             self.cache[key] = residuals, predictions
             self.shots += len(predictions)
+            self.failed_shots += sum(not prediction.ok for prediction in predictions)
             self.bar.update(len(predictions))
             self.bar.set_postfix(chi2=f"{float(residuals @ residuals):.4g}", refresh=False)
         return self.cache[key]
@@ -285,7 +292,7 @@ def calibrate(spec: CalibrationSpec, *, progress: bool = False) -> Calibration:
     with np.errstate(invalid="ignore"):
         uncertainties = np.sqrt(np.diag(covariance))
     return Calibration(spec, values, uncertainties, covariance, start, fitted, initial, residuals, chi_square, dof,
-                       at_bound, singular, tuple(warnings), len(model.cache), model.shots, result.message,
+                       at_bound, singular, tuple(warnings), len(model.cache), model.shots, model.failed_shots, result.message,
                        bool(result.success), time.perf_counter() - began)
 
 
@@ -325,6 +332,11 @@ def _warnings(spec, values, at_bound, singular, fitted, result) -> list[str]:
         if not prediction.ok:
             lines.append(f"{shot.label} ({shot.design_file}) does not throw at the fitted parameters: "
                          f"{prediction.status}: {prediction.message}")
+            continue
+        for m, r in zip(shot.measurements, weighted_residuals(shot, prediction), strict=True):
+            if abs(r) > MISFIT:
+                lines.append(f"{shot.label} {m.quantity}: predicted {prediction.values[m.quantity]:.4g} {m.unit} "
+                             f"against {m.value:.4g} measured, {r:+.1f} standard deviations at the fit")
     if not result.success or result.status == 0:
         lines.append(f"the fit did not converge: {result.message}")
     return lines

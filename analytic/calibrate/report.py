@@ -8,7 +8,7 @@ JSON (``calibrate --json``, and ``calibration.json`` beside the report)::
                 "uncertainty", "predicted", "residual", "weighted_residual", "unit"}}}],
      "chi_square", "degrees_of_freedom", "reduced_chi_square", "p_value",
      "correlation", "uncertainty_definition", "converged", "message", "warnings",
-     "evaluations", "shots_simulated", "seconds"}
+     "evaluations", "shots_simulated", "shots_failed", "seconds"}
 
 Every shot measures its range, so a shot's ``measured``, ``predicted`` and
 ``residual`` (predicted - measured, m) are its range's; every measured
@@ -68,7 +68,7 @@ def to_json(result: Calibration) -> dict:
             "p_value": result.p_value, "correlation": correlation,
             "uncertainty_definition": UNCERTAINTY_DEFINITION, "converged": result.converged,
             "message": result.message, "warnings": list(result.warnings), "evaluations": result.evaluations,
-            "shots_simulated": result.shots, "seconds": result.seconds}
+            "shots_simulated": result.shots, "shots_failed": result.failed_shots, "seconds": result.seconds}
 
 
 def _format(value: float | None, digits: int = 4) -> str:
@@ -95,10 +95,11 @@ def format_report(result: Calibration) -> str:
     reduced = result.reduced_chi_square
     lines += ["", f"chi-square {result.chi_square:.4g} with {result.degrees_of_freedom} degree(s) of freedom"
               + ("" if reduced is None else f" (reduced {reduced:.3g}, p = {result.p_value:.3g})")
-              + ("; no degrees of freedom: the fit matches the data exactly, whatever the model's merit"
-                 if result.degrees_of_freedom == 0 else ""),
+              + ("; no degrees of freedom: as many parameters as measurements, so the chi-square cannot "
+                 "judge the model" if result.degrees_of_freedom == 0 else ""),
               f"uncertainties: {UNCERTAINTY_DEFINITION}",
-              f"{result.evaluations} evaluations, {result.shots} shots (reference path) in {result.seconds:.1f} s; "
+              f"{result.evaluations} evaluations, {result.shots} shots (reference path; {result.failed_shots} did not "
+              f"throw) in {result.seconds:.1f} s; "
               f"{result.message}", "", "shots (residual = predicted - measured):"]
     for shot, start, fitted in zip(spec.shots, result.initial, result.fitted, strict=True):
         lines.append(f"  {shot.label} {shot.design_file}: {fitted.status}")
