@@ -49,6 +49,7 @@ def run(args: argparse.Namespace) -> int:
     except DesignError as error:
         print(f"invalid input: {error}", file=sys.stderr)
         return EXIT_INVALID
+    created = args.out is not None and not Path(args.out).exists()
     try:
         out = None if args.out is None else output_folder(args.out, "--out")
     except OutputPathError as error:
@@ -58,6 +59,8 @@ def run(args: argparse.Namespace) -> int:
         result = calibrate(spec, progress=not args.quiet)
     except CalibrationError as error:
         print(f"cannot calibrate: {error}", file=sys.stderr)
+        if created and out is not None and not any(out.iterdir()):
+            out.rmdir()   # made by the check before work, and nothing was written into it
         return EXIT_NO_THROW
     if args.json:
         print(json.dumps(to_json(result), indent=2))
