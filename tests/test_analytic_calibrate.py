@@ -255,6 +255,22 @@ def test_a_shot_that_stops_throwing_during_the_fit_does_not_crash_it(tmp_path):
     assert any("standard deviations at the fit" in w for w in result.warnings)
 
 
+def test_a_fit_on_a_jump_of_the_model_says_so_and_keeps_an_honest_uncertainty(tmp_path):
+    """The velocity rule's release jumps between two crossings of the angle: on the prototype's
+    design at 55.79565 deg (measured here: 55.7956 deg releases at 0.3685 s, 55.7957 deg at
+    0.3600 s; release times fall with the angle on both sides). A release time inside the gap
+    pulls the fit onto the jump. A central difference across it (0.0085 s over 2e-4 deg) would
+    give an uncertainty of 2.4e-5 deg; the slope on the fit's own side gives 7.6e-3 deg."""
+    save_design(load_design(PROTOTYPE_FILE), tmp_path / "p.toml")
+    path = write_calibration(tmp_path / "jump.toml", ["release_angle_offset"],
+                             [{"design": "p.toml", "range": 36.68, "range_uncertainty": 3.0,
+                               "release_time": 0.364, "release_time_uncertainty": 0.001}])
+    result = calibrate(load_calibration(path))
+    assert result.values[0] == pytest.approx(55.79565 - 61.0, abs=1e-3)
+    assert any("jumps within" in w and "shot[1] release_time" in w for w in result.warnings), result.warnings
+    assert result.uncertainties[0] > 1e-3
+
+
 def test_parameters_the_data_cannot_tell_apart_are_flagged(tmp_path):
     """Constant drag: only the product of drag factor and Cd acts, so the Jacobian is singular."""
     design = with_projectile(load_design(PROTOTYPE_FILE), drag="constant", drag_coefficient=0.3)
@@ -286,13 +302,16 @@ def test_a_parameter_pushed_past_its_bound_is_flagged(tmp_path):
 
 @pytest.fixture
 def prototype_shots(tmp_path):
-    """A valid calibration file: the prototype at 61 deg and at 50 deg, drag factor and offset."""
+    """A valid calibration file: the prototype at 61 deg and at 50 deg, drag factor and offset.
+
+    The measurements are near what the model throws at drag factor 1.1 and offset -1 deg
+    (30.05 m, 60 deg; 41.23 m, 0.378 s), rounded, so the fit is short and smooth."""
     save_design(load_design(PROTOTYPE_FILE), tmp_path / "p61.toml")
     save_design(with_machine(load_design(PROTOTYPE_FILE), release_angle=math.radians(50.0)), tmp_path / "p50.toml")
-    shots = [{"design": "p61.toml", "range": 27.5, "range_uncertainty": 0.5,
+    shots = [{"design": "p61.toml", "range": 30.0, "range_uncertainty": 0.5,
               "release_angle": 60.0, "release_angle_uncertainty": 1.5},
-             {"design": "p50.toml", "range": 31.0, "range_uncertainty": 0.5,
-              "release_time": "360 ms", "release_time_uncertainty": "5 ms"}]
+             {"design": "p50.toml", "range": 41.3, "range_uncertainty": 0.5,
+              "release_time": "380 ms", "release_time_uncertainty": "5 ms"}]
     return tmp_path, shots
 
 
@@ -311,8 +330,8 @@ def test_json_keys_are_the_interfaces(prototype_shots, capsys):
         assert shot["measured"] == given["range"]
         assert shot["residual"] == pytest.approx(shot["predicted"] - shot["measured"], abs=1e-12)
         assert set(shot["quantities"]) == {k for k in given if k in ("range", "release_angle", "release_time")}
-    # Texts with units are read in file units: 360 ms is 0.36 s.
-    assert out["shots"][1]["quantities"]["release_time"]["measured"] == pytest.approx(0.36)
+    # Texts with units are read in file units: 380 ms is 0.38 s.
+    assert out["shots"][1]["quantities"]["release_time"]["measured"] == pytest.approx(0.38)
     assert out["degrees_of_freedom"] == 2
 
 

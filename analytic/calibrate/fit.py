@@ -2,7 +2,7 @@
 
 Residuals are ``(predicted - measured) / uncertainty`` over every measured
 quantity of every shot, minimised by ``scipy.optimize.least_squares``
-(trust-region reflective, within each parameter's bounds). Shots are the
+(dogbox: a trust region within the box of the bounds). Shots are the
 reference path's (``analytic.reference.simulate`` at its default tolerances,
 summaries only).
 
@@ -47,6 +47,9 @@ FAILURE_RESIDUAL = 1e6
 SINGULAR_RATIO = 1e-6
 #: A fitted value closer than this (fraction of its scale) to a bound is "at the bound".
 AT_BOUND = 1e-6
+#: One-sided slopes of a measurement that differ by more than this fraction of the larger
+#: mean a jump between the probes, not a slope: smooth ones differ by ~``STEP`` relative.
+JUMP_RATIO = 0.1
 #: A weighted residual beyond this many standard deviations at the fit is reported (a
 #: measurement the model cannot meet within the bounds, or an uncertainty stated too small).
 MISFIT = 3.0
@@ -190,6 +193,9 @@ class _Model:
         self.lower = np.array([q.lower for q in p])
         self.upper = np.array([q.upper for q in p])
         self.steps = STEP * np.array([q.scale for q in p])
+        #: parameter index -> the measurements (indices into the residuals) that jumped between
+        #: its probes at the last Jacobian.
+        self.jumps: dict[int, np.ndarray] = {}
 
     def evaluate(self, x: np.ndarray) -> tuple[np.ndarray, tuple[Prediction, ...]]:
         key = np.asarray(x, dtype=float).tobytes()
@@ -227,8 +233,22 @@ class _Model:
 
             up, down = at(+1.0), at(-1.0)
             if up is not None and down is not None:
-                columns.append((up - down) / (2.0 * h))
+                forward, backward = (up - f0) / h, (f0 - down) / h
+                column = (forward + backward) / 2.0
+                # A jump between the probes (the velocity rule's release moving to another
+                # crossing, say) makes the two one-sided slopes disagree wildly, where a smooth
+                # measurement's differ by ~STEP: take the one on x's own side of the jump (the
+                # smaller) and remember it.
+                jumps = np.abs(forward - backward) > JUMP_RATIO * np.maximum(np.abs(forward), np.abs(backward))
+                if jumps.any():
+                    column = np.where(jumps, np.where(np.abs(forward) < np.abs(backward), forward, backward),
+                                      column)
+                    self.jumps[j] = np.flatnonzero(jumps)
+                else:
+                    self.jumps.pop(j, None)
+                columns.append(column)
                 continue
+            self.jumps.pop(j, None)
             for sign, near in ((+1.0, up), (-1.0, down)):
                 far = at(2.0 * sign) if near is not None else None
                 if far is not None:
@@ -276,7 +296,7 @@ def calibrate(spec: CalibrationSpec, *, progress: bool = False) -> Calibration:
                                        f"where every shot throws")
         scales = np.array([p.scale for p in params])
         result = least_squares(model.residuals, start, jac=model.jacobian, bounds=(model.lower, model.upper),
-                               method="trf", x_scale=scales, ftol=TOLERANCE, xtol=TOLERANCE, gtol=TOLERANCE,
+                               method="dogbox", x_scale=scales, ftol=TOLERANCE, xtol=TOLERANCE, gtol=TOLERANCE,
                                max_nfev=MAX_EVALUATIONS)
         values = np.asarray(result.x, dtype=float)
         residuals, fitted = model.evaluate(values)
@@ -289,11 +309,22 @@ def calibrate(spec: CalibrationSpec, *, progress: bool = False) -> Calibration:
     chi_square = float(residuals @ residuals)
     dof = spec.measurements - len(params)
     warnings = _warnings(spec, values, at_bound, singular, fitted, result)
+    for j, rows in sorted(model.jumps.items()):
+        labels = _measurement_labels(spec)
+        warnings.append(f"{', '.join(labels[i] for i in rows)} jumps within {model.steps[j]:.3g} of "
+                        f"{params[j].name} = {values[j]:.6g}: the model is not smooth there (the velocity rule's "
+                        f"release can move to another crossing of the angle), so the fit may sit on the jump; "
+                        f"the uncertainty uses the slope on its own side")
     with np.errstate(invalid="ignore"):
         uncertainties = np.sqrt(np.diag(covariance))
     return Calibration(spec, values, uncertainties, covariance, start, fitted, initial, residuals, chi_square, dof,
                        at_bound, singular, tuple(warnings), len(model.cache), model.shots, model.failed_shots, result.message,
                        bool(result.success), time.perf_counter() - began)
+
+
+def _measurement_labels(spec: CalibrationSpec) -> list[str]:
+    """``shot[i] quantity`` for every measurement, in the residuals' order."""
+    return [f"{shot.label} {m.quantity}" for shot in spec.shots for m in shot.measurements]
 
 
 def _covariance(jacobian: np.ndarray, scales: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
