@@ -343,7 +343,6 @@ def _validity(name: str, target: Field | None, spec: CalibrationSpec) -> tuple[f
 
 
 def _parameter(name: str, spec: CalibrationSpec, start: Any, bounds: Any) -> Parameter:
-    where = f"fit {name}"
     if name == RELEASE_ANGLE_OFFSET:
         target, unit, default, scale = None, "deg", 0.0, 1.0
     else:
