@@ -510,3 +510,27 @@ def test_drag_factor_round_trips_and_is_left_out_at_one(tmp_path):
     assert load_design(tmp_path / "d.toml") == design   # the file keeps the name
     save_design(load_design(PROTOTYPE_FILE), tmp_path / "one.toml")
     assert "drag_factor" not in (tmp_path / "one.toml").read_text()
+
+
+def test_drag_factor_reaches_the_fast_paths_design_row():
+    """The compiled path reads the drag through its row's ``area`` (``analytic.parameters``):
+    the frontal area times the factor, and exactly the frontal area at factor 1."""
+    from analytic.fast import pack
+    from analytic.parameters import Params
+
+    base = load_design(PROTOTYPE_FILE)
+    column = Params._fields.index("area")
+    assert pack(base)[column] == base.projectile.frontal_area
+    assert pack(with_projectile(base, drag_factor=1.3))[column] == base.projectile.frontal_area * 1.3
+
+
+@pytest.mark.slow
+def test_drag_factor_fast_and_reference_paths_agree():
+    """The fast path (compiled: slow the first time in a checkout) throws a drag factor's shot as
+    the reference does, to the paths' usual 1e-7 in range (README, Fast shots)."""
+    from analytic.fast import simulate_fast
+
+    design = with_projectile(load_design(PROTOTYPE_FILE), drag_factor=1.3)
+    reference = simulate(design, histories=False, loads=False).range
+    assert simulate_fast(design, loads=False).range == pytest.approx(reference, rel=1e-7)
+    assert reference < simulate(load_design(PROTOTYPE_FILE), histories=False, loads=False).range - 0.5
