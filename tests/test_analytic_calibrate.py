@@ -224,6 +224,19 @@ def test_the_prototype_calibration_meets_its_measured_range():
     assert result.values[0] > 0.0 and 0.0 < result.uncertainties[0] < result.values[0]
 
 
+@requires_friction
+def test_the_prototype_calibration_with_its_release_angle_meets_both_measurements():
+    """Two measurements, two parameters: the range and the 61 deg met, and the friction's
+    uncertainty wider than with the angle taken as exact (it now carries the angle's 1.8 deg)."""
+    alone = calibrate(load_calibration(PROTOTYPE_CALIBRATION))
+    result = calibrate(load_calibration(PROTOTYPE_CALIBRATION.with_name("prototype-angle.toml")))
+    assert [p.name for p in result.spec.parameters] == ["losses.axle_friction", "release_angle_offset"]
+    assert result.converged and result.degrees_of_freedom == 0
+    assert result.fitted[0].values["range"] == pytest.approx(PROTOTYPE_RANGE, abs=1e-4)
+    assert result.fitted[0].values["release_angle"] == pytest.approx(61.0, abs=1e-4)
+    assert result.uncertainties[0] > alone.uncertainties[0]
+
+
 def test_the_prototype_calibration_file_names_the_prototype_and_its_range():
     """The shipped file: one shot of prototype-61.toml at the paper's 26.8 m (section IV), which
     the ideal machine overshoots (29.39 m), so friction has something to explain."""
@@ -403,6 +416,7 @@ def _bad_cases():
         ("boolean-measurement", shot(range=True), "shot[1].range"),
         ("wrong-unit", shot(range="27 kg"), "shot[1].range"),
         ("nan-measurement", shot(range=math.nan), "shot[1].range"),
+        ("negative-time", lambda fit, shots, tables: shots[1].update(release_time=-0.1), "shot[2].release_time"),
         ("missing-range", shot(range=None, range_uncertainty=None), "shot[1].range"),
         ("unknown-shot-key", shot(rnage=27.0), "shot[1].rnage"),
         ("start-outside-bounds", table("start", {"drag_factor": -1.0}), "start.drag_factor"),

@@ -310,6 +310,8 @@ def _shot(number: int, raw: dict, folder: Path) -> ShotSpec:
         sd = require_number(f"{label}.{sd_key}", _value(f"{label}.{sd_key}", raw[sd_key], kind))
         if not sd > 0.0:
             raise DesignError(f"{label}.{sd_key}", raw[sd_key], "must be positive (one standard deviation)")
+        if kind is TIME and not value > 0.0:
+            raise DesignError(f"{label}.{key}", raw[key], "must be positive (s from the firing instant)")
         measurements.append(Measurement(quantity, float(value), float(sd)))
     if "range" not in raw:
         raise DesignError(f"{label}.range", None, "required: the measured range (m) with range_uncertainty")
