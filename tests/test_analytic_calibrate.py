@@ -237,6 +237,22 @@ def test_the_prototype_calibration_with_its_release_angle_meets_both_measurement
     assert result.uncertainties[0] > alone.uncertainties[0]
 
 
+def test_the_prototype_calibration_reads_its_friction_parameter(monkeypatch):
+    """What can be checked of the friction calibration while the contract refuses losses: with
+    that one refusal lifted (Design's own check, nothing the model reads), the file gives a
+    coefficient that starts at DEFAULT_LOSS_START (0.1) above a bound of 0, and the shot's
+    design gets the coefficient and the given radius together."""
+    from analytic.calibrate.spec import DEFAULT_LOSS_START
+
+    monkeypatch.setattr(Design, "__post_init__", lambda self: None)
+    spec = load_calibration(PROTOTYPE_CALIBRATION)
+    (parameter,) = spec.parameters
+    assert (parameter.start, parameter.lower, parameter.scale) == (DEFAULT_LOSS_START, 0.0, 0.1)
+    assert spec.design_at(spec.shots[0], [0.2]).losses == Losses(axle_friction=0.2, axle_radius=0.0064)
+    # At 0 the radius goes too: the same machine, and a radius alone is refused.
+    assert spec.design_at(spec.shots[0], [0.0]).losses == Losses()
+
+
 def test_the_prototype_calibration_file_names_the_prototype_and_its_range():
     """The shipped file: one shot of prototype-61.toml at the paper's 26.8 m (section IV), which
     the ideal machine overshoots (29.39 m), so friction has something to explain."""
