@@ -17,6 +17,7 @@ import tomllib
 import numpy as np
 import pytest
 from scipy.stats import chi2
+from support import DATA, with_machine, with_projectile
 
 from analytic.calibrate import calibrate, load_calibration
 from analytic.calibrate.fit import FAILURE_RESIDUAL
@@ -25,8 +26,6 @@ from analytic.cli import main
 from analytic.design import Design, DesignError, Losses
 from analytic.design_file import load_design, save_design
 from analytic.reference import simulate
-
-from support import DATA, with_machine, with_projectile
 
 PROTOTYPE_FILE = DATA / "designs" / "prototype-61.toml"
 PROTOTYPE_CALIBRATION = DATA / "calibration" / "prototype.toml"

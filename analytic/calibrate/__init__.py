@@ -8,8 +8,28 @@ text, a measured-against-predicted plot and the fitted designs; ``cli`` is
 """
 
 from analytic.calibrate.fit import Calibration, CalibrationError, Prediction, calibrate
-from analytic.calibrate.spec import (DRAG_FACTOR, QUANTITIES, RELEASE_ANGLE_OFFSET, CalibrationSpec, Measurement,
-                                     Parameter, ShotSpec, load_calibration)
+from analytic.calibrate.spec import (
+                                     DRAG_FACTOR,
+                                     QUANTITIES,
+                                     RELEASE_ANGLE_OFFSET,
+                                     CalibrationSpec,
+                                     Measurement,
+                                     Parameter,
+                                     ShotSpec,
+                                     load_calibration,
+)
 
-__all__ = ["Calibration", "CalibrationError", "CalibrationSpec", "DRAG_FACTOR", "Measurement", "Parameter",
-           "Prediction", "QUANTITIES", "RELEASE_ANGLE_OFFSET", "ShotSpec", "calibrate", "load_calibration"]
+__all__ = [
+                                     "DRAG_FACTOR",
+                                     "QUANTITIES",
+                                     "RELEASE_ANGLE_OFFSET",
+                                     "Calibration",
+                                     "CalibrationError",
+                                     "CalibrationSpec",
+                                     "Measurement",
+                                     "Parameter",
+                                     "Prediction",
+                                     "ShotSpec",
+                                     "calibrate",
+                                     "load_calibration",
+]

@@ -78,8 +78,8 @@ def _format(value: float | None, digits: int = 4) -> str:
 def format_report(result: Calibration) -> str:
     """The result as text: parameters, fit quality, every shot's measurements, warnings."""
     spec = result.spec
-    lines = [f"calibration {spec.path.name}: {len(spec.parameters)} parameter(s), {len(spec.shots)} shot(s), "
-             f"{spec.measurements} measurement(s)", "", "parameters (value +- one standard deviation):"]
+    lines = [(f"calibration {spec.path.name}: {len(spec.parameters)} parameter(s), {len(spec.shots)} shot(s), "
+              f"{spec.measurements} measurement(s)"), "", "parameters (value +- one standard deviation):"]
     width = max(len(p.name) for p in spec.parameters)
     for j, p in enumerate(spec.parameters):
         sd = result.uncertainties[j]
@@ -98,9 +98,9 @@ def format_report(result: Calibration) -> str:
               + ("; no degrees of freedom: as many parameters as measurements, so the chi-square cannot "
                  "judge the model" if result.degrees_of_freedom == 0 else ""),
               f"uncertainties: {UNCERTAINTY_DEFINITION}",
-              f"{result.evaluations} evaluations, {result.shots} shots (reference path; {result.failed_shots} did not "
-              f"throw) in {result.seconds:.1f} s; "
-              f"{result.message}", "", "shots (residual = predicted - measured):"]
+              (f"{result.evaluations} evaluations, {result.shots} shots (reference path; {result.failed_shots} "
+               f"did not throw) in {result.seconds:.1f} s; {result.message}"),
+              "", "shots (residual = predicted - measured):"]
     for shot, start, fitted in zip(spec.shots, result.initial, result.fitted, strict=True):
         lines.append(f"  {shot.label} {shot.design_file}: {fitted.status}")
         for m in shot.measurements:

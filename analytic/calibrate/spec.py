@@ -30,9 +30,20 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from analytic.design import (MAX_MAGNITUDE, MAX_SLING_RELEASE_ANGLE, MAX_VELOCITY_RELEASE_ANGLE, Design,
-                             DesignError, require_number)
-from analytic.design_file import load_design, read_toml, reject_unknown_keys, require_table
+from analytic.design import (
+    MAX_MAGNITUDE,
+    MAX_SLING_RELEASE_ANGLE,
+    MAX_VELOCITY_RELEASE_ANGLE,
+    Design,
+    DesignError,
+    require_number,
+)
+from analytic.design_file import (
+    load_design,
+    read_toml,
+    reject_unknown_keys,
+    require_table,
+)
 from analytic.fields import Field, field
 from analytic.units import ANGLE, LENGTH, NUMBER, Kind, parse
 
@@ -200,12 +211,12 @@ def load_calibration(path: str | Path) -> CalibrationSpec:
     if not isinstance(raw_shots, list) or not all(isinstance(s, dict) for s in raw_shots) or not raw_shots:
         raise DesignError("shot", raw_shots, "must be [[shot]] tables, at least one")
     shots = tuple(_shot(i, raw, path.parent) for i, raw in enumerate(raw_shots, 1))
-    given = {name: value for name, value in _dotted("given", data.get("given")).items()}
-    for name in given:
+    given = {}
+    for name, value in _dotted("given", data.get("given")).items():
         target = field(name)
         if any(_target_of(n) == target.name for n in names):
-            raise DesignError(f"given.{name}", given[name], "is also fitted: give it in [start] instead")
-        given[name] = require_number(f"given.{name}", _value(f"given.{name}", given[name], target.kind))
+            raise DesignError(f"given.{name}", value, "is also fitted: give it in [start] instead")
+        given[name] = require_number(f"given.{name}", _value(f"given.{name}", value, target.kind))
     starts = _dotted("start", data.get("start"))
     bounds = _dotted("bounds", data.get("bounds"))
     for table, entries in (("start", starts), ("bounds", bounds)):
