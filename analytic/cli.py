@@ -1,4 +1,4 @@
-"""Command line: ``python -m analytic simulate|aim|chart|optimise|sweep|bench|compile`` (a thin layer over the library)."""
+"""Command line: ``python -m analytic simulate|aim|chart|calibrate|optimise|sweep|bench|compile`` (a thin layer over the library)."""
 
 from __future__ import annotations
 
@@ -178,6 +178,12 @@ def build_parser() -> argparse.ArgumentParser:
                      help="a field and its settings (counterweight_mass=1kg:3kg:9); once or twice")
     cha.add_argument("--out", required=True, metavar="DIR", help="folder for chart.csv and chart.png")
     cha.set_defaults(func=_chart)
+    from analytic.calibrate import cli as calibrate_cli
+
+    cal = commands.add_parser("calibrate", help="fit loss coefficients, a drag factor or a release-angle offset "
+                                                "to measured shots (weighted least squares)")
+    calibrate_cli.add_arguments(cal)
+    cal.set_defaults(func=calibrate_cli.run)
     comp = commands.add_parser("compile", help="compile the fast path into its disk cache now "
                                                "(make does it on install; later runs load it)")
     comp.set_defaults(func=_compile)

@@ -163,16 +163,29 @@ class Machine:
 
 @dataclass(frozen=True)
 class Projectile:
-    """A spherical projectile (point mass in the dynamics, a sphere for drag)."""
+    """A spherical projectile (point mass in the dynamics, a sphere for drag).
+
+    Attributes
+    ----------
+    mass : kg.
+    diameter : m.
+    drag : the drag model (``analytic.aero.DRAG_MODELS``).
+    drag_coefficient : Cd of ``drag = "constant"`` (only there).
+    drag_factor : a multiplier on the drag force of any model (its Cd at every Re),
+        1 by default: what a calibration fits when a real ball drags more or less
+        than its model (``analytic.calibrate``). The Reynolds number is unchanged.
+    """
 
     mass: float
     diameter: float
     drag: str = "none"
     drag_coefficient: float | None = None
+    drag_factor: float = 1.0
 
     def __post_init__(self) -> None:
         require_positive("projectile.mass", self.mass)
         require_positive("projectile.diameter", self.diameter)
+        require_positive("projectile.drag_factor", self.drag_factor)
         require_choice("projectile.drag", self.drag, DRAG_MODELS)
         if self.drag == "constant":
             if self.drag_coefficient is None:
@@ -186,6 +199,12 @@ class Projectile:
     def frontal_area(self) -> float:
         """Cross-sectional area pi d^2 / 4, m^2."""
         return math.pi * self.diameter**2 / 4.0
+
+    @property
+    def drag_area(self) -> float:
+        """The area the drag acts on, ``frontal_area * drag_factor``, m^2 (the frontal area itself
+        at the default factor 1, to the bit)."""
+        return self.frontal_area * self.drag_factor
 
 
 @dataclass(frozen=True)

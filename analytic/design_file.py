@@ -99,7 +99,7 @@ def machine_from_dict(data: Any) -> Machine:
 def projectile_from_dict(data: Any) -> Projectile:
     """The ``[projectile]`` table of a design (or problem) file; ``mass``, ``diameter`` and ``drag`` required."""
     values = read_values("projectile", require_table("projectile", data),
-                         numbers=("mass", "diameter", "drag_coefficient"), texts=("drag",),
+                         numbers=("mass", "diameter", "drag_coefficient", "drag_factor"), texts=("drag",),
                          required=("mass", "diameter", "drag"))
     return Projectile(**values)
 
@@ -155,6 +155,8 @@ def design_to_dict(design: Design, units: dict[str, str] | None = None) -> dict[
     machine = dataclasses.asdict(design.machine)
     machine["release_angle"] = math.degrees(machine["release_angle"])
     projectile = {k: v for k, v in dataclasses.asdict(design.projectile).items() if v is not None}
+    if projectile["drag_factor"] == 1.0:   # the default: left out, so files read as they were written
+        del projectile["drag_factor"]
     layout = {"name": design.name, "machine": machine, "projectile": projectile,
               "environment": dataclasses.asdict(design.environment)}
     if design.base != Base():   # a fixed frame is the default: its table is left out

@@ -21,7 +21,8 @@ alpha       release angle, rad                                   machine.release
 rule        release rule code (``geometry.RELEASE_RULES``)       machine.release_rule
 drag        drag model code (``aero.DRAG_MODELS``)               projectile.drag
 cd          constant drag coefficient (NaN unless "constant")    projectile.drag_coefficient
-diameter    projectile diameter, m; area its frontal area, m^2   projectile.diameter
+diameter    projectile diameter, m; area its drag area, m^2      projectile.diameter, drag_factor
+            (the frontal area times the drag factor)
 rho, mu     air density (kg/m^3), viscosity (Pa s)               environment.air_*
 wind        wind speed, m/s, positive = tailwind                 environment.wind_speed
 rolling     1.0 if the frame rolls, 0.0 if it is fixed             base.mobility
@@ -88,7 +89,7 @@ def params(design) -> Params:
         alpha=m.release_angle, rule=float(RELEASE_RULES.index(m.release_rule)),
         drag=float(DRAG_MODELS.index(proj.drag)),
         cd=math.nan if proj.drag_coefficient is None else proj.drag_coefficient,
-        diameter=proj.diameter, area=math.pi * proj.diameter**2 / 4.0,
+        diameter=proj.diameter, area=proj.drag_area,
         rho=env.air_density, mu=env.air_viscosity, wind=env.wind_speed,
         rolling=float(design.base.rolling), Mf=design.base.mass if design.base.rolling else 0.0,
         t_limit=swing_time_limit(m, env.gravity), theta0=theta0, phi0=phi0)

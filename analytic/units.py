@@ -53,7 +53,7 @@ FIELD_KINDS = {
     "arm_mass": MASS, "counterweight_mass": MASS, "mass": MASS, "frame_mass": MASS,
     "arm_inertia": INERTIA, "counterweight_inertia": INERTIA,
     "release_angle": ANGLE, "starting_angle": ANGLE,
-    "drag_coefficient": NUMBER, "axle_friction": NUMBER, "hinge_friction": NUMBER, "base_friction": NUMBER,
+    "drag_coefficient": NUMBER, "drag_factor": NUMBER, "axle_friction": NUMBER, "hinge_friction": NUMBER, "base_friction": NUMBER,
     "hinge_radius": LENGTH,
     "gravity": ACCELERATION, "max_projectile_acceleration": ACCELERATION,
     "air_density": DENSITY, "density": DENSITY,

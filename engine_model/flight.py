@@ -79,7 +79,8 @@ class Flight:
 
 
 def drag_rate(velocity: tuple[float, float], design: Design) -> float:
-    """``k`` in the drag acceleration ``-k v_rel``, 1/s: ``rho Cd A |v_rel| / (2 m)``.
+    """``k`` in the drag acceleration ``-k v_rel``, 1/s: ``rho Cd A |v_rel| / (2 m)``
+    (``A`` the drag area: the frontal area times ``projectile.drag_factor``).
 
     ``v_rel = v - (wind_speed, 0)`` is the air-relative velocity and
     ``Cd = analytic.aero.drag_coefficient(model, Re)`` with ``Re = rho |v_rel| d / mu``;
@@ -93,7 +94,7 @@ def drag_rate(velocity: tuple[float, float], design: Design) -> float:
         return 0.0
     reynolds = reynolds_number(speed, proj.diameter, env.air_density, env.air_viscosity)
     cd = drag_coefficient(proj.drag, reynolds, proj.drag_coefficient)
-    return 0.5 * env.air_density * cd * proj.frontal_area * speed / proj.mass
+    return 0.5 * env.air_density * cd * proj.drag_area * speed / proj.mass
 
 
 def drag_rate_function(design: Design) -> Callable[[float, float], float]:
@@ -111,7 +112,7 @@ def drag_rate_function(design: Design) -> Callable[[float, float], float]:
     reynolds_number(0.0, proj.diameter, env.air_density, env.air_viscosity)
     drag_coefficient(proj.drag, 0.0, proj.drag_coefficient)
     wind, rho, mu, diameter = env.wind_speed, env.air_density, env.air_viscosity, proj.diameter
-    area, mass, constant = proj.frontal_area, proj.mass, proj.drag_coefficient
+    area, mass, constant = proj.drag_area, proj.mass, proj.drag_coefficient
     if proj.drag == "golf-ball":
         def cd_of(re):
             return golf_ball_cd(re, DRAG_TABLE)
@@ -148,7 +149,7 @@ def fall_speed_bound(design: Design) -> float:
     """
     env, proj = design.environment, design.projectile
     cd = proj.drag_coefficient if proj.drag == "constant" else SMALLEST_DRAG_COEFFICIENT.get(proj.drag, 0.0)
-    c = 0.5 * env.air_density * cd * proj.frontal_area / proj.mass
+    c = 0.5 * env.air_density * cd * proj.drag_area / proj.mass
     return math.sqrt(env.gravity / c) if c > 0.0 else math.inf
 
 

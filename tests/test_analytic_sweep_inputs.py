@@ -236,8 +236,10 @@ def test_rows_of_a_direct_design_varying_every_field_at_once(tmp_path):
 @pytest.mark.parametrize("fields", [("machine.sling_length", "machine.release_angle"),
                                     ("machine.arm_long", "machine.arm_short"),
                                     ("machine.arm_beam.width", "machine.arm_beam.density", "machine.pivot_height"),
-                                    ("projectile.diameter", "environment.gravity")],
-                         ids=["sling-release", "arm-from-beam", "beam-itself", "area-and-time-limit"])
+                                    ("projectile.diameter", "environment.gravity"),
+                                    ("projectile.drag_factor",), ("projectile.diameter", "projectile.drag_factor")],
+                         ids=["sling-release", "arm-from-beam", "beam-itself", "area-and-time-limit",
+                              "drag-factor", "drag-area"])
 def test_rows_of_the_beam_arm_design(fields):
     base = grid_sweep(**{"machine.sling_length": {"values": [0.6]}}).base
     assert_rows_are_the_designs(base, jitter(base, fields))

@@ -3,7 +3,7 @@
 Building and validating one ``Design`` per row costs about as much as
 shooting it, so the rows are assembled as columns: the base design's row,
 tiled, with each varied field's column written in, and the quantities derived
-from several fields (the paper's and the beam's forms, frontal area, time
+from several fields (the paper's and the beam's forms, drag area, time
 limit, angles at rest) recomputed wherever one of their inputs varies: with
 the model's own scalar functions per row, or its arithmetic element-wise
 where IEEE operations round alike (never numpy's own transcendental
@@ -62,6 +62,7 @@ def base_row(base: Base, values: dict[str, float]) -> tuple[np.ndarray, dict[str
     m = design.machine
     for name in ("pivot_height", "arm_long", "arm_mass", "arm_cg", "arm_inertia"):
         si[f"machine.{name}"] = getattr(m, name)
+    si["projectile.drag_factor"] = design.projectile.drag_factor
     return np.array(params(design), dtype=np.float64), si
 
 
@@ -111,8 +112,10 @@ def kernel_rows(base: Base, columns: dict[str, np.ndarray]) -> np.ndarray:
     rows = np.tile(row, (size, 1))
     for field in varied & set(PARAM_OF_FIELD):
         rows[:, _COLUMN[PARAM_OF_FIELD[field]]] = values[field]
-    if "projectile.diameter" in varied:
-        rows[:, _COLUMN["area"]] = per_row(lambda d: math.pi * d**2 / 4.0, "projectile.diameter")
+    if varied & {"projectile.diameter", "projectile.drag_factor"}:
+        # ``Projectile.drag_area``: the frontal area, then times the drag factor.
+        rows[:, _COLUMN["area"]] = per_row(lambda d, factor: math.pi * d**2 / 4.0 * factor,
+                                           "projectile.diameter", "projectile.drag_factor")
     if varied & set(_TIME_LIMIT_INPUTS):
         lengths = largest_length(_Machine({f: np.broadcast_to(values[f], (size,)) for f in values
                                            if f.startswith("machine.")}))

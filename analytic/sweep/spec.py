@@ -47,6 +47,7 @@ FIELD_UNITS = {
     "machine.clearance": "m", "machine.starting_angle": "deg",
     "machine.arm_beam.width": "m", "machine.arm_beam.depth": "m", "machine.arm_beam.density": "kg/m^3",
     "projectile.mass": "kg", "projectile.diameter": "m", "projectile.drag_coefficient": "",
+    "projectile.drag_factor": "",
     "environment.gravity": "m/s^2", "environment.air_density": "kg/m^3",
     "environment.air_viscosity": "Pa s", "environment.wind_speed": "m/s",
 }

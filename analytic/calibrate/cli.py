@@ -1,0 +1,75 @@
+"""The ``calibrate`` command: fit parameters to measured shots, print the result, write the report.
+
+``python -m analytic calibrate SHOTS.toml [--json] [--out DIR] [--quiet]``
+
+Everything is checked before the first shot (the calibration file, every
+design, every parameter, ``--out``); a bad input is exit 2 with one line
+naming the field, its value and the reason, and nothing is written. A shot
+that does not throw at the starting parameters is exit 3 (nothing written).
+With ``--out``: ``report.txt``, ``calibration.json``, ``calibration.png``
+and ``fitted/<design>.toml`` (each shot's design at the fitted parameters).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+from analytic.command_line import OutputPathError, output_folder
+from analytic.design import DesignError
+
+#: Exit codes as ``python -m analytic simulate``: done, invalid input, a shot that does not throw.
+EXIT_OK, EXIT_INVALID, EXIT_NO_THROW = 0, 2, 3
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """The ``calibrate`` subcommand's arguments."""
+    parser.add_argument("shots", metavar="SHOTS.toml", help="calibration file: fit = [...] and [[shot]] tables")
+    parser.add_argument("--json", action="store_true", help="print one JSON object instead of the report")
+    parser.add_argument("--out", metavar="DIR", help="write report.txt, calibration.json, calibration.png and "
+                                                     "fitted/*.toml here (created if missing)")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run the ``calibrate`` subcommand; returns the exit code."""
+    from pathlib import Path
+
+    from analytic.calibrate.fit import CalibrationError, calibrate
+    from analytic.calibrate.report import format_report, to_json, write
+    from analytic.calibrate.spec import load_calibration
+
+    if args.out is not None and Path(args.out).exists() and not Path(args.out).is_dir():
+        print(f"--out {args.out}: is a file, not a folder; give a folder (it is created if missing)",
+              file=sys.stderr)
+        return EXIT_INVALID
+    try:
+        spec = load_calibration(args.shots)
+    except DesignError as error:
+        print(f"invalid input: {error}", file=sys.stderr)
+        return EXIT_INVALID
+    created = args.out is not None and not Path(args.out).exists()
+    try:
+        out = None if args.out is None else output_folder(args.out, "--out")
+    except OutputPathError as error:
+        print(error, file=sys.stderr)
+        return EXIT_INVALID
+    try:
+        result = calibrate(spec, progress=not args.quiet)
+    except CalibrationError as error:
+        print(f"cannot calibrate: {error}", file=sys.stderr)
+        if created and out is not None and not any(out.iterdir()):
+            out.rmdir()   # made by the check before work, and nothing was written into it
+        return EXIT_NO_THROW
+    if args.json:
+        print(json.dumps(to_json(result), indent=2))
+    else:
+        print(format_report(result))
+    if out is not None:
+        written = write(result, out)
+        if not args.json:
+            print(f"written {', '.join(str(p) for p in written)}")
+    for line in result.warnings:
+        print(f"warning: {line}", file=sys.stderr)
+    return EXIT_OK

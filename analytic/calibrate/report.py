@@ -1,0 +1,200 @@
+"""A calibration's report: its JSON, its text, the measured-against-predicted plot, the fitted designs.
+
+JSON (``calibrate --json``, and ``calibration.json`` beside the report)::
+
+    {"parameters": {NAME: {"value", "uncertainty", "unit", "start", "lower", "upper", "at_bound"}},
+     "shots": [{"design", "measured", "predicted", "residual", "uncertainty",
+                "weighted_residual", "status", "quantities": {QUANTITY: {"measured",
+                "uncertainty", "predicted", "residual", "weighted_residual", "unit"}}}],
+     "chi_square", "degrees_of_freedom", "reduced_chi_square", "p_value",
+     "correlation", "uncertainty_definition", "converged", "message", "warnings",
+     "evaluations", "shots_simulated", "shots_failed", "seconds"}
+
+Every shot measures its range, so a shot's ``measured``, ``predicted`` and
+``residual`` (predicted - measured, m) are its range's; every measured
+quantity, range included, is in its ``quantities`` with its own. Values are
+in file units (m, s, deg); a quantity a shot did not reach is ``null``, as is
+the uncertainty of a parameter the data cannot fix.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from analytic.calibrate.fit import Calibration, Prediction
+from analytic.calibrate.spec import QUANTITIES
+
+#: What the uncertainties are, in the JSON and the report.
+UNCERTAINTY_DEFINITION = ("one standard deviation, sqrt of the diagonal of (J^T J)^-1 with J the Jacobian of the "
+                          "residuals weighted by the stated uncertainties, not scaled by the reduced chi-square")
+#: The files ``write`` puts in the output folder (the fitted designs go in ``FITTED_FOLDER``).
+REPORT_FILE, JSON_FILE, PLOT_FILE, FITTED_FOLDER = "report.txt", "calibration.json", "calibration.png", "fitted"
+
+
+def _number(value) -> float | None:
+    return None if value is None or not math.isfinite(value) else float(value)
+
+
+def _quantity(measurement, prediction: Prediction) -> dict:
+    predicted = prediction.values[measurement.quantity] if prediction.ok else None
+    residual = None if predicted is None else predicted - measurement.value
+    return {"measured": measurement.value, "uncertainty": measurement.uncertainty, "predicted": predicted,
+            "residual": residual,
+            "weighted_residual": None if residual is None else residual / measurement.uncertainty,
+            "unit": measurement.unit}
+
+
+def to_json(result: Calibration) -> dict:
+    """The ``calibrate --json`` object (module docstring)."""
+    spec = result.spec
+    parameters = {p.name: {"value": float(result.values[j]), "uncertainty": _number(result.uncertainties[j]),
+                           "unit": p.unit, "start": p.start, "lower": p.lower, "upper": p.upper,
+                           "at_bound": bool(result.at_bound[j])}
+                  for j, p in enumerate(spec.parameters)}
+    shots = []
+    for shot, prediction in zip(spec.shots, result.fitted, strict=True):
+        quantities = {m.quantity: _quantity(m, prediction) for m in shot.measurements}
+        of_range = quantities["range"]
+        shots.append({"design": shot.design_file, "measured": of_range["measured"],
+                      "predicted": of_range["predicted"], "residual": of_range["residual"],
+                      "uncertainty": of_range["uncertainty"], "weighted_residual": of_range["weighted_residual"],
+                      "status": prediction.status, "quantities": quantities})
+    correlation = [[_number(c) for c in row] for row in result.correlation.tolist()]
+    return {"parameters": parameters, "shots": shots, "chi_square": result.chi_square,
+            "degrees_of_freedom": result.degrees_of_freedom, "reduced_chi_square": result.reduced_chi_square,
+            "p_value": result.p_value, "correlation": correlation,
+            "uncertainty_definition": UNCERTAINTY_DEFINITION, "converged": result.converged,
+            "message": result.message, "warnings": list(result.warnings), "evaluations": result.evaluations,
+            "shots_simulated": result.shots, "shots_failed": result.failed_shots, "seconds": result.seconds}
+
+
+def _format(value: float | None, digits: int = 4) -> str:
+    return "-" if value is None or not math.isfinite(value) else f"{value:.{digits}f}"
+
+
+def format_report(result: Calibration) -> str:
+    """The result as text: parameters, fit quality, every shot's measurements, warnings."""
+    spec = result.spec
+    lines = [(f"calibration {spec.path.name}: {len(spec.parameters)} parameter(s), {len(spec.shots)} shot(s), "
+              f"{spec.measurements} measurement(s)"), "", "parameters (value +- one standard deviation):"]
+    width = max(len(p.name) for p in spec.parameters)
+    for j, p in enumerate(spec.parameters):
+        sd = result.uncertainties[j]
+        flags = (" [at bound]" if result.at_bound[j] else "") + (" [not fixed by the data]"
+                                                                  if result.singular[j] else "")
+        lines.append(f"  {p.name:<{width}}  {result.values[j]:.6g} +- {_format(sd, 6) if math.isfinite(sd) else '?'}"
+                     f" {p.unit}".rstrip() + f"   (start {p.start:g}, bounds {p.lower:g} .. {p.upper:g}){flags}")
+    if len(spec.parameters) > 1:
+        lines.append("  correlation:")
+        for j, p in enumerate(spec.parameters):
+            lines.append(f"    {p.name:<{width}}  " + "  ".join(f"{c:+.3f}" if math.isfinite(c) else "   -  "
+                                                                 for c in result.correlation[j]))
+    reduced = result.reduced_chi_square
+    lines += ["", f"chi-square {result.chi_square:.4g} with {result.degrees_of_freedom} degree(s) of freedom"
+              + ("" if reduced is None else f" (reduced {reduced:.3g}, p = {result.p_value:.3g})")
+              + ("; no degrees of freedom: as many parameters as measurements, so the chi-square cannot "
+                 "judge the model" if result.degrees_of_freedom == 0 else ""),
+              f"uncertainties: {UNCERTAINTY_DEFINITION}",
+              (f"{result.evaluations} evaluations, {result.shots} shots (reference path; {result.failed_shots} "
+               f"did not throw) in {result.seconds:.1f} s; {result.message}"),
+              "", "shots (residual = predicted - measured):"]
+    for shot, start, fitted in zip(spec.shots, result.initial, result.fitted, strict=True):
+        lines.append(f"  {shot.label} {shot.design_file}: {fitted.status}")
+        for m in shot.measurements:
+            q = _quantity(m, fitted)
+            before = start.values[m.quantity] if start.ok else None
+            lines.append(f"    {m.quantity:<14} measured {m.value:.4f} +- {m.uncertainty:.4g} {m.unit:<3}  "
+                         f"predicted {_format(q['predicted'])} (at start {_format(before)})  "
+                         f"residual {_format(q['residual'])} ({_format(q['weighted_residual'], 2)} sd)")
+    if result.warnings:
+        lines += ["", "warnings:"] + [f"  {w}" for w in result.warnings]
+    return "\n".join(lines)
+
+
+def calibration_figure(result: Calibration):
+    """Measured against predicted, one panel per quantity measured (error bars: one standard
+    deviation), at the start (open) and at the fit (filled), and every weighted residual."""
+    from matplotlib.figure import Figure
+
+    spec = result.spec
+    measured = [q for q in QUANTITIES if any(m.quantity == q for s in spec.shots for m in s.measurements)]
+    fig = Figure(figsize=(4.2 * (len(measured) + 1), 4.4), layout="constrained")
+    axes = fig.subplots(1, len(measured) + 1, squeeze=False)[0]
+    fitted_at = ", ".join(f"{p.name} = {v:.4g}" for p, v in zip(spec.parameters, result.values, strict=True))
+    fig.suptitle(f"{spec.path.name}: measured against predicted ({fitted_at})", fontsize=10)
+    for ax, quantity in zip(axes, measured, strict=False):
+        unit = QUANTITIES[quantity][1]
+        xs, sds, starts, fits, numbers = [], [], [], [], []
+        for shot, start, fitted in zip(spec.shots, result.initial, result.fitted, strict=True):
+            for m in shot.measurements:
+                if m.quantity == quantity:
+                    numbers.append(shot.number)
+                    xs.append(m.value)
+                    sds.append(m.uncertainty)
+                    starts.append(start.values[quantity] if start.ok else math.nan)
+                    fits.append(fitted.values[quantity] if fitted.ok else math.nan)
+        xs, sds = np.array(xs), np.array(sds)
+        starts, fits = np.array(starts, dtype=float), np.array(fits, dtype=float)
+        ax.errorbar(xs, fits, xerr=sds, fmt="o", color="tab:blue", ms=5, capsize=3, label="fitted")
+        ax.plot(xs, starts, "o", mfc="none", color="tab:grey", ms=6, label="at start")
+        for number, x, y in zip(numbers, xs, fits, strict=True):
+            if math.isfinite(y):
+                ax.annotate(str(number), (x, y), textcoords="offset points", xytext=(5, 5), fontsize=7)
+        values = np.concatenate([xs - sds, xs + sds, starts[np.isfinite(starts)], fits[np.isfinite(fits)]])
+        low, high = float(values.min()), float(values.max())
+        pad = 0.05 * (high - low) or 0.05 * abs(high) or 1.0
+        ax.plot([low - pad, high + pad], [low - pad, high + pad], "k-", lw=0.8, label="predicted = measured")
+        ax.set(xlabel=f"measured {quantity.replace('_', ' ')} ({unit})",
+               ylabel=f"predicted {quantity.replace('_', ' ')} ({unit})", title=quantity.replace("_", " "))
+        ax.legend(fontsize=8)
+        ax.grid(alpha=0.3)
+    ax = axes[-1]
+    labels, weighted = [], []
+    for shot in spec.shots:
+        for m in shot.measurements:
+            labels.append(f"{shot.number}:{m.quantity.replace('_time', ' t').replace('release_angle', 'angle')}")
+    weighted = np.where(np.abs(result.residuals) >= 1e6, np.nan, result.residuals)
+    positions = np.arange(len(labels))
+    ax.axhspan(-1, 1, color="tab:green", alpha=0.12, label="within one sd")
+    ax.bar(positions, weighted, color="tab:blue")
+    ax.axhline(0.0, color="k", lw=0.8)
+    ax.set_xticks(positions, labels, rotation=60, fontsize=7, ha="right")
+    ax.set(xlabel="shot: quantity", ylabel="(predicted - measured) / uncertainty",
+           title=f"weighted residuals (chi2 = {result.chi_square:.3g})")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3, axis="y")
+    return fig
+
+
+def write(result: Calibration, out: str | Path) -> list[Path]:
+    """Write the report, the JSON, the plot and each distinct design at the fitted parameters
+    (design TOML, ``FITTED_FOLDER/<design file's name>``) into ``out``; the paths written."""
+    import json
+
+    from analytic.design_file import save_design
+    from analytic.plot import save_figure
+
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    written = [out / REPORT_FILE, out / JSON_FILE, out / PLOT_FILE]
+    written[0].write_text(format_report(result) + "\n")
+    written[1].write_text(json.dumps(to_json(result), indent=2) + "\n")
+    save_figure(calibration_figure(result), written[2])
+    folder = out / FITTED_FOLDER
+    folder.mkdir(exist_ok=True)
+    names: dict[str, Path] = {}
+    for shot in result.spec.shots:
+        if shot.design_file in names:
+            continue
+        stem = Path(shot.design_file).stem
+        name = f"{stem}.toml" if all(p.name != f"{stem}.toml" for p in names.values()) else \
+            f"{stem}-shot{shot.number}.toml"
+        path = folder / name
+        design = result.spec.design_at(shot, result.values)
+        save_design(design, path)
+        names[shot.design_file] = path
+        written.append(path)
+    return written
