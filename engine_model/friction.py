@@ -233,17 +233,18 @@ def base_friction_force(friction: Friction, rig: Rig, step: float, sling_x: floa
 
 
 def axle_load_from_momentum(before: tuple, row: tuple, design: Design, base_force: tuple[float, float],
-                            step: float) -> float:
+                            step: float, projectile: bool = True) -> float:
     """The axle's reaction force, N, from the momentum the arm (without ballast), the counterweight and
     the projectile took up over the step (raw rows: velocities half a step either side).
 
     The pivot joint also carries the ballast's weight and inertia, which the
     real axle does not; the design's own bodies do not include it. Outside
     forces on them: gravity, the axle, and on the base the base's push and
-    friction ``base_force`` (N, signed).
+    friction ``base_force`` (N, signed). After release (``projectile`` False)
+    the projectile is no part of the machine.
     """
     m, g = design.machine, design.environment.gravity
-    masses = (m.arm_mass, m.counterweight_mass, design.projectile.mass)
+    masses = (m.arm_mass, m.counterweight_mass, design.projectile.mass if projectile else 0.0)
     momentum = [0.0, 0.0]
     for state, sign in ((row, 1.0), (before, -1.0)):
         theta, spin = state[kin.ARM + kin.ANGLE], state[kin.ARM + kin.W]

@@ -558,7 +558,8 @@ def _diagnose_after_release(design: Design, dt: float, iterations: int, after: A
     residual = kin.constraint_residuals(after.raw, design, "rigid", on_base, steps)
     miss = {name: float(residual[name].max()) for name in MACHINE_JOINTS}
     _require_converged(design, miss, advice)
-    energy_error = float(np.abs(kin.energy_budget(after.states, design)[0]).max()) / kin.available_energy(design)
+    kept = kin.energy_budget(after.states, design)[0] + after.dissipated.sum(axis=1)
+    energy_error = float(np.abs(kept).max()) / kin.available_energy(design)
     _require_energy_kept(energy_error, energy_error, advice)
     drift = kin.joint_drift(after.raw, design, "rigid", on_base)
     largest = dict(diagnostics.joint_drift)
