@@ -14,8 +14,8 @@ step puts the positions at the release instant and the velocities half a step
 on, the leapfrog start the machine had at firing.
 
 The axle's and the hinge's friction act on (``engine_model.friction``), their
-limits from the previous step's loads; the opening half step takes the loads
-at rest (the weights), the only step whose loads are not measured.
+limits from the loads of the steps before; the opening half step takes the
+loads at rest (the weights), the only step whose loads are not measured.
 """
 
 from __future__ import annotations
@@ -122,9 +122,11 @@ def run_after_release(design: Design, release_time: float, release_state: np.nda
     # At least two full steps, so that the landing is interpolated through three rows.
     count = max(int(np.ceil((landing_time - release_time) / dt)), 2)
     step = 0.5 * dt
+    loads = None
     for _ in range(count):
         if friction is not None:
-            fr.set_limits(friction, _loads(friction, rig, raw[-2] if len(raw) > 1 else None, raw[-1], design, step))
+            earlier, loads = loads, _loads(friction, rig, raw[-2] if len(raw) > 1 else None, raw[-1], design, step)
+            fr.set_limits(friction, fr.predicted_loads(loads, earlier))
             fr.aim(friction, rig, dt)
         rig.space.step(dt)
         step = dt

@@ -2,8 +2,8 @@
 
 pymunk's own means, one velocity-level constraint per loss whose ``max_force``
 is the friction's limit, set before every step from the load its joint
-carried in the step before (pymunk reports a constraint's impulse only after
-the step that applied it; the one-step lag is measured in the README):
+carries, predicted from the two steps before (pymunk reports a constraint's
+impulse only after the step that applied it; ``predicted_loads``):
 
 * axle: a ``SimpleMotor`` of rate 0 between the frame and the arm. It holds
   their relative rotation at zero (stick) unless that needs more torque than
@@ -159,17 +159,43 @@ def static_loads(design: Design) -> tuple[float, float, float]:
     return ((m.arm_mass + m.counterweight_mass) * g, m.counterweight_mass * g, design.projectile.mass * g)
 
 
-def set_limits(friction: Friction, loads: tuple[float, float, float]) -> None:
-    """Set each friction constraint's limit from its joint's load (N): torque ``mu r |F|``, force ``mu N``."""
-    losses = friction.design.losses
+def predicted_loads(loads: tuple[float, float, float],
+                    earlier: tuple[float, float, float] | None) -> tuple[float, float, float]:
+    """The joints' loads in the coming step (N), extrapolated from those of the last two steps.
+
+    pymunk gives a joint's load only after the step that applied it, so a
+    limit set from the last step's load lags by one step: an error first order
+    in the step (on the paper's design with all losses, 3e-4 m of range at the
+    default step, halving with the step). A straight line through the last two
+    loads is second order (the friction's share of the range then moves by
+    under 1e-5 m between 5e-5 s and 2.5e-5 s; README, "Friction in the
+    engine"). Where a load jumps (a joint sticking, lift-off) the line
+    overshoots for one step; a load is never negative.
+    """
+    if earlier is None:
+        return loads
+    return tuple(max(2.0 * now - before, 0.0) for now, before in zip(loads, earlier, strict=True))
+
+
+def limits(design: Design, loads: tuple[float, float, float]) -> tuple[float, float, float]:
+    """The friction each joint can give under its load (N): torques ``mu r |F|`` (N m) at the axle and the
+    hinge, the force ``mu N`` (N) on the base."""
+    losses = design.losses
+    return (losses.axle_friction * losses.axle_radius * loads[0],
+            losses.hinge_friction * losses.hinge_radius * loads[1],
+            losses.base_friction * loads[2])
+
+
+def set_limits(friction: Friction, loads: tuple[float, float, float]) -> tuple[float, float, float]:
+    """Set each friction constraint's limit from its joint's load (N); returns the ``limits``."""
+    axle, hinge, base = limits(friction.design, loads)
     if friction.axle is not None:
-        friction.axle.max_force = losses.axle_friction * losses.axle_radius * loads[0]
+        friction.axle.max_force = axle
     if friction.hinge is not None:
-        torque = losses.hinge_friction * losses.hinge_radius * loads[1]
-        friction.hinge.max_force = (torque / friction.design.machine.counterweight_link if friction.point_hinge
-                                    else torque)
+        friction.hinge.max_force = hinge / friction.design.machine.counterweight_link if friction.point_hinge else hinge
     if friction.base is not None:
-        friction.base.max_force = losses.base_friction * loads[2]
+        friction.base.max_force = base
+    return axle, hinge, base
 
 
 def aim(friction: Friction, rig: Rig, dt: float) -> None:
@@ -197,10 +223,13 @@ def aim(friction: Friction, rig: Rig, dt: float) -> None:
 
 
 def impulses(friction: Friction, on_base: bool) -> tuple[float, float, float]:
-    """Each friction constraint's impulse in the last step (magnitude; 0 where absent), N m s or N s;
-    the base's only while ``on_base``."""
-    return (0.0 if friction.axle is None else friction.axle.impulse,
-            0.0 if friction.hinge is None else friction.hinge.impulse,
+    """Each friction constraint's impulse in the last step (magnitude; 0 where absent): the axle's and
+    the hinge's as torque impulses, N m s (a point counterweight's groove: its impulse times the link),
+    the base's, N s, only while ``on_base``."""
+    hinge = 0.0 if friction.hinge is None else friction.hinge.impulse
+    if friction.point_hinge:
+        hinge *= friction.design.machine.counterweight_link
+    return (0.0 if friction.axle is None else friction.axle.impulse, hinge,
             0.0 if friction.base is None or not on_base else friction.base.impulse)
 
 
@@ -262,11 +291,11 @@ def axle_load_from_momentum(before: tuple, row: tuple, design: Design, base_forc
 
 def rates(sync: np.ndarray, qdot: np.ndarray, design: Design) -> np.ndarray:
     """Each friction joint's relative sliding rate at the rows of ``sync`` (n, 3): the arm's turn on the
-    frame (rad/s), the counterweight's on the arm (rad/s; for a point counterweight its speed across the
-    link, m/s) and the projectile's along the base (m/s), as magnitudes."""
+    frame (rad/s), the counterweight's (for a point counterweight, its link's) on the arm (rad/s) and the
+    projectile's along the base (m/s), as magnitudes. ``qdot``: (n, 3) ``kinematics.coordinates``' rates."""
     axle = np.abs(kin.column(sync, kin.ARM, kin.W) - kin.column(sync, kin.FRAME, kin.W))
     if design.machine.counterweight_inertia == 0.0:
-        hinge = np.abs(qdot[:, 1]) * design.machine.counterweight_link
+        hinge = np.abs(qdot[:, 1])
     else:
         hinge = np.abs(kin.column(sync, kin.COUNTERWEIGHT, kin.W) - kin.column(sync, kin.ARM, kin.W))
     base = np.abs(kin.column(sync, kin.PROJECTILE, kin.VX) - kin.column(sync, kin.FRAME, kin.VX))

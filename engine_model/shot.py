@@ -96,6 +96,12 @@ class EngineDiagnostics:
         base's friction (``engine_model.friction.JOINTS``) had taken by each
         sample of ``shot.t``, J; zeros for an ideal design. ``energy_error``
         counts it: mechanical energy plus dissipated work is what is conserved.
+    friction_steps : with friction only (None for an ideal design), on the
+        steps of stages 1-2 (``machine_steps`` rows, each (n, 3) for the
+        axle, the hinge and the base): ``limit``, the friction each could
+        give in the step (N m, N m, N), set from the loads of the two steps
+        before (``friction.predicted_loads``); ``applied``, what it gave (its
+        impulse over the step); ``load``, each joint's load (N) measured in the step.
     """
 
     dt: float
@@ -111,6 +117,7 @@ class EngineDiagnostics:
     after_release_steps: int = 0
     after_release_energy_error: float = 0.0
     dissipated_history: np.ndarray | None = None
+    friction_steps: dict[str, np.ndarray] | None = None
 
 
 @dataclass
@@ -123,6 +130,8 @@ class _Run:
     normal: list = field(default_factory=list)
     release_value: list = field(default_factory=list)
     friction_impulse: list = field(default_factory=list)
+    friction_limit: list = field(default_factory=list)
+    friction_load: list = field(default_factory=list)
     liftoff_time: float | None = None
     status: Status | None = None
     message: str = ""
@@ -240,6 +249,7 @@ def simulate(design: Design, *, dt: float = DEFAULT_DT, iterations: int = DEFAUL
                 max_frame_speed=max(shot.max_frame_speed,
                                     largest_speed(kin.column(after.states, kin.FRAME, kin.VX))))
             diagnostics = _diagnose_after_release(design, dt, iterations, after, diagnostics)
+    diagnostics = dataclasses.replace(diagnostics, friction_steps=_friction_steps(run, dt))
     return dataclasses.replace(shot, diagnostics=diagnostics)
 
 
@@ -249,6 +259,17 @@ def _friction_work(run: _Run, sync: np.ndarray, design: Design) -> np.ndarray:
         return np.zeros((len(sync), len(fr.JOINTS)))
     qdot = kin.coordinates(sync, design, initial_angles(design.machine))[1]
     return fr.dissipated_work(np.array(run.friction_impulse), fr.rates(sync, qdot, design))
+
+
+def _friction_steps(run: _Run, dt: float) -> dict[str, np.ndarray] | None:
+    """``EngineDiagnostics.friction_steps`` from the run's records (None without friction)."""
+    if not run.friction_limit:
+        return None
+    steps = np.full((len(run.friction_impulse), 1), dt)
+    steps[0] = 0.5 * dt
+    count = len(run.friction_limit)
+    return {"limit": np.array(run.friction_limit), "applied": np.array(run.friction_impulse)[:count] / steps[:count],
+            "load": np.array(run.friction_load)}
 
 
 def _frame(state: np.ndarray, quantity: int, design: Design) -> float:
@@ -311,13 +332,16 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tupl
         run.friction_impulse.append(fr.impulses(friction, on_base))
         loads = _loads(friction, rig, _mirrored(row), row, design, (base_force, normal if on_base else 0.0),
                        dt, 0.5 * dt)
+        run.friction_limit.append(fr.limits(design, fr.static_loads(design)))
+        run.friction_load.append(loads)
 
     step = rig.space.step
     previous = row
+    earlier_loads = None
     k = 0
     while True:
         if friction is not None:
-            fr.set_limits(friction, loads)
+            run.friction_limit.append(fr.set_limits(friction, fr.predicted_loads(loads, earlier_loads)))
             fr.aim(friction, rig, dt)
         step(dt)
         k += 1
@@ -333,8 +357,10 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tupl
             base_force = _base_friction(friction, rig, dt, geometry, on_base)
             tension, normal = _forces(previous, row, geometry, on_base, design, dt, base_force)
             run.friction_impulse.append(fr.impulses(friction, on_base))
+            earlier_loads = loads
             loads = _loads(friction, rig, previous, row, design, (base_force, normal if on_base else 0.0),
                            dt, dt)
+            run.friction_load.append(loads)
         value, armed = _release(previous, row, geometry, rule, m.release_angle)
         run.raw.append(row)
         run.on_base.append(on_base)
