@@ -66,17 +66,18 @@ RELEASE_POSITION = 1e-3
 # predicted_loads``), which is second order: on the paper's design with all
 # of ``cases.REALISTIC_LOSSES`` the range moves by 3.7e-4 m from 1e-4 s to
 # 5e-5 s and 8.7e-5 m from 5e-5 s to 2.5e-5 s (4.3x, as the ideal design's
-# 4.1x), so its error at the default step is ~3e-5 m, 7e-7 of the range,
-# against RANGE_REL = 1e-3. Setting the limits from the last step's load
-# alone (a one-step lag) would have been first order: 3e-4 m (7e-6) at the
-# default step, halving with the step, and still inside every limit above.
+# 4.1x), so its error at the default step is ~1.2e-4 m, 2.6e-6 of the range
+# (the ideal design's: 2.7e-6), against RANGE_REL = 1e-3. Setting the limits
+# from the last step's load alone (a one-step lag) is first order: it cost
+# 6.5e-4 m (1.5e-5 of the range) at the default step, halving with the step;
+# that too would fit every limit above.
 
 #: Work each loss took (``Shot.energy_dissipated``: axle, hinge, base, drag),
 #: relative: each is a force or torque (going as the speed squared or the
 #: load) times a path, so it shares the range's budget of 0.1 %. The engine's
 #: own error, from halving its step on the paper's design and three sampled
-#: ones with all losses: under 2e-5 of each loss (the hinge's of the light
-#: arm's, 1.2e-5 at the default step), 50x inside.
+#: ones with all losses: each loss moves by under 1.3e-5 of itself from 5e-5 s
+#: to 2.5e-5 s (the most: the light arm's hinge and axle), over 50x inside.
 ENERGY_DISSIPATED_REL = 1e-3
 
 #: Floor of the dissipated-work tolerance, as a fraction of the energy the

@@ -165,12 +165,12 @@ def predicted_loads(loads: tuple[float, float, float],
 
     pymunk gives a joint's load only after the step that applied it, so a
     limit set from the last step's load lags by one step: an error first order
-    in the step (on the paper's design with all losses, 3e-4 m of range at the
-    default step, halving with the step). A straight line through the last two
-    loads is second order (the friction's share of the range then moves by
-    under 1e-5 m between 5e-5 s and 2.5e-5 s; README, "Friction in the
-    engine"). Where a load jumps (a joint sticking, lift-off) the line
-    overshoots for one step; a load is never negative.
+    in the step (on the paper's design with all losses, 6.5e-4 m of range at
+    the default step, halving with the step). A straight line through the last
+    two loads is second order (the friction's share of the range then moves by
+    5e-6 m from 5e-5 s to 2.5e-5 s, against 3.2e-4 m with the lag; README,
+    "Friction in the engine"). Where a load jumps (a joint sticking, lift-off)
+    the line overshoots for one step; a load is never negative.
     """
     if earlier is None:
         return loads
