@@ -119,17 +119,19 @@ def run_after_release(design: Design, release_time: float, release_state: np.nda
     raw = [_read(bodies)]
     if friction is not None:
         impulses.append(fr.impulses(friction, False))
+        opening_loads = _loads(friction, rig, None, raw[-1], design, 0.5 * dt)
+        friction = fr.renew(friction, rig)
     # At least two full steps, so that the landing is interpolated through three rows.
     count = max(int(np.ceil((landing_time - release_time) / dt)), 2)
-    step = 0.5 * dt
     loads = None
-    for _ in range(count):
+    for i in range(count):
         if friction is not None:
-            earlier, loads = loads, _loads(friction, rig, raw[-2] if len(raw) > 1 else None, raw[-1], design, step)
+            # The first whole step's readings are off (``friction.renew``): the half step's stand in.
+            measured = _loads(friction, rig, raw[-2], raw[-1], design, dt) if i > 1 else opening_loads
+            earlier, loads = loads, measured
             fr.set_limits(friction, fr.predicted_loads(loads, earlier))
             fr.aim(friction, rig, dt)
         rig.space.step(dt)
-        step = dt
         raw.append(_read(bodies))
         if friction is not None:
             impulses.append(fr.impulses(friction, False))

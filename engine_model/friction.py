@@ -127,9 +127,33 @@ def attach(rig: Rig, design: Design, on_base: bool) -> Friction | None:
 
     ``on_base``: the projectile starts on the base (the base's friction acts only there).
     """
-    losses = design.losses
-    if losses.ideal:
+    if design.losses.ideal:
         return None
+    return _add(rig, design, on_base)
+
+
+def renew(friction: Friction, rig: Rig) -> Friction:
+    """The same friction constraints, new, in place of those that took the opening half step.
+
+    pymunk starts each step's solver from the impulses of the step before,
+    scaled by the ratio of the steps; a clamped constraint keeps the scaled
+    part outside its clamp. After the opening half step that ratio is 2, so the
+    first whole step would apply half a step's friction on top of its limit.
+    New constraints start from nothing. (The joints' readings in that step are
+    off the same way: ``engine_model.shot`` does not measure loads in it.)
+    """
+    old = [joint for joint in (friction.axle, friction.hinge, friction.base) if joint is not None]
+    rig.space.remove(*old)
+    fresh = _add(rig, friction.design, friction.base is not None)
+    for before, after in zip(old, [j for j in (fresh.axle, fresh.hinge, fresh.base) if j is not None], strict=True):
+        after.max_force = before.max_force
+        if isinstance(after, pymunk.GrooveJoint):
+            after.groove_a, after.groove_b = before.groove_a, before.groove_b
+    return fresh
+
+
+def _add(rig: Rig, design: Design, on_base: bool) -> Friction:
+    losses = design.losses
     m = design.machine
     reach = GROOVE_REACH * (m.arm_long + m.arm_short + m.counterweight_link + m.sling_length)
     axle = hinge = base = None
