@@ -50,6 +50,13 @@ JOINTS = ("axle", "hinge", "base")
 #: counts as saturated (slipping): pymunk clamps a saturated impulse to the
 #: limit exactly (a motor) or to its length computed by a square root (a groove).
 SATURATION = 1e-9
+#: A machine with friction whose arm's angular acceleration at rest (from the
+#: opening half step) is no larger than this, rad/s^2, is held at rest: friction
+#: holds it, and what is left is the solver's residual (2.6e-5 rad/s^2 at 1e-4 s
+#: on a machine locked by its base's friction through a rigid sling). An arm
+#: accelerating at 1e-3 rad/s^2 would turn 0.03 rad in the paper's 7.9 s swing
+#: time limit: it could never fire either.
+HELD_ACCELERATION = 1e-3
 #: Length of the grooves, as a multiple of the machine's largest length, each
 #: way: their ends must never be reached (there pymunk's groove also pushes along it).
 GROOVE_REACH = 10.0
@@ -109,6 +116,18 @@ class StaticBalance:
                 f"(gravity's torque about the pivot {-self.gravity_torque:.4g} N m against at most "
                 f"{self.holding_torque:.4g} N m of static friction = {losses.axle_friction:g} x "
                 f"{losses.axle_radius * 1e3:g} mm x {self.axle_load:.4g} N on the axle)")
+
+
+def held_message(design: Design, arm_acceleration: float, balance: StaticBalance, sling: str) -> str:
+    """Why a machine with friction that the static balance of its axle alone lets go stays at rest."""
+    text = (f"the counterweight cannot lift the arm: friction holds the machine at rest (the arm's angular "
+            f"acceleration at rest is {arm_acceleration:+.3g} rad/s^2, under the {HELD_ACCELERATION:g} "
+            f"rad/s^2 that could turn it within the swing's time limit)")
+    if balance.gravity_torque < 0.0 and design.losses.base_friction > 0.0 and sling == "rigid":
+        text += (f": gravity's torque about the pivot, {-balance.gravity_torque:.4g} N m, is more than the "
+                 f"axle's friction holds alone ({balance.holding_torque:.4g} N m), but the base's friction "
+                 f"holds the projectile, and the rigid sling holds the arm by it")
+    return text
 
 
 def static_balance(design: Design, rest: np.ndarray) -> StaticBalance:

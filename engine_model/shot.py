@@ -288,18 +288,21 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tupl
     rig = build(design, sling=sling, iterations=iterations)
     friction = _attach_friction(rig, design, True, dt)
     row = _opening_step(rig, dt, iterations)
-    if friction is not None and friction.axle is not None:
+    # From rest the opening half step gives the arm omega = alpha dt/2 (pymunk
+    # updates velocities first), so this is its angular acceleration at rest.
+    arm_acceleration = row[kin.ARM + kin.W] / (0.5 * dt)
+    if friction is not None:
         balance = fr.static_balance(design, np.array(row))
-        if balance.holds:
+        held = abs(arm_acceleration) <= fr.HELD_ACCELERATION
+        if (friction.axle is not None and balance.holds) or held:
             run.raw.append(row)
             run.on_base.append(True)
             run.tension.append(0.0)
             run.friction_impulse.append(fr.impulses(friction, True))
-            run.status, run.message = Status.NEVER_FIRES, balance.message(design)
+            run.status = Status.NEVER_FIRES
+            run.message = (balance.message(design) if friction.axle is not None and balance.holds
+                           else fr.held_message(design, arm_acceleration, balance, sling))
             return run, rig
-    # From rest the opening half step gives the arm omega = alpha dt/2 (pymunk
-    # updates velocities first), so this is its angular acceleration at rest.
-    arm_acceleration = row[kin.ARM + kin.W] / (0.5 * dt)
     if not arm_acceleration < 0.0:
         run.raw.append(row)
         run.on_base.append(True)

@@ -22,7 +22,7 @@ from engine_model.build import build
 from engine_model.cli import main
 from engine_model.flight import drag_rate
 from engine_model.shot import _run_machine
-from support import with_environment, with_machine
+from support import failure_designs, with_environment, with_machine
 
 #: Stage 1-2 energy audit: mechanical energy plus the work friction took, as a
 #: fraction of the counterweight's available energy (``EngineDiagnostics.energy_error``),
@@ -221,6 +221,19 @@ def test_a_machine_its_axle_holds_never_fires_at_the_static_torque_balance(table
     assert f"{static_threshold(held) * 0.0064 * (table3.machine.arm_mass + table3.machine.counterweight_mass) * table3.environment.gravity:.4g} N m" in above.message
     below = simulate(with_losses(table3, axle_friction=0.95 * threshold, axle_radius=0.0064), dt=2e-4)
     assert below.status is not Status.NEVER_FIRES and below.q[-1, 0] < below.q[0, 0] - 0.1
+
+
+def test_a_rigid_sling_on_a_stiff_base_holds_a_weak_machine(table3):
+    # The known never-lifts-off design (a 1.87 kg projectile on a 3 cm sling): at rest the
+    # arm's tip must push the projectile along the base, and a rigid sling can push. With
+    # base friction 0.3 the base holds the projectile and so the arm (measured: the arm's
+    # acceleration at rest is 2.6e-5 rad/s^2, the solver's residual); at 0.1 it slides.
+    design = failure_designs()[Status.NEVER_LIFTS_OFF]
+    held = simulate(with_losses(design, base_friction=0.3), dt=1e-4)
+    assert held.status is Status.NEVER_FIRES and "the rigid sling holds the arm" in held.message
+    assert "cannot lift the arm" in held.message
+    sliding = simulate(with_losses(design, base_friction=0.1), dt=1e-4)
+    assert sliding.status is Status.NEVER_LIFTS_OFF and len(sliding.t) > 100
 
 
 @pytest.mark.parametrize("factor, holds", [(1.001, True), (0.999, False)], ids=["just-holds", "just-slips"])
