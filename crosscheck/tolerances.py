@@ -64,9 +64,9 @@ RELEASE_POSITION = 1e-3
 # engine needs no looser one. Its friction limits are set from loads
 # predicted by a line through the last two steps (``engine_model.friction.
 # predicted_loads``), which is second order: on the paper's design with all
-# of ``cases.REALISTIC_LOSSES`` the range moves by 3.7e-4 m from 1e-4 s to
-# 5e-5 s and 8.7e-5 m from 5e-5 s to 2.5e-5 s (4.3x, as the ideal design's
-# 4.1x), so its error at the default step is ~1.2e-4 m, 2.6e-6 of the range
+# of ``cases.REALISTIC_LOSSES`` the range moves by 3.6e-4 m from 1e-4 s to
+# 5e-5 s and 9.9e-5 m from 5e-5 s to 2.5e-5 s (3.6x; the ideal design's
+# 4.1x), so its error at the default step is ~1.3e-4 m, 3e-6 of the range
 # (the ideal design's: 2.7e-6), against RANGE_REL = 1e-3. Setting the limits
 # from the last step's load alone (a one-step lag) is first order: it cost
 # 6.5e-4 m (1.5e-5 of the range) at the default step, halving with the step;

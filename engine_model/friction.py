@@ -211,7 +211,7 @@ def predicted_loads(loads: tuple[float, float, float],
     in the step (on the paper's design with all losses, 6.5e-4 m of range at
     the default step, halving with the step). A straight line through the last
     two loads is second order (the friction's share of the range then moves by
-    5e-6 m from 5e-5 s to 2.5e-5 s, against 3.2e-4 m with the lag; README,
+    6.7e-6 m from 5e-5 s to 2.5e-5 s, against 3.2e-4 m with the lag; README,
     "Friction in the engine"). Where a load jumps (a joint sticking, lift-off)
     the line overshoots for one step; a load is never negative.
     """

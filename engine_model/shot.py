@@ -326,6 +326,19 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tupl
         tension, normal = _forces(row, row, geometry, False, design, dt)
         on_base = False
         run.liftoff_time = 0.0
+    opening_loads = fr.static_loads(design)
+    if friction is not None:
+        # The loads at rest are the weights, but the moving machine's are not (the
+        # axle's is half of it on the paper's design): the opening half step is
+        # taken again with the limits its loads give (its range moved by 1.2e-5 m).
+        opening_loads = _loads(friction, rig, _mirrored(row), row, design,
+                               (base_force, normal if on_base else 0.0), dt, 0.5 * dt)
+        rig = build(design, sling=sling, iterations=iterations, on_base=on_base)
+        friction = _attach_friction(rig, design, on_base, dt, opening_loads)
+        row = _opening_step(rig, dt, iterations)
+        geometry = _row_geometry(row, m)
+        base_force = _base_friction(friction, rig, 0.5 * dt, geometry, on_base)
+        tension, normal = _forces(row, row, geometry, on_base, design, dt, base_force)
     run.raw.append(row)
     run.on_base.append(on_base)
     run.tension.append(tension)
@@ -335,7 +348,7 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tupl
         run.friction_impulse.append(fr.impulses(friction, on_base))
         loads = _loads(friction, rig, _mirrored(row), row, design, (base_force, normal if on_base else 0.0),
                        dt, 0.5 * dt)
-        run.friction_limit.append(fr.limits(design, fr.static_loads(design)))
+        run.friction_limit.append(fr.limits(design, opening_loads))
         run.friction_load.append(loads)
         friction = fr.renew(friction, rig)
 
@@ -410,11 +423,13 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tupl
                          outcome.never_releases_message(m.release_rule, m.release_angle, t_limit))
 
 
-def _attach_friction(rig: Rig, design: Design, on_base: bool, dt: float) -> fr.Friction | None:
-    """``engine_model.friction.attach``, its limits set from the loads at rest for the opening half step."""
+def _attach_friction(rig: Rig, design: Design, on_base: bool, dt: float,
+                     loads: tuple[float, float, float] | None = None) -> fr.Friction | None:
+    """``engine_model.friction.attach``, its limits set for the opening half step from ``loads`` (N;
+    default: the loads at rest, ``friction.static_loads``)."""
     friction = fr.attach(rig, design, on_base)
     if friction is not None:
-        fr.set_limits(friction, fr.static_loads(design))
+        fr.set_limits(friction, fr.static_loads(design) if loads is None else loads)
         fr.aim(friction, rig, 0.5 * dt)
     return friction
 

@@ -345,8 +345,8 @@ def test_the_range_falls_steadily_as_each_coefficient_grows(table3, joint):
 
 
 def test_the_range_with_friction_converges_with_order_two(table3):
-    # Measured with all losses: the range moves by 6.05e-3, 1.41e-3, 3.73e-4 m per halving
-    # from 4e-4 s (4.3x, 3.8x). A limit set from the last step's load alone (one step behind)
+    # Measured with all losses: the range moves by 6.10e-3, 1.49e-3, 3.59e-4 m per halving
+    # from 4e-4 s (4.1x, 4.2x). A limit set from the last step's load alone (one step behind)
     # would converge with order one in the friction's share.
     design = dataclasses.replace(table3, losses=REALISTIC_LOSSES)
     ranges = [simulate(design, dt=dt).range for dt in (2e-4, 1e-4, 5e-5)]
