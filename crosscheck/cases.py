@@ -1,5 +1,5 @@
 """The designs the cross-check runs: the paper's, ones that exercise every input, a seeded sample,
-and machines on wheels."""
+machines on wheels, and real machines with friction."""
 
 from __future__ import annotations
 
@@ -11,14 +11,15 @@ from pathlib import Path
 import numpy as np
 
 import analytic
-from analytic.design import Base, BeamArm, Design
+from analytic.design import Base, BeamArm, Design, Losses
 from analytic.design_file import default_design, load_design
 from analytic.optimise.problem import default_problem, design_at, from_unit
 
 
 @dataclass(frozen=True)
 class Case:
-    """One design to run through both models; ``group`` is paper, exercise, failure, sample, rolling or file."""
+    """One design to run through both models; ``group`` is paper, exercise, failure, sample, rolling,
+    friction or file."""
 
     name: str
     design: Design
@@ -119,6 +120,47 @@ def rolling_cases(sample: int = 4, seed: int = 0) -> list[Case]:
     return [Case(design.name, design, "rolling") for design in designs]
 
 
+#: Realistic losses (issue 11): a 12.8 mm steel axle in a greased wooden bearing
+#: (Coulomb 0.15), a 10 mm hinge pin (0.15), the projectile's pouch on a wooden base (0.3).
+REALISTIC_LOSSES = Losses(axle_friction=0.15, axle_radius=0.0064, hinge_friction=0.15, hinge_radius=0.005,
+                          base_friction=0.3)
+#: Each loss of ``REALISTIC_LOSSES`` alone, and all of them.
+LOSS_VARIANTS = {
+    "axle-friction": Losses(axle_friction=0.15, axle_radius=0.0064),
+    "hinge-friction": Losses(hinge_friction=0.15, hinge_radius=0.005),
+    "base-friction": Losses(base_friction=0.3),
+    "all-losses": REALISTIC_LOSSES,
+}
+#: A machine its axle's friction holds at rest: Table III with a 0.3 kg
+#: counterweight that only just outweighs the arm (gravity's torque about the
+#: pivot at rest 0.0099 N m) on an axle of coefficient 0.3 (it holds up to
+#: 0.3 x 6.4 mm x 5.94 N = 0.0114 N m). At 0.15 it would fire.
+HELD_COUNTERWEIGHT_MASS = 0.3
+HELD_AXLE = Losses(axle_friction=0.3, axle_radius=0.0064)
+
+
+def friction_cases(sample: int = 3, seed: int = 0) -> list[Case]:
+    """Each loss alone and all together on the paper's design (as published and at 61 deg: all losses),
+    all losses on the first ``sample`` designs of ``sample_cases(sample, seed)`` (a light arm among them,
+    whose engine arm carries ballast), the paper's point counterweight and its rolling frame with all losses,
+    and a machine its axle's friction holds (``never_fires``)."""
+    table3 = default_design()
+    cases = [Case(f"table3-{name}", dataclasses.replace(table3, name=f"table3-{name}", losses=losses), "friction")
+             for name, losses in LOSS_VARIANTS.items()]
+    for case in paper_cases()[1:] + [c for c in exercise_cases() if c.name == "cw-point-mass"]:
+        name = f"{case.name}-all-losses"
+        cases.append(Case(name, dataclasses.replace(case.design, name=name, losses=REALISTIC_LOSSES), "friction"))
+    name = f"table3-rolling-{ROLLING_SAMPLE_FRAME_MASS:g}kg-all-losses"
+    cases.append(Case(name, dataclasses.replace(table3, name=name, base=Base("rolling", ROLLING_SAMPLE_FRAME_MASS),
+                                                losses=REALISTIC_LOSSES), "friction"))
+    for case in sample_cases(sample, seed):
+        name = f"{case.name}-all-losses"
+        cases.append(Case(name, dataclasses.replace(case.design, name=name, losses=REALISTIC_LOSSES), "friction"))
+    held = _variant(table3, "table3-held-by-its-axle", machine={"counterweight_mass": HELD_COUNTERWEIGHT_MASS})
+    cases.append(Case(held.name, dataclasses.replace(held, losses=HELD_AXLE), "friction", "never_fires"))
+    return cases
+
+
 def file_cases(paths: list[str]) -> list[Case]:
     """Designs from the user's TOML files."""
     cases = []
@@ -130,4 +172,5 @@ def file_cases(paths: list[str]) -> list[Case]:
 
 def default_suite(sample: int = 24, seed: int = 0) -> list[Case]:
     """The suite ``python -m crosscheck`` runs with no design files."""
-    return paper_cases() + exercise_cases() + failure_cases() + sample_cases(sample, seed) + rolling_cases()
+    return (paper_cases() + exercise_cases() + failure_cases() + sample_cases(sample, seed) + rolling_cases()
+            + friction_cases())

@@ -10,7 +10,7 @@ import numpy as np
 
 from analytic.design import Design
 from analytic.fast import simulate_fast
-from analytic.result import Shot
+from analytic.result import LOSS_NAMES, Shot
 from crosscheck import tolerances as tol
 from crosscheck.cases import Case
 import engine_model
@@ -88,6 +88,12 @@ def compare_shots(a: Shot, e: Shot) -> tuple[Row, ...]:
         _numeric("range", "m", a.range, e.range, range_tolerance),
         _numeric("apex_height", "m", a.apex_height, e.apex_height, tol.APEX_HEIGHT_REL * a.apex_height),
     ]
+    if a.energy_dissipated is not None and e.energy_dissipated is not None:
+        # Never zero (1 J's worth at least): rows are plotted as difference / tolerance.
+        floor = tol.ENERGY_DISSIPATED_FLOOR * max(abs(a.counterweight_energy_released or 0.0), 1.0)
+        rows += [_numeric(f"dissipated_{name}", "J", a.energy_dissipated[name], e.energy_dissipated[name],
+                          max(tol.ENERGY_DISSIPATED_REL * abs(a.energy_dissipated[name]), floor))
+                 for name in LOSS_NAMES]
     return tuple(rows)
 
 

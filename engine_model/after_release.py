@@ -12,16 +12,22 @@ pymunk moves positions with the velocities it holds before it updates them,
 so placing each body half a step back along its velocity and stepping half a
 step puts the positions at the release instant and the velocities half a step
 on, the leapfrog start the machine had at firing.
+
+The axle's and the hinge's friction act on (``engine_model.friction``), their
+limits from the loads of the steps before; the opening half step takes the
+loads at rest (the weights), the only step whose loads are not measured.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 import pymunk
 
 from analytic.design import Design
+from engine_model import friction as fr
 from engine_model import kinematics as kin
 from engine_model.build import Rig, build
 from engine_model.events import interpolate
@@ -41,12 +47,15 @@ class AfterRelease:
         the projectile's columns hold its state at release (it is not in the space).
     raw : (k - 1, 24) rows as read after each step (velocities half a step on).
     steps : pymunk steps taken (the opening half step counted as one).
+    dissipated : (k, 3) the work the axle's and the hinge's friction
+        (``friction.JOINTS``; the base's is 0) had taken since release, J, on ``t``.
     """
 
     t: np.ndarray
     states: np.ndarray
     raw: np.ndarray
     steps: int
+    dissipated: np.ndarray | None = None
 
     @property
     def landing_state(self) -> np.ndarray:
@@ -99,22 +108,62 @@ def run_after_release(design: Design, release_time: float, release_state: np.nda
     bodies = _bodies(rig)
     for part, body in bodies.items():
         place(body, release_state, part, 0.5 * dt if part != kin.PROJECTILE else 0.0)
+    friction = fr.attach(rig, design, on_base=False)
+    impulses = []
+    if friction is not None:
+        fr.set_limits(friction, fr.static_loads(design))
+        fr.aim(friction, rig, 0.5 * dt)
     rig.space.iterations = max(startup_iterations, iterations)
     rig.space.step(0.5 * dt)
     rig.space.iterations = iterations
     raw = [_read(bodies)]
+    if friction is not None:
+        impulses.append(fr.impulses(friction, False))
+        opening_loads = _loads(friction, rig, None, raw[-1], design, 0.5 * dt)
+        friction = fr.renew(friction, rig)
     # At least two full steps, so that the landing is interpolated through three rows.
     count = max(int(np.ceil((landing_time - release_time) / dt)), 2)
-    for _ in range(count):
+    loads = None
+    for i in range(count):
+        if friction is not None:
+            # The first whole step's readings are off (``friction.renew``): the half step's stand in.
+            measured = _loads(friction, rig, raw[-2], raw[-1], design, dt) if i > 1 else opening_loads
+            earlier, loads = loads, measured
+            fr.set_limits(friction, fr.predicted_loads(loads, earlier))
+            fr.aim(friction, rig, dt)
         rig.space.step(dt)
         raw.append(_read(bodies))
+        if friction is not None:
+            impulses.append(fr.impulses(friction, False))
     raw = np.array(raw)
     states = _synchronise(raw, release_state)
     times = release_time + dt * np.arange(len(raw))
     fraction = (landing_time - times[-2]) / dt
     landing = interpolate(states[-3:], fraction)
+    dissipated = np.zeros((len(raw), len(fr.JOINTS)))
+    if friction is not None:
+        qdot = kin.coordinates(states, design, np.zeros(3))[1]   # rates do not depend on the angles' branch
+        dissipated = fr.dissipated_work(np.array(impulses), fr.rates(states, qdot, design))
+        dissipated = dissipated - dissipated[0]
+    dissipated = np.vstack([dissipated[:-1], interpolate(dissipated[-3:], fraction)])
     return AfterRelease(np.append(times[:-1], landing_time), np.vstack([states[:-1], landing]), raw,
-                        len(raw))
+                        len(raw), dissipated)
+
+
+def _loads(friction: fr.Friction, rig: Rig, before: tuple | None, row: tuple, design: Design,
+           step: float) -> tuple[float, float, float]:
+    """The axle's and the hinge's loads in the last step of ``step`` s, N (as in stages 1-2, without a projectile)."""
+    if friction.axle is None:
+        axle = 0.0
+    elif friction.ballast > 0.0 and before is not None:
+        axle = fr.axle_load_from_momentum(before, row, design, (0.0, 0.0), step, projectile=False)
+    else:
+        # The opening half step (no row before it) takes the pivot's own reading, ballast and all.
+        axle = rig.pivot.impulse / step
+    hinge = rig.hinge.impulse / step
+    if friction.point_hinge:
+        hinge = math.hypot(hinge, friction.hinge.impulse / step)
+    return axle, hinge, 0.0
 
 
 def _bodies(rig: Rig) -> dict[int, pymunk.Body]:

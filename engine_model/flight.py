@@ -63,6 +63,11 @@ class Flight:
     limit : the flight time bound, s from release (``analytic.limits.flight_time_limit``).
     apex : highest centre height, m from the pivot: the vertex of the parabola through
         the highest sample and its neighbours (``events.highest``), not the highest sample.
+    drag_work : J the drag took from the projectile from release to landing (or
+        to the flight's end), relative to the air: ``m k |v_rel|^2`` integrated,
+        which is what the air dissipates (with wind, the projectile's own
+        energy changes by the drag's work in the ground frame instead, which
+        differs by the wind's share ``F_drag . wind``).
     """
 
     t: np.ndarray
@@ -72,6 +77,7 @@ class Flight:
     steps: int
     limit: float
     apex: float
+    drag_work: float = 0.0
 
     @property
     def landed(self) -> bool:
@@ -210,6 +216,11 @@ def fly(design: Design, release_time: float, position: np.ndarray, velocity: np.
     body.position = (float(position[0]), float(position[1]))
     body.velocity = (velocity[0] + ax * 0.5 * step, velocity[1] + (ay - g) * 0.5 * step)
     vx, vy = body.velocity
+    # The drag's work, relative to the air: each kick's impulse times the mean of the
+    # velocities it joins (exact for a kick); a sample holds half of its own kick's.
+    start_work = -mass * 0.5 * step * (ax * (0.5 * (velocity[0] + vx) - wind) + ay * 0.5 * (velocity[1] + vy))
+    kicks = 0.0
+    work = [0.0]
 
     times, path = [release_time], [(float(position[0]), float(position[1]))]
     limit = flight_time_limit(float(position[1]) + h, float(velocity[1]), g)
@@ -230,12 +241,15 @@ def fly(design: Design, release_time: float, position: np.ndarray, velocity: np.
         rate = drag(*v_next)
         ax, ay = -rate * (v_next[0] - wind), -rate * v_next[1]
         following = step_after(rate)
+        drag_impulse = (-mass * rate * (v_next[0] - wind) * step, -mass * rate * v_next[1] * step)
         if following != step:
             # pymunk applies force and gravity over this step; the velocity
             # update must span the mean of this step and the next.
             scale = 0.5 * (step + following) / step
             ax, ay = ax * scale, (ay - g) * scale + g
+            drag_impulse = (drag_impulse[0] * scale, drag_impulse[1] * scale)
         body.force = (mass * ax, mass * ay)
+        before = (vx, vy)
         space.step(step)
         steps += 1
         if step == dt:
@@ -248,6 +262,9 @@ def fly(design: Design, release_time: float, position: np.ndarray, velocity: np.
         vx, vy = body.velocity
         if not math.isfinite(x + y + vx + vy):
             raise EngineError(f"the flight went non-finite after {steps} steps of at most {dt:g} s")
+        kick = -(drag_impulse[0] * (0.5 * (before[0] + vx) - wind) + drag_impulse[1] * 0.5 * (before[1] + vy))
+        work.append(start_work + kicks + 0.5 * kick)
+        kicks += kick
         flown = full_steps * dt + short_time
         times.append(release_time + flown)
         path.append((x, y))
@@ -256,7 +273,7 @@ def fly(design: Design, release_time: float, position: np.ndarray, velocity: np.
         if flown > limit or flown + (y + h) / max(-v_next[1], fall_cap) > limit:
             path_array = np.array(path)
             return Flight(np.array(times), path_array, None, None, steps, limit,
-                          highest(np.array(times), path_array[:, 1]))
+                          highest(np.array(times), path_array[:, 1]), work[-1])
     # Equally spaced samples locate the landing on a parabola; after a change of step, a line.
     samples = 3 if steps >= 2 and taken[0] == taken[1] else 2
     heights = [p[1] + h for p in path[-samples:]]
@@ -266,4 +283,6 @@ def fly(design: Design, release_time: float, position: np.ndarray, velocity: np.
     landing_time = times[-2] + fraction * (times[-1] - times[-2])
     t = np.array(times[:-1] + [landing_time])
     flight_path = np.array(path[:-1] + [tuple(landing_position)])
-    return Flight(t, flight_path, landing_time, landing_position, steps, limit, highest(t, flight_path[:, 1]))
+    drag_work = work[-2] + fraction * (work[-1] - work[-2])
+    return Flight(t, flight_path, landing_time, landing_position, steps, limit, highest(t, flight_path[:, 1]),
+                  drag_work)

@@ -264,20 +264,22 @@ def available_energy(design: Design) -> float:
 
 def contact_forces(velocity_before: tuple[float, float], velocity_after: tuple[float, float],
                    tip: tuple[float, float], centre: tuple[float, float], on_base: bool,
-                   design: Design, dt: float) -> tuple[float, float]:
+                   design: Design, dt: float, base_friction: float = 0.0) -> tuple[float, float]:
     """Sling tension and base normal force on the projectile over one step, N.
 
     pymunk reports only the size of a joint's impulse; the signs follow from
     the projectile's momentum: over the step at t_k the constraints gave it the
     impulse ``m (v[k+1/2] - v[k-1/2]) + m g dt``, which is the sling's pull
     along the unit vector from the projectile to the tip plus, on the base,
-    the groove's push along +y (the groove is frictionless).
+    the groove's push along +y and the base's friction along x (``base_friction``,
+    which pymunk's friction constraint reports, ``engine_model.friction``).
 
     Parameters
     ----------
     velocity_before, velocity_after : projectile velocity at t_k - dt/2 and t_k + dt/2, m/s.
     tip, centre : long-arm tip and projectile centre at t_k, m.
     on_base : whether the groove acted in this step.
+    base_friction : the base's friction force on the projectile in this step, N, signed (+x).
 
     Returns
     -------
@@ -292,9 +294,9 @@ def contact_forces(velocity_before: tuple[float, float], velocity_after: tuple[f
     unit_x, unit_y = offset_x / length, offset_y / length
     if not on_base:
         return force_x * unit_x + force_y * unit_y, 0.0
-    # Only the sling pulls sideways; near a vertical sling this is ill-conditioned,
-    # but stage 1 ends (never_lifts_off) well before that.
-    tension = force_x / unit_x
+    # Only the sling and the base's friction pull sideways; near a vertical sling
+    # this is ill-conditioned, but stage 1 ends (never_lifts_off) well before that.
+    tension = (force_x - base_friction) / unit_x
     return tension, force_y - tension * unit_y
 
 

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from analytic.result import Shot
+from analytic.result import LOSS_NAMES, Shot
 
 #: (JSON key, label, unit, format) in the order printed; values are as in ``Shot.to_json``.
 _FIELDS = (
@@ -41,6 +41,9 @@ def format_shot(shot: Shot) -> str:
     if shot.design.base.rolling:
         rows += [(label, fmt.format(getattr(shot, name)), unit)
                  for name, label, unit, fmt in _FRAME_FIELDS if getattr(shot, name) is not None]
+    if shot.energy_dissipated is not None:
+        rows += [(f"{name} {'friction' if name != 'drag' else 'in flight'}", f"{shot.energy_dissipated[name]:.4f}",
+                  "J dissipated") for name in LOSS_NAMES]
     diagnostics = shot.diagnostics
     rows += [("engine", f"dt {diagnostics.dt:g} s, {diagnostics.iterations} iterations",
               f"{diagnostics.sling} sling"),

@@ -25,6 +25,7 @@ from analytic.geometry import RELEASE_RULES, release_value
 from analytic.limits import SLING_VERTICAL_LIMIT, swing_time_limit
 from analytic.outcome import LiftoffFailure
 from analytic.result import EnergyBudget, Shot, Stage, Status
+from engine_model import friction as fr
 from engine_model import kinematics as kin
 from engine_model.after_release import MACHINE_JOINTS, AfterRelease, run_after_release
 from engine_model.build import DEFAULT_ITERATIONS, EngineError, Rig, build, machine_length
@@ -75,9 +76,10 @@ class EngineDiagnostics:
     joint_drift : largest separation of each joint's anchors, m (keys ``pivot``,
         ``hinge``, ``sling``, ``groove``, and ``rail`` for a rolling frame).
     max_joint_drift : the largest of those, m.
-    energy_error : largest change of mechanical energy through stages 1-2, as a
-        fraction of the energy the counterweight can give up (it is conserved
-        there; a rope that snaps taut loses some, as a real one would).
+    energy_error : largest change of mechanical energy plus the work friction
+        took (``dissipated_history``) through stages 1-2, as a fraction of the
+        energy the counterweight can give up (it is conserved there; a rope
+        that snaps taut loses some, as a real one would).
     solver_residual : largest miss of a joint's target velocity, m/s
         (``engine_model.kinematics.constraint_residuals``).
     momentum_error : rolling frame only (0 for a fixed one): largest change of
@@ -87,8 +89,19 @@ class EngineDiagnostics:
     after_release_steps : rolling frame only: pymunk steps of the machine from
         release to landing (``engine_model.after_release``); its drift and
         solver residual are in ``joint_drift`` and ``solver_residual`` too.
-    after_release_energy_error : its largest change of the machine's energy,
-        as a fraction of the energy the counterweight can give up.
+    after_release_energy_error : its largest change of the machine's energy
+        (with the work its friction took), as a fraction of the energy the
+        counterweight can give up.
+    dissipated_history : (n, 3) the work the axle's, the hinge's and the
+        base's friction (``engine_model.friction.JOINTS``) had taken by each
+        sample of ``shot.t``, J; zeros for an ideal design. ``energy_error``
+        counts it: mechanical energy plus dissipated work is what is conserved.
+    friction_steps : with friction only (None for an ideal design), on the
+        steps of stages 1-2 (``machine_steps`` rows, each (n, 3) for the
+        axle, the hinge and the base): ``limit``, the friction each could
+        give in the step (N m, N m, N), set from the loads of the two steps
+        before (``friction.predicted_loads``); ``applied``, what it gave (its
+        impulse over the step); ``load``, each joint's load (N) measured in the step.
     """
 
     dt: float
@@ -103,6 +116,8 @@ class EngineDiagnostics:
     momentum_error: float = 0.0
     after_release_steps: int = 0
     after_release_energy_error: float = 0.0
+    dissipated_history: np.ndarray | None = None
+    friction_steps: dict[str, np.ndarray] | None = None
 
 
 @dataclass
@@ -114,6 +129,9 @@ class _Run:
     tension: list = field(default_factory=list)
     normal: list = field(default_factory=list)
     release_value: list = field(default_factory=list)
+    friction_impulse: list = field(default_factory=list)
+    friction_limit: list = field(default_factory=list)
+    friction_load: list = field(default_factory=list)
     liftoff_time: float | None = None
     status: Status | None = None
     message: str = ""
@@ -180,9 +198,11 @@ def simulate(design: Design, *, dt: float = DEFAULT_DT, iterations: int = DEFAUL
     residual = kin.constraint_residuals(raw, design, sling, on_base, steps)
     times = dt * np.arange(len(raw))
     tension = np.array(run.tension)
+    dissipated = _friction_work(run, sync, design)
 
     fields: dict = {"liftoff_time": run.liftoff_time}
     flight_steps = 0
+    drag_work = 0.0
     if run.release_fraction is not None:
         s = run.release_fraction
         release_time = times[-2] + s * dt
@@ -190,12 +210,14 @@ def simulate(design: Design, *, dt: float = DEFAULT_DT, iterations: int = DEFAUL
         # A rope's tension jumps when it snaps taut: no parabola through a jump.
         release_tension = interpolate(tension[-3:] if sling == "rigid" else tension[-2:], s)
         sync = np.vstack([sync[:-1], release_state])
+        dissipated = np.vstack([dissipated[:-1], interpolate(dissipated[-3:], s)])
         tension = np.append(tension[:-1], release_tension)
         times = np.append(times[:-1], release_time)
         position = kin.position(release_state[None, :], kin.PROJECTILE)[0]
         velocity = kin.velocity(release_state[None, :], kin.PROJECTILE)[0]
         flight = fly(design, release_time, position, velocity, dt)
         flight_steps = flight.steps
+        drag_work = flight.drag_work
         fields.update(release_time=release_time, release_position=position,
                       release_velocity=velocity, flight_t=flight.t, flight_path=flight.path,
                       frame_release_displacement=_frame(release_state, kin.X, design),
@@ -208,8 +230,11 @@ def simulate(design: Design, *, dt: float = DEFAULT_DT, iterations: int = DEFAUL
     fields["min_sling_tension"] = (smallest_sample(tension) if sling == "rigid"
                                    else float(tension.min()))
     fields["max_frame_speed"] = largest_speed(kin.column(sync, kin.FRAME, kin.VX)) if design.base.rolling else 0.0
+    fields["energy_dissipated"] = {**dict(zip(fr.JOINTS, (float(w) for w in dissipated[-1]), strict=True)),
+                                   "drag": float(drag_work)}
     shot = _assemble(design, run, times, sync, tension, fields)
-    diagnostics = _diagnose(design, dt, iterations, sling, len(raw), flight_steps, drift, residual, shot, sync)
+    diagnostics = _diagnose(design, dt, iterations, sling, len(raw), flight_steps, drift, residual, shot, sync,
+                            dissipated)
     if shot.landing_time is not None:
         if not design.base.rolling:
             shot = dataclasses.replace(shot, frame_landing_displacement=0.0, frame_landing_velocity=0.0)
@@ -224,7 +249,27 @@ def simulate(design: Design, *, dt: float = DEFAULT_DT, iterations: int = DEFAUL
                 max_frame_speed=max(shot.max_frame_speed,
                                     largest_speed(kin.column(after.states, kin.FRAME, kin.VX))))
             diagnostics = _diagnose_after_release(design, dt, iterations, after, diagnostics)
+    diagnostics = dataclasses.replace(diagnostics, friction_steps=_friction_steps(run, dt))
     return dataclasses.replace(shot, diagnostics=diagnostics)
+
+
+def _friction_work(run: _Run, sync: np.ndarray, design: Design) -> np.ndarray:
+    """(n, 3) the work each friction had taken by each row's instant, J (``friction.dissipated_work``)."""
+    if not run.friction_impulse:
+        return np.zeros((len(sync), len(fr.JOINTS)))
+    qdot = kin.coordinates(sync, design, initial_angles(design.machine))[1]
+    return fr.dissipated_work(np.array(run.friction_impulse), fr.rates(sync, qdot, design))
+
+
+def _friction_steps(run: _Run, dt: float) -> dict[str, np.ndarray] | None:
+    """``EngineDiagnostics.friction_steps`` from the run's records (None without friction)."""
+    if not run.friction_limit:
+        return None
+    steps = np.full((len(run.friction_impulse), 1), dt)
+    steps[0] = 0.5 * dt
+    count = len(run.friction_limit)
+    return {"limit": np.array(run.friction_limit), "applied": np.array(run.friction_impulse)[:count] / steps[:count],
+            "load": np.array(run.friction_load)}
 
 
 def _frame(state: np.ndarray, quantity: int, design: Design) -> float:
@@ -241,38 +286,80 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tupl
     run = _Run()
 
     rig = build(design, sling=sling, iterations=iterations)
+    friction = _attach_friction(rig, design, True, dt)
     row = _opening_step(rig, dt, iterations)
     # From rest the opening half step gives the arm omega = alpha dt/2 (pymunk
     # updates velocities first), so this is its angular acceleration at rest.
     arm_acceleration = row[kin.ARM + kin.W] / (0.5 * dt)
+    if friction is not None:
+        balance = fr.static_balance(design, np.array(row))
+        held = abs(arm_acceleration) <= fr.HELD_ACCELERATION
+        if (friction.axle is not None and balance.holds) or held:
+            run.raw.append(row)
+            run.on_base.append(True)
+            run.tension.append(0.0)
+            run.friction_impulse.append(fr.impulses(friction, True))
+            run.status = Status.NEVER_FIRES
+            run.message = (balance.message(design) if friction.axle is not None and balance.holds
+                           else fr.held_message(design, arm_acceleration, balance, sling))
+            return run, rig
     if not arm_acceleration < 0.0:
         run.raw.append(row)
         run.on_base.append(True)
         run.tension.append(0.0)
+        if friction is not None:
+            run.friction_impulse.append(fr.impulses(friction, True))
         run.status = Status.NEVER_FIRES
         run.message = outcome.never_fires_message(arm_acceleration)
         return run, rig
     geometry = _row_geometry(row, m)
-    tension, normal = _forces(row, row, geometry, True, design, dt)
+    base_force = _base_friction(friction, rig, 0.5 * dt, geometry, True)
+    tension, normal = _forces(row, row, geometry, True, design, dt, base_force)
     on_base = True
     if normal < 0.0:
         # The sling lifts the projectile at rest: start again without the base.
         rig = build(design, sling=sling, iterations=iterations, on_base=False)
+        friction = _attach_friction(rig, design, False, dt)
         row = _opening_step(rig, dt, iterations)
         geometry = _row_geometry(row, m)
+        base_force = 0.0
         tension, normal = _forces(row, row, geometry, False, design, dt)
         on_base = False
         run.liftoff_time = 0.0
+    opening_loads = fr.static_loads(design)
+    if friction is not None:
+        # The loads at rest are the weights, but the moving machine's are not (the
+        # axle's is half of it on the paper's design): the opening half step is
+        # taken again with the limits its loads give (its range moved by 1.2e-5 m).
+        opening_loads = _loads(friction, rig, _mirrored(row), row, design,
+                               (base_force, normal if on_base else 0.0), dt, 0.5 * dt)
+        rig = build(design, sling=sling, iterations=iterations, on_base=on_base)
+        friction = _attach_friction(rig, design, on_base, dt, opening_loads)
+        row = _opening_step(rig, dt, iterations)
+        geometry = _row_geometry(row, m)
+        base_force = _base_friction(friction, rig, 0.5 * dt, geometry, on_base)
+        tension, normal = _forces(row, row, geometry, on_base, design, dt, base_force)
     run.raw.append(row)
     run.on_base.append(on_base)
     run.tension.append(tension)
     run.normal.append(normal)
     run.release_value.append(_release(row, row, geometry, rule, m.release_angle)[0])
+    if friction is not None:
+        run.friction_impulse.append(fr.impulses(friction, on_base))
+        loads = _loads(friction, rig, _mirrored(row), row, design, (base_force, normal if on_base else 0.0),
+                       dt, 0.5 * dt)
+        run.friction_limit.append(fr.limits(design, opening_loads))
+        run.friction_load.append(loads)
+        friction = fr.renew(friction, rig)
 
     step = rig.space.step
     previous = row
+    earlier_loads = None
     k = 0
     while True:
+        if friction is not None:
+            run.friction_limit.append(fr.set_limits(friction, fr.predicted_loads(loads, earlier_loads)))
+            fr.aim(friction, rig, dt)
         step(dt)
         k += 1
         row = read_state(rig)
@@ -281,7 +368,21 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tupl
                               f"with dt = {dt:g} s and {iterations} iterations: use a smaller dt "
                               f"or more iterations")
         geometry = _row_geometry(row, m)
-        tension, normal = _forces(previous, row, geometry, on_base, design, dt)
+        if friction is None:
+            tension, normal = _forces(previous, row, geometry, on_base, design, dt)
+        else:
+            base_force = _base_friction(friction, rig, dt, geometry, on_base)
+            tension, normal = _forces(previous, row, geometry, on_base, design, dt, base_force)
+            run.friction_impulse.append(fr.impulses(friction, on_base))
+            earlier_loads = loads
+            if k > 1:
+                loads = _loads(friction, rig, previous, row, design, (base_force, normal if on_base else 0.0),
+                               dt, dt)
+            if k == 2:   # the line from the opening half step's loads, two steps back
+                earlier_loads = tuple(0.5 * (a + b) for a, b in zip(earlier_loads, loads, strict=True))
+            # At k = 1 pymunk's joints misreport the first whole step after the half step
+            # (``friction.renew``): the opening half step's loads stand in.
+            run.friction_load.append(loads)
         value, armed = _release(previous, row, geometry, rule, m.release_angle)
         run.raw.append(row)
         run.on_base.append(on_base)
@@ -297,6 +398,8 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tupl
                 fraction = crossing_fraction(tuple(run.normal[-3:]))
                 run.liftoff_time = (k - 1 + fraction) * dt
                 rig.space.remove(rig.groove)
+                if friction is not None:
+                    fr.remove_base(friction, rig.space)
                 on_base = False
             elif sling_forward < SLING_VERTICAL_LIMIT:
                 return _fail(run, rig, Status.NEVER_LIFTS_OFF,
@@ -318,6 +421,50 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tupl
         if t > t_limit:
             return _fail(run, rig, Status.NEVER_RELEASES,
                          outcome.never_releases_message(m.release_rule, m.release_angle, t_limit))
+
+
+def _attach_friction(rig: Rig, design: Design, on_base: bool, dt: float,
+                     loads: tuple[float, float, float] | None = None) -> fr.Friction | None:
+    """``engine_model.friction.attach``, its limits set for the opening half step from ``loads`` (N;
+    default: the loads at rest, ``friction.static_loads``)."""
+    friction = fr.attach(rig, design, on_base)
+    if friction is not None:
+        fr.set_limits(friction, fr.static_loads(design) if loads is None else loads)
+        fr.aim(friction, rig, 0.5 * dt)
+    return friction
+
+
+def _mirrored(row: tuple) -> tuple:
+    """The row with its velocities reversed: the half step before rest (``kinematics.synchronise``)."""
+    return tuple(-v if i % 6 >= kin.VX else v for i, v in enumerate(row))
+
+
+def _base_friction(friction: fr.Friction | None, rig: Rig, step: float, geometry: tuple,
+                   on_base: bool) -> float:
+    """The base's friction force on the projectile in the last step of ``step`` s, N, signed (0 off the base)."""
+    if friction is None or not on_base:
+        return 0.0
+    return fr.base_friction_force(friction, rig, step, -geometry[2])
+
+
+def _loads(friction: fr.Friction, rig: Rig, before: tuple, row: tuple, design: Design,
+           base_force: tuple[float, float], dt: float, step: float) -> tuple[float, float, float]:
+    """Each friction joint's load in the step of ``step`` s that produced ``row``, N: the next step's limits.
+
+    ``before`` is the row before (for the opening half step, ``_mirrored(row)``,
+    whose velocity change over ``dt`` is the half step's over ``dt / 2``).
+    """
+    if friction.axle is None:
+        axle = 0.0
+    elif friction.ballast > 0.0:
+        axle = fr.axle_load_from_momentum(before, row, design, base_force, dt)
+    else:
+        axle = rig.pivot.impulse / step
+    hinge = rig.hinge.impulse / step
+    if friction.point_hinge:
+        hinge = math.hypot(hinge, friction.hinge.impulse / step)
+    base = rig.groove.impulse / step if friction.base is not None else 0.0
+    return axle, hinge, base
 
 
 def _opening_step(rig: Rig, dt: float, iterations: int) -> tuple[float, ...]:
@@ -349,15 +496,16 @@ def _row_geometry(row: tuple[float, ...], machine: Machine) -> tuple[float, floa
 
 
 def _forces(before: tuple, row: tuple, geometry: tuple, on_base: bool, design: Design,
-            dt: float) -> tuple[float, float]:
-    """Sling tension and base normal force over the step that produced ``row`` (``kin.contact_forces``)."""
+            dt: float, base_friction: float = 0.0) -> tuple[float, float]:
+    """Sling tension and base normal force over the step that produced ``row`` (``kin.contact_forces``;
+    ``base_friction``, N, the base's friction force on the projectile)."""
     p = kin.PROJECTILE
     if before is row:  # the opening half step: the velocity before it is the mirror image
         v_before = (-row[p + kin.VX], -row[p + kin.VY])
     else:
         v_before = (before[p + kin.VX], before[p + kin.VY])
     return kin.contact_forces(v_before, (row[p + kin.VX], row[p + kin.VY]), geometry[:2],
-                              (row[p + kin.X], row[p + kin.Y]), on_base, design, dt)
+                              (row[p + kin.X], row[p + kin.Y]), on_base, design, dt, base_friction)
 
 
 def _release(before: tuple, row: tuple, geometry: tuple, rule: int, release_angle: float) -> tuple[float, bool]:
@@ -420,13 +568,15 @@ def largest_speed(velocity: np.ndarray) -> float:
 
 def _diagnose(design: Design, dt: float, iterations: int, sling: str, machine_steps: int,
               flight_steps: int, drift: dict[str, np.ndarray], residual: dict[str, np.ndarray],
-              shot: Shot, sync: np.ndarray) -> EngineDiagnostics:
+              shot: Shot, sync: np.ndarray, dissipated: np.ndarray) -> EngineDiagnostics:
     """Summarise drift, solver residual and energy; raise ``EngineError`` if any shows a run gone wrong."""
     advice = f"with dt = {dt:g} s and {iterations} iterations: use a smaller dt or more iterations"
     largest_miss = {name: float(values.max()) for name, values in residual.items()}
     _require_converged(design, largest_miss, advice)
     # A rope that snaps taut loses energy, as a real one would; it must never gain any.
-    change = shot.energy.total / kin.available_energy(design)
+    # Friction's work is energy the machine lost, not an error: it is added back.
+    kept = shot.energy.total if design.losses.ideal else shot.energy.total + dissipated.sum(axis=1)
+    change = kept / kin.available_energy(design)
     energy_error = float(np.abs(change).max())
     _require_energy_kept(energy_error if sling == "rigid" else float(change.max()), energy_error, advice)
     largest = {name: float(values.max()) for name, values in drift.items()}
@@ -440,7 +590,8 @@ def _diagnose(design: Design, dt: float, iterations: int, sling: str, machine_st
     return EngineDiagnostics(dt=dt, iterations=iterations, sling=sling, machine_steps=machine_steps,
                              flight_steps=flight_steps, joint_drift=largest,
                              max_joint_drift=max(largest.values()), energy_error=energy_error,
-                             solver_residual=max(largest_miss.values()), momentum_error=momentum_error)
+                             solver_residual=max(largest_miss.values()), momentum_error=momentum_error,
+                             dissipated_history=dissipated)
 
 
 def _diagnose_after_release(design: Design, dt: float, iterations: int, after: AfterRelease,
@@ -457,7 +608,8 @@ def _diagnose_after_release(design: Design, dt: float, iterations: int, after: A
     residual = kin.constraint_residuals(after.raw, design, "rigid", on_base, steps)
     miss = {name: float(residual[name].max()) for name in MACHINE_JOINTS}
     _require_converged(design, miss, advice)
-    energy_error = float(np.abs(kin.energy_budget(after.states, design)[0]).max()) / kin.available_energy(design)
+    kept = kin.energy_budget(after.states, design)[0] + after.dissipated.sum(axis=1)
+    energy_error = float(np.abs(kept).max()) / kin.available_energy(design)
     _require_energy_kept(energy_error, energy_error, advice)
     drift = kin.joint_drift(after.raw, design, "rigid", on_base)
     largest = dict(diagnostics.joint_drift)

@@ -1,0 +1,365 @@
+"""Friction in the engine (``design.losses``): Coulomb torques at the axle and the hinge, Coulomb friction on the base.
+
+pymunk's own means, one velocity-level constraint per loss whose ``max_force``
+is the friction's limit, set before every step from the load its joint
+carries, predicted from the two steps before (pymunk reports a constraint's
+impulse only after the step that applied it; ``predicted_loads``):
+
+* axle: a ``SimpleMotor`` of rate 0 between the frame and the arm. It holds
+  their relative rotation at zero (stick) unless that needs more torque than
+  ``axle_friction * axle_radius * |axle load|``, where it saturates and
+  applies that torque against the rotation (slip). A motor applies a pure
+  torque, so it changes no joint's force directly.
+* hinge: the same between the arm and the counterweight; for a point
+  counterweight (a PinJoint link and a body whose own rotation is decoupled,
+  ``engine_model.build``) it is a ``GrooveJoint`` on the arm, aimed along the
+  link before every step, that limits the counterweight's motion across the
+  link relative to the arm to ``torque / counterweight_link``: the same force
+  pair a friction torque on a massless link gives the arm and the weight.
+  Its load is the whole force through the hinge (the link's pull and this
+  friction force).
+* base: a ``GrooveJoint`` on the frame with a vertical groove, holding the
+  projectile's sliding along the base up to ``base_friction * N`` (N the
+  base's push, the slide groove's impulse). A pymunk contact with friction
+  would solve the normal and friction impulses together, but only through
+  collision shapes, whose slop and bias correction are pixel-sized defaults
+  far coarser than the joints' (``error_bias = 0``); the slide groove and
+  its lift-off test stay as they are.
+
+The friction constraints correct no position error (``max_bias = 0``): they
+act on velocities alone, as a bearing does. An ideal design gets none of
+them: its space is exactly what it was before friction existed.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pymunk
+
+from analytic.design import Design
+from engine_model import kinematics as kin
+from engine_model.build import Rig, arm_body_properties
+
+#: The friction joints' names, in the order ``impulses`` and ``loads`` give them
+#: (the first three of ``analytic.result.LOSS_NAMES``).
+JOINTS = ("axle", "hinge", "base")
+#: A friction constraint whose impulse is within this fraction of its limit
+#: counts as saturated (slipping): pymunk clamps a saturated impulse to the
+#: limit exactly (a motor) or to its length computed by a square root (a groove).
+SATURATION = 1e-9
+#: A machine with friction whose arm's angular acceleration at rest (from the
+#: opening half step) is no larger than this, rad/s^2, is held at rest: friction
+#: holds it, and what is left is the solver's residual (2.6e-5 rad/s^2 at 1e-4 s
+#: on a machine locked by its base's friction through a rigid sling). An arm
+#: accelerating at 1e-3 rad/s^2 would turn 0.03 rad in the paper's 7.9 s swing
+#: time limit: it could never fire either.
+HELD_ACCELERATION = 1e-3
+#: Length of the grooves, as a multiple of the machine's largest length, each
+#: way: their ends must never be reached (there pymunk's groove also pushes along it).
+GROOVE_REACH = 10.0
+
+
+@dataclass(frozen=True)
+class Friction:
+    """The friction constraints added to a ``Rig`` (None where that loss is zero).
+
+    Attributes
+    ----------
+    design : the design they were built for.
+    axle : SimpleMotor, frame to arm.
+    hinge : SimpleMotor, arm to counterweight, or GrooveJoint for a point counterweight.
+    base : GrooveJoint, frame to projectile (vertical groove), while on the base.
+    ballast : kg the engine put at the pivot (``build.arm_body_properties``):
+        the pivot joint also carries its weight, which the real axle does not.
+    """
+
+    design: Design
+    axle: pymunk.SimpleMotor | None
+    hinge: pymunk.Constraint | None
+    base: pymunk.GrooveJoint | None
+    ballast: float
+
+    @property
+    def point_hinge(self) -> bool:
+        return isinstance(self.hinge, pymunk.GrooveJoint)
+
+
+@dataclass(frozen=True)
+class StaticBalance:
+    """The arm at rest held at its axle: what gravity asks of the axle's friction.
+
+    Attributes
+    ----------
+    gravity_torque : N m about the pivot from the arm's and counterweight's
+        weights (clockwise, the firing direction, is negative). At rest the
+        counterweight hangs plumb and the sling lies unloaded on the base.
+    axle_load : N, the axle's reaction: the arm's and counterweight's weight.
+    holding_torque : N m, the most the axle's static friction can hold:
+        ``axle_friction * axle_radius * axle_load``.
+    """
+
+    gravity_torque: float
+    axle_load: float
+    holding_torque: float
+
+    @property
+    def holds(self) -> bool:
+        """The axle's friction keeps a machine that would fire at rest."""
+        return self.gravity_torque < 0.0 and -self.gravity_torque <= self.holding_torque
+
+    def message(self, design: Design) -> str:
+        losses = design.losses
+        return (f"the counterweight cannot lift the arm: the axle's friction holds it at rest "
+                f"(gravity's torque about the pivot {-self.gravity_torque:.4g} N m against at most "
+                f"{self.holding_torque:.4g} N m of static friction = {losses.axle_friction:g} x "
+                f"{losses.axle_radius * 1e3:g} mm x {self.axle_load:.4g} N on the axle)")
+
+
+def held_message(design: Design, arm_acceleration: float, balance: StaticBalance, sling: str) -> str:
+    """Why a machine with friction that the static balance of its axle alone lets go stays at rest."""
+    text = (f"the counterweight cannot lift the arm: friction holds the machine at rest (the arm's angular "
+            f"acceleration at rest is {arm_acceleration:+.3g} rad/s^2, under the {HELD_ACCELERATION:g} "
+            f"rad/s^2 that could turn it within the swing's time limit)")
+    if balance.gravity_torque < 0.0 and design.losses.base_friction > 0.0 and sling == "rigid":
+        text += (f": gravity's torque about the pivot, {-balance.gravity_torque:.4g} N m, is more than the "
+                 f"axle's friction holds alone ({balance.holding_torque:.4g} N m), but the base's friction "
+                 f"holds the projectile, and the rigid sling holds the arm by it")
+    return text
+
+
+def static_balance(design: Design, rest: np.ndarray) -> StaticBalance:
+    """The torque balance of the arm at rest (``rest``: the (24,) state row at rest, positions used)."""
+    m, g = design.machine, design.environment.gravity
+    arm_x = kin.arm_centre(rest[None, :], design)[0, 0] - rest[kin.ARM + kin.X]
+    counterweight_x = rest[kin.COUNTERWEIGHT + kin.X] - rest[kin.ARM + kin.X]
+    torque = -g * (m.arm_mass * arm_x + m.counterweight_mass * counterweight_x)
+    load = (m.arm_mass + m.counterweight_mass) * g
+    losses = design.losses
+    return StaticBalance(float(torque), float(load), losses.axle_friction * losses.axle_radius * load)
+
+
+def attach(rig: Rig, design: Design, on_base: bool) -> Friction | None:
+    """Add the friction constraints of ``design.losses`` to ``rig.space``; None (nothing added) when ideal.
+
+    ``on_base``: the projectile starts on the base (the base's friction acts only there).
+    """
+    if design.losses.ideal:
+        return None
+    return _add(rig, design, on_base)
+
+
+def renew(friction: Friction, rig: Rig) -> Friction:
+    """The same friction constraints, new, in place of those that took the opening half step.
+
+    pymunk starts each step's solver from the impulses of the step before,
+    scaled by the ratio of the steps; a clamped constraint keeps the scaled
+    part outside its clamp. After the opening half step that ratio is 2, so the
+    first whole step would apply half a step's friction on top of its limit.
+    New constraints start from nothing. (The joints' readings in that step are
+    off the same way: ``engine_model.shot`` does not measure loads in it.)
+    """
+    old = [joint for joint in (friction.axle, friction.hinge, friction.base) if joint is not None]
+    rig.space.remove(*old)
+    fresh = _add(rig, friction.design, friction.base is not None)
+    for before, after in zip(old, [j for j in (fresh.axle, fresh.hinge, fresh.base) if j is not None], strict=True):
+        after.max_force = before.max_force
+        if isinstance(after, pymunk.GrooveJoint):
+            after.groove_a, after.groove_b = before.groove_a, before.groove_b
+    return fresh
+
+
+def _add(rig: Rig, design: Design, on_base: bool) -> Friction:
+    losses = design.losses
+    m = design.machine
+    reach = GROOVE_REACH * (m.arm_long + m.arm_short + m.counterweight_link + m.sling_length)
+    axle = hinge = base = None
+    if losses.axle_friction > 0.0:
+        axle = pymunk.SimpleMotor(rig.frame, rig.arm, 0.0)
+    if losses.hinge_friction > 0.0:
+        if m.counterweight_inertia == 0.0:
+            # Aimed along the link before each step (``aim``).
+            hinge = pymunk.GrooveJoint(rig.arm, rig.counterweight, (0.0, -reach), (0.0, reach), (0.0, 0.0))
+        else:
+            hinge = pymunk.SimpleMotor(rig.arm, rig.counterweight, 0.0)
+    if losses.base_friction > 0.0 and on_base:
+        base = pymunk.GrooveJoint(rig.frame, rig.projectile, (0.0, -reach), (0.0, reach), (0.0, 0.0))
+    added = [joint for joint in (axle, hinge, base) if joint is not None]
+    for joint in added:
+        joint.max_bias = 0.0   # velocities only: no position to return to
+        joint.collide_bodies = False
+        joint.max_force = 0.0
+    rig.space.add(*added)
+    ballast = arm_body_properties(design)[0] - m.arm_mass
+    return Friction(design, axle, hinge, base, ballast)
+
+
+def static_loads(design: Design) -> tuple[float, float, float]:
+    """The joints' loads at rest, N: axle, hinge and base (the weights each carries)."""
+    m, g = design.machine, design.environment.gravity
+    return ((m.arm_mass + m.counterweight_mass) * g, m.counterweight_mass * g, design.projectile.mass * g)
+
+
+def predicted_loads(loads: tuple[float, float, float],
+                    earlier: tuple[float, float, float] | None) -> tuple[float, float, float]:
+    """The joints' loads in the coming step (N), extrapolated from those of the last two steps.
+
+    pymunk gives a joint's load only after the step that applied it, so a
+    limit set from the last step's load lags by one step: an error first order
+    in the step (on the paper's design with all losses, 6.5e-4 m of range at
+    the default step, halving with the step). A straight line through the last
+    two loads is second order (the friction's share of the range then moves by
+    6.7e-6 m from 5e-5 s to 2.5e-5 s, against 3.2e-4 m with the lag; README,
+    "Friction in the engine"). Where a load jumps (a joint sticking, lift-off)
+    the line overshoots for one step; a load is never negative.
+    """
+    if earlier is None:
+        return loads
+    return tuple(max(2.0 * now - before, 0.0) for now, before in zip(loads, earlier, strict=True))
+
+
+def limits(design: Design, loads: tuple[float, float, float]) -> tuple[float, float, float]:
+    """The friction each joint can give under its load (N): torques ``mu r |F|`` (N m) at the axle and the
+    hinge, the force ``mu N`` (N) on the base."""
+    losses = design.losses
+    return (losses.axle_friction * losses.axle_radius * loads[0],
+            losses.hinge_friction * losses.hinge_radius * loads[1],
+            losses.base_friction * loads[2])
+
+
+def set_limits(friction: Friction, loads: tuple[float, float, float]) -> tuple[float, float, float]:
+    """Set each friction constraint's limit from its joint's load (N); returns the ``limits``."""
+    axle, hinge, base = limits(friction.design, loads)
+    if friction.axle is not None:
+        friction.axle.max_force = axle
+    if friction.hinge is not None:
+        friction.hinge.max_force = hinge / friction.design.machine.counterweight_link if friction.point_hinge else hinge
+    if friction.base is not None:
+        friction.base.max_force = base
+    return axle, hinge, base
+
+
+def aim(friction: Friction, rig: Rig, dt: float) -> None:
+    """Point a point counterweight's hinge groove along the link where the next step of ``dt`` will find it.
+
+    pymunk moves the bodies before it solves the step's constraints, so the
+    groove is aimed from the positions the current velocities lead to.
+    """
+    if not friction.point_hinge:
+        return
+    arm, weight = rig.arm, rig.counterweight
+    angle = arm.angle + arm.angular_velocity * dt
+    cos, sin = math.cos(angle), math.sin(angle)
+    origin = arm.local_to_world((0.0, 0.0)) + arm.velocity_at_local_point((0.0, 0.0)) * dt
+    centre = weight.position + weight.velocity * dt
+    dx, dy = centre.x - origin.x, centre.y - origin.y
+    # Into the arm's frame, relative to the short tip at (0, -arm_short).
+    local_x, local_y = cos * dx + sin * dy, -sin * dx + cos * dy + friction.design.machine.arm_short
+    length = math.hypot(local_x, local_y)
+    reach = GROOVE_REACH * friction.design.machine.counterweight_link
+    ux, uy = local_x / length, local_y / length
+    short = -friction.design.machine.arm_short
+    friction.hinge.groove_a = (-reach * ux, short - reach * uy)
+    friction.hinge.groove_b = (reach * ux, short + reach * uy)
+
+
+def impulses(friction: Friction, on_base: bool) -> tuple[float, float, float]:
+    """Each friction constraint's impulse in the last step (magnitude; 0 where absent): the axle's and
+    the hinge's as torque impulses, N m s (a point counterweight's groove: its impulse times the link),
+    the base's, N s, only while ``on_base``."""
+    hinge = 0.0 if friction.hinge is None else friction.hinge.impulse
+    if friction.point_hinge:
+        hinge *= friction.design.machine.counterweight_link
+    return (0.0 if friction.axle is None else friction.axle.impulse, hinge,
+            0.0 if friction.base is None or not on_base else friction.base.impulse)
+
+
+def saturated(joint: pymunk.Constraint | None, step: float) -> bool:
+    """The constraint applied its whole limit in the last step of ``step`` s (it slipped)."""
+    return joint is not None and joint.impulse >= (1.0 - SATURATION) * joint.max_force * step
+
+
+def remove_base(friction: Friction, space: pymunk.Space) -> None:
+    """Take the base's friction out with the base (at lift-off)."""
+    if friction.base is not None and friction.base in space.constraints:
+        space.remove(friction.base)
+
+
+def base_friction_force(friction: Friction, rig: Rig, step: float, sling_x: float) -> float:
+    """The base's friction force on the projectile in the last step, N, signed (+x ground).
+
+    pymunk reports its size; it opposes the projectile's sliding when it
+    slipped, and the sling's pull along the base when it held (the sling
+    pulls: ``sling_x`` is the x part of the unit vector from projectile to tip).
+    """
+    joint = friction.base
+    if joint is None:
+        return 0.0
+    size = joint.impulse / step
+    sliding = rig.projectile.velocity.x - rig.frame.velocity.x
+    if saturated(joint, step) and sliding != 0.0:
+        return -math.copysign(size, sliding)
+    return -math.copysign(size, sling_x)
+
+
+def axle_load_from_momentum(before: tuple, row: tuple, design: Design, base_force: tuple[float, float],
+                            step: float, projectile: bool = True) -> float:
+    """The axle's reaction force, N, from the momentum the arm (without ballast), the counterweight and
+    the projectile took up over the step (raw rows: velocities half a step either side).
+
+    The pivot joint also carries the ballast's weight and inertia, which the
+    real axle does not; the design's own bodies do not include it. Outside
+    forces on them: gravity, the axle, and on the base the base's push and
+    friction ``base_force`` (N, signed). After release (``projectile`` False)
+    the projectile is no part of the machine.
+    """
+    m, g = design.machine, design.environment.gravity
+    masses = (m.arm_mass, m.counterweight_mass, design.projectile.mass if projectile else 0.0)
+    momentum = [0.0, 0.0]
+    for state, sign in ((row, 1.0), (before, -1.0)):
+        theta, spin = state[kin.ARM + kin.ANGLE], state[kin.ARM + kin.W]
+        arm_vx = state[kin.ARM + kin.VX] - spin * m.arm_cg * math.cos(theta)
+        arm_vy = state[kin.ARM + kin.VY] - spin * m.arm_cg * math.sin(theta)
+        for mass, vx, vy in ((masses[0], arm_vx, arm_vy),
+                             (masses[1], state[kin.COUNTERWEIGHT + kin.VX], state[kin.COUNTERWEIGHT + kin.VY]),
+                             (masses[2], state[kin.PROJECTILE + kin.VX], state[kin.PROJECTILE + kin.VY])):
+            momentum[0] += sign * mass * vx
+            momentum[1] += sign * mass * vy
+    force_x = momentum[0] / step - base_force[0]
+    force_y = momentum[1] / step + sum(masses) * g - base_force[1]
+    return math.hypot(force_x, force_y)
+
+
+def rates(sync: np.ndarray, qdot: np.ndarray, design: Design) -> np.ndarray:
+    """Each friction joint's relative sliding rate at the rows of ``sync`` (n, 3): the arm's turn on the
+    frame (rad/s), the counterweight's (for a point counterweight, its link's) on the arm (rad/s) and the
+    projectile's along the base (m/s), as magnitudes. ``qdot``: (n, 3) ``kinematics.coordinates``' rates."""
+    axle = np.abs(kin.column(sync, kin.ARM, kin.W) - kin.column(sync, kin.FRAME, kin.W))
+    if design.machine.counterweight_inertia == 0.0:
+        hinge = np.abs(qdot[:, 1])
+    else:
+        hinge = np.abs(kin.column(sync, kin.COUNTERWEIGHT, kin.W) - kin.column(sync, kin.ARM, kin.W))
+    base = np.abs(kin.column(sync, kin.PROJECTILE, kin.VX) - kin.column(sync, kin.FRAME, kin.VX))
+    return np.column_stack([axle, hinge, base])
+
+
+def dissipated_work(impulse: np.ndarray, rate: np.ndarray) -> np.ndarray:
+    """Work each friction took, accumulated to each row's instant, J, shape (n, 3).
+
+    Parameters
+    ----------
+    impulse : (n, 3) each friction constraint's impulse in the step that produced the row.
+    rate : (n, 3) its joint's sliding rate at the row's instant (``rates`` on synchronised rows).
+
+    Notes
+    -----
+    A step's impulse changes the velocities from half a step before the row
+    to half a step after it, so its work is the impulse times the mean of
+    the two, the synchronised rate, exactly (friction opposes the sliding).
+    The synchronised energy at a row holds half that step's velocity change,
+    so the row is given half its step's work (trapezoidal accumulation).
+    """
+    work = impulse * rate
+    return np.cumsum(work, axis=0) - 0.5 * work
