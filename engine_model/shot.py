@@ -576,7 +576,7 @@ def _diagnose(design: Design, dt: float, iterations: int, sling: str, machine_st
     # A rope that snaps taut loses energy, as a real one would; it must never gain any.
     # Friction's work is energy the machine lost, not an error: it is added back.
     kept = shot.energy.total if design.losses.ideal else shot.energy.total + dissipated.sum(axis=1)
-    change = kept / kin.available_energy(design)
+    change = _relative_energy(kept, design)
     energy_error = float(np.abs(change).max())
     _require_energy_kept(energy_error if sling == "rigid" else float(change.max()), energy_error, advice)
     largest = {name: float(values.max()) for name, values in drift.items()}
@@ -609,7 +609,7 @@ def _diagnose_after_release(design: Design, dt: float, iterations: int, after: A
     miss = {name: float(residual[name].max()) for name in MACHINE_JOINTS}
     _require_converged(design, miss, advice)
     kept = kin.energy_budget(after.states, design)[0] + after.dissipated.sum(axis=1)
-    energy_error = float(np.abs(kept).max()) / kin.available_energy(design)
+    energy_error = float(np.abs(_relative_energy(kept, design)).max())
     _require_energy_kept(energy_error, energy_error, advice)
     drift = kin.joint_drift(after.raw, design, "rigid", on_base)
     largest = dict(diagnostics.joint_drift)
@@ -652,3 +652,16 @@ def _require_together(design: Design, largest_drift: dict[str, float], advice: s
     if not largest_drift[joint] <= limit:
         raise EngineError(f"the {joint} joint came apart by {largest_drift[joint]:.3g} m (limit {limit:.3g} m) "
                           f"{advice}")
+
+
+def _relative_energy(energy: np.ndarray, design: Design) -> np.ndarray:
+    """``energy`` as a fraction of the counterweight's available energy (``kin.available_energy``).
+
+    An available energy that underflows to 0 (a machine of denormal lengths
+    and masses) leaves no scale: an energy of exactly 0 is then no error, any
+    other an infinite one (so the run is refused, never a 0/0 NaN).
+    """
+    available = kin.available_energy(design)
+    if available > 0.0:
+        return energy / available
+    return np.where(energy == 0.0, 0.0, np.copysign(np.inf, energy))
