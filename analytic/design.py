@@ -290,8 +290,6 @@ class Design:
             raise DesignError("base", self.base, "must be a Base")
         if not isinstance(self.losses, Losses):
             raise DesignError("losses", self.losses, "must be a Losses")
-        if not self.losses.ideal:   # until both models have friction (issue 11)
-            raise DesignError("losses", "(the table)", "friction is not modelled yet: leave [losses] out")
 
 
 # --------------------------------------------------------------------------- #
