@@ -327,6 +327,11 @@ def joint_forces_sliding(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, dd
     ``S = mP (a_P + g) - N e_y - F e_x``). Friction torques at the axle and
     the hinge change no force: a torque has no resultant.
     """
+    return _forces(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, normal, base_force, p.g, p)
+
+
+def _forces(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, normal, base_force, gravity, p):
+    """``joint_forces_sliding`` with ``gravity`` for ``p.g`` (0: the part linear in the accelerations)."""
     s_th, c_th = math.sin(theta), math.cos(theta)
     s_w, c_w = math.sin(theta + phi), math.cos(theta + phi)
     s_b, c_b = math.sin(theta + psi), math.cos(theta + psi)
@@ -342,11 +347,11 @@ def joint_forces_sliding(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, dd
     sling_ux = -c_b * ddb + s_b * db * db
     sling_uy = -s_b * ddb - c_b * db * db
     hinge_x = p.mW * (ddx - p.Lb * arm_x + p.Lw * link_x)
-    hinge_y = p.mW * (p.g - p.Lb * arm_y + p.Lw * link_y)
+    hinge_y = p.mW * (gravity - p.Lb * arm_y + p.Lw * link_y)
     sling_x = p.mP * (ddx + p.La * arm_x + p.Ls * sling_ux) - base_force
-    sling_y = p.mP * (p.g + p.La * arm_y + p.Ls * sling_uy) - normal
+    sling_y = p.mP * (gravity + p.La * arm_y + p.Ls * sling_uy) - normal
     axle_x = p.mA * (ddx + p.d * arm_x) + hinge_x + sling_x
-    axle_y = p.mA * (p.g + p.d * arm_y) + hinge_y + sling_y
+    axle_y = p.mA * (gravity + p.d * arm_y) + hinge_y + sling_y
     return axle_x, axle_y, hinge_x, hinge_y, sling_x, sling_y
 
 
@@ -426,9 +431,8 @@ def _solve3(a11, a12, a13, a21, a22, a23, a31, a32, a33, r1, r2, r3):
 def _force_response(theta, phi, psi, ddtheta, ddphi, ddpsi, normal, base_force, p):
     """The part of ``joint_forces_sliding`` linear in (accelerations, N, F): the forces at zero
     rates and without gravity. Returns ``(axle_x, axle_y, hinge_x, hinge_y)``."""
-    still = p._replace(g=0.0)
-    ax, ay, hx, hy, _, _ = joint_forces_sliding(theta, phi, psi, 0.0, 0.0, 0.0, ddtheta, ddphi, ddpsi,
-                                                normal, base_force, still)
+    ax, ay, hx, hy, _, _ = _forces(theta, phi, psi, 0.0, 0.0, 0.0, ddtheta, ddphi, ddpsi, normal, base_force,
+                                   0.0, p)
     return ax, ay, hx, hy
 
 

@@ -36,9 +36,10 @@ import numba
 import numpy as np
 from scipy.integrate import DOP853
 
-from analytic import kernel, outcome
+from analytic import kernel, outcome, stages
 from analytic.aero import DRAG_TABLE
 from analytic.design import Design, swing_time_limit
+from analytic.eom import rest_balance
 from analytic.parameters import N_PARAMS, params
 from analytic.result import PEAK_NAMES, Shot, Shots, Status
 from analytic.reference import DEFAULT_ATOL, DEFAULT_RTOL
@@ -224,7 +225,11 @@ def failure_message(design: Design, status: Status, detail: float, value: float,
                     release_time: float, t_limit: float) -> str:
     """The message of a failed shot from the kernel's record of it."""
     if status is Status.NEVER_FIRES:
-        return outcome.never_fires_message(value)
+        if design.losses.ideal:
+            return outcome.never_fires_message(value)
+        p = params(design)
+        ddtheta, _ = stages.fires(p)
+        return outcome.never_fires_message(ddtheta, *rest_balance(p))
     if status is Status.NEVER_LIFTS_OFF:
         return outcome.never_lifts_off_message(outcome.LiftoffFailure(int(detail)), t_limit)
     if status is Status.HITS_BASE_BEFORE_RELEASE:

@@ -51,6 +51,7 @@ class LiftoffFailure(enum.IntEnum):
     UNDER_TIP = 1   # dragged under the arm tip: the sling turned vertical
     ARM_BACK = 2    # the arm swung back down to the base
     TIME_LIMIT = 3  # still on the base at the time limit
+    STALLED = 4     # friction stopped the arm before lift-off
 
 
 # --------------------------------------------------------------------------- #
@@ -81,7 +82,8 @@ def never_fires_message(arm_acceleration: float, drive: float | None = None, axl
 def never_lifts_off_message(reason: LiftoffFailure, time_limit: float) -> str:
     text = {LiftoffFailure.UNDER_TIP: "it was dragged under the arm tip (the sling turned vertical)",
             LiftoffFailure.ARM_BACK: "the arm swung back down to the base",
-            LiftoffFailure.TIME_LIMIT: f"it was still on the base after the time limit of {time_limit:.3g} s"}
+            LiftoffFailure.TIME_LIMIT: f"it was still on the base after the time limit of {time_limit:.3g} s",
+            LiftoffFailure.STALLED: "friction stopped the arm while the projectile was still on the base"}
     return f"the projectile never lifts off: {text[LiftoffFailure(reason)]}"
 
 

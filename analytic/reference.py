@@ -32,7 +32,7 @@ SWING_OUTPUT_STEP = 5e-4
 FLIGHT_OUTPUT_STEP = 5e-3
 
 _LIFTOFF_FAILURES = {"under_tip": LiftoffFailure.UNDER_TIP, "arm_back": LiftoffFailure.ARM_BACK,
-                     None: LiftoffFailure.TIME_LIMIT}
+                     "arm_stalls": LiftoffFailure.STALLED, None: LiftoffFailure.TIME_LIMIT}
 
 
 def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAULT_ATOL,
