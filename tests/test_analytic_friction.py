@@ -439,3 +439,87 @@ def test_base_friction_alone_can_hold_the_machine(paper):
     drive, _, base_unit = eom.rest_balance(params(with_losses(paper, base_friction=1.0)))
     held = simulate(with_losses(paper, base_friction=1.001 * drive / base_unit), histories=False)
     assert held.status is Status.NEVER_FIRES and "base" in held.message
+
+
+# --------------------------------------------------------------------------- #
+# The compiled path
+# --------------------------------------------------------------------------- #
+
+#: Fast against reference, relative in range: what the issue asks of friction designs. Both run
+#: the same stage functions and the same DOP853 steps, so they agree to round-off unless a
+#: rounding sends the step control another way (measured: 6e-12 at worst here).
+FAST_TOL = 1e-7
+
+
+def _friction_designs():
+    from support import table_ii_sample
+
+    paper = default_design()
+    cases = {"axle": with_losses(paper, **AXLE), "hinge": with_losses(paper, **HINGE),
+             "base": with_losses(paper, **BASE), "all": with_losses(paper, **ALL),
+             "sticking-hinge": with_losses(paper, hinge_friction=1.0, hinge_radius=0.1),
+             "stalling-axle": with_losses(paper, axle_friction=1.0, axle_radius=0.1),
+             "held": with_losses(paper, axle_friction=1.0, axle_radius=0.4),
+             "rolling-all": dataclasses.replace(with_losses(paper, **ALL), base=Base(mobility="rolling", mass=300.0))}
+    for i, design in enumerate(table_ii_sample(4, seed=11)):
+        cases[f"table-ii-{i}"] = dataclasses.replace(design, losses=Losses(**ALL))
+    return cases
+
+
+FRICTION_DESIGNS = _friction_designs()
+
+
+@pytest.mark.parametrize("name", FRICTION_DESIGNS, ids=list(FRICTION_DESIGNS))
+def test_fast_and_reference_paths_agree_on_friction_designs(name):
+    from analytic.fast import simulate_fast
+
+    design = FRICTION_DESIGNS[name]
+    reference = simulate(design, histories=False)
+    fast = simulate_fast(design)
+    assert fast.status is reference.status, f"{name}: {fast.message} vs {reference.message}"
+    assert fast.message == reference.message
+    if reference.range is not None:
+        assert abs(fast.range - reference.range) <= FAST_TOL * abs(reference.range), (
+            f"{name}: range fast {fast.range!r} vs reference {reference.range!r}")
+        assert fast.release_time == pytest.approx(reference.release_time, abs=1e-9)
+        assert fast.peak_axle_load == pytest.approx(reference.peak_axle_load, rel=1e-7)
+    # The fast path leaves the energy audit to the reference path (README, "Losses").
+    assert fast.energy_dissipated is None
+
+
+# --------------------------------------------------------------------------- #
+# Bad input: exit 2 naming the field
+# --------------------------------------------------------------------------- #
+
+@pytest.mark.parametrize("table, field, reason", [
+    ("axle_friction = -0.1\naxle_radius = 0.01", "losses.axle_friction", "negative"),
+    ("hinge_friction = 0.2\nhinge_radius = nan", "losses.hinge_radius", "nan"),
+    ("base_friction = inf", "losses.base_friction", "inf"),
+    ('axle_friction = "high"\naxle_radius = 0.01', "losses.axle_friction", "text"),
+    ("axle_radius = 0.01", "losses.axle_radius", "radius without its coefficient"),
+    ("hinge_friction = 0.2", "losses.hinge_friction", "coefficient without its radius"),
+], ids=["negative", "nan", "inf", "text", "radius-alone", "coefficient-alone"])
+def test_a_bad_losses_table_exits_2_naming_the_field(tmp_path, capsys, table, field, reason):
+    from analytic.cli import EXIT_INVALID, main
+    from analytic.design_file import dumps_design
+
+    path = tmp_path / "bad.toml"
+    path.write_text(dumps_design(default_design()) + f"\n[losses]\n{table}\n")
+    assert main(["simulate", str(path)]) == EXIT_INVALID
+    err = capsys.readouterr().err
+    assert field in err, f"{reason}: {err!r}"
+
+
+def test_a_losses_table_is_read_and_simulated(tmp_path, capsys):
+    import json
+
+    from analytic.cli import EXIT_OK, main
+    from analytic.design_file import dumps_design
+
+    path = tmp_path / "real.toml"
+    path.write_text(dumps_design(default_design()) + "\n[losses]\n" + "\n".join(f"{k} = {v}" for k, v in ALL.items()))
+    assert main(["simulate", "--json", str(path)]) == EXIT_OK
+    out = json.loads(capsys.readouterr().out)
+    expected = simulate(with_losses(default_design(), **ALL), histories=False)
+    assert out["range"] == pytest.approx(expected.range, rel=1e-12)
+    assert set(out["energy_dissipated"]) == set(LOSS_NAMES) and out["energy_dissipated"]["axle"] > 0.0
