@@ -21,6 +21,12 @@ mW, Lw, IW counterweight mass, link, inertia about its centre  counterweight_*
 Ls         sling                                               sling_length
 mP         projectile mass                                     projectile.mass
 h, g       pivot height, gravity                               pivot_height, gravity
+mua, ra    axle's Coulomb coefficient and radius [10]          losses.axle_*
+muh, rh    hinge's Coulomb coefficient and radius [10]         losses.hinge_*
+mub        base's Coulomb coefficient (stage 1) [10]           losses.base_friction
+ta, th, F  friction torques on the arm (axle) and the link     --
+           (hinge), the base's friction force on the
+           projectile along x [10.1]
 =========  =================================================  ============
 
 (the full table of ``Params`` is in ``analytic.parameters``).
@@ -31,7 +37,10 @@ base, ``La cos(theta) + Ls cos(beta) = -h``; psi is then a function of theta
 down), leaving (theta, phi) with the reduced system ``B^T M B``; the base's
 normal force is the constraint's Lagrange multiplier [4.3]. The forces at the
 joints (axle, hinge, sling) follow from the motion by Newton's law for each
-body [9] (``joint_forces``, ``loads``).
+body [9] (``joint_forces``, ``loads``). Friction [10] (``swing_friction``,
+``slide_friction``) makes the equations implicit, ``M q'' = f + Q(q'')``,
+solved exactly each evaluation; a design without it runs the ideal
+functions' arithmetic unchanged.
 """
 
 from __future__ import annotations

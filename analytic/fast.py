@@ -17,6 +17,11 @@ of steps, to the integrator's own error (7e-9 at worst there): far inside
 what the tests demand (1e-7 relative in range, 1e-6 s in event times, the
 same outcome).
 
+Friction (``[losses]``) runs on this path too, from the same stage
+functions; its energy audit does not: ``Shot.energy_dissipated`` is None
+here (the reference path integrates the drag's work on its continuous
+solution, which this path does not keep).
+
 The machine code is cached on disk (numba ``cache=True``): ``compile()``
 loads or builds it and says how long that took; the first shot calls it.
 """

@@ -11,12 +11,23 @@ stage  state y                                      events (value; counted direc
 =====  ===========================================  ================================================
 1      [theta, phi, theta', phi']                   under_tip (|sin beta| - limit; falling; yes),
        (psi from the base constraint)               liftoff (normal force; falling; yes),
-                                                    arm_back (tip height above base; falling; yes)
+                                                    arm_back (tip height above base; falling; yes),
+                                                    arm_stalls (-theta'; falling; yes),
+                                                    hinge_stops, hinge_slips, slide_reverses
+                                                    (``friction_event``; falling; switch modes)
 2      [theta, phi, psi, theta', phi', psi']        release (the rule's value; rising; yes, only
-                                                    when armed), hits_base (projectile height; falling; yes)
+                                                    when armed), hits_base (projectile height; falling; yes),
+                                                    axle_stops, axle_slips, hinge_stops, hinge_slips
+                                                    (``friction_event``; falling; switch modes)
 3      [x, y, vx, vy] from the pivot                landing (height above base; falling; yes),
                                                     apex (vy; falling; no: recorded)
 =====  ===========================================  ================================================
+
+With friction (``docs/derivation.md`` section 10) stages 1-2 carry six more
+entries (``FRICTION_STATE``: the work each friction dissipated, then the
+modes); a friction event ends an integration, ``switch_mode`` writes the new
+modes into the state and the stage goes on from there. Without friction
+those events are a constant 1 and the state is as in the table.
 
 In a tie between two terminal events in one step, the earlier-listed wins.
 """
