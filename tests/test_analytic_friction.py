@@ -420,6 +420,28 @@ def test_the_hinge_reverses_and_the_axle_stops_under_heavy_friction(paper, monke
     assert switched[0][2][0] == 1.0 and switched[1][2][0] == 0.0             # reverses, then sticks
 
 
+def test_friction_events_watch_the_rates_and_are_inert_without_their_friction(paper):
+    """The events' values on a stage-1 state (no design here reverses its slide or stalls its arm in
+    stage 1, so these two are checked on states): arm_stalls is -theta', slide_reverses the slide's
+    velocity D theta' times its sign, and a switch at slide_reverses flips the sign."""
+    names = stages.EVENT_NAMES[stages.SLIDE]
+    ideal = params(paper)
+    y4 = np.array([ideal.theta0 - 0.2, ideal.phi0 + 0.1, -3.0, 1.5])
+    assert all(stages.event_value(stages.SLIDE, k, y4, ideal) == 1.0 for k in range(stages.ARM_STALLS, len(names)))
+    p = params(with_losses(paper, **ALL))
+    y = np.concatenate([y4, [0.1, 0.2, 0.3, -1.0, 1.0, -1.0]])
+    _, _, s, _, sin_beta = eom.slide_constraint(y[0], y[2], p)
+    slide = eom.slide_rate(y[0], s, sin_beta, p) * y[2]
+    assert stages.event_value(stages.SLIDE, names.index("arm_stalls"), y, p) == 3.0
+    assert stages.event_value(stages.SLIDE, names.index("slide_reverses"), y, p) == pytest.approx(-slide)
+    assert stages.event_value(stages.SLIDE, names.index("hinge_stops"), y, p) == 1.5      # phi' times +1
+    assert stages.event_value(stages.SLIDE, names.index("hinge_slips"), y, p) == 1.0      # not stuck: inert
+    stages.switch_mode(stages.SLIDE, names.index("slide_reverses"), y, p)
+    assert y[-1] == 1.0 and y[-3] == -1.0 and y[3] == 1.5
+    # Only friction events switch modes; arm_stalls ends stage 1 as a lift-off failure.
+    assert stages.FIRST_SWITCH[stages.SLIDE] == names.index("hinge_stops") > names.index("arm_stalls")
+
+
 def test_never_fires_when_axle_friction_holds_the_arm_and_says_the_torque_balance(paper):
     p = params(paper)
     drive, _, _ = eom.rest_balance(params(with_losses(paper, axle_friction=1.0, axle_radius=0.1)))
