@@ -55,6 +55,10 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
     Shot
         A valid design that does not throw is a ``Shot`` whose ``status``
         names the failure and whose ``message`` explains it, never an exception.
+        ``energy_dissipated`` holds the work each loss took (friction through
+        stages 1-2, integrated with the motion; the drag's in flight, on the
+        flight's steps), with histories or without; with histories
+        ``energy.dissipated`` holds the friction's on every sample.
     """
     output_step = SWING_OUTPUT_STEP if histories else None
     flight_step = FLIGHT_OUTPUT_STEP if histories else None

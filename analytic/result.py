@@ -118,7 +118,9 @@ class Shot:
     diagnostics : how far the model that made the shot can be trusted, or None
         (the engine model's ``EngineDiagnostics``).
     energy_dissipated : J taken by each loss from firing to the shot's end, keyed
-        ``LOSS_NAMES`` (zeros where a loss is absent), or None where not computed.
+        ``LOSS_NAMES`` (zeros where a loss is absent): friction up to release (or the
+        failure), the drag's work in flight (``analytic.reference.drag_work``); None
+        where not computed (the fast path).
     """
 
     design: Design
