@@ -198,7 +198,7 @@ def rest_modes(p):
     """The friction modes ``(axle, hinge, base)`` the shot starts in: the arm slips clockwise
     (-1), the projectile slides the way dx_P/dtheta theta' points, and the hinge, at rest,
     stays stuck if its friction can hold the counterweight's link (0), or slips the
-    way it is pushed (``decide``)."""
+    way it is pushed (as ``decide_modes`` would)."""
     _, _, s, _, sin_beta = slide_constraint(p.theta0, 0.0, p)
     sb = -1.0 if slide_rate(p.theta0, s, sin_beta, p) >= 0.0 else 1.0
     sh = 1.0
@@ -300,46 +300,110 @@ def switched_joint(stage, k):
     return (k - FIRST_SWITCH[stage]) // 2
 
 
-def decide(stage, joint, y, p, hold_failed):
-    """Stop ``joint`` (0 axle, 1 hinge) in ``y`` and choose its mode: stuck (0) if its friction
-    holds it with room to spare, ``mu r |F| > |t|`` with ``t`` the torque that holds it,
-    otherwise slipping the way it is pushed (the sign of ``-t``). Writes the rate (0) and
-    the mode into ``y``.
+#: A joint at rest may be stuck (0) or slip either way; tried in this order.
+MODE_CHOICES = (0.0, -1.0, 1.0)
 
-    ``hold_failed``: the joint's ``*_slips`` event found the hold failing here, so
-    it slips whatever the margin says (the root lies within round-off of the
-    balance, on either side: re-checking could keep it stuck for ever).
+
+def _joint_friction(joint, p):
+    """``mu r`` of the joint (0 axle, 1 hinge), m."""
+    return p.mua * p.ra if joint == 0 else p.muh * p.rh
+
+
+def _at_rest(stage, joint, y, p):
+    """Whether ``joint`` has friction, may stick in ``stage`` (not the axle in stage 1) and its
+    rate is exactly 0 (stuck, or just stopped): its mode is to be chosen."""
+    if _joint_friction(joint, p) == 0.0 or (stage == SLIDE and joint == 0):
+        return False
+    return y[STATE_SIZE[stage] // 2 + joint] == 0.0
+
+
+def consistent(stage, y, p, free_axle, free_hinge, must_slip):
+    """Whether the modes in ``y`` of the joints at rest (``free_*``) are consistent: each stuck
+    one is held with room to spare, ``mu r |F| > |t|``; each slipping one accelerates
+    the way it slips (its friction opposes the motion it starts). The joint
+    ``must_slip`` (its hold just failed: its acceleration slipping is 0 to round-off)
+    must slip the way its holding torque pushes it instead, the sign of ``-t``."""
+    solution = friction_solution(stage, y, p)
+    core = STATE_SIZE[stage]
+    for joint in range(2):
+        if not (free_axle if joint == 0 else free_hinge):
+            continue
+        mode = y[core + 3 + joint]
+        if mode == 0.0:
+            torque = solution[4] if joint == 0 else solution[5]
+            load = solution[7] if joint == 0 else solution[8]
+            if not abs(torque) < _joint_friction(joint, p) * load:
+                return False
+        elif joint == must_slip:
+            y[core + 3 + joint] = 0.0
+            held = friction_solution(stage, y, p)
+            y[core + 3 + joint] = mode
+            if (held[4] if joint == 0 else held[5]) * mode > 0.0:
+                return False
+        elif (solution[0] if joint == 0 else solution[1]) * mode < 0.0:
+            return False
+    return True
+
+
+def decide_modes(stage, y, p, must_slip):
+    """Choose the modes of every joint at rest in ``y`` (``_at_rest``) together, and write them.
+
+    The joints are coupled (each one's torque moves the other), so the
+    combinations are tried, fewest slipping first, and the first ``consistent``
+    one is taken: a joint sticks if the friction can hold it with the other
+    joint as it then moves, else slips the way that its own friction opposes.
+    ``must_slip``: a joint (0 or 1) whose hold just failed (its ``*_slips``
+    event: the root lies within round-off of the balance, so sticking is not
+    tried again), or -1. If no combination is consistent (not met in the
+    tests), each joint at rest is tried alone, in order, as if the other's
+    mode were final.
     """
     core = STATE_SIZE[stage]
-    y[core // 2 + joint] = 0.0
-    y[core + 3 + joint] = 0.0
-    solution = friction_solution(stage, y, p)
-    torque = solution[4] if joint == 0 else solution[5]
-    load = solution[7] if joint == 0 else solution[8]
-    friction = p.mua * p.ra if joint == 0 else p.muh * p.rh
-    if hold_failed or not abs(torque) < friction * load:
-        y[core + 3 + joint] = -1.0 if torque > 0.0 else 1.0
+    free_axle, free_hinge = _at_rest(stage, 0, y, p), _at_rest(stage, 1, y, p)
+    if not (free_axle or free_hinge):
+        return
+    kept_axle, kept_hinge = y[core + 3], y[core + 4]
+    for slipping in range(3):
+        for i in range(3 if free_axle else 1):
+            for j in range(3 if free_hinge else 1):
+                axle = MODE_CHOICES[i] if free_axle else kept_axle
+                hinge = MODE_CHOICES[j] if free_hinge else kept_hinge
+                count = (1 if (free_axle and axle != 0.0) else 0) + (1 if (free_hinge and hinge != 0.0) else 0)
+                if count != slipping or (must_slip == 0 and axle == 0.0) or (must_slip == 1 and hinge == 0.0):
+                    continue
+                y[core + 3], y[core + 4] = axle, hinge
+                if consistent(stage, y, p, free_axle, free_hinge, must_slip):
+                    return
+    for joint in range(2):
+        if not (free_axle if joint == 0 else free_hinge):
+            continue
+        y[core + 3 + joint] = 0.0
+        solution = friction_solution(stage, y, p)
+        torque = solution[4] if joint == 0 else solution[5]
+        load = solution[7] if joint == 0 else solution[8]
+        if joint == must_slip or not abs(torque) < _joint_friction(joint, p) * load:
+            y[core + 3 + joint] = -1.0 if torque > 0.0 else 1.0
 
 
 def settle(stage, y, p):
-    """Check again every stuck joint of ``y`` (a new stage, or after another joint switched): a
-    joint its friction can no longer hold slips (``decide``)."""
-    core = STATE_SIZE[stage]
-    for joint in range(2):
-        friction = p.mua * p.ra if joint == 0 else p.muh * p.rh
-        if friction > 0.0 and y[core + 3 + joint] == 0.0:
-            decide(stage, joint, y, p, False)
+    """Choose again the modes of the joints at rest in ``y`` (a new stage): ``decide_modes``."""
+    decide_modes(stage, y, p, -1)
 
 
 def switch_mode(stage, k, y, p):
     """After the friction event ``k`` (from ``FIRST_SWITCH[stage]``) at ``y``: the new modes, written
-    into ``y``. A joint whose rate reached 0, or whose hold failed, is ``decide``d; the
-    base's slide reverses its sign."""
+    into ``y``. A joint whose rate reached 0 is stopped (its rate set to exactly 0) and the
+    modes of every joint at rest are chosen together (``decide_modes``; one whose hold
+    failed must slip); the base's slide reverses its sign."""
+    must_slip = -1
     if stage == SLIDE and k == 6:
         y[9] = -y[9]
     else:
-        decide(stage, switched_joint(stage, k), y, p, (k - FIRST_SWITCH[stage]) % 2 == 1)
-    settle(stage, y, p)
+        joint = switched_joint(stage, k)
+        y[STATE_SIZE[stage] // 2 + joint] = 0.0
+        if (k - FIRST_SWITCH[stage]) % 2 == 1:
+            must_slip = joint
+    decide_modes(stage, y, p, must_slip)
 
 
 def accelerations(stage, y, p):
