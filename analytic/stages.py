@@ -84,7 +84,10 @@ def derivative(stage, y, p, table, out):
         if lossy(p):
             ddtheta, ddphi, _, ta, th, fb, _, _, dx = slide_friction(y[0], y[1], y[2], y[3], y[7], y[8], y[9], p)
             out[0], out[1], out[2], out[3] = y[2], y[3], ddtheta, ddphi
-            out[4], out[5], out[6] = abs(ta * y[2]), abs(th * y[3]), abs(fb * dx * y[2])
+            # The friction's power, -t rate: |t rate| while the mode is consistent, and
+            # smooth where a rate crosses zero inside a step whose event root then ends the
+            # stretch (an absolute value would put a kink inside that step).
+            out[4], out[5], out[6] = -ta * y[2], -th * y[3], -fb * dx * y[2]
             out[7], out[8], out[9] = 0.0, 0.0, 0.0
             return
         ddtheta, ddphi, _ = slide_accelerations(y[0], y[1], y[2], y[3], p)
@@ -93,7 +96,7 @@ def derivative(stage, y, p, table, out):
         if lossy(p):
             a, b, c, ta, th, _, _ = swing_friction(y[0], y[1], y[2], y[3], y[4], y[5], y[9], y[10], p)
             out[0], out[1], out[2], out[3], out[4], out[5] = y[3], y[4], y[5], a, b, c
-            out[6], out[7], out[8] = abs(ta * y[3]), abs(th * y[4]), 0.0
+            out[6], out[7], out[8] = -ta * y[3], -th * y[4], 0.0
             out[9], out[10], out[11] = 0.0, 0.0, 0.0
             return
         a, b, c = swing_accelerations(y[0], y[1], y[2], y[3], y[4], y[5], p)
