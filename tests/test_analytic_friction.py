@@ -339,6 +339,26 @@ def test_energy_audit_closes_at_every_sample(paper, case):
     assert released > shot.energy_dissipated["drag"] > 0.0
 
 
+def test_energy_audit_closes_on_sampled_designs_with_random_losses():
+    """Designs over the paper's Table II with random coefficients and pins up to three times the
+    typical ones, every third on a rolling frame (measured: at worst 4.1e-9 on 40 of them; the
+    first 10 here)."""
+    from support import table_ii_sample
+
+    rng = np.random.default_rng(5)
+    for i, design in enumerate(table_ii_sample(10, seed=21)):
+        losses = Losses(axle_friction=float(rng.uniform(0, 0.6)), axle_radius=float(rng.uniform(0.003, 0.03)),
+                        hinge_friction=float(rng.uniform(0, 0.6)), hinge_radius=float(rng.uniform(0.003, 0.03)),
+                        base_friction=float(rng.uniform(0, 1)))
+        mass = float(rng.uniform(5, 100)) if i % 3 == 0 else None
+        design = dataclasses.replace(design, losses=losses)
+        if mass is not None:
+            design = dataclasses.replace(design, base=Base(mobility="rolling", mass=mass))
+        shot = simulate(design)
+        if shot.status is not Status.NEVER_FIRES:
+            assert _audit(shot) <= AUDIT_TOL, design.name
+
+
 def test_energy_audit_closes_on_a_rolling_frame(paper):
     design = dataclasses.replace(with_losses(paper, **ALL), base=Base(mobility="rolling", mass=300.0))
     shot = simulate(design)
@@ -425,7 +445,7 @@ def test_joints_at_rest_together_get_consistent_modes_and_the_audit_converges(mo
     before release (48 switches). Chosen one joint at a time, a joint could slip the way its own
     friction pushed it, which made energy: the audit stayed at 5e-6 of the counterweight's energy
     at any tolerance. Chosen together, every switch leaves consistent modes and the audit
-    converges with the tolerance (measured 1.5e-7 at 1e-10, 2.1e-11 at 1e-12)."""
+    closes (measured 1.6e-10 at the default tolerance)."""
     from support import table_ii_sample
 
     design = dataclasses.replace(table_ii_sample(28, seed=21)[27], base=Base(mobility="rolling", mass=87.75),
@@ -444,7 +464,7 @@ def test_joints_at_rest_together_get_consistent_modes_and_the_audit_converges(mo
         assert stages.consistent(stage, y, p, *free, must_slip), (name, y[-3:])
 
     monkeypatch.setattr(stages, "switch_mode", checked)
-    shot = simulate(design, rtol=1e-12, atol=1e-12)
+    shot = simulate(design)
     assert shot.status is Status.OK and len(switches) > 40
     assert {"axle_stops", "axle_slips", "hinge_stops", "hinge_slips"} <= set(switches)
     assert _audit(shot) <= 1e-9
