@@ -34,7 +34,7 @@ from analytic.compiled import OPTIONS, limits_, stages_
 from analytic.outcome import LiftoffFailure, Status
 from analytic.parameters import N_PARAMS, Params
 from analytic.stages import (ARM_STALLS, EVENT_NAMES, FIRST_SWITCH, FLIGHT, LOAD_NAMES, MODE_SWITCH_LIMIT,
-                             PEAK_TIME_TOLERANCE, ROOT_TIME_TOLERANCE, SLIDE, SWING)
+                             PEAK_TIME_TOLERANCE, ROOT_TIME_TOLERANCE, SLIDE, SWING, ZERO_START_PROBES)
 
 _JIT = OPTIONS
 # The model's functions, compiled (``analytic.compiled``).
@@ -487,20 +487,42 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
             after = event_value(stage, k, y_new, p)
             direction = event_direction(stage, k)
             start, v_start = t_old, previous[k]
+            end, v_end = t_new, after
             previous[k] = after
+            if v_start == 0.0 and after != 0.0:
+                # Left zero at the step's start: did it come back within the step?
+                # (``stages.ZERO_START_PROBES``, as ``analytic.integrate`` does.)
+                if not dense_ready:
+                    _dense_prepare(_RUNTIME_STAGE[stage], t_old, h, y, y_new, f_new, coef, K, F, tmp, p, table)
+                    counts[1] += 3
+                    dense_ready = True
+                for i in range(1, ZERO_START_PROBES):
+                    t_probe = t_old + (t_new - t_old) * i / ZERO_START_PROBES
+                    v_probe = _event_at(t_probe, _RUNTIME_STAGE[stage], k, t_old, h, y, F, tmp, p)
+                    counts[1] += 1
+                    if v_probe != 0.0 and (v_probe > 0.0) != (after > 0.0):
+                        start, v_start = t_probe, v_probe
+                        for j in range(i + 1, ZERO_START_PROBES):
+                            t_next = t_old + (t_new - t_old) * j / ZERO_START_PROBES
+                            v_next = _event_at(t_next, _RUNTIME_STAGE[stage], k, t_old, h, y, F, tmp, p)
+                            counts[1] += 1
+                            if (v_next > 0.0) != (v_start > 0.0) or v_next == 0.0:
+                                end, v_end = t_next, v_next
+                                break
+                        break
             while True:
-                rising = v_start < 0.0 <= after
-                falling = v_start > 0.0 >= after
+                rising = v_start < 0.0 <= v_end
+                falling = v_start > 0.0 >= v_end
                 if not ((rising and direction >= 0) or (falling and direction <= 0)):
                     break
                 if not dense_ready:
                     _dense_prepare(_RUNTIME_STAGE[stage], t_old, h, y, y_new, f_new, coef, K, F, tmp, p, table)
                     counts[1] += 3
                     dense_ready = True
-                if after == 0.0:
-                    t_root = t_new
+                if v_end == 0.0:
+                    t_root = end
                 else:
-                    t_root = _brent(_RUNTIME_STAGE[stage], k, start, t_new, v_start, after, t_old, h, y, F, tmp, p)
+                    t_root = _brent(_RUNTIME_STAGE[stage], k, start, end, v_start, v_end, t_old, h, y, F, tmp, p)
                 _dense_eval(t_root, t_old, h, y, F, y_root)
                 if event_armed(stage, k, y_root, p):
                     if event_terminal(stage, k):
@@ -516,6 +538,7 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
                     break
                 start = t_root + nudge
                 v_start = _event_at(start, _RUNTIME_STAGE[stage], k, t_old, h, y, F, tmp, p)
+                end, v_end = t_new, after
         for i in range(n_apex):
             if apex_t[i] <= hit_t:
                 apex = max(apex, apex_y[i])

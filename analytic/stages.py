@@ -70,6 +70,10 @@ ARM_STALLS = 3
 MODE_SWITCH_LIMIT = 2000
 #: Event roots are located to this absolute time tolerance, s (Brent's method on the dense output).
 ROOT_TIME_TOLERANCE = 1e-14
+#: An event whose value is exactly 0 at a step's start (a joint's rate that a friction switch
+#: set to 0: its ``*_stops`` event) may leave zero and come back within that step; the step's
+#: dense output is probed at this many equal intervals for the value on the other side.
+ZERO_START_PROBES = 16
 
 
 def derivative(stage, y, p, table, out):
