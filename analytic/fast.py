@@ -44,7 +44,7 @@ from scipy.integrate import DOP853
 from analytic import kernel, outcome, stages
 from analytic.aero import DRAG_TABLE
 from analytic.design import Design, swing_time_limit
-from analytic.eom import rest_balance
+from analytic.friction import rest_balance
 from analytic.parameters import N_PARAMS, params
 from analytic.result import PEAK_NAMES, Shot, Shots, Status
 from analytic.reference import DEFAULT_ATOL, DEFAULT_RTOL

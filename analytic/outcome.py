@@ -62,7 +62,7 @@ def never_fires_message(arm_acceleration: float, drive: float | None = None, axl
                         base_hold: float | None = None) -> str:
     """``arm_acceleration``: the arm's angular acceleration at rest, rad/s^2 (clockwise is negative).
 
-    With friction (``analytic.eom.rest_balance``), the torque balance at rest, N m:
+    With friction (``analytic.friction.rest_balance``), the torque balance at rest, N m:
     ``drive`` gravity's torque turning the arm clockwise, ``axle_hold`` and
     ``base_hold`` the most the axle's and the base's friction can hold against it.
     """

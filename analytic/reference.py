@@ -12,7 +12,7 @@ import numpy as np
 from scipy.integrate import OdeSolution
 from scipy.optimize import minimize_scalar
 
-from analytic import eom, outcome, stages
+from analytic import eom, friction, outcome, stages
 from analytic.aero import DRAG_TABLE
 from analytic.design import Design
 from analytic.geometry import projectile_state
@@ -74,7 +74,7 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
     if not ddtheta0 < 0.0:
         if histories:
             history.append(_history(Stage.SLIDE, Segment(np.zeros(1), y1[None, :], None, 0.0, y1, {}), p))
-        balance = eom.rest_balance(p) if eom.lossy(p) else ()
+        balance = friction.rest_balance(p) if friction.lossy(p) else ()
         return _finish(design, p, history, segments, Status.NEVER_FIRES,
                        outcome.never_fires_message(ddtheta0, *balance))
 
@@ -311,7 +311,7 @@ def _history(stage: Stage, segment: Segment, p: Params):
     stage state)`` of a segment."""
     core = stages.STATE_SIZE[stage]
     full = (lambda y: eom.slide_state(*y[:core], p)) if stage is Stage.SLIDE else (lambda y: tuple(y[:core]))
-    lossy = eom.lossy(p)
+    lossy = friction.lossy(p)
     return [(t, stage, full(y), _tension(stage, y, p), tuple(y[core:core + 3]) if lossy else (0.0, 0.0, 0.0), y)
             for t, y in zip(segment.t, segment.y, strict=True)]
 
@@ -389,7 +389,7 @@ def _peak_fields(peaks: np.ndarray) -> dict[str, float]:
 def _dissipated(p: Params, segments, drag: float) -> dict[str, float]:
     """``Shot.energy_dissipated`` from the last segment of stages 1-2 (its friction states) and the drag's work."""
     work = (0.0, 0.0, 0.0)
-    if segments and eom.lossy(p):
+    if segments and friction.lossy(p):
         stage, segment = segments[-1]
         core = stages.STATE_SIZE[stage]
         work = tuple(float(w) for w in segment.y_end[core:core + 3])

@@ -38,8 +38,9 @@ import math
 
 from analytic.aero import force_factor
 from analytic.eom import (frame_coupling, frame_displacement, frame_velocity, horizontal_moment, loads,
-                          loads_sliding, lossy, rest_balance, slide_accelerations, slide_constraint,
-                          slide_friction, slide_rate, swing_accelerations, swing_friction, terms, total_mass)
+                          loads_sliding, slide_accelerations, slide_constraint, swing_accelerations, terms,
+                          total_mass)
+from analytic.friction import lossy, rest_balance, slide_friction, slide_rate, swing_friction
 from analytic.geometry import projectile_state, release_at
 from analytic.limits import SLING_VERTICAL_LIMIT
 from analytic.outcome import Stage
@@ -187,7 +188,7 @@ def fires(p):
     starts on the base when N > 0 (otherwise stage 1 is skipped).
 
     With friction the arm is stuck at rest: it fires only when gravity's torque
-    beats what the axle's and the base's friction can hold (``eom.rest_balance``),
+    beats what the axle's and the base's friction can hold (``friction.rest_balance``),
     and theta'' is then the slipping machine's (0 when held).
     """
     if not lossy(p):

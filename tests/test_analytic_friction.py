@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from analytic import eom, stages
+from analytic import eom, friction, stages
 from analytic.design import Base, Losses
 from analytic.design_file import default_design
 from analytic.parameters import Params, params
@@ -193,7 +193,7 @@ def test_swing_friction_satisfies_the_sympy_equations_and_coulombs_law(model, sa
         qd3 = qd3 * np.array([0.0, 1.0, 1.0])
     if sh == 0.0:
         qd3 = qd3 * np.array([1.0, 0.0, 1.0])
-    ddtheta, ddphi, ddpsi, ta, th, axle, hinge = eom.swing_friction(*q3, *qd3, sa, sh, p)
+    ddtheta, ddphi, ddpsi, ta, th, axle, hinge = friction.swing_friction(*q3, *qd3, sa, sh, p)
     q, qd, qdd = _full_rates(p, q3, qd3, (ddtheta, ddphi, ddpsi))
     _check_equations(model, p, q, qd, qdd, ta, th, 0.0, 0.0)
     (axle_f, hinge_f) = (np.asarray(v, dtype=float).ravel() for v in model.forces(q, qd, qdd, 0.0, 0.0,
@@ -215,7 +215,7 @@ def test_slide_friction_satisfies_the_sympy_equations_and_coulombs_law(model, sa
     p, theta, phi, dtheta, dphi, (sa, sh, sb) = sample
     if sh == 0.0:
         dphi = 0.0
-    ddtheta, ddphi, normal, ta, th, fb, axle, hinge, dx = eom.slide_friction(theta, phi, dtheta, dphi, sa, sh,
+    ddtheta, ddphi, normal, ta, th, fb, axle, hinge, dx = friction.slide_friction(theta, phi, dtheta, dphi, sa, sh,
                                                                              sb, p)
     psi, dpsi, s, c, _ = eom.slide_constraint(theta, dtheta, p)
     q, qd, qdd = _full_rates(p, (theta, phi, psi), (dtheta, dphi, dpsi), (ddtheta, ddphi, s * ddtheta + c))
@@ -251,9 +251,9 @@ def test_generalised_forces_by_virtual_work_are_the_torques_on_theta_and_phi(mod
 
 
 def test_without_friction_the_equations_are_the_ideal_machines_bit_for_bit():
-    """Zero coefficients take the ideal machine's arithmetic (eom.lossy is false)."""
+    """Zero coefficients take the ideal machine's arithmetic (friction.lossy is false)."""
     p = params(default_design())
-    assert not eom.lossy(p)
+    assert not friction.lossy(p)
     y = np.empty(stages.state_size(stages.SLIDE, p))
     stages.slide_start(p, y)
     assert y.shape == (4,)
@@ -481,7 +481,7 @@ def test_friction_events_watch_the_rates_and_are_inert_without_their_friction(pa
     p = params(with_losses(paper, **ALL))
     y = np.concatenate([y4, [0.1, 0.2, 0.3, -1.0, 1.0, -1.0]])
     _, _, s, _, sin_beta = eom.slide_constraint(y[0], y[2], p)
-    slide = eom.slide_rate(y[0], s, sin_beta, p) * y[2]
+    slide = friction.slide_rate(y[0], s, sin_beta, p) * y[2]
     assert stages.event_value(stages.SLIDE, names.index("arm_stalls"), y, p) == 3.0
     assert stages.event_value(stages.SLIDE, names.index("slide_reverses"), y, p) == pytest.approx(-slide)
     assert stages.event_value(stages.SLIDE, names.index("hinge_stops"), y, p) == 1.5      # phi' times +1
@@ -494,8 +494,8 @@ def test_friction_events_watch_the_rates_and_are_inert_without_their_friction(pa
 
 def test_never_fires_when_axle_friction_holds_the_arm_and_says_the_torque_balance(paper):
     p = params(paper)
-    drive, _, _ = eom.rest_balance(params(with_losses(paper, axle_friction=1.0, axle_radius=0.1)))
-    _, axle_unit, _ = eom.rest_balance(params(with_losses(paper, axle_friction=1.0, axle_radius=1.0)))
+    drive, _, _ = friction.rest_balance(params(with_losses(paper, axle_friction=1.0, axle_radius=0.1)))
+    _, axle_unit, _ = friction.rest_balance(params(with_losses(paper, axle_friction=1.0, axle_radius=1.0)))
     # The hold scales with mu r: the coefficient that balances gravity at this radius.
     radius = 0.1
     balance = drive / (axle_unit * radius)
@@ -508,7 +508,7 @@ def test_never_fires_when_axle_friction_holds_the_arm_and_says_the_torque_balanc
 
 
 def test_base_friction_alone_can_hold_the_machine(paper):
-    drive, _, base_unit = eom.rest_balance(params(with_losses(paper, base_friction=1.0)))
+    drive, _, base_unit = friction.rest_balance(params(with_losses(paper, base_friction=1.0)))
     held = simulate(with_losses(paper, base_friction=1.001 * drive / base_unit), histories=False)
     assert held.status is Status.NEVER_FIRES and "base" in held.message
 
@@ -631,4 +631,4 @@ def test_compiled_friction_is_bit_identical_to_the_python_one():
                     stages.switch_mode(stage, k, y_expected, p)
                     np.testing.assert_array_equal(y_got, y_expected)
         assert compiled.stages_.fires(p) == stages.fires(p)
-        assert compiled.eom_.rest_balance(p) == eom.rest_balance(p)
+        assert compiled.friction_.rest_balance(p) == friction.rest_balance(p)
