@@ -393,7 +393,8 @@ def test_the_drag_work_is_the_flights_loss_of_mechanical_energy(paper):
 
     lost = energy(start) - energy(flight.y_end)
     assert shot.energy_dissipated["drag"] == pytest.approx(lost, rel=1e-8)
-    assert reference.drag_work is not None
+    assert shot.energy_dissipated["drag"] == reference.drag_work(
+        reference._run(stages.FLIGHT, p, shot.release_time, start, shot.landing_time + 1.0, 1e-10, 1e-10, None, True), p)
 
 
 # --------------------------------------------------------------------------- #
@@ -493,7 +494,6 @@ def test_friction_events_watch_the_rates_and_are_inert_without_their_friction(pa
 
 
 def test_never_fires_when_axle_friction_holds_the_arm_and_says_the_torque_balance(paper):
-    p = params(paper)
     drive, _, _ = friction.rest_balance(params(with_losses(paper, axle_friction=1.0, axle_radius=0.1)))
     _, axle_unit, _ = friction.rest_balance(params(with_losses(paper, axle_friction=1.0, axle_radius=1.0)))
     # The hold scales with mu r: the coefficient that balances gravity at this radius.
@@ -504,7 +504,7 @@ def test_never_fires_when_axle_friction_holds_the_arm_and_says_the_torque_balanc
     assert f"{drive:.4g} N m" in held.message and "friction holds" in held.message
     fired = simulate(with_losses(paper, axle_friction=balance * 0.999, axle_radius=radius), histories=False)
     assert fired.status is not Status.NEVER_FIRES
-    assert drive > 0.0 and p.g > 0.0
+    assert drive > 0.0
 
 
 def test_base_friction_alone_can_hold_the_machine(paper):
