@@ -1,6 +1,6 @@
 """The model's functions compiled with numba: the fast path's copy of the one source.
 
-The model (``analytic.geometry``, ``limits``, ``aero``, ``eom``, ``stages``) is
+The model (``analytic.geometry``, ``limits``, ``aero``, ``eom``, ``friction``, ``stages``) is
 written as plain Python on floats, which the reference path runs as it is.
 This module gives the compiled path the same functions, compiled: for each
 model module a namespace (``compiled.eom``, ``compiled.stages``, ...) whose
@@ -24,10 +24,10 @@ from pathlib import Path
 
 import numba
 
-from analytic import aero, eom, geometry, limits, outcome, parameters, stages
+from analytic import aero, eom, friction, geometry, limits, outcome, parameters, stages
 
 #: The modules whose functions are compiled, each calling only those before it.
-MODEL_MODULES = (geometry, limits, aero, eom, stages)
+MODEL_MODULES = (geometry, limits, aero, eom, friction, stages)
 #: Options of every compiled function. ``error_model="numpy"``: a division by
 #: zero gives inf/NaN (a rejected step) instead of raising, as in Python's
 #: float arithmetic on the reference path; no fastmath, so IEEE arithmetic is
@@ -136,5 +136,6 @@ geometry_ = _modules["geometry"]   # trailing underscore: not the Python module 
 limits_ = _modules["limits"]
 aero_ = _modules["aero"]
 eom_ = _modules["eom"]
+friction_ = _modules["friction"]
 stages_ = _modules["stages"]
 drop_stale_cache(cache_directory(eom_.terms), SOURCES)

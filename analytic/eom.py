@@ -21,6 +21,12 @@ mW, Lw, IW counterweight mass, link, inertia about its centre  counterweight_*
 Ls         sling                                               sling_length
 mP         projectile mass                                     projectile.mass
 h, g       pivot height, gravity                               pivot_height, gravity
+mua, ra    axle's Coulomb coefficient and radius [10]          losses.axle_*
+muh, rh    hinge's Coulomb coefficient and radius [10]         losses.hinge_*
+mub        base's Coulomb coefficient (stage 1) [10]           losses.base_friction
+ta, th, F  friction torques on the arm (axle) and the link     --
+           (hinge), the base's friction force on the
+           projectile along x [10.1]
 =========  =================================================  ============
 
 (the full table of ``Params`` is in ``analytic.parameters``).
@@ -31,7 +37,9 @@ base, ``La cos(theta) + Ls cos(beta) = -h``; psi is then a function of theta
 down), leaving (theta, phi) with the reduced system ``B^T M B``; the base's
 normal force is the constraint's Lagrange multiplier [4.3]. The forces at the
 joints (axle, hinge, sling) follow from the motion by Newton's law for each
-body [9] (``joint_forces``, ``loads``).
+body [9] (``joint_forces``, ``loads``). Friction [10] (``analytic.friction``)
+makes the equations implicit, ``M q'' = f + Q(q'')``; the forces here take
+the base's friction force (``joint_forces_sliding``, ``loads_sliding``).
 """
 
 from __future__ import annotations
@@ -302,7 +310,13 @@ def frame_acceleration(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddps
 
 
 def joint_forces(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, normal, p):
-    """The forces at the machine's joints, N, in the ground frame (x forward, y up), eq. (9.2).
+    """The forces at the machine's joints, N, in the ground frame (x forward, y up), eq. (9.2),
+    with no friction on the base: ``joint_forces_sliding`` with ``base_force = 0``."""
+    return joint_forces_sliding(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, normal, 0.0, p)
+
+
+def joint_forces_sliding(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, normal, base_force, p):
+    """The forces at the machine's joints, N, in the ground frame (x forward, y up), eq. (9.2), (10.6).
 
     Returns ``(axle_x, axle_y, hinge_x, hinge_y, sling_x, sling_y)``:
 
@@ -316,8 +330,19 @@ def joint_forces(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, nor
 
     ``a_*`` are the ground accelerations of the arm's and the counterweight's
     centres and of the projectile, ``g = (0, g)``; ``normal`` is the base's
-    push on the projectile (0 off the base).
+    push on the projectile (0 off the base) and ``base_force`` the base's
+    friction on it along x (``mP a_P = S + N e_y + F e_x - mP g e_y``, so
+    ``S = mP (a_P + g) - N e_y - F e_x``). Friction torques at the axle and
+    the hinge change no force: a torque has no resultant.
     """
+    return joint_forces_in_gravity(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, normal, base_force,
+                                   p.g, p)
+
+
+def joint_forces_in_gravity(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, normal, base_force, gravity,
+                            p):
+    """``joint_forces_sliding`` with ``gravity`` for ``p.g`` (0: the part linear in the accelerations and
+    in N and F, which ``analytic.friction`` builds its affine maps from)."""
     s_th, c_th = math.sin(theta), math.cos(theta)
     s_w, c_w = math.sin(theta + phi), math.cos(theta + phi)
     s_b, c_b = math.sin(theta + psi), math.cos(theta + psi)
@@ -333,15 +358,20 @@ def joint_forces(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, nor
     sling_ux = -c_b * ddb + s_b * db * db
     sling_uy = -s_b * ddb - c_b * db * db
     hinge_x = p.mW * (ddx - p.Lb * arm_x + p.Lw * link_x)
-    hinge_y = p.mW * (p.g - p.Lb * arm_y + p.Lw * link_y)
-    sling_x = p.mP * (ddx + p.La * arm_x + p.Ls * sling_ux)
-    sling_y = p.mP * (p.g + p.La * arm_y + p.Ls * sling_uy) - normal
+    hinge_y = p.mW * (gravity - p.Lb * arm_y + p.Lw * link_y)
+    sling_x = p.mP * (ddx + p.La * arm_x + p.Ls * sling_ux) - base_force
+    sling_y = p.mP * (gravity + p.La * arm_y + p.Ls * sling_uy) - normal
     axle_x = p.mA * (ddx + p.d * arm_x) + hinge_x + sling_x
-    axle_y = p.mA * (p.g + p.d * arm_y) + hinge_y + sling_y
+    axle_y = p.mA * (gravity + p.d * arm_y) + hinge_y + sling_y
     return axle_x, axle_y, hinge_x, hinge_y, sling_x, sling_y
 
 
 def loads(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, normal, p):
+    """``loads_sliding`` without friction on the base."""
+    return loads_sliding(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, normal, 0.0, p)
+
+
+def loads_sliding(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, normal, base_force, p):
     """What a builder sizes the machine for, from ``joint_forces``, eq. (9.3).
 
     Returns ``(axle_load, hinge_load, tension, projectile_acceleration)``:
@@ -354,11 +384,14 @@ def loads(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, normal, p)
     * ``projectile_acceleration``, m/s^2: what the projectile feels, the force
       of the sling and the base on it divided by its mass (gravity excluded;
       divide by g for "g"s).
+
+    ``base_force``: the base's friction on the projectile along x (stage 1), N.
     """
-    axle_x, axle_y, hinge_x, hinge_y, sling_x, sling_y = joint_forces(
-        theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, normal, p)
+    axle_x, axle_y, hinge_x, hinge_y, sling_x, sling_y = joint_forces_sliding(
+        theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, normal, base_force, p)
     beta = theta + psi
     tension = sling_x * math.sin(beta) - sling_y * math.cos(beta)   # -S . (-sin beta, cos beta)
+    felt_x = sling_x + base_force
     felt_y = sling_y + normal
     return (math.sqrt(axle_x * axle_x + axle_y * axle_y), math.sqrt(hinge_x * hinge_x + hinge_y * hinge_y),
-            tension, math.sqrt(sling_x * sling_x + felt_y * felt_y) / p.mP)
+            tension, math.sqrt(felt_x * felt_x + felt_y * felt_y) / p.mP)

@@ -17,6 +17,11 @@ of steps, to the integrator's own error (7e-9 at worst there): far inside
 what the tests demand (1e-7 relative in range, 1e-6 s in event times, the
 same outcome).
 
+Friction (``[losses]``) runs on this path too, from the same stage
+functions; its energy audit does not: ``Shot.energy_dissipated`` is None
+here (the reference path integrates the drag's work on its continuous
+solution, which this path does not keep).
+
 The machine code is cached on disk (numba ``cache=True``): ``compile()``
 loads or builds it and says how long that took; the first shot calls it.
 """
@@ -36,9 +41,10 @@ import numba
 import numpy as np
 from scipy.integrate import DOP853
 
-from analytic import kernel, outcome
+from analytic import kernel, outcome, stages
 from analytic.aero import DRAG_TABLE
 from analytic.design import Design, swing_time_limit
+from analytic.friction import rest_balance
 from analytic.parameters import N_PARAMS, params
 from analytic.result import PEAK_NAMES, Shot, Shots, Status
 from analytic.reference import DEFAULT_ATOL, DEFAULT_RTOL
@@ -224,7 +230,11 @@ def failure_message(design: Design, status: Status, detail: float, value: float,
                     release_time: float, t_limit: float) -> str:
     """The message of a failed shot from the kernel's record of it."""
     if status is Status.NEVER_FIRES:
-        return outcome.never_fires_message(value)
+        if design.losses.ideal:
+            return outcome.never_fires_message(value)
+        p = params(design)
+        ddtheta, _ = stages.fires(p)
+        return outcome.never_fires_message(ddtheta, *rest_balance(p))
     if status is Status.NEVER_LIFTS_OFF:
         return outcome.never_lifts_off_message(outcome.LiftoffFailure(int(detail)), t_limit)
     if status is Status.HITS_BASE_BEFORE_RELEASE:

@@ -18,7 +18,7 @@ import numpy as np
 from scipy.integrate import DOP853, OdeSolution
 from scipy.optimize import brentq
 
-from analytic.stages import ROOT_NUDGE_ULPS, ROOT_TIME_TOLERANCE
+from analytic.stages import ROOT_NUDGE_ULPS, ROOT_TIME_TOLERANCE, ZERO_START_PROBES
 
 
 class IntegrationError(RuntimeError):
@@ -216,12 +216,29 @@ def _crossings(event: Event, before: float, after: float, dense, t_old: float, t
         return event.value(t, dense(t))
 
     start, v_start = t_old, before
+    end, v_end = t_new, after
+    if before == 0.0 and after != 0.0:
+        # Left zero at the step's start (a rate a friction switch set to 0): it may have come
+        # back within the step. Probe the dense output for the other side, and bracket there.
+        for i in range(1, ZERO_START_PROBES):
+            t_probe = t_old + (t_new - t_old) * i / ZERO_START_PROBES
+            v_probe = value(t_probe)
+            if v_probe != 0.0 and (v_probe > 0.0) != (after > 0.0):
+                start, v_start = t_probe, v_probe
+                for j in range(i + 1, ZERO_START_PROBES):
+                    t_next = t_old + (t_new - t_old) * j / ZERO_START_PROBES
+                    v_next = value(t_next)
+                    if (v_next > 0.0) != (v_start > 0.0) or v_next == 0.0:
+                        end, v_end = t_next, v_next
+                        break
+                break
     while True:
-        rising = v_start < 0.0 <= after
-        falling = v_start > 0.0 >= after
+        rising = v_start < 0.0 <= v_end
+        falling = v_start > 0.0 >= v_end
         if not ((rising and event.direction >= 0) or (falling and event.direction <= 0)):
             return
-        t_root = t_new if after == 0.0 else brentq(value, start, t_new, xtol=ROOT_TIME_TOLERANCE, rtol=4 * np.finfo(float).eps)
+        t_root = end if v_end == 0.0 else brentq(value, start, end, xtol=ROOT_TIME_TOLERANCE,
+                                                 rtol=4 * np.finfo(float).eps)
         yield t_root
         # Rejected: look for a later root in the same step, past this one (``ROOT_NUDGE_ULPS``).
         nudge = max(ROOT_TIME_TOLERANCE * 10, (t_new - t_root) * 1e-9,
@@ -230,3 +247,4 @@ def _crossings(event: Event, before: float, after: float, dense, t_old: float, t
             return
         start = t_root + nudge
         v_start = value(start)
+        end, v_end = t_new, after

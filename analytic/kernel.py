@@ -34,8 +34,9 @@ from analytic.compiled import OPTIONS, limits_, stages_
 from analytic.limits import STAGE_STEP_LIMITS
 from analytic.outcome import LiftoffFailure, Status
 from analytic.parameters import N_PARAMS, Params
-from analytic.stages import (EVENT_NAMES, FLIGHT, LOAD_NAMES, PEAK_TIME_TOLERANCE, ROOT_NUDGE_ULPS,
-                             ROOT_TIME_TOLERANCE, SLIDE, SWING)
+from analytic.stages import (ARM_STALLS, EVENT_NAMES, FIRST_SWITCH, FLIGHT, LOAD_NAMES, MODE_SWITCH_LIMIT,
+                             PEAK_TIME_TOLERANCE, ROOT_NUDGE_ULPS, ROOT_TIME_TOLERANCE, SLIDE, SWING,
+                             ZERO_START_PROBES)
 
 _JIT = OPTIONS
 # The model's functions, compiled (``analytic.compiled``).
@@ -46,6 +47,9 @@ event_terminal = stages_.event_terminal
 event_armed = stages_.event_armed
 fires = stages_.fires
 swing_start = stages_.swing_start
+slide_start = stages_.slide_start
+state_size = stages_.state_size
+switch_mode = stages_.switch_mode
 flight_start = stages_.flight_start
 frame_state = stages_.frame_state
 loads_at = stages_.loads_at
@@ -70,8 +74,8 @@ OK, NEVER_FIRES, NEVER_LIFTS_OFF, HITS_BASE, NEVER_RELEASES, NO_LANDING, STEP_FA
     Status.OK.code, Status.NEVER_FIRES.code, Status.NEVER_LIFTS_OFF.code,
     Status.HITS_BASE_BEFORE_RELEASE.code, Status.NEVER_RELEASES.code, Status.NO_LANDING.code,
     Status.STEP_FAILED.code)
-UNDER_TIP, ARM_BACK, TIME_LIMIT = (int(LiftoffFailure.UNDER_TIP), int(LiftoffFailure.ARM_BACK),
-                                   int(LiftoffFailure.TIME_LIMIT))
+UNDER_TIP, ARM_BACK, TIME_LIMIT, STALLED = (int(LiftoffFailure.UNDER_TIP), int(LiftoffFailure.ARM_BACK),
+                                            int(LiftoffFailure.TIME_LIMIT), int(LiftoffFailure.STALLED))
 
 _EPS = np.finfo(np.float64).eps
 
@@ -494,20 +498,42 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
             after = event_value(stage, k, y_new, p)
             direction = event_direction(stage, k)
             start, v_start = t_old, previous[k]
+            end, v_end = t_new, after
             previous[k] = after
+            if v_start == 0.0 and after != 0.0:
+                # Left zero at the step's start: did it come back within the step?
+                # (``stages.ZERO_START_PROBES``, as ``analytic.integrate`` does.)
+                if not dense_ready:
+                    _dense_prepare(_RUNTIME_STAGE[stage], t_old, h, y, y_new, f_new, coef, K, F, tmp, p, table)
+                    counts[1] += 3
+                    dense_ready = True
+                for i in range(1, ZERO_START_PROBES):
+                    t_probe = t_old + (t_new - t_old) * i / ZERO_START_PROBES
+                    v_probe = _event_at(t_probe, _RUNTIME_STAGE[stage], k, t_old, h, y, F, tmp, p)
+                    counts[1] += 1
+                    if v_probe != 0.0 and (v_probe > 0.0) != (after > 0.0):
+                        start, v_start = t_probe, v_probe
+                        for j in range(i + 1, ZERO_START_PROBES):
+                            t_next = t_old + (t_new - t_old) * j / ZERO_START_PROBES
+                            v_next = _event_at(t_next, _RUNTIME_STAGE[stage], k, t_old, h, y, F, tmp, p)
+                            counts[1] += 1
+                            if (v_next > 0.0) != (v_start > 0.0) or v_next == 0.0:
+                                end, v_end = t_next, v_next
+                                break
+                        break
             while True:
-                rising = v_start < 0.0 <= after
-                falling = v_start > 0.0 >= after
+                rising = v_start < 0.0 <= v_end
+                falling = v_start > 0.0 >= v_end
                 if not ((rising and direction >= 0) or (falling and direction <= 0)):
                     break
                 if not dense_ready:
                     _dense_prepare(_RUNTIME_STAGE[stage], t_old, h, y, y_new, f_new, coef, K, F, tmp, p, table)
                     counts[1] += 3
                     dense_ready = True
-                if after == 0.0:
-                    t_root = t_new
+                if v_end == 0.0:
+                    t_root = end
                 else:
-                    t_root = _brent(_RUNTIME_STAGE[stage], k, start, t_new, v_start, after, t_old, h, y, F, tmp, p)
+                    t_root = _brent(_RUNTIME_STAGE[stage], k, start, end, v_start, v_end, t_old, h, y, F, tmp, p)
                 _dense_eval(t_root, t_old, h, y, F, y_root)
                 if event_armed(stage, k, y_root, p):
                     if event_terminal(stage, k):
@@ -524,6 +550,7 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
                     break
                 start = t_root + nudge
                 v_start = _event_at(start, _RUNTIME_STAGE[stage], k, t_old, h, y, F, tmp, p)
+                end, v_end = t_new, after
         for i in range(n_apex):
             if apex_t[i] <= hit_t:
                 apex = max(apex, apex_y[i])
@@ -600,14 +627,25 @@ def shot(P, table, coef, rtol, atol, track_loads, out):
         out[STEPS], out[EVALS] = 0.0, 1.0
         return
 
-    # Stage 1: slide on the base until the normal force vanishes.
+    # Stage 1: slide on the base until the normal force vanishes. A friction
+    # mode's switch (an event from FIRST_SWITCH on) goes on from its root in the
+    # new mode, as ``analytic.reference`` does.
     peaks = np.full((N_LOADS, 2), -math.inf)
-    y1 = np.array([p.theta0, p.phi0, 0.0, 0.0])
+    y1 = np.empty(state_size(SLIDE, p))
+    slide_start(p, y1)
+    switches = 0
+    code, t1 = 1, 0.0
     if normal0 > 0.0:
-        code, t1, y1, _ = integrate(SLIDE, 0.0, y1, p.t_limit, coef, rtol, atol, p, table, counts, peaks,
-                                    track_loads)
-    else:   # the sling already pulls harder than the projectile's weight
-        code, t1 = 1, 0.0
+        while True:
+            code, t1, y1, _ = integrate(SLIDE, t1, y1, p.t_limit, coef, rtol, atol, p, table, counts, peaks,
+                                        track_loads)
+            if code < FIRST_SWITCH[SLIDE]:
+                break
+            switches += 1
+            if switches > MODE_SWITCH_LIMIT:
+                code = _FAILED
+                break
+            switch_mode(_RUNTIME_STAGE[SLIDE], code, y1, p)
     out[STEPS], out[EVALS] = counts[0], counts[1]
     if code != 1:
         out[END_T] = t1
@@ -616,14 +654,25 @@ def shot(P, table, coef, rtol, atol, track_loads, out):
             return
         _write_peaks(peaks, out)
         out[STATUS] = NEVER_LIFTS_OFF
-        out[DETAIL] = UNDER_TIP if code == 0 else (ARM_BACK if code == 2 else TIME_LIMIT)
+        out[DETAIL] = UNDER_TIP if code == 0 else (
+            ARM_BACK if code == 2 else (STALLED if code == ARM_STALLS else TIME_LIMIT))
         return
     out[LIFTOFF_T] = t1
 
     # Stage 2: free swing until release.
-    y2 = np.array(swing_start(y1, p))
-    code, t2, y2, _ = integrate(SWING, t1, y2, p.t_limit, coef, rtol, atol, p, table, counts, peaks,
-                                track_loads)
+    y2 = np.empty(state_size(SWING, p))
+    swing_start(y1, p, y2)
+    t2 = t1
+    while True:
+        code, t2, y2, _ = integrate(SWING, t2, y2, p.t_limit, coef, rtol, atol, p, table, counts, peaks,
+                                    track_loads)
+        if code < FIRST_SWITCH[SWING]:
+            break
+        switches += 1
+        if switches > MODE_SWITCH_LIMIT:
+            code = _FAILED
+            break
+        switch_mode(_RUNTIME_STAGE[SWING], code, y2, p)
     out[STEPS], out[EVALS], out[END_T] = counts[0], counts[1], t2
     if code != 0:
         if code == _FAILED or code == _OUT_OF_STEPS:

@@ -53,22 +53,39 @@ class LiftoffFailure(enum.IntEnum):
     UNDER_TIP = 1   # dragged under the arm tip: the sling turned vertical
     ARM_BACK = 2    # the arm swung back down to the base
     TIME_LIMIT = 3  # still on the base at the time limit
+    STALLED = 4     # friction stopped the arm before lift-off
 
 
 # --------------------------------------------------------------------------- #
 # What each outcome says
 # --------------------------------------------------------------------------- #
 
-def never_fires_message(arm_acceleration: float) -> str:
-    """``arm_acceleration``: the arm's angular acceleration at rest, rad/s^2 (clockwise is negative)."""
-    return (f"the counterweight cannot lift the arm: at rest the arm's angular "
-            f"acceleration is {arm_acceleration:+.4g} rad/s^2, not clockwise (negative)")
+def never_fires_message(arm_acceleration: float, drive: float | None = None, axle_hold: float | None = None,
+                        base_hold: float | None = None) -> str:
+    """``arm_acceleration``: the arm's angular acceleration at rest, rad/s^2 (clockwise is negative).
+
+    With friction (``analytic.friction.rest_balance``), the torque balance at rest, N m:
+    ``drive`` gravity's torque turning the arm clockwise, ``axle_hold`` and
+    ``base_hold`` the most the axle's and the base's friction can hold against it.
+    """
+    if drive is None:
+        return (f"the counterweight cannot lift the arm: at rest the arm's angular "
+                f"acceleration is {arm_acceleration:+.4g} rad/s^2, not clockwise (negative)")
+    balance = (f"gravity turns the arm clockwise with {drive:.4g} N m against friction that can hold "
+               f"{axle_hold + base_hold:.4g} N m (axle {axle_hold:.4g} N m, base {base_hold:.4g} N m)")
+    if drive <= 0.0:
+        return f"the counterweight cannot lift the arm: {balance}"
+    if drive <= axle_hold + base_hold:
+        return f"friction holds the machine at rest, it never fires: {balance}"
+    return (f"the counterweight cannot lift the arm: {balance}, but slipping the arm's angular "
+            f"acceleration would be {arm_acceleration:+.4g} rad/s^2, not clockwise")
 
 
 def never_lifts_off_message(reason: LiftoffFailure, time_limit: float) -> str:
     text = {LiftoffFailure.UNDER_TIP: "it was dragged under the arm tip (the sling turned vertical)",
             LiftoffFailure.ARM_BACK: "the arm swung back down to the base",
-            LiftoffFailure.TIME_LIMIT: f"it was still on the base after the time limit of {time_limit:.3g} s"}
+            LiftoffFailure.TIME_LIMIT: f"it was still on the base after the time limit of {time_limit:.3g} s",
+            LiftoffFailure.STALLED: "friction stopped the arm while the projectile was still on the base"}
     return f"the projectile never lifts off: {text[LiftoffFailure(reason)]}"
 
 

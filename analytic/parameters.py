@@ -30,6 +30,9 @@ Mf          frame mass, kg (0 for a fixed frame: not read)       base.mass
 t_limit     firing-to-release time limit, s                      (``limits.swing_time_limit``)
 theta0      arm angle at rest, rad                               (``design.initial_angles``)
 phi0        counterweight angle at rest, rad                     (``design.initial_angles``)
+mua, ra     axle's Coulomb coefficient and radius (m)            losses.axle_friction, axle_radius
+muh, rh     hinge's Coulomb coefficient and radius (m)           losses.hinge_friction, hinge_radius
+mub         base's Coulomb coefficient (stage 1)                 losses.base_friction
 ==========  ===================================================  ==========================
 """
 
@@ -72,6 +75,11 @@ class Params(NamedTuple):
     t_limit: float
     theta0: float
     phi0: float
+    mua: float
+    ra: float
+    muh: float
+    rh: float
+    mub: float
 
 
 #: Length of a design row (``Params`` in order).
@@ -80,7 +88,7 @@ N_PARAMS = len(Params._fields)
 
 def params(design) -> Params:
     """The ``Params`` of an ``analytic.design.Design``."""
-    m, proj, env = design.machine, design.projectile, design.environment
+    m, proj, env, losses = design.machine, design.projectile, design.environment, design.losses
     theta0, phi0, _ = initial_angles(m)
     return Params(
         La=m.arm_long, Lb=m.arm_short, d=m.arm_cg, mA=m.arm_mass, IA=m.arm_inertia,
@@ -92,4 +100,6 @@ def params(design) -> Params:
         diameter=proj.diameter, area=proj.drag_area,
         rho=env.air_density, mu=env.air_viscosity, wind=env.wind_speed,
         rolling=float(design.base.rolling), Mf=design.base.mass if design.base.rolling else 0.0,
-        t_limit=swing_time_limit(m, env.gravity), theta0=theta0, phi0=phi0)
+        t_limit=swing_time_limit(m, env.gravity), theta0=theta0, phi0=phi0,
+        mua=losses.axle_friction, ra=losses.axle_radius, muh=losses.hinge_friction, rh=losses.hinge_radius,
+        mub=losses.base_friction)

@@ -11,7 +11,7 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Circle
 
 from analytic.geometry import machine_points
-from analytic.result import Shot, Stage
+from analytic.result import LOSS_NAMES, Shot, Stage
 
 
 def draw_machine(ax, shot: Shot, index: int, alpha: float = 1.0) -> None:
@@ -75,6 +75,17 @@ def shot_figure(shot: Shot) -> Figure:
         ax_energy.plot(shot.t, shot.energy.machine,
                        label="arm + counterweight" + (" + frame" if shot.design.base.rolling else ""))
         ax_energy.plot(shot.t, shot.energy.total, "k--", label="total")
+        # Each loss as its own band, stacked from the total up: together they close the audit
+        # (the top edge is the energy at rest, 0).
+        bottom = shot.energy.total
+        for name, color in zip(LOSS_NAMES[:3], ("tab:red", "tab:olive", "tab:brown"), strict=True):
+            taken = shot.energy.dissipated.get(name)
+            if taken is None or not np.any(taken > 0.0):
+                continue
+            total_taken = shot.energy_dissipated[name] if shot.energy_dissipated else taken[-1]
+            ax_energy.fill_between(shot.t, bottom, bottom + taken, color=color, alpha=0.35, lw=0,
+                                   label=f"lost to {name} friction ({total_taken:.3g} J)")
+            bottom = bottom + taken
         if shot.liftoff_time is not None:
             ax_energy.axvline(shot.liftoff_time, color="0.6", lw=0.8)
             ax_energy.text(shot.liftoff_time, ax_energy.get_ylim()[1], " lift-off", va="top", fontsize=8)

@@ -11,9 +11,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from scipy.integrate import OdeSolution
 from scipy.optimize import minimize_scalar
 
-from analytic import eom, outcome, stages
+from analytic import eom, friction, outcome, stages
 from analytic.aero import DRAG_TABLE
 from analytic.design import Design
 from analytic.geometry import projectile_state
@@ -21,7 +22,7 @@ from analytic.integrate import Event, IntegrationError, Segment, integrate
 from analytic.limits import STAGE_STEP_LIMITS, flight_time_limit
 from analytic.outcome import LiftoffFailure, Stage, Status
 from analytic.parameters import Params, params
-from analytic.result import PEAK_NAMES, EnergyBudget, Shot
+from analytic.result import LOSS_NAMES, PEAK_NAMES, EnergyBudget, Shot
 
 #: Default integrator tolerances: a 100x tighter run changes the range by
 #: 1.5e-10 relative on the paper's design and by at most 6.5e-9 where a
@@ -39,7 +40,7 @@ FLIGHT_OUTPUT_STEP = 5e-3
 HISTORY_SAMPLE_LIMIT = 200_000
 
 _LIFTOFF_FAILURES = {"under_tip": LiftoffFailure.UNDER_TIP, "arm_back": LiftoffFailure.ARM_BACK,
-                     None: LiftoffFailure.TIME_LIMIT}
+                     "arm_stalls": LiftoffFailure.STALLED, None: LiftoffFailure.TIME_LIMIT}
 
 
 # A trial step of a stiff or extreme design may overflow or divide by zero: the
@@ -66,6 +67,10 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
     Shot
         A valid design that does not throw is a ``Shot`` whose ``status``
         names the failure and whose ``message`` explains it, never an exception.
+        ``energy_dissipated`` holds the work each loss took (friction through
+        stages 1-2, integrated with the motion; the drag's in flight, on the
+        flight's steps), with histories or without; with histories
+        ``energy.dissipated`` holds the friction's on every sample.
     """
     p = params(design)
     output_step = max(SWING_OUTPUT_STEP, p.t_limit / HISTORY_SAMPLE_LIMIT) if histories else None
@@ -74,26 +79,31 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
     segments = []
     reached = {}   # what the shot got to: lift-off, then release
 
-    y1 = np.array([p.theta0, p.phi0, 0.0, 0.0])
+    y1 = np.empty(stages.state_size(Stage.SLIDE, p))
+    stages.slide_start(p, y1)
     ddtheta0, normal0 = quietly(stages.fires, p, otherwise=(math.nan, math.nan))
     if not (math.isfinite(ddtheta0) and math.isfinite(normal0)):
         # The equations cannot be evaluated even at rest: the design's numbers over- or
         # underflow the model's products (a mass or length near the ends of the float range).
         if histories:
-            history.append([(0.0, Stage.SLIDE, eom.slide_state(*y1, p), _tension(Stage.SLIDE, y1, p))])
+            history.append(_history(Stage.SLIDE, Segment(np.zeros(1), y1[None, :], None, 0.0, y1, {}), p))
         return _finish(design, p, history, segments, Status.STEP_FAILED,
                        outcome.step_failed_message(0.0, Stage.SLIDE))
     if not ddtheta0 < 0.0:
         if histories:
-            history.append([(0.0, Stage.SLIDE, eom.slide_state(*y1, p), _tension(Stage.SLIDE, y1, p))])
-        return _finish(design, p, history, segments, Status.NEVER_FIRES, outcome.never_fires_message(ddtheta0))
+            history.append(_history(Stage.SLIDE, Segment(np.zeros(1), y1[None, :], None, 0.0, y1, {}), p))
+        balance = friction.rest_balance(p) if friction.lossy(p) else ()
+        return _finish(design, p, history, segments, Status.NEVER_FIRES,
+                       outcome.never_fires_message(ddtheta0, *balance))
 
     stage = Stage.SLIDE
+    switches = [0]   # friction's mode switches so far (stages.MODE_SWITCH_LIMIT)
     try:
         # Stage 1: slide on the base until the normal force vanishes.
         if normal0 > 0.0:
-            slide = _run(stage, p, 0.0, y1, p.t_limit, rtol, atol, output_step, loads)
-            peaks = _stage_peaks(stage, slide, p, loads)
+            pieces = _run_modes(stage, p, 0.0, y1, p.t_limit, rtol, atol, output_step, loads, switches)
+            peaks = _pieces_peaks(stage, pieces, p, loads, np.full((len(stages.LOAD_NAMES), 2), -np.inf))
+            slide = _merge(pieces)
         else:  # the sling already pulls harder than the projectile's weight
             slide = Segment(np.zeros(1), y1[None, :], "liftoff", 0.0, y1, {})
             peaks = np.full((len(stages.LOAD_NAMES), 2), -np.inf)
@@ -108,11 +118,14 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
         # Stage 2: free swing until release.
         stage = Stage.SWING
         reached["liftoff_time"] = slide.t_end
-        swing_start = quietly(stages.swing_start, slide.y_end, p, otherwise=(math.nan,) * 6)
-        swing = _run(stage, p, slide.t_end, np.array(swing_start), p.t_limit, rtol, atol, output_step, loads)
-        stage_peaks = _stage_peaks(stage, swing, p, loads)
-        later = stage_peaks[:, 0] > peaks[:, 0]
-        peaks[later] = stage_peaks[later]
+        y2 = np.empty(stages.state_size(stage, p))
+        try:
+            stages.swing_start(slide.y_end, p, y2)
+        except FLOAT_ERRORS:
+            y2[:] = math.nan   # the integrator ends the stage as step_failed
+        pieces = _run_modes(stage, p, slide.t_end, y2, p.t_limit, rtol, atol, output_step, loads, switches)
+        peaks = _pieces_peaks(stage, pieces, p, loads, peaks)
+        swing = _merge(pieces)
         reached.update(_peak_fields(peaks))
         if histories:
             history.append(_history(Stage.SWING, swing, p)[1:])   # the first is lift-off, already recorded
@@ -138,7 +151,8 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
         t_max = release_time + flight_time_limit(position[1] + p.h, velocity[1], p.g)
         flight_step = (max(FLIGHT_OUTPUT_STEP, (t_max - release_time) / HISTORY_SAMPLE_LIMIT)
                        if histories else None)
-        flight = _run(stage, p, release_time, start, t_max, rtol, atol, flight_step, False)
+        # The continuous solution is kept for the drag's work (the steps are the same either way).
+        flight = _run(stage, p, release_time, start, t_max, rtol, atol, flight_step, True)
     except IntegrationError as error:
         if stage is not Stage.FLIGHT and error.segment is not None:
             # The motion up to the failure (the flight's is not kept, as for any shot that does not land).
@@ -147,6 +161,7 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
             segments.append((stage, error.segment))
         return _finish(design, p, history, segments, Status.STEP_FAILED,
                        outcome.step_failed_message(error.time, stage, error.step_limit), **reached)
+    reached["drag_work"] = drag_work(flight, p)
     if flight.event != "landing":
         return _finish(design, p, history, segments, Status.NO_LANDING,
                        outcome.no_landing_message(t_max - release_time), **reached)
@@ -209,7 +224,7 @@ def _run(stage: Stage, p: Params, t0: float, y0: np.ndarray, t_end: float, rtol:
          output_step: float | None, continuous: bool) -> Segment:
     """Integrate ``stage`` from (t0, y0) until one of its terminal events or ``t_end``; ``continuous``:
     keep the continuous solution (on which the peak loads are located)."""
-    size = stages.STATE_SIZE[stage]
+    size = len(y0)
 
     def rhs(t, y):
         out = np.empty(size)
@@ -221,6 +236,108 @@ def _run(stage: Stage, p: Params, t0: float, y0: np.ndarray, t_end: float, rtol:
 
     return integrate(rhs, t0, y0, t_end, _events(stage, p), rtol=rtol, atol=atol, output_step=output_step,
                      continuous=continuous, max_steps=STAGE_STEP_LIMITS[stage])
+
+
+def _run_modes(stage: Stage, p: Params, t0: float, y0: np.ndarray, t_end: float, rtol: float, atol: float,
+               output_step: float | None, continuous: bool, switches: list[int]) -> list[Segment]:
+    """``_run`` until an event that is not a friction mode's switch, switching modes on the way.
+
+    Returns the pieces integrated, one per mode (one for a design without
+    friction). ``switches`` ([count]) counts the switches of the whole shot;
+    past ``stages.MODE_SWITCH_LIMIT`` the shot fails.
+    """
+    pieces = []
+    t, y = t0, y0
+    while True:
+        piece = _run(stage, p, t, y, t_end, rtol, atol, output_step, continuous)
+        pieces.append(piece)
+        if piece.event is None:
+            return pieces
+        k = stages.EVENT_NAMES[stage].index(piece.event)
+        if k < stages.FIRST_SWITCH[stage]:
+            return pieces
+        switches[0] += 1
+        if switches[0] > stages.MODE_SWITCH_LIMIT:
+            raise IntegrationError(f"friction switched modes more than {stages.MODE_SWITCH_LIMIT} times",
+                                   piece.t_end)
+        t, y = piece.t_end, piece.y_end.copy()
+        stages.switch_mode(int(stage), k, y, p)
+
+
+def _merge(pieces: list[Segment]) -> Segment:
+    """One ``Segment`` of a stage's pieces (``_run_modes``): each piece's last sample is dropped for
+    the next one's first (the same instant, after the switch); the continuous solutions are joined."""
+    if len(pieces) == 1:
+        return pieces[0]
+    last = pieces[-1]
+
+    def joined(name):
+        parts = [getattr(piece, name)[:-1] for piece in pieces[:-1]] + [getattr(last, name)]
+        return None if any(part is None for part in parts) else np.concatenate(parts)
+
+    ts, interpolants = [], []
+    for piece in pieces:
+        solution = piece.solution
+        if solution is None or len(solution.interpolants) == 0:
+            continue
+        breaks, parts = list(solution.ts), list(solution.interpolants)
+        while len(parts) > 1 and breaks[-2] >= piece.t_end:   # a step past the event's root
+            breaks.pop()
+            parts.pop()
+        breaks[-1] = piece.t_end
+        ts += breaks[1:] if ts else breaks   # each piece starts where the last one ended
+        interpolants += parts
+    solution = OdeSolution(ts, interpolants) if interpolants and len(ts) == len(interpolants) + 1 else None
+    roots = {name: [root for piece in pieces for root in piece.roots.get(name, [])] for name in last.roots}
+    return Segment(joined("t"), np.concatenate([piece.y[:-1, :] for piece in pieces[:-1]] + [last.y]),
+                   last.event, last.t_end, last.y_end, roots, solution, joined("step_t"),
+                   None if last.step_y is None else np.concatenate(
+                       [piece.step_y[:-1] for piece in pieces[:-1]] + [last.step_y]))
+
+
+def _pieces_peaks(stage: Stage, pieces: list[Segment], p: Params, loads: bool, peaks: np.ndarray) -> np.ndarray:
+    """``peaks`` updated with each piece's (``_stage_peaks``) where it beats them, as the compiled
+    path does for each stretch it integrates."""
+    peaks = peaks.copy()
+    for piece in pieces:
+        found = _stage_peaks(stage, piece, p, loads)
+        later = found[:, 0] > peaks[:, 0]
+        peaks[later] = found[later]
+    return peaks
+
+
+#: Gauss-Legendre nodes and weights on [-1, 1] for the drag's work over each flight step: the
+#: interpolant is a 7th-degree polynomial and the drag smooth, so 8 nodes integrate it to
+#: round-off of the integrand's own accuracy.
+_GAUSS = np.polynomial.legendre.leggauss(8)
+
+
+def drag_work(flight: Segment, p: Params) -> float:
+    """The work the air's drag took from the projectile in flight, J: ``-integral of F_drag . v dt``
+    over the ground velocity ``v`` (negative when a tailwind gave more than the drag took).
+
+    Integrated step by step on the integrator's continuous solution (Gauss-Legendre), so the
+    projectile's mechanical energy at release equals its energy at landing plus this to the
+    integrator's tolerance.
+    """
+    if flight.solution is None:
+        return 0.0
+    nodes, weights = _GAUSS
+    total = 0.0
+    out = np.empty(4)
+    for a, b, interpolant in zip(flight.solution.ts[:-1], flight.solution.ts[1:], flight.solution.interpolants,
+                                 strict=True):
+        b = min(b, flight.t_end)
+        if not b > a:
+            continue
+        times = 0.5 * (b - a) * nodes + 0.5 * (a + b)
+        states = interpolant(times).T
+        power = 0.0
+        for w, y in zip(weights, states, strict=True):
+            stages.derivative(Stage.FLIGHT, y, p, DRAG_TABLE, out)
+            power += w * (out[2] * y[2] + (out[3] + p.g) * y[3])
+        total -= p.mP * 0.5 * (b - a) * power
+    return float(total)
 
 
 def _events(stage: Stage, p: Params) -> tuple[Event, ...]:
@@ -240,18 +357,13 @@ def _events(stage: Stage, p: Params) -> tuple[Event, ...]:
 # --------------------------------------------------------------------------- #
 
 def _history(stage: Stage, segment: Segment, p: Params):
-    """Rows ``(t, stage, (theta, phi, psi, theta', phi', psi'), sling tension)`` of a segment."""
-    full = (lambda y: eom.slide_state(*y, p)) if stage is Stage.SLIDE else tuple
-    return [(t, stage, full(y), _tension(stage, y, p)) for t, y in zip(segment.t, segment.y, strict=True)]
-
-
-def _accelerations(stage: Stage, state, p: Params) -> tuple[float, float, float]:
-    """``(theta'', phi'', psi'')`` at a full stage-1 or stage-2 state (theta, phi, psi, rates)."""
-    if stage is Stage.SLIDE:
-        ddtheta, ddphi, _ = eom.slide_accelerations(state[0], state[1], state[3], state[4], p)
-        _, _, s, c, _ = eom.slide_constraint(state[0], state[3], p)
-        return ddtheta, ddphi, s * ddtheta + c
-    return eom.swing_accelerations(*state, p)
+    """Rows ``(t, stage, (theta, phi, psi, theta', phi', psi'), sling tension, (axle, hinge, base work),
+    stage state)`` of a segment."""
+    core = stages.STATE_SIZE[stage]
+    full = (lambda y: eom.slide_state(*y[:core], p)) if stage is Stage.SLIDE else (lambda y: tuple(y[:core]))
+    lossy = friction.lossy(p)
+    return [(t, stage, full(y), _tension(stage, y, p), tuple(y[core:core + 3]) if lossy else (0.0, 0.0, 0.0), y)
+            for t, y in zip(segment.t, segment.y, strict=True)]
 
 
 def jump_warning(force: float, time: float, gravity: float) -> str:
@@ -325,16 +437,33 @@ def _peak_fields(peaks: np.ndarray) -> dict[str, float]:
     return fields
 
 
+def _dissipated(p: Params, segments, drag: float) -> dict[str, float]:
+    """``Shot.energy_dissipated`` from the last segment of stages 1-2 (its friction states) and the drag's work."""
+    work = (0.0, 0.0, 0.0)
+    if segments and friction.lossy(p):
+        stage, segment = segments[-1]
+        core = stages.STATE_SIZE[stage]
+        work = tuple(float(w) for w in segment.y_end[core:core + 3])
+    return dict(zip(LOSS_NAMES, (*work, drag), strict=True))
+
+
 def _finish(design: Design, p: Params, history, segments, status: Status, message: str, **fields) -> Shot:
     if history is None:   # summary only
         fields.pop("flight_t", None)
         fields.pop("flight_path", None)
+        fields["energy_dissipated"] = _dissipated(p, segments, fields.pop("drag_work", 0.0))
         return Shot(design, status, message, **fields)
     rows = [row for part in history for row in part]
+    if not rows:   # failed in its very first stretch: the state at rest
+        y1 = np.empty(stages.state_size(Stage.SLIDE, p))
+        stages.slide_start(p, y1)
+        rows = _history(Stage.SLIDE, Segment(np.zeros(1), y1[None, :], None, 0.0, y1, {}), p)
     t = np.array([row[0] for row in rows])
     stage = np.array([int(row[1]) for row in rows])
     states = np.array([row[2] for row in rows])     # (n, 6): q, then q'
     tension = np.array([row[3] for row in rows])
+    work = np.array([row[4] for row in rows])        # (n, 3): axle, hinge, base
+    raw = [row[5] for row in rows]                   # each stage's own state
 
     v_machine0, v_projectile0 = eom.potential_energy(*states[0, :3], p)
     budget = np.empty((len(t), 2))
@@ -345,13 +474,15 @@ def _finish(design: Design, p: Params, history, segments, status: Status, messag
         budget[i] = (k_m + v_m - v_machine0, k_p + v_p - v_projectile0)
         path[i] = projectile_state(theta, psi, dtheta, dpsi, p.La, p.Ls)[:2]
         path[i, 0] += eom.frame_displacement(theta, phi, psi, p)   # on the ground, as the flight is
-    energy = EnergyBudget(projectile=budget[:, 1], machine=budget[:, 0], total=budget.sum(axis=1))
+    energy = EnergyBudget(projectile=budget[:, 1], machine=budget[:, 0], total=budget.sum(axis=1),
+                          dissipated={name: work[:, i] for i, name in enumerate(LOSS_NAMES[:3])})
+    fields["energy_dissipated"] = dict(zip(LOSS_NAMES, (*(float(w) for w in work[-1]),
+                                                          fields.pop("drag_work", 0.0)), strict=True))
     frame_x = np.array([eom.frame_displacement(*state[:3], p) for state in states])
-    ground = np.array([eom.ground_force(*state, *_accelerations(Stage(k), state, p), p)
-                       for k, state in zip(stage, states, strict=True)])
+    ground = np.array([eom.ground_force(*state, *stages.accelerations(int(k), y, p), p)
+                       for k, state, y in zip(stage, states, raw, strict=True)])
     fields["min_ground_force"] = float(ground.min())
-    loads = np.array([stages.loads_at(k, state[[0, 1, 3, 4]] if k == Stage.SLIDE else state, p)
-                      for k, state in zip(stage, states, strict=True)])     # (n, N_LOADS)
+    loads = np.array([stages.loads_at(int(k), y, p) for k, y in zip(stage, raw, strict=True)])   # (n, N_LOADS)
     fields.update(axle_load=loads[:, 0], hinge_load=loads[:, 1], projectile_acceleration=loads[:, 3])
     if p.rolling and ground.min() < 0.0:
         fields["warnings"] = (jump_warning(float(ground.min()), float(t[int(np.argmin(ground))]), p.g),)

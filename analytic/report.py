@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from analytic.result import Shot
+from analytic.result import LOSS_NAMES, Shot
 from analytic.units import display
 
 
@@ -46,6 +46,7 @@ def format_shot(shot: Shot, units: str = "metric") -> str:
     row("flight time", shot.flight_time, "s")
     row("energy efficiency", None if shot.energy_efficiency is None else 100 * shot.energy_efficiency, "%", ".2f")
     row("range efficiency", None if shot.range_efficiency is None else 100 * shot.range_efficiency, "%", ".2f")
+    _energy_rows(shot, row)
     row("min sling tension", shot.min_sling_tension, "N", ".3f", " (negative: the rigid sling pushed)")
     row("peak sling tension", shot.peak_sling_tension, "N", ".3f", at("peak_sling_tension"))
     row("peak axle load", shot.peak_axle_load, "N", ".3f", at("peak_axle_load"))
@@ -57,3 +58,21 @@ def format_shot(shot: Shot, units: str = "metric") -> str:
     lines += [f"  {label:<{width}}  {value:>20}  {unit}" for label, value, unit in rows]
     lines += [f"warning  {warning}" for warning in shot.warnings]
     return "\n".join(lines)
+
+
+#: How each loss is named in the summary.
+LOSS_LABELS = {"axle": "axle friction", "hinge": "hinge friction", "base": "base friction",
+               "drag": "air drag in flight"}
+
+
+def _energy_rows(shot: Shot, row) -> None:
+    """Where the counterweight's energy went: what each loss took (J, and as a share of the
+    counterweight's energy; the share that reached the projectile is the energy efficiency)."""
+    released = shot.counterweight_energy_released
+    if shot.energy_dissipated is None or not released:
+        return
+    # Its share in the projectile at release is the energy efficiency, just above.
+    row("counterweight energy", released, "J", ".3f", " given up by release (counterweight and arm)")
+    for name in LOSS_NAMES:
+        taken = shot.energy_dissipated[name]
+        row(f"  {LOSS_LABELS[name]}", taken, "J", ".4f", f" ({100 * taken / released:.2f} % of it)")

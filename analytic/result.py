@@ -41,12 +41,21 @@ class EnergyBudget:
     ``projectile`` is kinetic plus potential energy of the projectile relative to
     its start; ``machine`` likewise for arm and counterweight, and a rolling
     frame's kinetic energy (negative as the counterweight falls); ``total =
-    projectile + machine`` is conserved by the dynamics (drag acts only in flight).
+    projectile + machine`` is conserved by the ideal machine (drag acts only in
+    flight). ``dissipated`` maps the friction losses (``LOSS_NAMES`` but the
+    drag: axle, hinge, base) to the work each has taken so far, (n,) J, zeros
+    for the ideal machine: ``total + sum(dissipated) = 0`` (the energy audit).
     """
 
     projectile: np.ndarray
     machine: np.ndarray
     total: np.ndarray
+    dissipated: dict[str, np.ndarray] = field(default_factory=dict)
+
+    @property
+    def lost(self) -> np.ndarray:
+        """(n,) J: the work all friction has taken so far (0 if none is recorded)."""
+        return sum(self.dissipated.values(), np.zeros_like(self.total))
 
 
 @dataclass(frozen=True)
@@ -109,7 +118,9 @@ class Shot:
     diagnostics : how far the model that made the shot can be trusted, or None
         (the engine model's ``EngineDiagnostics``).
     energy_dissipated : J taken by each loss from firing to the shot's end, keyed
-        ``LOSS_NAMES`` (zeros where a loss is absent), or None where not computed.
+        ``LOSS_NAMES`` (zeros where a loss is absent): friction up to release (or the
+        failure), the drag's work in flight (``analytic.reference.drag_work``); None
+        where not computed (the fast path).
     """
 
     design: Design

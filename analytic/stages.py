@@ -11,12 +11,23 @@ stage  state y                                      events (value; counted direc
 =====  ===========================================  ================================================
 1      [theta, phi, theta', phi']                   under_tip (|sin beta| - limit; falling; yes),
        (psi from the base constraint)               liftoff (normal force; falling; yes),
-                                                    arm_back (tip height above base; falling; yes)
+                                                    arm_back (tip height above base; falling; yes),
+                                                    arm_stalls (-theta'; falling; yes),
+                                                    hinge_stops, hinge_slips, slide_reverses
+                                                    (``friction_event``; falling; switch modes)
 2      [theta, phi, psi, theta', phi', psi']        release (the rule's value; rising; yes, only
-                                                    when armed), hits_base (projectile height; falling; yes)
+                                                    when armed), hits_base (projectile height; falling; yes),
+                                                    axle_stops, axle_slips, hinge_stops, hinge_slips
+                                                    (``friction_event``; falling; switch modes)
 3      [x, y, vx, vy] from the pivot                landing (height above base; falling; yes),
                                                     apex (vy; falling; no: recorded)
 =====  ===========================================  ================================================
+
+With friction (``docs/derivation.md`` section 10) stages 1-2 carry six more
+entries (``FRICTION_STATE``: the work each friction dissipated, then the
+modes); a friction event ends an integration, ``switch_mode`` writes the new
+modes into the state and the stage goes on from there. Without friction
+those events are a constant 1 and the state is as in the table.
 
 In a tie between two terminal events in one step, the earlier-listed wins.
 """
@@ -27,16 +38,37 @@ import math
 
 from analytic.aero import force_factor
 from analytic.eom import (frame_coupling, frame_displacement, frame_velocity, horizontal_moment, loads,
-                          slide_accelerations, slide_constraint, swing_accelerations, terms, total_mass)
+                          loads_sliding, slide_accelerations, slide_constraint, swing_accelerations, terms,
+                          total_mass)
+from analytic.friction import lossy, rest_balance, slide_friction, slide_rate, swing_friction
 from analytic.geometry import projectile_state, release_at
 from analytic.limits import SLING_VERTICAL_LIMIT
 from analytic.outcome import Stage
 
 SLIDE, SWING, FLIGHT = int(Stage.SLIDE), int(Stage.SWING), int(Stage.FLIGHT)
-#: Length of the state of each stage (indexed by stage number).
+#: Length of the state of each stage (indexed by stage number), without friction.
 STATE_SIZE = (0, 4, 6, 4)
-#: Events of each stage, in their index order (indexed by stage number).
-EVENT_NAMES = ((), ("under_tip", "liftoff", "arm_back"), ("release", "hits_base"), ("landing", "apex"))
+#: A design with friction carries ``FRICTION_STATE`` more entries in stages 1-2, after
+#: the stage's own (``state_size``): the work dissipated so far by the axle's, the
+#: hinge's and the base's friction (J, integrated with the motion), then the modes
+#: of the axle, the hinge and the base (constant between events: +1/-1 slipping
+#: with that sign of the rate, 0 stuck; the base's is the slide's sign, 0 off it).
+FRICTION_STATE = 6
+#: Events of each stage, in their index order (indexed by stage number). The
+#: friction's (from ``arm_stalls`` and ``axle_stops`` on) are inert (a constant
+#: 1) for a design without that friction.
+EVENT_NAMES = ((), ("under_tip", "liftoff", "arm_back", "arm_stalls", "hinge_stops", "hinge_slips",
+                    "slide_reverses"),
+               ("release", "hits_base", "axle_stops", "axle_slips", "hinge_stops", "hinge_slips"),
+               ("landing", "apex"))
+#: The first event of each stage that switches a friction mode (the stage goes on
+#: from there in the new mode, ``switch_mode``); ``arm_stalls`` ends stage 1 instead.
+FIRST_SWITCH = (0, 4, 2, 2)
+#: Index of ``arm_stalls`` in stage 1.
+ARM_STALLS = 3
+#: A shot may switch friction modes this many times; more is a failure
+#: (``STEP_FAILED``): stick and slip chattering without end.
+MODE_SWITCH_LIMIT = 2000
 #: Event roots are located to this absolute time tolerance, s (Brent's method on the dense output).
 ROOT_TIME_TOLERANCE = 1e-14
 #: A root that does not count is stepped past by at least this many units in the
@@ -45,6 +77,10 @@ ROOT_TIME_TOLERANCE = 1e-14
 #: than the ten tolerances stepped otherwise; past t = 450 s those are less than
 #: one unit, and the search would find the same root again forever.
 ROOT_NUDGE_ULPS = 8.0
+#: An event whose value is exactly 0 at a step's start (a joint's rate that a friction switch
+#: set to 0: its ``*_stops`` event) may leave zero and come back within that step; the step's
+#: dense output is probed at this many equal intervals for the value on the other side.
+ZERO_START_PROBES = 16
 
 
 def derivative(stage, y, p, table, out):
@@ -56,9 +92,24 @@ def derivative(stage, y, p, table, out):
     with ``w = (wind, 0)``; ``table`` is ``analytic.aero.DRAG_TABLE``.
     """
     if stage == SLIDE:
+        if lossy(p):
+            ddtheta, ddphi, _, ta, th, fb, _, _, dx = slide_friction(y[0], y[1], y[2], y[3], y[7], y[8], y[9], p)
+            out[0], out[1], out[2], out[3] = y[2], y[3], ddtheta, ddphi
+            # The friction's power, -t rate: |t rate| while the mode is consistent, and
+            # smooth where a rate crosses zero inside a step whose event root then ends the
+            # stretch (an absolute value would put a kink inside that step).
+            out[4], out[5], out[6] = -ta * y[2], -th * y[3], -fb * dx * y[2]
+            out[7], out[8], out[9] = 0.0, 0.0, 0.0
+            return
         ddtheta, ddphi, _ = slide_accelerations(y[0], y[1], y[2], y[3], p)
         out[0], out[1], out[2], out[3] = y[2], y[3], ddtheta, ddphi
     elif stage == SWING:
+        if lossy(p):
+            a, b, c, ta, th, _, _ = swing_friction(y[0], y[1], y[2], y[3], y[4], y[5], y[9], y[10], p)
+            out[0], out[1], out[2], out[3], out[4], out[5] = y[3], y[4], y[5], a, b, c
+            out[6], out[7], out[8] = -ta * y[3], -th * y[4], 0.0
+            out[9], out[10], out[11] = 0.0, 0.0, 0.0
+            return
         a, b, c = swing_accelerations(y[0], y[1], y[2], y[3], y[4], y[5], p)
         out[0], out[1], out[2], out[3], out[4], out[5] = y[3], y[4], y[5], a, b, c
     else:
@@ -82,15 +133,21 @@ def sling_off_vertical(theta, p):
 def event_value(stage, k, y, p):
     """Value of event ``k`` of ``stage`` at ``y`` (see the table above)."""
     if stage == SLIDE:
+        if k >= ARM_STALLS:
+            return friction_event(stage, k, y, p)
         off_vertical = sling_off_vertical(y[0], p)
         if k == 0:
             return off_vertical
         if k == 1:
             if off_vertical <= 0.0:
                 return 1.0   # no lift-off under the tip: under_tip ends the stage there
+            if lossy(p):
+                return slide_friction(y[0], y[1], y[2], y[3], y[7], y[8], y[9], p)[2]
             return slide_accelerations(y[0], y[1], y[2], y[3], p)[2]
         return p.La * math.cos(y[0]) + p.h
     if stage == SWING:
+        if k >= FIRST_SWITCH[SWING]:
+            return friction_event(stage, k, y, p)
         if k == 0:
             vx, vy = ground_velocity(y, p)
             return release_at(int(p.rule), p.alpha, y[0], y[2], vx, vy)[0]
@@ -134,15 +191,246 @@ def frame_state(y, p):
 
 def fires(p):
     """``(theta'', N)`` at rest: the machine fires when theta'' < 0, and the projectile
-    starts on the base when N > 0 (otherwise stage 1 is skipped)."""
-    ddtheta, _, normal = slide_accelerations(p.theta0, p.phi0, 0.0, 0.0, p)
+    starts on the base when N > 0 (otherwise stage 1 is skipped).
+
+    With friction the arm is stuck at rest: it fires only when gravity's torque
+    beats what the axle's and the base's friction can hold (``friction.rest_balance``),
+    and theta'' is then the slipping machine's (0 when held).
+    """
+    if not lossy(p):
+        ddtheta, _, normal = slide_accelerations(p.theta0, p.phi0, 0.0, 0.0, p)
+        return ddtheta, normal
+    drive, axle_hold, base_hold = rest_balance(p)
+    sa, sh, sb = rest_modes(p)
+    ddtheta, _, normal, _, _, _, _, _, _ = slide_friction(p.theta0, p.phi0, 0.0, 0.0, sa, sh, sb, p)
+    if not drive > axle_hold + base_hold:
+        return 0.0, normal
     return ddtheta, normal
 
 
-def swing_start(y, p):
-    """The stage-2 start ``(theta, phi, psi, theta', phi', psi')`` from the stage-1 state at lift-off."""
+def rest_modes(p):
+    """The friction modes ``(axle, hinge, base)`` the shot starts in: the arm slips clockwise
+    (-1), the projectile slides the way dx_P/dtheta theta' points, and the hinge, at rest,
+    stays stuck if its friction can hold the counterweight's link (0), or slips the
+    way it is pushed (as ``decide_modes`` would)."""
+    _, _, s, _, sin_beta = slide_constraint(p.theta0, 0.0, p)
+    sb = -1.0 if slide_rate(p.theta0, s, sin_beta, p) >= 0.0 else 1.0
+    sh = 1.0
+    if p.muh > 0.0:
+        _, _, _, _, th, _, _, hinge, _ = slide_friction(p.theta0, p.phi0, 0.0, 0.0, -1.0, 0.0, sb, p)
+        sh = 0.0
+        if not abs(th) < p.muh * p.rh * hinge:
+            sh = -1.0 if th > 0.0 else 1.0
+    return -1.0, sh, sb
+
+
+def state_size(stage, p):
+    """Length of ``stage``'s state for the design ``p``: ``STATE_SIZE`` plus, in stages 1-2
+    of a design with friction, ``FRICTION_STATE``."""
+    if stage != FLIGHT and lossy(p):
+        return STATE_SIZE[stage] + FRICTION_STATE
+    return STATE_SIZE[stage]
+
+
+def slide_start(p, y):
+    """Write the state at rest into ``y`` (``state_size(SLIDE, p)``): the arm and the counterweight
+    at their rest angles, still; with friction, nothing dissipated and the ``rest_modes``."""
+    y[0], y[1], y[2], y[3] = p.theta0, p.phi0, 0.0, 0.0
+    if lossy(p):
+        sa, sh, sb = rest_modes(p)
+        y[4], y[5], y[6], y[7], y[8], y[9] = 0.0, 0.0, 0.0, sa, sh, sb
+
+
+def swing_start(y, p, out):
+    """Write the stage-2 start into ``out`` (``state_size(SWING, p)``) from the stage-1 state ``y`` at
+    lift-off: ``(theta, phi, psi, theta', phi', psi')``, then with friction the work so far and the
+    joints' modes (the base's off; a stuck joint is checked again: ``settle``)."""
     psi, dpsi, _, _, _ = slide_constraint(y[0], y[2], p)
-    return y[0], y[1], psi, y[2], y[3], dpsi
+    out[0], out[1], out[2], out[3], out[4], out[5] = y[0], y[1], psi, y[2], y[3], dpsi
+    if lossy(p):
+        out[6], out[7], out[8], out[9], out[10], out[11] = y[4], y[5], y[6], y[7], y[8], 0.0
+        settle(SWING, out, p)
+
+
+# --------------------------------------------------------------------------- #
+# Friction's modes: stick and slip [10.4]
+# --------------------------------------------------------------------------- #
+
+def friction_solution(stage, y, p):
+    """The friction at the stage-1 or stage-2 state ``y`` of a design with friction:
+    ``(theta'', phi'', psi'', N, ta, th, F, |A|, |H|, dx_P/dtheta)`` (N, F and dx_P/dtheta 0 in stage 2)."""
+    if stage == SLIDE:
+        ddtheta, ddphi, normal, ta, th, fb, axle, hinge, dx = slide_friction(y[0], y[1], y[2], y[3], y[7],
+                                                                            y[8], y[9], p)
+        _, _, s, c, _ = slide_constraint(y[0], y[2], p)
+        return ddtheta, ddphi, s * ddtheta + c, normal, ta, th, fb, axle, hinge, dx
+    ddtheta, ddphi, ddpsi, ta, th, axle, hinge = swing_friction(y[0], y[1], y[2], y[3], y[4], y[5], y[9],
+                                                                y[10], p)
+    return ddtheta, ddphi, ddpsi, 0.0, ta, th, 0.0, axle, hinge, 0.0
+
+
+def friction_event(stage, k, y, p):
+    """Value of the friction event ``k`` (``EVENT_NAMES``) at ``y``; each counts falling crossings.
+
+    * ``arm_stalls``: ``-theta'`` (stage 1, with axle or base friction);
+    * ``axle_stops``, ``hinge_stops``: the slipping joint's rate times its mode;
+    * ``axle_slips``, ``hinge_slips``: the stuck joint's friction capacity less the
+      torque holding it, ``mu r |F| - |t|``;
+    * ``slide_reverses``: the projectile's slide over the base times its mode.
+
+    An event for a friction the design lacks, or for a joint in the other
+    mode, is the constant 1 (it never fires).
+    """
+    if not lossy(p):
+        return 1.0
+    core = STATE_SIZE[stage]
+    if stage == SLIDE and k == ARM_STALLS:
+        return -y[2] if (p.mua > 0.0 or p.mub > 0.0) else 1.0
+    if stage == SLIDE and k == 6:
+        if p.mub == 0.0:
+            return 1.0
+        _, _, s, _, sin_beta = slide_constraint(y[0], y[2], p)
+        return y[9] * slide_rate(y[0], s, sin_beta, p) * y[2]
+    joint = switched_joint(stage, k)
+    slips = (k - FIRST_SWITCH[stage]) % 2 == 1
+    friction = p.mua * p.ra if joint == 0 else p.muh * p.rh
+    mode = y[core + 3 + joint]
+    if friction == 0.0 or (mode == 0.0) != slips:
+        return 1.0
+    rate = y[core // 2 + joint]
+    if not slips:
+        return mode * rate
+    solution = friction_solution(stage, y, p)
+    if joint == 0:
+        return friction * solution[7] - abs(solution[4])
+    return friction * solution[8] - abs(solution[5])
+
+
+def switched_joint(stage, k):
+    """The joint (0 axle, 1 hinge) of the friction event ``k``: stage 1 has only the hinge's
+    (the axle's stall ends it), stage 2 the axle's then the hinge's."""
+    if stage == SLIDE:
+        return 1
+    return (k - FIRST_SWITCH[stage]) // 2
+
+
+#: A joint at rest may be stuck (0) or slip either way; tried in this order.
+MODE_CHOICES = (0.0, -1.0, 1.0)
+
+
+def _joint_friction(joint, p):
+    """``mu r`` of the joint (0 axle, 1 hinge), m."""
+    return p.mua * p.ra if joint == 0 else p.muh * p.rh
+
+
+def _at_rest(stage, joint, y, p):
+    """Whether ``joint`` has friction, may stick in ``stage`` (not the axle in stage 1) and its
+    rate is exactly 0 (stuck, or just stopped): its mode is to be chosen."""
+    if _joint_friction(joint, p) == 0.0 or (stage == SLIDE and joint == 0):
+        return False
+    return y[STATE_SIZE[stage] // 2 + joint] == 0.0
+
+
+def consistent(stage, y, p, free_axle, free_hinge, must_slip):
+    """Whether the modes in ``y`` of the joints at rest (``free_*``) are consistent: each stuck
+    one is held with room to spare, ``mu r |F| > |t|``; each slipping one accelerates
+    the way it slips (its friction opposes the motion it starts). The joint
+    ``must_slip`` (its hold just failed: its acceleration slipping is 0 to round-off)
+    must slip the way its holding torque pushes it instead, the sign of ``-t``."""
+    solution = friction_solution(stage, y, p)
+    core = STATE_SIZE[stage]
+    for joint in range(2):
+        if not (free_axle if joint == 0 else free_hinge):
+            continue
+        mode = y[core + 3 + joint]
+        if mode == 0.0:
+            torque = solution[4] if joint == 0 else solution[5]
+            load = solution[7] if joint == 0 else solution[8]
+            if not abs(torque) < _joint_friction(joint, p) * load:
+                return False
+        elif joint == must_slip:
+            y[core + 3 + joint] = 0.0
+            held = friction_solution(stage, y, p)
+            y[core + 3 + joint] = mode
+            if (held[4] if joint == 0 else held[5]) * mode > 0.0:
+                return False
+        elif (solution[0] if joint == 0 else solution[1]) * mode < 0.0:
+            return False
+    return True
+
+
+def decide_modes(stage, y, p, must_slip):
+    """Choose the modes of every joint at rest in ``y`` (``_at_rest``) together, and write them.
+
+    The joints are coupled (each one's torque moves the other), so the
+    combinations are tried, fewest slipping first, and the first ``consistent``
+    one is taken: a joint sticks if the friction can hold it with the other
+    joint as it then moves, else slips the way that its own friction opposes.
+    ``must_slip``: a joint (0 or 1) whose hold just failed (its ``*_slips``
+    event: the root lies within round-off of the balance, so sticking is not
+    tried again), or -1. If no combination is consistent (not met in the
+    tests), each joint at rest is tried alone, in order, as if the other's
+    mode were final.
+    """
+    core = STATE_SIZE[stage]
+    free_axle, free_hinge = _at_rest(stage, 0, y, p), _at_rest(stage, 1, y, p)
+    if not (free_axle or free_hinge):
+        return
+    kept_axle, kept_hinge = y[core + 3], y[core + 4]
+    for slipping in range(3):
+        for i in range(3 if free_axle else 1):
+            for j in range(3 if free_hinge else 1):
+                axle = MODE_CHOICES[i] if free_axle else kept_axle
+                hinge = MODE_CHOICES[j] if free_hinge else kept_hinge
+                count = (1 if (free_axle and axle != 0.0) else 0) + (1 if (free_hinge and hinge != 0.0) else 0)
+                if count != slipping or (must_slip == 0 and axle == 0.0) or (must_slip == 1 and hinge == 0.0):
+                    continue
+                y[core + 3], y[core + 4] = axle, hinge
+                if consistent(stage, y, p, free_axle, free_hinge, must_slip):
+                    return
+    for joint in range(2):
+        if not (free_axle if joint == 0 else free_hinge):
+            continue
+        y[core + 3 + joint] = 0.0
+        solution = friction_solution(stage, y, p)
+        torque = solution[4] if joint == 0 else solution[5]
+        load = solution[7] if joint == 0 else solution[8]
+        if joint == must_slip or not abs(torque) < _joint_friction(joint, p) * load:
+            y[core + 3 + joint] = -1.0 if torque > 0.0 else 1.0
+
+
+def settle(stage, y, p):
+    """Choose again the modes of the joints at rest in ``y`` (a new stage): ``decide_modes``."""
+    decide_modes(stage, y, p, -1)
+
+
+def switch_mode(stage, k, y, p):
+    """After the friction event ``k`` (from ``FIRST_SWITCH[stage]``) at ``y``: the new modes, written
+    into ``y``. A joint whose rate reached 0 is stopped (its rate set to exactly 0) and the
+    modes of every joint at rest are chosen together (``decide_modes``; one whose hold
+    failed must slip); the base's slide reverses its sign."""
+    must_slip = -1
+    if stage == SLIDE and k == 6:
+        y[9] = -y[9]
+    else:
+        joint = switched_joint(stage, k)
+        y[STATE_SIZE[stage] // 2 + joint] = 0.0
+        if (k - FIRST_SWITCH[stage]) % 2 == 1:
+            must_slip = joint
+    decide_modes(stage, y, p, must_slip)
+
+
+def accelerations(stage, y, p):
+    """``(theta'', phi'', psi'')`` at the stage-1 state ``[theta, phi, theta', phi', ...]`` or the
+    stage-2 state ``[theta, phi, psi, theta', phi', psi', ...]``, friction included."""
+    if lossy(p):
+        solution = friction_solution(stage, y, p)
+        return solution[0], solution[1], solution[2]
+    if stage == SLIDE:
+        ddtheta, ddphi, _ = slide_accelerations(y[0], y[1], y[2], y[3], p)
+        _, _, s, c, _ = slide_constraint(y[0], y[2], p)
+        return ddtheta, ddphi, s * ddtheta + c
+    return swing_accelerations(y[0], y[1], y[2], y[3], y[4], y[5], p)
 
 
 def flight_start(y, p):
@@ -200,6 +488,12 @@ def loads_at(stage, y, p):
     """``eom.loads`` at the stage-1 state ``[theta, phi, theta', phi']`` or the stage-2
     state ``[theta, phi, psi, theta', phi', psi']``: the accelerations and the base's
     push from the stage's own equations (0 push in stage 2)."""
+    if lossy(p):
+        ddtheta, ddphi, ddpsi, normal, _, _, fb, _, _, _ = friction_solution(stage, y, p)
+        if stage == SLIDE:
+            psi, dpsi, _, _, _ = slide_constraint(y[0], y[2], p)
+            return loads_sliding(y[0], y[1], psi, y[2], y[3], dpsi, ddtheta, ddphi, ddpsi, normal, fb, p)
+        return loads(y[0], y[1], y[2], y[3], y[4], y[5], ddtheta, ddphi, ddpsi, 0.0, p)
     if stage == SLIDE:
         ddtheta, ddphi, normal = slide_accelerations(y[0], y[1], y[2], y[3], p)
         psi, dpsi, s, c, _ = slide_constraint(y[0], y[2], p)

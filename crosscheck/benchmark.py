@@ -15,6 +15,9 @@
   and the agreement of the two paths (``crosscheck.compare.compare_shots``,
   the cross-check's own comparer). Also scipy with the model compiled as its
   right-hand side, the cheaper route not taken.
+* **friction**: the same designs with typical losses (``TYPICAL_LOSSES``) on
+  both paths: the time per shot and the evaluations as ratios to the ideal
+  machine's in the same run, and the paths' agreement with friction.
 * **models**: one design through every way the project can shoot it, each as
   a multiple of one reference shot of it (the baseline): the reference at a
   tighter tolerance and without histories, the fast path, the engine at its
@@ -33,6 +36,7 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import math
 import os
@@ -44,6 +48,17 @@ from pathlib import Path
 from typing import Callable
 
 import numpy as np
+
+#: The losses whose cost the benchmark measures (the README's typical values: a steel axle and
+#: hinge pin in plain bearings, a sled on a wooden base).
+def _typical_losses():
+    from analytic.design import Losses
+
+    return Losses(axle_friction=0.15, axle_radius=0.0064, hinge_friction=0.15, hinge_radius=0.005,
+                  base_friction=0.3)
+
+
+TYPICAL_LOSSES = _typical_losses()
 
 #: Keys every ``--json`` report has (more follow them).
 BENCH_KEYS = ("reference_median_shot_s", "fast_median_shot_s", "speedup", "batch_shots_per_s",
@@ -120,9 +135,10 @@ def paths(count: int, seed: int, repeat: int, batch_repeat: int, progress: bool)
 
     designs = bench_designs(count, seed)
 
-    def each(label: str, simulate_one: Callable, times: int):
+    def each(label: str, simulate_one: Callable, times: int, among=None):
         results, seconds = [], []
-        for design in tqdm(designs, desc=label, unit="design", disable=not progress, leave=False, file=sys.stderr):
+        for design in tqdm(designs if among is None else among, desc=label, unit="design",
+                           disable=not progress, leave=False, file=sys.stderr):
             best, result = best_time(lambda: simulate_one(design), times)
             results.append(result)
             seconds.append(best)
@@ -141,7 +157,26 @@ def paths(count: int, seed: int, repeat: int, batch_repeat: int, progress: bool)
     batch_s, _ = best_time(lambda: fast.shoot(rows, threads=threads), 3)
     batch_one_s, _ = best_time(lambda: fast.shoot(rows, threads=1), 3)
     reference_median, fast_median = float(np.median(reference_s)), float(np.median(fast_s))
+
+    # The cost of friction: the same designs with TYPICAL_LOSSES, on both paths, against the
+    # ideal machine's times above (the same run).
+    lossy = [dataclasses.replace(design, losses=TYPICAL_LOSSES) for design in designs]
+    lossy_reference, lossy_reference_s = each("reference, friction", lambda d: simulate(d, histories=False), 1,
+                                              lossy)
+    lossy_fast, lossy_fast_s = each("fast, friction", fast.simulate_fast, repeat, lossy)
+    lossy_agree = agreement(lossy, lossy_reference, lossy_fast)
+    lossy_evaluations = fast.shoot(lossy).evaluations
+    friction = {
+        "friction_reference_time_ratio": float(np.median(lossy_reference_s)) / reference_median,
+        "friction_fast_time_ratio": float(np.median(lossy_fast_s)) / fast_median,
+        "friction_evaluation_ratio": float(np.median(lossy_evaluations / np.maximum(evaluations, 1))),
+        "friction_max_range_rel_diff": lossy_agree["max_range_rel_diff"],
+        "friction_status_mismatches": lossy_agree["status_mismatches"],
+        "friction_designs_thrown": lossy_agree["thrown"],
+        "friction_losses": dataclasses.asdict(TYPICAL_LOSSES),
+    }
     return {
+        **friction,
         "reference_median_shot_s": reference_median,
         "fast_median_shot_s": fast_median,
         "speedup": reference_median / fast_median,
@@ -356,6 +391,12 @@ def format_bench(figures: dict) -> str:
         f" (scaling {f['batch_scaling']:.2f} x)",
         f"  agreement: range {f['max_range_rel_diff']:.2e} relative, events {f['max_event_time_diff_s']:.2e} s,"
         f" {len(f['status_mismatches'])} different outcomes",
+        f"  friction ({', '.join(f'{k} {v:g}' for k, v in f['friction_losses'].items())}), same designs:",
+        f"    time per shot x{f['friction_reference_time_ratio']:.2f} on the reference path,"
+        f" x{f['friction_fast_time_ratio']:.2f} on the fast path,"
+        f" x{f['friction_evaluation_ratio']:.2f} evaluations (medians, against the ideal machine);"
+        f" agreement {f['friction_max_range_rel_diff']:.2e} in range,"
+        f" {len(f['friction_status_mismatches'])} different outcomes, {f['friction_designs_thrown']} throw",
         f"  scipy DOP853, stage 2 only: Python model {f['scipy_swing_python_rhs_s'] * 1e3:.3f} ms,"
         f" compiled model {f['scipy_swing_compiled_rhs_s'] * 1e3:.3f} ms;"
         f" fast path, all three stages {f['fast_whole_shot_s'] * 1e3:.3f} ms",
@@ -471,7 +512,8 @@ def main(args: argparse.Namespace | list[str] | None = None) -> int:
     print(json.dumps(figures, indent=2) if args.json else format_bench(figures))
     if plot is not None and not args.json:
         print(f"plot written to {plot}")
-    return 0 if not figures["status_mismatches"] and figures.get("sweep_tables_identical", True) else 1
+    return 0 if (not figures["status_mismatches"] and not figures["friction_status_mismatches"]
+                 and figures.get("sweep_tables_identical", True)) else 1
 
 
 if __name__ == "__main__":

@@ -334,6 +334,10 @@ def test_bench_json_has_the_figures_and_the_paths_agree(capsys):
     assert figures["designs"] == 5 and figures["status_mismatches"] == []
     assert figures["max_range_rel_diff"] <= RANGE_REL
     assert figures["max_event_time_diff_s"] <= EVENT_TIME
+    # The cost of friction, as ratios to the ideal machine in the same run (issue 11).
+    assert figures["friction_status_mismatches"] == [] and figures["friction_max_range_rel_diff"] <= RANGE_REL
+    for key in ("friction_reference_time_ratio", "friction_fast_time_ratio", "friction_evaluation_ratio"):
+        assert math.isfinite(figures[key]) and figures[key] > 0.0, key
     assert not figures["compile_measured_cold"]   # compiling cold is asked for, never the default
     # The models part: ratios to its baseline, the first entry.
     ratios = [m["ratio"] for m in figures["models"]]

@@ -68,3 +68,22 @@ def test_non_terminal_events_are_recorded_and_end_is_reported():
     assert seg.event is None and seg.t_end == pytest.approx(7.0)
     assert [t for t, _ in seg.roots["peak"]] == pytest.approx([math.pi / 2], abs=1e-9)
     assert np.all(np.diff(seg.t) > 0)
+
+
+def test_a_value_that_starts_at_zero_and_comes_back_within_the_first_step_is_found(monkeypatch):
+    """x = t - t^2 / T starts at exactly 0 (as a friction switch leaves a joint's rate), is positive
+    until t = T = 0.01 s and falls through 0 there, inside the first step (a quadratic is exact
+    for DOP853; a second state keeps the first step from being tiny): 0 at the step's start and a
+    negative value at its end, which a sign test alone misses (without the probes, no event)."""
+    import analytic.integrate
+
+    def run():
+        return integrate(lambda t, y: np.array([1.0 - 2.0 * t / 0.01, 0.0]), 0.0, np.array([0.0, 100.0]), 10.0,
+                         (Event("back", lambda t, y: y[0], direction=-1),), rtol=1e-10, atol=1e-10,
+                         output_step=None)
+
+    seg = run()
+    assert seg.event == "back" and len(seg.step_t) == 2     # found in the first step
+    assert seg.t_end == pytest.approx(0.01, abs=1e-14)
+    monkeypatch.setattr(analytic.integrate, "ZERO_START_PROBES", 1)   # no probes: missed
+    assert run().event is None

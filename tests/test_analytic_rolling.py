@@ -363,9 +363,7 @@ def test_ground_force_is_the_weight_plus_the_second_derivative_of_the_vertical_m
     second = (moment[swing + 1] - 2.0 * moment[swing] + moment[swing - 1]) / step**2
     weight = (p.mA + p.mW + p.mP + (p.Mf if p.rolling else 0.0)) * p.g
     from analytic import eom
-    from analytic.reference import _accelerations
-    from analytic.outcome import Stage
-    model = np.array([eom.ground_force(*q, *qd, *_accelerations(Stage.SWING, np.concatenate([q, qd]), p), p)
+    model = np.array([eom.ground_force(*q, *qd, *stages.accelerations(stages.SWING, np.concatenate([q, qd]), p), p)
                       for q, qd in zip(shot.q[swing], shot.qdot[swing], strict=True)])
     # The second difference errs by (step^2 / 12) moment'''' ~ 1e-3 of the largest push here.
     assert np.max(np.abs(model - (weight + second))) < 2e-3 * np.max(np.abs(model))

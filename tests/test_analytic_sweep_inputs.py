@@ -201,7 +201,9 @@ DIRECT_FIELDS = ("machine.pivot_height", "machine.arm_long", "machine.arm_short"
                  "machine.arm_cg", "machine.arm_inertia", "machine.counterweight_mass", "machine.counterweight_link",
                  "machine.counterweight_inertia", "machine.sling_length", "machine.release_angle",
                  "projectile.mass", "projectile.diameter", "projectile.drag_coefficient", "environment.gravity",
-                 "environment.air_density", "environment.air_viscosity", "environment.wind_speed")
+                 "environment.air_density", "environment.air_viscosity", "environment.wind_speed",
+                 "losses.axle_friction", "losses.axle_radius", "losses.hinge_friction", "losses.hinge_radius",
+                 "losses.base_friction")
 
 
 def assert_rows_are_the_designs(base: spec.Base, columns: dict) -> None:
@@ -224,6 +226,8 @@ def test_rows_of_a_direct_design_varying_every_field_at_once(tmp_path):
     data["machine"] = {k: v for k, v in data["machine"].items() if k != "arm_beam"}
     data["machine"].update(arm_mass=0.3, arm_cg=0.23, arm_inertia=0.022)
     data["projectile"] = {"mass": 0.0456, "diameter": 0.04267, "drag": "constant", "drag_coefficient": 0.3}
+    data["losses"] = {"axle_friction": 0.15, "axle_radius": 0.0064, "hinge_friction": 0.15, "hinge_radius": 0.005,
+                      "base_friction": 0.3}
     path = tmp_path / "direct.toml"
     import tomli_w
 

@@ -175,13 +175,7 @@ def test_engine_converges_with_order_two():
     assert 1.8 < study.speed_order < 2.2 and 1.8 < study.range_order < 2.2
 
 
-#: The analytic model on this branch ignores ``[losses]``: the friction cases cannot agree until
-#: the analytic friction model is merged (branch i11-analytic); then these marks come off.
-NEEDS_ANALYTIC_FRICTION = pytest.mark.xfail(reason="analytic friction lands on i11-analytic", strict=False)
-
-
 @pytest.mark.slow
-@NEEDS_ANALYTIC_FRICTION
 def test_full_default_suite_agrees(tmp_path, capsys):
     code = main(["--report", str(tmp_path), "--no-progress"])
     report = json.loads((tmp_path / "crosscheck.json").read_text())
@@ -245,7 +239,6 @@ def test_the_friction_cases_run_in_the_engine_with_their_energy_accounted(case):
             assert (shot.energy_dissipated[name] > 0.0) == (getattr(losses, f"{name}_friction") > 0.0), name
 
 
-@NEEDS_ANALYTIC_FRICTION
 @pytest.mark.parametrize("case", [c for c in friction_cases() if c.name in FAST_FRICTION], ids=lambda c: c.name)
 def test_models_agree_on_the_friction_cases(case):
     result = compare(case)

@@ -50,6 +50,8 @@ FIELD_UNITS = {
     "projectile.drag_factor": "",
     "environment.gravity": "m/s^2", "environment.air_density": "kg/m^3",
     "environment.air_viscosity": "Pa s", "environment.wind_speed": "m/s",
+    "losses.axle_friction": "", "losses.axle_radius": "m", "losses.hinge_friction": "", "losses.hinge_radius": "m",
+    "losses.base_friction": "",
 }
 #: Fields in degrees in files (radians inside the model).
 ANGLE_FIELDS = ("machine.release_angle", "machine.starting_angle")
@@ -292,7 +294,7 @@ def _base(data: dict, directory: Path | None) -> Base:
         design = design_from_dict(file_data, name=path.stem)
         values = _numbers(file_data)
         for table, part in (("machine", design.machine), ("projectile", design.projectile),
-                            ("environment", design.environment)):
+                            ("environment", design.environment), ("losses", design.losses)):
             for item in dataclasses.fields(part):
                 number = getattr(part, item.name)
                 field = f"{table}.{item.name}"

@@ -1,0 +1,265 @@
+"""Friction in the machine: the implicit equations ``M q'' = f + Q(q'')`` and their exact solution.
+
+Coulomb friction at the axle (torque ``ta`` on the arm, relative rate
+theta'), at the counterweight's hinge (``th`` on the link, ``-th`` on the arm,
+relative rate phi') and on the base in stage 1 (force ``F`` along x on the
+projectile), each a coefficient times a reaction that depends on the
+accelerations (``docs/derivation.md``, section 10; the equations of sections
+3, 4, 8 and the joint forces of section 9 are ``analytic.eom``'s). Plain
+``math`` on floats, like ``analytic.eom``: the reference path runs these
+functions as they are and the compiled path compiles the same source
+(``analytic.compiled``). ``p`` is the design's ``analytic.parameters.Params``.
+
+Symbols (``docs/derivation.md`` section 10):
+
+=========  =================================================  ============
+symbol     meaning                                             design field
+=========  =================================================  ============
+mua, ra    axle's Coulomb coefficient and radius               losses.axle_*
+muh, rh    hinge's Coulomb coefficient and radius              losses.hinge_*
+mub        base's Coulomb coefficient (stage 1)                losses.base_friction
+ta, th     friction torques on the arm (axle) and on the       --
+           link (hinge), N m [10.1]
+F (fb)     the base's friction force on the projectile, N      --
+sa, sh     joint modes: +1/-1 slipping with the rate's sign,   --
+           0 stuck [10.4]
+sb         the sign of the projectile's slide over the base    --
+D          dx_P/dtheta along the base constraint, m [10.3]     --
+=========  =================================================  ============
+"""
+
+from __future__ import annotations
+
+import math
+
+from analytic.eom import (joint_forces, joint_forces_in_gravity, joint_forces_sliding, rolling_terms,
+                          slide_constraint, slide_system, solve_symmetric, terms)
+
+
+# Coulomb friction at the axle (torque ta on the arm, relative rate theta'),
+# at the hinge (torque th on the link, -th on the arm, relative rate phi') and
+# on the base in stage 1 (force F along x on the projectile, relative rate its
+# slide over the base). By virtual work their generalised forces are
+# (ta, th, 0) and F (dx_P/dtheta, 0, dx_P/dpsi) [10.1]. Each friction's size
+# is a coefficient times a reaction (|axle force|, |hinge force|, N) that is
+# itself affine in the accelerations, which are affine in (ta, th, F): the
+# equations are implicit, M q'' = f + Q(q''). They are solved exactly by
+# Newton's method on the three unknowns (ta, th, F), on affine maps built
+# once per evaluation [10.3]. A joint is slipping with sign +1 or -1 (its
+# rate's sign; the friction opposes it) or stuck (0: its rate and
+# acceleration are 0, and its torque is whatever holds it) [10.4].
+
+#: Newton's method on the friction unknowns stops when an update is this small
+#: relative to the unknowns (a few units in the last place), or after
+#: ``FRICTION_ITERATIONS`` (the maps are affine and the friction small, so it
+#: takes 2-4).
+FRICTION_STEP_TOLERANCE = 1e-15
+FRICTION_ITERATIONS = 30
+
+
+def lossy(p):
+    """Whether the design has any friction (otherwise every function runs the ideal machine's arithmetic)."""
+    return p.mua > 0.0 or p.muh > 0.0 or p.mub > 0.0
+
+
+def _solve3(a11, a12, a13, a21, a22, a23, a31, a32, a33, r1, r2, r3):
+    """``x`` with ``A x = r`` for a general 3x3 ``A`` (Cramer's rule; A is a small
+    perturbation of the identity or has acceleration rows of O(1))."""
+    c11 = a22 * a33 - a23 * a32
+    c12 = a23 * a31 - a21 * a33
+    c13 = a21 * a32 - a22 * a31
+    det = a11 * c11 + a12 * c12 + a13 * c13
+    x1 = (r1 * c11 + a12 * (r3 * a23 - r2 * a33) + a13 * (r2 * a32 - r3 * a22)) / det
+    x2 = (a11 * (r2 * a33 - r3 * a23) + r1 * c12 + a13 * (r3 * a21 - r2 * a31)) / det
+    x3 = (a11 * (r3 * a22 - r2 * a32) + a12 * (r2 * a31 - r3 * a21) + r1 * c13) / det
+    return x1, x2, x3
+
+
+def _force_response(theta, phi, psi, ddtheta, ddphi, ddpsi, normal, base_force, p):
+    """The part of ``joint_forces_sliding`` linear in (accelerations, N, F): the forces at zero
+    rates and without gravity. Returns ``(axle_x, axle_y, hinge_x, hinge_y)``."""
+    ax, ay, hx, hy, _, _ = joint_forces_in_gravity(theta, phi, psi, 0.0, 0.0, 0.0, ddtheta, ddphi, ddpsi, normal, base_force,
+                                   0.0, p)
+    return ax, ay, hx, hy
+
+
+def friction_newton(base, unit_a, unit_h, unit_b, sa, sh, sb, p):
+    """The friction unknowns ``(ta, th, F)`` of an affine system, by Newton's method [10.3].
+
+    Each of ``base`` (at ta = th = F = 0) and ``unit_*`` (the change per unit of
+    ta, th, F) is ``(axle_x, axle_y, hinge_x, hinge_y, N, theta'', phi'')``.
+    The equations, by mode (``sa``, ``sh``: +1/-1 slipping, 0 stuck; ``sb``:
+    the slide's sign, 0 off the base):
+
+    * axle: ``ta + mua ra sa |A| = 0`` slipping, ``theta'' = 0`` stuck, ``ta = 0`` without friction;
+    * hinge: ``th + muh rh sh |H| = 0`` slipping, ``phi'' = 0`` stuck, ``th = 0`` without friction;
+    * base: ``F + mub sb N = 0`` on the base (N > 0 there), ``F = 0`` otherwise.
+    """
+    ka, kh = p.mua * p.ra, p.muh * p.rh
+    ta, th, fb = 0.0, 0.0, 0.0
+    for _ in range(FRICTION_ITERATIONS):
+        ax = base[0] + ta * unit_a[0] + th * unit_h[0] + fb * unit_b[0]
+        ay = base[1] + ta * unit_a[1] + th * unit_h[1] + fb * unit_b[1]
+        hx = base[2] + ta * unit_a[2] + th * unit_h[2] + fb * unit_b[2]
+        hy = base[3] + ta * unit_a[3] + th * unit_h[3] + fb * unit_b[3]
+        if ka > 0.0 and sa == 0.0:
+            r1 = base[5] + ta * unit_a[5] + th * unit_h[5] + fb * unit_b[5]
+            j11, j12, j13 = unit_a[5], unit_h[5], unit_b[5]
+        elif ka > 0.0:
+            size = math.sqrt(ax * ax + ay * ay)
+            r1 = ta + ka * sa * size
+            g = ka * sa / size if size > 0.0 else 0.0
+            j11 = 1.0 + g * (ax * unit_a[0] + ay * unit_a[1])
+            j12 = g * (ax * unit_h[0] + ay * unit_h[1])
+            j13 = g * (ax * unit_b[0] + ay * unit_b[1])
+        else:
+            r1, j11, j12, j13 = ta, 1.0, 0.0, 0.0
+        if kh > 0.0 and sh == 0.0:
+            r2 = base[6] + ta * unit_a[6] + th * unit_h[6] + fb * unit_b[6]
+            j21, j22, j23 = unit_a[6], unit_h[6], unit_b[6]
+        elif kh > 0.0:
+            size = math.sqrt(hx * hx + hy * hy)
+            r2 = th + kh * sh * size
+            g = kh * sh / size if size > 0.0 else 0.0
+            j21 = g * (hx * unit_a[2] + hy * unit_a[3])
+            j22 = 1.0 + g * (hx * unit_h[2] + hy * unit_h[3])
+            j23 = g * (hx * unit_b[2] + hy * unit_b[3])
+        else:
+            r2, j21, j22, j23 = th, 0.0, 1.0, 0.0
+        if p.mub > 0.0 and sb != 0.0:
+            normal = base[4] + ta * unit_a[4] + th * unit_h[4] + fb * unit_b[4]
+            r3 = fb + p.mub * sb * normal
+            j31, j32, j33 = p.mub * sb * unit_a[4], p.mub * sb * unit_h[4], 1.0 + p.mub * sb * unit_b[4]
+        else:
+            r3, j31, j32, j33 = fb, 0.0, 0.0, 1.0
+        da, dh, db = _solve3(j11, j12, j13, j21, j22, j23, j31, j32, j33, r1, r2, r3)
+        ta, th, fb = ta - da, th - dh, fb - db
+        if abs(da) + abs(dh) + abs(db) <= FRICTION_STEP_TOLERANCE * (abs(ta) + abs(th) + abs(fb)):
+            break
+    return ta, th, fb
+
+
+def _size(x, y):
+    """|(x, y)|; not math.hypot, whose last bit may differ between CPython and the C library."""
+    return math.sqrt(x * x + y * y)
+
+
+def _combine(base, unit_a, unit_h, unit_b, ta, th, fb, i):
+    return base[i] + ta * unit_a[i] + th * unit_h[i] + fb * unit_b[i]
+
+
+def swing_friction(theta, phi, psi, dtheta, dphi, dpsi, sa, sh, p):
+    """Stage 2 with friction [10.3]: ``(theta'', phi'', psi'', ta, th, |A|, |H|)``.
+
+    ``sa``, ``sh``: the axle's and the hinge's modes (+1/-1 slipping with the
+    rate's sign, 0 stuck). A stuck joint's acceleration is exactly 0 and its
+    torque (``ta``, ``th``) is the one that holds it.
+    """
+    if p.rolling:
+        m11, m12, m13, m22, m23, m33, f1, f2, f3 = rolling_terms(theta, phi, psi, dtheta, dphi, dpsi, p)
+    else:
+        m11, m12, m13, m22, m33, f1, f2, f3 = terms(theta, phi, psi, dtheta, dphi, dpsi, p)
+        m23 = 0.0
+    a1, a2, a3 = solve_symmetric(m11, m12, m13, m22, m23, m33, f1, f2, f3)
+    ua1, ua2, ua3 = solve_symmetric(m11, m12, m13, m22, m23, m33, 1.0, 0.0, 0.0)
+    uh1, uh2, uh3 = solve_symmetric(m11, m12, m13, m22, m23, m33, 0.0, 1.0, 0.0)
+    bx, by, bhx, bhy, _, _ = joint_forces(theta, phi, psi, dtheta, dphi, dpsi, a1, a2, a3, 0.0, p)
+    rax, ray, rahx, rahy = _force_response(theta, phi, psi, ua1, ua2, ua3, 0.0, 0.0, p)
+    rhx, rhy, rhhx, rhhy = _force_response(theta, phi, psi, uh1, uh2, uh3, 0.0, 0.0, p)
+    base = (bx, by, bhx, bhy, 0.0, a1, a2)
+    unit_a = (rax, ray, rahx, rahy, 0.0, ua1, ua2)
+    unit_h = (rhx, rhy, rhhx, rhhy, 0.0, uh1, uh2)
+    unit_b = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    ta, th, _ = friction_newton(base, unit_a, unit_h, unit_b, sa, sh, 0.0, p)
+    ddtheta = a1 + ta * ua1 + th * uh1
+    ddphi = a2 + ta * ua2 + th * uh2
+    ddpsi = a3 + ta * ua3 + th * uh3
+    if sa == 0.0 and p.mua > 0.0:
+        ddtheta = 0.0
+    if sh == 0.0 and p.muh > 0.0:
+        ddphi = 0.0
+    axle = _size(_combine(base, unit_a, unit_h, unit_b, ta, th, 0.0, 0),
+                  _combine(base, unit_a, unit_h, unit_b, ta, th, 0.0, 1))
+    hinge = _size(_combine(base, unit_a, unit_h, unit_b, ta, th, 0.0, 2),
+                  _combine(base, unit_a, unit_h, unit_b, ta, th, 0.0, 3))
+    return ddtheta, ddphi, ddpsi, ta, th, axle, hinge
+
+
+def slide_rate(theta, s, sin_beta, p):
+    """``dx_P/dtheta`` along the base constraint: the projectile's slide over the base per
+    radian of the arm, m (its velocity over the base is this times theta') [10.5]."""
+    cos_beta = -(p.h + p.La * math.cos(theta)) / p.Ls
+    return -(p.La * math.cos(theta) + p.Ls * cos_beta) - s * p.Ls * cos_beta
+
+
+def _slide_response(a, b, e, det, m13, m23, m33, s, c, lever, q1, q2, q_psi):
+    """Stage 1's ``(theta'', phi'', psi'', N)`` for reduced generalised forces ``(q1, q2)`` and
+    psi-row force ``q_psi`` (eqs. 4.4, 4.6); ``c`` 0 for the part linear in the forces."""
+    ddtheta = (q1 * e - q2 * b) / det
+    ddphi = (q2 * a - q1 * b) / det
+    ddpsi = s * ddtheta + c
+    return ddtheta, ddphi, ddpsi, (m13 * ddtheta + m23 * ddphi + m33 * ddpsi - q_psi) / lever
+
+
+def slide_friction(theta, phi, dtheta, dphi, sa, sh, sb, p):
+    """Stage 1 with friction [10.3], [10.5]: ``(theta'', phi'', N, ta, th, F, |A|, |H|, dx_P/dtheta)``.
+
+    ``sa``, ``sh`` as in ``swing_friction``; ``sb`` the sign of the
+    projectile's slide over the base (the base's friction ``F = -mub sb N``
+    opposes it). N is the multiplier of the base constraint from the psi row
+    of ``M q'' = f + Q + J^T N``, Q including the friction's ``F dx_P/dpsi``.
+    """
+    a, b, e, r1, r2, m13, m23, m33, f3, s, c, sin_beta = slide_system(theta, phi, dtheta, dphi, p)
+    psi, dpsi, _, _, _ = slide_constraint(theta, dtheta, p)
+    dx = slide_rate(theta, s, sin_beta, p)
+    dx_dpsi = -p.Ls * math.cos(theta + psi)
+    det = a * e - b * b
+    lever = -p.Ls * sin_beta
+
+    a1, a2, a3, n0 = _slide_response(a, b, e, det, m13, m23, m33, s, c, lever, r1, r2, f3)
+    ua1, ua2, ua3, uan = _slide_response(a, b, e, det, m13, m23, m33, s, 0.0, lever, 1.0, 0.0, 0.0)
+    uh1, uh2, uh3, uhn = _slide_response(a, b, e, det, m13, m23, m33, s, 0.0, lever, 0.0, 1.0, 0.0)
+    ub1, ub2, ub3, ubn = _slide_response(a, b, e, det, m13, m23, m33, s, 0.0, lever, dx, 0.0, dx_dpsi)
+    bx, by, bhx, bhy, _, _ = joint_forces(theta, phi, psi, dtheta, dphi, dpsi, a1, a2, a3, n0, p)
+    rax, ray, rahx, rahy = _force_response(theta, phi, psi, ua1, ua2, ua3, uan, 0.0, p)
+    rhx, rhy, rhhx, rhhy = _force_response(theta, phi, psi, uh1, uh2, uh3, uhn, 0.0, p)
+    rbx, rby, rbhx, rbhy = _force_response(theta, phi, psi, ub1, ub2, ub3, ubn, 1.0, p)
+    base = (bx, by, bhx, bhy, n0, a1, a2)
+    unit_a = (rax, ray, rahx, rahy, uan, ua1, ua2)
+    unit_h = (rhx, rhy, rhhx, rhhy, uhn, uh1, uh2)
+    unit_b = (rbx, rby, rbhx, rbhy, ubn, ub1, ub2)
+    ta, th, fb = friction_newton(base, unit_a, unit_h, unit_b, sa, sh, sb, p)
+    ddtheta = a1 + ta * ua1 + th * uh1 + fb * ub1
+    ddphi = a2 + ta * ua2 + th * uh2 + fb * ub2
+    if sa == 0.0 and p.mua > 0.0:
+        ddtheta = 0.0
+    if sh == 0.0 and p.muh > 0.0:
+        ddphi = 0.0
+    normal = _combine(base, unit_a, unit_h, unit_b, ta, th, fb, 4)
+    axle = _size(_combine(base, unit_a, unit_h, unit_b, ta, th, fb, 0),
+                  _combine(base, unit_a, unit_h, unit_b, ta, th, fb, 1))
+    hinge = _size(_combine(base, unit_a, unit_h, unit_b, ta, th, fb, 2),
+                  _combine(base, unit_a, unit_h, unit_b, ta, th, fb, 3))
+    return ddtheta, ddphi, normal, ta, th, fb, axle, hinge, dx
+
+
+def rest_balance(p):
+    """The torques on the arm at rest, held still, N m [10.7]: ``(drive, axle_hold, base_hold)``.
+
+    ``drive`` is gravity's generalised force turning the arm clockwise (the
+    reduced stage-1 ``-r1`` at rest: the counterweight's and the arm's
+    weights; the projectile's cancels on the base). The most friction can
+    hold against it: the base's ``mub N |dx_P/dtheta|`` (its friction on the
+    projectile at its limit, pulled along the flat sling) and the axle's
+    ``mua ra |A|`` with the axle's load ``A`` at rest under that friction.
+    The machine fires when ``drive > axle_hold + base_hold``.
+    """
+    theta, phi = p.theta0, p.phi0
+    _, _, _, r1, _, _, _, _, f3, s, _, sin_beta = slide_system(theta, phi, 0.0, 0.0, p)
+    psi = slide_constraint(theta, 0.0, p)[0]
+    normal = -f3 / (-p.Ls * sin_beta)
+    dx = slide_rate(theta, s, sin_beta, p)
+    base_force = p.mub * normal if dx >= 0.0 else -p.mub * normal
+    ax, ay, _, _, _, _ = joint_forces_sliding(theta, phi, psi, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, normal,
+                                              base_force, p)
+    return -r1, p.mua * p.ra * _size(ax, ay), base_force * dx

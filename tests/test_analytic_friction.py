@@ -1,0 +1,634 @@
+"""Friction in the analytic model (issue 11; ``docs/derivation.md`` section 10): the equations against
+an independent sympy model, the implicit solve, stick and slip, never firing, the ideal machine
+unchanged, the range against each coefficient, and the energy audit.
+
+The sympy model is built here from the geometry alone, with the frame's
+displacement X as a fourth coordinate (so a rolling frame is covered):
+positions -> T, V -> Lagrange's equations; the friction's generalised forces
+come from the virtual power of the torques and the force at their joints,
+``P = ta (w_arm - w_frame) + th (w_link - w_arm) + F (x_P' - X')``,
+``Q = dP/dq'``; the joint forces from Newton's law for each body with
+accelerations that sympy differentiates. Nothing of ``analytic.eom`` is used
+to build it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from analytic import eom, friction, stages
+from analytic.design import Base, Losses
+from analytic.design_file import default_design
+from analytic.parameters import Params, params
+from analytic.reference import simulate
+from analytic.result import LOSS_NAMES, Status
+
+#: Agreement asked of analytic.eom's friction and the sympy model, relative to
+#: the largest term compared: both evaluate closed forms in double precision
+#: (round-off ~1e-14); 1e-10 leaves room for the 4x4 and 5x5 solves while any
+#: wrong term (a sign, a missing coupling) shows at O(1).
+REL_TOL = 1e-10
+#: The implicit friction equations are solved to this, relative to the friction
+#: (Newton's method stops at a few units in the last place; 1e-13 allows for
+#: the |force| it is evaluated through).
+IMPLICIT_TOL = 1e-13
+#: Energy audit: initial = current mechanical energy + dissipated work, to this
+#: fraction of the energy the counterweight released. The ideal machine's own
+#: energy drifts by 6e-10 of it on the paper's design at the default
+#: tolerances (rtol = atol = 1e-10, measured); 1e-8 is that with room.
+AUDIT_TOL = 1e-8
+SEED = 20_261_123
+
+#: Typical values (README, "Losses"): a steel axle in a plain bearing, a
+#: hinge pin, and a sled on a wooden base.
+AXLE = dict(axle_friction=0.15, axle_radius=0.0064)
+HINGE = dict(hinge_friction=0.15, hinge_radius=0.005)
+BASE = dict(base_friction=0.3)
+ALL = {**AXLE, **HINGE, **BASE}
+
+
+def with_losses(design, **losses):
+    return dataclasses.replace(design, losses=Losses(**losses))
+
+
+# --------------------------------------------------------------------------- #
+# The sympy model
+# --------------------------------------------------------------------------- #
+
+class FrictionModel:
+    """Lambdified: mass matrix, forcing, the friction's generalised forces, the base's Jacobian and
+    the joint forces, on q = (theta, phi, psi, X)."""
+
+    def __init__(self) -> None:
+        q = sp.symbols("theta phi psi X", real=True)
+        qd = sp.symbols("dtheta dphi dpsi dX", real=True)
+        qdd = sp.symbols("ddtheta ddphi ddpsi ddX", real=True)
+        ta, th, fb, normal = sp.symbols("ta th F N", real=True)
+        La, Lb, d, mA, IA, mW, Lw, IW, Ls, mP, h, g, Mf = prm = sp.symbols(
+            "La Lb d mA IA mW Lw IW Ls mP h g Mf", real=True)
+        theta, phi, psi, x = q
+        qv, qdv, qddv = sp.Matrix(q), sp.Matrix(qd), sp.Matrix(qdd)
+        frame = sp.Matrix([x, 0])
+        along = sp.Matrix([-sp.sin(theta), sp.cos(theta)])
+        arm_cm = frame + d * along
+        weight = frame - Lb * along + Lw * sp.Matrix([sp.sin(theta + phi), -sp.cos(theta + phi)])
+        projectile = frame + La * along + Ls * sp.Matrix([-sp.sin(theta + psi), sp.cos(theta + psi)])
+
+        def velocity(r):
+            return r.jacobian(qv) * qdv
+
+        def acceleration(r):
+            v = velocity(r)
+            return v.jacobian(qdv) * qddv + v.jacobian(qv) * qdv
+
+        w_arm, w_link, w_frame = qd[0], qd[0] + qd[1], 0
+        kinetic = (Mf * qd[3] ** 2 / 2 + mA * velocity(arm_cm).dot(velocity(arm_cm)) / 2 + IA * w_arm ** 2 / 2
+                   + mW * velocity(weight).dot(velocity(weight)) / 2 + IW * w_link ** 2 / 2
+                   + mP * velocity(projectile).dot(velocity(projectile)) / 2)
+        potential = g * (mA * arm_cm[1] + mW * weight[1] + mP * projectile[1])
+        momentum = sp.Matrix([kinetic]).jacobian(qdv).T
+        mass = momentum.jacobian(qdv)
+        forcing = (-momentum.jacobian(qv) * qdv + sp.Matrix([kinetic]).jacobian(qv).T
+                   - sp.Matrix([potential]).jacobian(qv).T)
+        power = (ta * (w_arm - w_frame) + th * (w_link - w_arm)
+                 + fb * (velocity(projectile)[0] - qd[3]))
+        generalised = sp.Matrix([power]).jacobian(qdv).T
+        jacobian = sp.Matrix([projectile[1]]).jacobian(qv)
+        gravity = sp.Matrix([0, g])
+        hinge = mW * (acceleration(weight) + gravity)
+        sling = mP * (acceleration(projectile) + gravity) - sp.Matrix([fb, normal])
+        axle = mA * (acceleration(arm_cm) + gravity) + hinge + sling
+        args = (q, qd, prm)
+        self.mass = sp.lambdify(args, mass, "numpy", cse=True)
+        self.forcing = sp.lambdify(args, forcing, "numpy", cse=True)
+        self.generalised = sp.lambdify((q, qd, ta, th, fb, prm), generalised, "numpy", cse=True)
+        self.jacobian = sp.lambdify(args, jacobian, "numpy", cse=True)
+        self.forces = sp.lambdify((q, qd, qdd, fb, normal, prm), [axle, hinge], "numpy", cse=True)
+
+    @staticmethod
+    def numbers(p: Params) -> tuple:
+        return (p.La, p.Lb, p.d, p.mA, p.IA, p.mW, p.Lw, p.IW, p.Ls, p.mP, p.h, p.g,
+                p.Mf if p.rolling else 1e300)
+
+
+@pytest.fixture(scope="module")
+def model() -> FrictionModel:
+    return FrictionModel()
+
+
+def random_params(rng: np.random.Generator, rolling: bool) -> Params:
+    """A plausible machine with every number distinct, and friction everywhere."""
+    La = rng.uniform(0.8, 4.0)
+    Lb = La * rng.uniform(0.15, 0.5)
+    h = La * rng.uniform(0.4, 0.9)
+    mA = math.exp(rng.uniform(math.log(0.3), math.log(50.0)))
+    mW = math.exp(rng.uniform(math.log(5.0), math.log(2000.0)))
+    rest = dict.fromkeys(Params._fields, math.nan)
+    rest.update(La=La, Lb=Lb, d=rng.uniform(-Lb, La), mA=mA, IA=mA * (La + Lb) ** 2 / 12.0 * rng.uniform(0.5, 1.5),
+                mW=mW, Lw=h * rng.uniform(0.2, 0.8), IW=mW * rng.uniform(0.0, 0.05), Ls=La * rng.uniform(0.5, 1.3),
+                mP=math.exp(rng.uniform(math.log(0.04), math.log(20.0))), h=h, g=rng.uniform(1.0, 25.0),
+                rolling=float(rolling), Mf=(mW * rng.uniform(0.5, 5.0)) if rolling else 0.0,
+                # Large coefficients and pins, so that friction is O(1) of the forcing and nothing hides.
+                mua=rng.uniform(0.1, 0.8), ra=La * rng.uniform(0.01, 0.1), muh=rng.uniform(0.1, 0.8),
+                rh=La * rng.uniform(0.01, 0.1), mub=rng.uniform(0.1, 0.8))
+    return Params(**rest)
+
+
+def swing_samples(n=10):
+    rng = np.random.default_rng(SEED)
+    modes = [(-1.0, -1.0), (-1.0, 1.0), (1.0, 0.0), (0.0, -1.0), (0.0, 0.0)]
+    return [(random_params(rng, rolling=bool(i % 2)), rng.uniform(-math.pi, math.pi, 3), rng.normal(0.0, 4.0, 3),
+             modes[i % len(modes)]) for i in range(n)]
+
+
+def slide_samples(n=10):
+    rng = np.random.default_rng(SEED + 1)
+    out = []
+    while len(out) < n:
+        p = random_params(rng, rolling=bool(len(out) % 2))
+        beta = rng.uniform(-math.pi + 0.25, -0.25)
+        cos_theta = (-p.h - p.Ls * math.cos(beta)) / p.La
+        if abs(cos_theta) > 0.98:
+            continue
+        theta = math.acos(cos_theta) * rng.choice([-1.0, 1.0])
+        modes = [(-1.0, -1.0, 1.0), (-1.0, 1.0, -1.0), (-1.0, 0.0, 1.0), (1.0, 0.0, -1.0)][len(out) % 4]
+        out.append((p, theta, rng.uniform(-math.pi, math.pi), *rng.normal(0.0, 4.0, 2), modes))
+    return out
+
+
+SWING = swing_samples()
+SLIDE = slide_samples()
+
+
+def _full_rates(p, q3, qd3, qdd3):
+    """q, q', q'' with X: X from the zero-momentum relation, X'' from eom (checked by the X row)."""
+    x = eom.frame_displacement(*q3, p)
+    dx = eom.frame_velocity(*q3, *qd3, p)
+    ddx = eom.frame_acceleration(*q3, *qd3, *qdd3, p)
+    return np.array([*q3, x]), np.array([*qd3, dx]), np.array([*qdd3, ddx])
+
+
+def _check_equations(model, p, q, qd, qdd, ta, th, fb, normal):
+    """The residual of the sympy model's M q'' - f - Q - J^T N (X row only on a rolling frame)."""
+    numbers = model.numbers(p)
+    m = np.asarray(model.mass(q, qd, numbers), dtype=float)
+    f = np.asarray(model.forcing(q, qd, numbers), dtype=float).ravel()
+    generalised = np.asarray(model.generalised(q, qd, ta, th, fb, numbers), dtype=float).ravel()
+    jac = np.asarray(model.jacobian(q, qd, numbers), dtype=float).ravel()
+    rows = 4 if p.rolling else 3
+    residual = (m @ qdd - f - generalised - jac * normal)[:rows]
+    scale = max(np.max(np.abs(f[:rows])), np.max(np.abs((m @ qdd)[:rows])))
+    assert np.max(np.abs(residual)) <= REL_TOL * scale, f"residual {residual} vs scale {scale:.3g}"
+
+
+@pytest.mark.parametrize("sample", SWING, ids=[f"swing{i}" for i in range(len(SWING))])
+def test_swing_friction_satisfies_the_sympy_equations_and_coulombs_law(model, sample):
+    p, q3, qd3, (sa, sh) = sample
+    if sa == 0.0:
+        qd3 = qd3 * np.array([0.0, 1.0, 1.0])
+    if sh == 0.0:
+        qd3 = qd3 * np.array([1.0, 0.0, 1.0])
+    ddtheta, ddphi, ddpsi, ta, th, axle, hinge = friction.swing_friction(*q3, *qd3, sa, sh, p)
+    q, qd, qdd = _full_rates(p, q3, qd3, (ddtheta, ddphi, ddpsi))
+    _check_equations(model, p, q, qd, qdd, ta, th, 0.0, 0.0)
+    (axle_f, hinge_f) = (np.asarray(v, dtype=float).ravel() for v in model.forces(q, qd, qdd, 0.0, 0.0,
+                                                                                   model.numbers(p)))
+    assert axle == pytest.approx(np.linalg.norm(axle_f), rel=REL_TOL)
+    assert hinge == pytest.approx(np.linalg.norm(hinge_f), rel=REL_TOL)
+    if sa != 0.0:
+        assert abs(ta + p.mua * p.ra * sa * axle) <= IMPLICIT_TOL * abs(ta)
+    else:
+        assert ddtheta == 0.0
+    if sh != 0.0:
+        assert abs(th + p.muh * p.rh * sh * hinge) <= IMPLICIT_TOL * abs(th)
+    else:
+        assert ddphi == 0.0
+
+
+@pytest.mark.parametrize("sample", SLIDE, ids=[f"slide{i}" for i in range(len(SLIDE))])
+def test_slide_friction_satisfies_the_sympy_equations_and_coulombs_law(model, sample):
+    p, theta, phi, dtheta, dphi, (sa, sh, sb) = sample
+    if sh == 0.0:
+        dphi = 0.0
+    ddtheta, ddphi, normal, ta, th, fb, axle, hinge, dx = friction.slide_friction(theta, phi, dtheta, dphi, sa, sh,
+                                                                             sb, p)
+    psi, dpsi, s, c, _ = eom.slide_constraint(theta, dtheta, p)
+    q, qd, qdd = _full_rates(p, (theta, phi, psi), (dtheta, dphi, dpsi), (ddtheta, ddphi, s * ddtheta + c))
+    _check_equations(model, p, q, qd, qdd, ta, th, fb, normal)
+    axle_f, hinge_f = (np.asarray(v, dtype=float).ravel() for v in model.forces(q, qd, qdd, fb, normal,
+                                                                                 model.numbers(p)))
+    assert axle == pytest.approx(np.linalg.norm(axle_f), rel=REL_TOL)
+    assert hinge == pytest.approx(np.linalg.norm(hinge_f), rel=REL_TOL)
+    assert abs(ta + p.mua * p.ra * sa * axle) <= IMPLICIT_TOL * abs(ta)
+    assert abs(fb + p.mub * sb * normal) <= IMPLICIT_TOL * abs(fb)
+    if sh != 0.0:
+        assert abs(th + p.muh * p.rh * sh * hinge) <= IMPLICIT_TOL * abs(th)
+    else:
+        assert ddphi == 0.0
+    # The projectile's slide over the base is dx_P/dtheta theta' (sympy's x_P' - X').
+    numbers = model.numbers(p)
+    slide_velocity = float(np.asarray(model.generalised(q, qd, 0.0, 0.0, 1.0, numbers), dtype=float).ravel() @ qd)
+    assert dx * dtheta == pytest.approx(slide_velocity, rel=REL_TOL, abs=REL_TOL * abs(p.La * dtheta))
+
+
+@pytest.mark.parametrize("sample", SWING[:4], ids=[f"swing{i}" for i in range(4)])
+def test_generalised_forces_by_virtual_work_are_the_torques_on_theta_and_phi(model, sample):
+    """Derivation 10.1: the axle's torque acts on theta alone, the hinge's on phi alone, the base's force
+    through the projectile's x (and never on X: its reaction pushes the frame back)."""
+    p, q3, qd3, _ = sample
+    q, qd = np.array([*q3, 0.0]), np.array([*qd3, 0.0])
+    numbers = model.numbers(p)
+    ta, th, fb = 1.7, -0.6, 2.3
+    got = np.asarray(model.generalised(q, qd, ta, th, fb, numbers), dtype=float).ravel()
+    beta = q3[0] + q3[2]
+    expected = [ta + fb * (-p.La * math.cos(q3[0]) - p.Ls * math.cos(beta)), th, fb * (-p.Ls * math.cos(beta)), 0.0]
+    np.testing.assert_allclose(got, expected, rtol=1e-12, atol=1e-12)
+
+
+def test_without_friction_the_equations_are_the_ideal_machines_bit_for_bit():
+    """Zero coefficients take the ideal machine's arithmetic (friction.lossy is false)."""
+    p = params(default_design())
+    assert not friction.lossy(p)
+    y = np.empty(stages.state_size(stages.SLIDE, p))
+    stages.slide_start(p, y)
+    assert y.shape == (4,)
+    out = np.empty(4)
+    stages.derivative(stages.SLIDE, y, p, None, out)
+    assert out[2] == eom.slide_accelerations(p.theta0, p.phi0, 0.0, 0.0, p)[0]
+
+
+# --------------------------------------------------------------------------- #
+# Whole shots
+# --------------------------------------------------------------------------- #
+
+@pytest.fixture(scope="module")
+def paper():
+    return default_design()
+
+
+#: The ideal machine's shot before friction existed: ``simulate`` on main at commit ec7c46c (the
+#: design contract for losses, no friction in the model), printed with repr: range (m), release
+#: time (s), peak axle load (N).
+BEFORE_FRICTION = {"fixed": (45.30764693266705, 0.38245542059704923, 1552.537901418316),
+                   "rolling": (45.373430817773624, 0.3824156525138763, 1546.1442218373957)}
+
+
+@pytest.mark.parametrize("frame", ["fixed", "rolling"])
+def test_zero_coefficients_give_the_ideal_shot_bit_for_bit(paper, frame):
+    design = paper if frame == "fixed" else dataclasses.replace(paper, base=Base(mobility="rolling", mass=300.0))
+    zero = simulate(with_losses(design))   # an explicit [losses] table of zeros
+    assert (zero.range, zero.release_time, zero.peak_axle_load) == BEFORE_FRICTION[frame]
+    tiny = simulate(with_losses(design, axle_friction=1e-12, axle_radius=0.0064))
+    assert tiny.range == pytest.approx(zero.range, rel=1e-9)   # the friction path, at a vanishing coefficient
+    assert zero.energy_dissipated["axle"] == zero.energy_dissipated["hinge"] == zero.energy_dissipated["base"] == 0.0
+    # The drag's work in flight: the ideal machine's projectile loses energy to the air only.
+    assert zero.energy_dissipated["drag"] > 0.0
+
+
+@pytest.mark.parametrize("name, coefficient, radius, top", [
+    ("axle", "axle_friction", dict(axle_radius=0.0064), 0.6),
+    ("hinge", "hinge_friction", dict(hinge_radius=0.005), 0.6),
+    ("base", "base_friction", {}, 1.0),
+])
+def test_range_falls_smoothly_as_each_coefficient_grows_from_zero(paper, name, coefficient, radius, top):
+    mus = np.linspace(0.0, top, 7)
+    ranges = []
+    for mu in mus:
+        design = paper if mu == 0.0 else with_losses(paper, **{coefficient: float(mu)}, **radius)
+        ranges.append(simulate(design, histories=False).range)
+    ranges = np.array(ranges)
+    drops = -np.diff(ranges)
+    assert np.all(drops > 0.0), f"{name}: ranges {ranges}"
+    # Smooth: no jump at 0 (the first step is like the next) and the slope changes gently.
+    assert drops[0] < 2.0 * drops[1] and drops[1] < 2.0 * drops[0], f"{name}: drops {drops}"
+    assert np.all(np.abs(np.diff(drops)) < 0.5 * drops[:-1]), f"{name}: drops {drops}"
+
+
+def _audit(shot):
+    e = shot.energy
+    scale = shot.counterweight_energy_released
+    return float(np.max(np.abs(e.total + e.lost))) / scale
+
+
+AUDIT_CASES = {"axle": AXLE, "hinge": HINGE, "base": BASE, "all": ALL,
+               "sticking-hinge": dict(hinge_friction=1.0, hinge_radius=0.1),
+               "stalling-axle": dict(axle_friction=1.0, axle_radius=0.1)}
+
+
+@pytest.mark.parametrize("case", AUDIT_CASES, ids=list(AUDIT_CASES))
+def test_energy_audit_closes_at_every_sample(paper, case):
+    shot = simulate(with_losses(paper, **AUDIT_CASES[case]))
+    assert shot.status is Status.OK
+    assert _audit(shot) <= AUDIT_TOL
+    for name in LOSS_NAMES[:3]:
+        w = shot.energy.dissipated[name]
+        assert np.all(np.diff(w) >= -1e-12), f"{name}'s work must not decrease"
+        assert shot.energy_dissipated[name] == w[-1]
+        assert (w[-1] > 0.0) == (AUDIT_CASES[case].get(f"{name}_friction", 0.0) > 0.0)
+    # Flight: the projectile's mechanical energy at release = at landing + the drag's work.
+    m, g = paper.projectile.mass, paper.environment.gravity
+    v0 = shot.release_velocity
+    released = 0.5 * m * v0 @ v0 + m * g * (shot.release_position[1] + paper.machine.pivot_height)
+    summary = simulate(with_losses(paper, **AUDIT_CASES[case]), histories=False)
+    assert summary.energy_dissipated == shot.energy_dissipated
+    assert released > shot.energy_dissipated["drag"] > 0.0
+
+
+def test_energy_audit_closes_on_sampled_designs_with_random_losses():
+    """Designs over the paper's Table II with random coefficients and pins up to three times the
+    typical ones, every third on a rolling frame (measured: at worst 4.1e-9 on 40 of them; the
+    first 10 here)."""
+    from support import table_ii_sample
+
+    rng = np.random.default_rng(5)
+    for i, design in enumerate(table_ii_sample(10, seed=21)):
+        losses = Losses(axle_friction=float(rng.uniform(0, 0.6)), axle_radius=float(rng.uniform(0.003, 0.03)),
+                        hinge_friction=float(rng.uniform(0, 0.6)), hinge_radius=float(rng.uniform(0.003, 0.03)),
+                        base_friction=float(rng.uniform(0, 1)))
+        mass = float(rng.uniform(5, 100)) if i % 3 == 0 else None
+        design = dataclasses.replace(design, losses=losses)
+        if mass is not None:
+            design = dataclasses.replace(design, base=Base(mobility="rolling", mass=mass))
+        shot = simulate(design)
+        if shot.status is not Status.NEVER_FIRES:
+            assert _audit(shot) <= AUDIT_TOL, design.name
+
+
+def test_energy_audit_closes_on_a_rolling_frame(paper):
+    design = dataclasses.replace(with_losses(paper, **ALL), base=Base(mobility="rolling", mass=300.0))
+    shot = simulate(design)
+    assert shot.status is Status.OK
+    assert _audit(shot) <= AUDIT_TOL
+    assert all(shot.energy_dissipated[name] > 0.0 for name in LOSS_NAMES)
+
+
+def test_the_drag_work_is_the_flights_loss_of_mechanical_energy(paper):
+    """Integrated on the flight's steps, it balances the energies at release and at landing (the
+    flight's velocity at landing comes from a separate run of the flight alone)."""
+    from analytic import reference
+    from analytic.aero import DRAG_TABLE
+    from analytic.integrate import integrate
+
+    design = with_losses(paper, **ALL)
+    shot = simulate(design, histories=False)
+    p = params(design)
+    start = np.array([*shot.release_position, *shot.release_velocity])
+
+    def rhs(t, y):
+        out = np.empty(4)
+        stages.derivative(stages.FLIGHT, y, p, DRAG_TABLE, out)
+        return out
+
+    flight = integrate(rhs, shot.release_time, start, shot.landing_time, (), rtol=1e-12, atol=1e-12,
+                       output_step=None)
+    m, g = p.mP, p.g
+
+    def energy(y):
+        return 0.5 * m * (y[2] ** 2 + y[3] ** 2) + m * g * y[1]
+
+    lost = energy(start) - energy(flight.y_end)
+    assert shot.energy_dissipated["drag"] == pytest.approx(lost, rel=1e-8)
+    assert shot.energy_dissipated["drag"] == reference.drag_work(
+        reference._run(stages.FLIGHT, p, shot.release_time, start, shot.landing_time + 1.0, 1e-10, 1e-10, None, True), p)
+
+
+# --------------------------------------------------------------------------- #
+# Stick and slip, never firing
+# --------------------------------------------------------------------------- #
+
+def test_a_hinge_that_sticks_is_held_within_its_friction_and_slips_against_its_rate(paper):
+    """With a large hinge pin the counterweight's link sticks on the arm for a while: stuck, its rate is
+    exactly 0 and the holding torque within mu r |H|; slipping, the torque is -mu r |H| sign(phi')."""
+    design = with_losses(paper, hinge_friction=1.0, hinge_radius=0.1)
+    shot = simulate(design)
+    p = params(design)
+    assert shot.status is Status.OK
+    stuck = shot.qdot[:, 1] == 0.0
+    assert stuck.sum() > 10 and (~stuck).sum() > 10
+    kh = p.muh * p.rh
+    for i in np.flatnonzero(shot.stage == stages.SWING)[::7]:
+        y = np.concatenate([shot.q[i], shot.qdot[i], np.zeros(3), [-1.0, 0.0 if stuck[i] else np.sign(shot.qdot[i, 1]),
+                                                                    0.0]])
+        _, _, _, _, _, th, _, _, hinge, _ = stages.friction_solution(stages.SWING, y, p)
+        if stuck[i]:
+            assert abs(th) <= kh * hinge * (1 + 1e-12)
+        else:
+            assert th == pytest.approx(-kh * hinge * np.sign(shot.qdot[i, 1]), rel=1e-12)
+
+
+def test_the_hinge_reverses_and_the_axle_stops_under_heavy_friction(paper, monkeypatch):
+    """Each mode switch is an event of the stage: record them."""
+    switched = []
+    original = stages.switch_mode
+
+    def spy(stage, k, y, p):
+        before = y.copy()
+        original(stage, k, y, p)
+        switched.append((stages.EVENT_NAMES[stage][k], before[-3:].tolist(), y[-3:].tolist()))
+
+    monkeypatch.setattr(stages, "switch_mode", spy)
+    simulate(with_losses(paper, hinge_friction=0.15, hinge_radius=0.005), histories=False)
+    assert [name for name, _, _ in switched] == ["hinge_stops"]
+    assert switched[0][1][1] == -1.0 and switched[0][2][1] == 1.0          # slipping back the other way
+    switched.clear()
+    simulate(with_losses(paper, axle_friction=1.0, axle_radius=0.1), histories=False)
+    assert [name for name, _, _ in switched] == ["axle_stops", "axle_stops"]
+    assert switched[0][2][0] == 1.0 and switched[1][2][0] == 0.0             # reverses, then sticks
+
+
+def test_joints_at_rest_together_get_consistent_modes_and_the_audit_converges(monkeypatch):
+    """Both joints stick and slip again and again as a weak machine on a rolling frame swings for 6 s
+    before release (48 switches). Chosen one joint at a time, a joint could slip the way its own
+    friction pushed it, which made energy: the audit stayed at 5e-6 of the counterweight's energy
+    at any tolerance. Chosen together, every switch leaves consistent modes and the audit
+    closes (measured 1.6e-10 at the default tolerance)."""
+    from support import table_ii_sample
+
+    design = dataclasses.replace(table_ii_sample(28, seed=21)[27], base=Base(mobility="rolling", mass=87.75),
+                                 losses=Losses(axle_friction=0.2254, axle_radius=0.0221, hinge_friction=0.205,
+                                               hinge_radius=0.0252, base_friction=0.2306))
+    p = params(design)
+    original, switches = stages.switch_mode, []
+
+    def checked(stage, k, y, p_):
+        original(stage, k, y, p_)
+        name = stages.EVENT_NAMES[stage][k]
+        switches.append(name)
+        core = stages.STATE_SIZE[stage]
+        free = [y[core // 2 + joint] == 0.0 for joint in range(2)]
+        must_slip = stages.switched_joint(stage, k) if name.endswith("_slips") else -1
+        assert stages.consistent(stage, y, p, *free, must_slip), (name, y[-3:])
+
+    monkeypatch.setattr(stages, "switch_mode", checked)
+    shot = simulate(design)
+    assert shot.status is Status.OK and len(switches) > 40
+    assert {"axle_stops", "axle_slips", "hinge_stops", "hinge_slips"} <= set(switches)
+    assert _audit(shot) <= 1e-9
+
+
+def test_friction_events_watch_the_rates_and_are_inert_without_their_friction(paper):
+    """The events' values on a stage-1 state (no design here reverses its slide or stalls its arm in
+    stage 1, so these two are checked on states): arm_stalls is -theta', slide_reverses the slide's
+    velocity D theta' times its sign, and a switch at slide_reverses flips the sign."""
+    names = stages.EVENT_NAMES[stages.SLIDE]
+    ideal = params(paper)
+    y4 = np.array([ideal.theta0 - 0.2, ideal.phi0 + 0.1, -3.0, 1.5])
+    assert all(stages.event_value(stages.SLIDE, k, y4, ideal) == 1.0 for k in range(stages.ARM_STALLS, len(names)))
+    p = params(with_losses(paper, **ALL))
+    y = np.concatenate([y4, [0.1, 0.2, 0.3, -1.0, 1.0, -1.0]])
+    _, _, s, _, sin_beta = eom.slide_constraint(y[0], y[2], p)
+    slide = friction.slide_rate(y[0], s, sin_beta, p) * y[2]
+    assert stages.event_value(stages.SLIDE, names.index("arm_stalls"), y, p) == 3.0
+    assert stages.event_value(stages.SLIDE, names.index("slide_reverses"), y, p) == pytest.approx(-slide)
+    assert stages.event_value(stages.SLIDE, names.index("hinge_stops"), y, p) == 1.5      # phi' times +1
+    assert stages.event_value(stages.SLIDE, names.index("hinge_slips"), y, p) == 1.0      # not stuck: inert
+    stages.switch_mode(stages.SLIDE, names.index("slide_reverses"), y, p)
+    assert y[-1] == 1.0 and y[-3] == -1.0 and y[3] == 1.5
+    # Only friction events switch modes; arm_stalls ends stage 1 as a lift-off failure.
+    assert stages.FIRST_SWITCH[stages.SLIDE] == names.index("hinge_stops") > names.index("arm_stalls")
+
+
+def test_never_fires_when_axle_friction_holds_the_arm_and_says_the_torque_balance(paper):
+    drive, _, _ = friction.rest_balance(params(with_losses(paper, axle_friction=1.0, axle_radius=0.1)))
+    _, axle_unit, _ = friction.rest_balance(params(with_losses(paper, axle_friction=1.0, axle_radius=1.0)))
+    # The hold scales with mu r: the coefficient that balances gravity at this radius.
+    radius = 0.1
+    balance = drive / (axle_unit * radius)
+    held = simulate(with_losses(paper, axle_friction=balance * 1.001, axle_radius=radius))
+    assert held.status is Status.NEVER_FIRES
+    assert f"{drive:.4g} N m" in held.message and "friction holds" in held.message
+    fired = simulate(with_losses(paper, axle_friction=balance * 0.999, axle_radius=radius), histories=False)
+    assert fired.status is not Status.NEVER_FIRES
+    assert drive > 0.0
+
+
+def test_base_friction_alone_can_hold_the_machine(paper):
+    drive, _, base_unit = friction.rest_balance(params(with_losses(paper, base_friction=1.0)))
+    held = simulate(with_losses(paper, base_friction=1.001 * drive / base_unit), histories=False)
+    assert held.status is Status.NEVER_FIRES and "base" in held.message
+
+
+# --------------------------------------------------------------------------- #
+# The compiled path
+# --------------------------------------------------------------------------- #
+
+#: Fast against reference, relative in range: what the issue asks of friction designs. Both run
+#: the same stage functions and the same DOP853 steps, so they agree to round-off unless a
+#: rounding sends the step control another way (measured: 1.7e-10 at worst here, on "all").
+FAST_TOL = 1e-7
+
+
+def _friction_designs():
+    from support import table_ii_sample
+
+    paper = default_design()
+    cases = {"axle": with_losses(paper, **AXLE), "hinge": with_losses(paper, **HINGE),
+             "base": with_losses(paper, **BASE), "all": with_losses(paper, **ALL),
+             "sticking-hinge": with_losses(paper, hinge_friction=1.0, hinge_radius=0.1),
+             "stalling-axle": with_losses(paper, axle_friction=1.0, axle_radius=0.1),
+             "held": with_losses(paper, axle_friction=1.0, axle_radius=0.4),
+             "rolling-all": dataclasses.replace(with_losses(paper, **ALL), base=Base(mobility="rolling", mass=300.0))}
+    for i, design in enumerate(table_ii_sample(4, seed=11)):
+        cases[f"table-ii-{i}"] = dataclasses.replace(design, losses=Losses(**ALL))
+    return cases
+
+
+FRICTION_DESIGNS = _friction_designs()
+
+
+@pytest.mark.parametrize("name", FRICTION_DESIGNS, ids=list(FRICTION_DESIGNS))
+def test_fast_and_reference_paths_agree_on_friction_designs(name):
+    from analytic.fast import simulate_fast
+
+    design = FRICTION_DESIGNS[name]
+    reference = simulate(design, histories=False)
+    fast = simulate_fast(design)
+    assert fast.status is reference.status, f"{name}: {fast.message} vs {reference.message}"
+    assert fast.message == reference.message
+    if reference.range is not None:
+        assert abs(fast.range - reference.range) <= FAST_TOL * abs(reference.range), (
+            f"{name}: range fast {fast.range!r} vs reference {reference.range!r}")
+        assert fast.release_time == pytest.approx(reference.release_time, abs=1e-9)
+        assert fast.peak_axle_load == pytest.approx(reference.peak_axle_load, rel=1e-7)
+    # The fast path leaves the energy audit to the reference path (README, "Losses").
+    assert fast.energy_dissipated is None
+
+
+# --------------------------------------------------------------------------- #
+# Bad input: exit 2 naming the field
+# --------------------------------------------------------------------------- #
+
+@pytest.mark.parametrize("table, field, reason", [
+    ("axle_friction = -0.1\naxle_radius = 0.01", "losses.axle_friction", "negative"),
+    ("hinge_friction = 0.2\nhinge_radius = nan", "losses.hinge_radius", "nan"),
+    ("base_friction = inf", "losses.base_friction", "inf"),
+    ('axle_friction = "high"\naxle_radius = 0.01', "losses.axle_friction", "text"),
+    ("axle_radius = 0.01", "losses.axle_radius", "radius without its coefficient"),
+    ("hinge_friction = 0.2", "losses.hinge_friction", "coefficient without its radius"),
+], ids=["negative", "nan", "inf", "text", "radius-alone", "coefficient-alone"])
+def test_a_bad_losses_table_exits_2_naming_the_field(tmp_path, capsys, table, field, reason):
+    from analytic.cli import EXIT_INVALID, main
+    from analytic.design_file import dumps_design
+
+    path = tmp_path / "bad.toml"
+    path.write_text(dumps_design(default_design()) + f"\n[losses]\n{table}\n")
+    assert main(["simulate", str(path)]) == EXIT_INVALID
+    err = capsys.readouterr().err
+    assert field in err, f"{reason}: {err!r}"
+
+
+def test_a_losses_table_is_read_and_simulated(tmp_path, capsys):
+    import json
+
+    from analytic.cli import EXIT_OK, main
+    from analytic.design_file import dumps_design
+
+    path = tmp_path / "real.toml"
+    path.write_text(dumps_design(default_design()) + "\n[losses]\n" + "\n".join(f"{k} = {v}" for k, v in ALL.items()))
+    assert main(["simulate", "--json", str(path)]) == EXIT_OK
+    out = json.loads(capsys.readouterr().out)
+    expected = simulate(with_losses(default_design(), **ALL), histories=False)
+    assert out["range"] == pytest.approx(expected.range, rel=1e-12)
+    assert set(out["energy_dissipated"]) == set(LOSS_NAMES) and out["energy_dissipated"]["axle"] > 0.0
+
+
+def test_compiled_friction_is_bit_identical_to_the_python_one():
+    """The compiled path runs the same friction functions: right-hand sides, events and mode switches
+    give the same bits at random states in every mode, on a fixed and a rolling frame."""
+    from analytic import compiled
+    from analytic.aero import DRAG_TABLE
+
+    rng = np.random.default_rng(SEED + 2)
+    paper = default_design()
+    for design in (with_losses(paper, **ALL),
+                   dataclasses.replace(with_losses(paper, **ALL), base=Base(mobility="rolling", mass=30.0))):
+        p = params(design)
+        reach = math.acos(-p.h / p.La)
+        for _ in range(40):
+            sa, sh = rng.choice([-1.0, 0.0, 1.0], size=2)
+            q = rng.uniform(-math.pi, math.pi, 3)
+            qd = rng.normal(0.0, 4.0, 3) * [sa != 0.0, sh != 0.0, 1.0]
+            work = rng.uniform(0.0, 1.0, 3)
+            slide = np.array([reach - abs(q[0]) / 3.0, q[1], qd[0] if sa else -1.0, qd[1], *work,
+                              -1.0, sh, rng.choice([-1.0, 1.0])])
+            swing = np.array([*q, *qd, *work, sa, sh, 0.0])
+            for stage, y in ((stages.SLIDE, slide), (stages.SWING, swing)):
+                got, expected = np.empty(len(y)), np.empty(len(y))
+                compiled.stages_.derivative(stage, y, p, DRAG_TABLE, got)
+                stages.derivative(stage, y, p, DRAG_TABLE, expected)
+                np.testing.assert_array_equal(got, expected)
+                for k in range(len(stages.EVENT_NAMES[stage])):
+                    a, b = compiled.stages_.event_value(stage, k, y, p), stages.event_value(stage, k, y, p)
+                    assert a == b or (math.isnan(a) and math.isnan(b)), (stage, stages.EVENT_NAMES[stage][k], a, b)
+                for k in range(stages.FIRST_SWITCH[stage], len(stages.EVENT_NAMES[stage])):
+                    y_got, y_expected = y.copy(), y.copy()
+                    compiled.stages_.switch_mode(stage, k, y_got, p)
+                    stages.switch_mode(stage, k, y_expected, p)
+                    np.testing.assert_array_equal(y_got, y_expected)
+        assert compiled.stages_.fires(p) == stages.fires(p)
+        assert compiled.friction_.rest_balance(p) == friction.rest_balance(p)
