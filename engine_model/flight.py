@@ -64,10 +64,11 @@ class Flight:
     apex : highest centre height, m from the pivot: the vertex of the parabola through
         the highest sample and its neighbours (``events.highest``), not the highest sample.
     drag_work : J the drag took from the projectile from release to landing (or
-        to the flight's end), relative to the air: ``m k |v_rel|^2`` integrated,
-        which is what the air dissipates (with wind, the projectile's own
-        energy changes by the drag's work in the ground frame instead, which
-        differs by the wind's share ``F_drag . wind``).
+        to the flight's end), over the ground velocity: ``-F_drag . v`` integrated,
+        the projectile's loss of mechanical energy, as ``analytic.reference.drag_work``
+        defines it (with a tailwind it can be negative: the air gave more than
+        it took; the air itself dissipates ``m k |v_rel|^2``, which differs by
+        the wind's share ``F_drag . wind``).
     """
 
     t: np.ndarray
@@ -216,9 +217,9 @@ def fly(design: Design, release_time: float, position: np.ndarray, velocity: np.
     body.position = (float(position[0]), float(position[1]))
     body.velocity = (velocity[0] + ax * 0.5 * step, velocity[1] + (ay - g) * 0.5 * step)
     vx, vy = body.velocity
-    # The drag's work, relative to the air: each kick's impulse times the mean of the
+    # The drag's work over the ground velocity: each kick's impulse times the mean of the
     # velocities it joins (exact for a kick); a sample holds half of its own kick's.
-    start_work = -mass * 0.5 * step * (ax * (0.5 * (velocity[0] + vx) - wind) + ay * 0.5 * (velocity[1] + vy))
+    start_work = -mass * 0.5 * step * (ax * 0.5 * (velocity[0] + vx) + ay * 0.5 * (velocity[1] + vy))
     kicks = 0.0
     work = [0.0]
 
@@ -262,7 +263,7 @@ def fly(design: Design, release_time: float, position: np.ndarray, velocity: np.
         vx, vy = body.velocity
         if not math.isfinite(x + y + vx + vy):
             raise EngineError(f"the flight went non-finite after {steps} steps of at most {dt:g} s")
-        kick = -(drag_impulse[0] * (0.5 * (before[0] + vx) - wind) + drag_impulse[1] * 0.5 * (before[1] + vy))
+        kick = -(drag_impulse[0] * 0.5 * (before[0] + vx) + drag_impulse[1] * 0.5 * (before[1] + vy))
         work.append(start_work + kicks + 0.5 * kick)
         kicks += kick
         flown = full_steps * dt + short_time

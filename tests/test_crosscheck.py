@@ -53,8 +53,14 @@ def test_the_reference_path_can_stand_in_for_the_fast_one():
 
     reference, default = compare(paper_cases()[0], analytic=simulate), _compared("table3")
     assert reference.agree and default.agree
-    for a, b in zip(reference.rows, default.rows, strict=True):
-        assert a.quantity == b.quantity and a.engine == b.engine
+    # The reference path also reports the work each loss took (the fast path does not), which
+    # adds rows; every row the fast path gives, the reference gives alike.
+    rows = {row.quantity: row for row in reference.rows}
+    assert len(rows) > len(default.rows) and [r.quantity for r in default.rows] == [
+        r.quantity for r in reference.rows if r.quantity in {d.quantity for d in default.rows}]
+    for b in default.rows:
+        a = rows[b.quantity]
+        assert a.engine == b.engine
         if isinstance(a.analytic, float):   # the paths agree far inside the cross-check's tolerances
             assert a.analytic == pytest.approx(b.analytic, rel=1e-9, abs=1e-12)
 
