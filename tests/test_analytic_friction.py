@@ -632,3 +632,20 @@ def test_compiled_friction_is_bit_identical_to_the_python_one():
                     np.testing.assert_array_equal(y_got, y_expected)
         assert compiled.stages_.fires(p) == stages.fires(p)
         assert compiled.friction_.rest_balance(p) == friction.rest_balance(p)
+
+
+@pytest.mark.slow
+def test_energy_audit_closes_on_every_friction_case_of_the_cross_check():
+    """Every shot of the cross-check's friction group (crosscheck.cases.friction_cases) that moves,
+    on the reference path: energy at rest = mechanical energy + the friction's work at every
+    sample, to AUDIT_TOL of the counterweight's energy."""
+    from crosscheck.cases import friction_cases
+
+    checked = 0
+    for case in friction_cases():
+        shot = simulate(case.design)
+        if shot.status is Status.NEVER_FIRES:
+            continue
+        assert _audit(shot) <= AUDIT_TOL, case.name
+        checked += 1
+    assert checked >= 8
