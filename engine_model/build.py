@@ -152,6 +152,14 @@ def arm_body_properties(design: Design) -> tuple[float, float, float]:
     return mass, cg, pivot_inertia - mass * cg**2
 
 
+def placeholder_moment(mass: float, radius: float) -> float:
+    """``mass * radius**2`` for a body whose rotation nothing couples to (a point counterweight on a
+    pin joint, the projectile on its pin): any positive moment gives the same motion, so where the
+    product underflows to 0 (radii of 1e-160 m and less), ``mass`` times 1 m^2 stands in."""
+    moment = mass * radius**2
+    return moment if moment > 0.0 else mass
+
+
 def frame_body_mass(design: Design) -> float:
     """Mass of the pymunk frame body of a rolling design, kg: the frame's less the arm's ballast.
 
@@ -235,14 +243,14 @@ def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITE
     arm.position = (0.0, 0.0)
 
     point_counterweight = m.counterweight_inertia == 0.0
-    cw_moment = (m.counterweight_mass * m.counterweight_link**2 if point_counterweight
+    cw_moment = (placeholder_moment(m.counterweight_mass, m.counterweight_link) if point_counterweight
                  else m.counterweight_inertia)
     counterweight = pymunk.Body(m.counterweight_mass, cw_moment)
     counterweight.angle = theta + phi
     counterweight.position = start["counterweight"]
 
     radius = proj.diameter / 2.0
-    projectile = pymunk.Body(proj.mass, 0.4 * proj.mass * radius**2)  # solid sphere; decoupled
+    projectile = pymunk.Body(proj.mass, placeholder_moment(0.4 * proj.mass, radius))  # solid sphere; decoupled
     projectile.position = start["projectile"]
 
     pivot = pymunk.PivotJoint(frame, arm, (0.0, 0.0), (0.0, 0.0))
@@ -267,5 +275,10 @@ def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITE
         joint.max_bias = math.inf
         joint.collide_bodies = False
     bodies = [arm, counterweight, projectile] + ([frame] if rail else [])
+    for name, body in zip(("arm", "counterweight", "projectile", "frame"), bodies):
+        if not (0.0 < body.mass < math.inf and body.moment > 0.0):
+            raise EngineError(f"the {name}'s pymunk body would have mass {body.mass:.3g} kg and moment "
+                              f"{body.moment:.3g} kg m^2: the engine needs both positive and finite "
+                              f"(the design's numbers underflow or overflow them)")
     space.add(*bodies, *joints)
     return Rig(space, arm, counterweight, projectile, pivot, hinge, sling_joint, groove, sling, frame, rail)

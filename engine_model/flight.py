@@ -14,7 +14,7 @@ from analytic.aero import (DRAG_TABLE, GOLF_BALL_DRAG_COEFFICIENT, drag_coeffici
                            reynolds_number, smooth_sphere_cd)
 from analytic.design import Design
 from analytic.limits import flight_time_limit
-from engine_model.build import EngineError
+from engine_model.build import EngineError, placeholder_moment
 from engine_model.events import crossing_fraction, highest, interpolate
 
 
@@ -196,7 +196,7 @@ def fly(design: Design, release_time: float, position: np.ndarray, velocity: np.
     space = pymunk.Space()
     space.gravity = (0.0, -g)
     space.damping = 1.0
-    body = pymunk.Body(mass, 0.4 * mass * (design.projectile.diameter / 2.0)**2)
+    body = pymunk.Body(mass, placeholder_moment(0.4 * mass, design.projectile.diameter / 2.0))   # rotation decoupled
     space.add(body)
 
     wind = design.environment.wind_speed
