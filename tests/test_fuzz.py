@@ -27,7 +27,7 @@ from unittest import mock
 import numpy as np
 import pytest
 import tomli_w
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, Phase, given, settings
 
 import analytic.cli
 import analytic.reference
@@ -44,8 +44,12 @@ from fuzz_designs import OUT_OF_RANGE_NUMBERS, design_files, extreme_batches, ex
 
 def fuzz(examples: int):
     """Hypothesis settings of every test here: ``examples`` derandomized examples, no deadline
-    (an extreme design may take seconds), no example database (the runs repeat exactly)."""
+    (an extreme design may take seconds), no example database (the runs repeat exactly), and no
+    shrinking: each attempt to shrink an extreme design runs the models again (seconds each), so
+    a failure could shrink past any time limit (pytest-timeout's failure is one more failure to
+    shrink); the derandomized example that failed is reported as it is, and reproduces."""
     return settings(max_examples=examples, deadline=None, derandomize=True, database=None,
+                    phases=[Phase.explicit, Phase.generate],
                     suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large,
                                            HealthCheck.large_base_example, HealthCheck.filter_too_much])
 
