@@ -23,7 +23,7 @@ install: $(STAMP)
 # compiles it again with a progress count, so that no later command stalls
 # silently and no test's time limit includes it.
 compile: $(STAMP)
-	@$(PY) -m analytic compile
+	@$(PY) -m analytic compile > /dev/null   # the progress count (stderr) shows; "ready" does not
 
 # Quiet recipes (@): what is printed is the report itself, under 40 lines.
 run: compile

@@ -73,6 +73,9 @@ def _energy_rows(shot: Shot, row) -> None:
         return
     # Its share in the projectile at release is the energy efficiency, just above.
     row("counterweight energy", released, "J", ".3f", " given up by release (counterweight and arm)")
+    losses = shot.design.losses
     for name in LOSS_NAMES:
+        if name != "drag" and getattr(losses, f"{name}_friction") == 0.0:
+            continue   # a loss the design does not have: no row of zeros
         taken = shot.energy_dissipated[name]
         row(f"  {LOSS_LABELS[name]}", taken, "J", ".4f", f" ({100 * taken / released:.2f} % of it)")

@@ -77,11 +77,13 @@ def format_summary(comparisons: list[Comparison], study: StepStudy | None, steps
         refined = [f"{c.case} ({c.engine_dt:.3g} s)" for c in comparisons if c.engine_dt not in (None, steps[-1])]
         lines.append(f"engine step halved where its energy error was above the trust limit: {', '.join(refined)}")
     drifts = [c.max_joint_drift for c in comparisons if c.max_joint_drift is not None]
-    if drifts:
-        lines.append(f"largest engine joint drift: {max(drifts):.3g} m")
+    engine = [f"largest joint drift {max(drifts):.3g} m"] if drifts else []
     if study is not None:
-        lines.append(f"engine convergence on {study.design}: order {study.speed_order:.2f} (release speed), "
-                     f"{study.range_order:.2f} (range)")
+        engine.append(f"convergence on {study.design}: order {study.speed_order:.2f} (release speed), "
+                      f"{study.range_order:.2f} (range)")
+    if engine:
+        lines.append("engine: " + "; ".join(engine))
+    if study is not None:
         if steps_detail:
             for dt, s, r in zip(study.dt, study.speed_error, study.range_error, strict=True):
                 lines.append(f"  dt {dt:.1e} s   speed error {s:.2e}   range error {r:.2e}")
