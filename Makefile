@@ -27,11 +27,9 @@ compile: $(STAMP)
 
 # Quiet recipes (@): what is printed is the report itself, under 40 lines.
 run: compile
-	@echo "== the default design, analytic model"
 	@$(PY) -m analytic simulate --plot $(OUT)/default-shot.png
 	@echo "== cross-check: analytic against engine (every row: $(OUT)/crosscheck/table.txt)"
 	@$(PY) -m crosscheck --report $(OUT)/crosscheck
-	@echo "== the default shot in the engine, drawn"
 	@$(PY) -m engine_model render --out $(OUT)/frames --gif --mp4
 
 test: compile

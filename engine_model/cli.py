@@ -65,7 +65,8 @@ def _render(args: argparse.Namespace) -> int:
     frames = render_shot(shot, args.out, fps=args.fps, swing_slow_motion=args.slow_motion,
                          gif=args.gif, mp4=args.mp4, progress=not args.quiet)
     movies = [name for name, asked in (("shot.gif", args.gif), ("shot.mp4", args.mp4)) if asked]
-    print(f"{len(frames)} frames written to {args.out}" + (f" (and {', '.join(movies)})" if movies else ""))
+    print(f"the shot drawn from the engine: {len(frames)} frames written to {args.out}"
+          + (f" (and {', '.join(movies)})" if movies else ""))
     return EXIT_OK if shot.ok else EXIT_NO_THROW
 
 
