@@ -3,10 +3,17 @@
 The model (``analytic.geometry``, ``limits``, ``aero``, ``eom``, ``friction``, ``stages``) is
 written as plain Python on floats, which the reference path runs as it is.
 This module gives the compiled path the same functions, compiled: for each
-model module a namespace (``compiled.eom``, ``compiled.stages``, ...) whose
-functions are numba dispatchers of the very same code objects, with their
-calls to each other rebound to the compiled versions. Importing it imports
-numba; ``import analytic`` and the reference path never do.
+model module a namespace whose functions are numba dispatchers of the very
+same code objects, with their calls to each other rebound to the compiled
+versions. There are two sets: ``kernel_twins``, which only compiled code
+calls (the kernel: compiled once per argument type, with no wrappers for
+Python and no cache of their own), and ``callable_twins`` (``compiled.eom_``,
+``compiled.stages_``, ...), which Python calls (the tests, the benchmark).
+Importing it imports numba; ``import analytic`` and the reference path never do.
+
+Only ``kernel.shots`` is cached on disk, with the machine code of everything
+it calls; a cold compile of it takes about 40 s of CPU on 2 cores (it took
+140 s when every function had its own wrappers, cache and per-constant copies).
 
 numba caches machine code on disk keyed on each function's own source file,
 not on the files it calls into: after an edit to ``eom.py`` the cached
@@ -23,6 +30,8 @@ import types
 from pathlib import Path
 
 import numba
+from numba.core import types as nbtypes
+from numba.core.registry import CPUDispatcher
 
 from analytic import aero, eom, friction, geometry, limits, outcome, parameters, stages
 
@@ -32,11 +41,22 @@ MODEL_MODULES = (geometry, limits, aero, eom, friction, stages)
 #: zero gives inf/NaN (a rejected step) instead of raising, as in Python's
 #: float arithmetic on the reference path; no fastmath, so IEEE arithmetic is
 #: kept and the compiled functions round exactly as the Python ones do.
-OPTIONS = dict(cache=True, nogil=True, error_model="numpy")
-#: Functions numba inlines into their callers at its own IR level (it does not
-#: inline across compiled functions otherwise): the right-hand side and the
-#: equations it calls on every evaluation. Measured on the benchmark's designs:
-#: without this, a shot takes about 1.3x as long.
+OPTIONS = dict(nogil=True, error_model="numpy")
+#: Options of the functions only compiled code calls (the kernel's parts and
+#: the model's functions as the kernel calls them): no wrappers to and from
+#: Python objects, and no disk cache of their own. The kernel's one entry
+#: point (``kernel.shots``) holds all their machine code and is cached;
+#: a wrapper unboxing the 31-number ``Params`` and a cache file for each of
+#: some 80 functions made a cold compile take 1.5x as long (measured).
+INTERNAL = dict(OPTIONS, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+#: Options of a function Python calls: with its wrappers, and cached.
+CALLABLE = dict(OPTIONS, cache=True)
+#: Functions LLVM inlines into every caller (numba's ``forceinline``: LLVM's
+#: ``alwaysinline``): the right-hand side and the equations it calls on every
+#: evaluation. Measured on the benchmark's designs: without it, a batch of
+#: shots takes about 1.2x as long. numba's own inlining (``inline="always"``,
+#: at its IR level) gives shots a few per cent faster but copies and re-types
+#: each callee at every call site: it made a cold compile 1.2x-1.6x as long.
 INLINE = {"eom": ("terms", "slide_constraint", "slide_system", "slide_accelerations", "swing_accelerations"),
           "stages": ("derivative",)}
 _HERE = Path(__file__).parent
@@ -48,16 +68,46 @@ SOURCES = tuple(Path(module.__file__) for module in (*MODEL_MODULES, outcome, pa
 STAMP_NAME = "analytic-model-sources.sha256"
 
 
-def compile_modules(modules, options, inline=None) -> dict[str, types.ModuleType]:
+class Internal(CPUDispatcher):
+    """A function compiled for other compiled code only: once per argument *type*.
+
+    numba otherwise compiles a function again for every constant value a
+    caller passes (a stage, a joint's index, a flag), as if asked to
+    specialise on it; the kernel's stages and the model's joints share one
+    copy each (measured: the copies cost a quarter of a cold compile, and
+    sharing them costs the shots nothing measurable). It has no wrapper for
+    Python: calling it from Python is an error (``callable_twins`` gives
+    functions Python can call).
+    """
+
+    def get_call_template(self, args, kws):
+        return super().get_call_template(tuple(nbtypes.unliteral(a) for a in args),
+                                         {k: nbtypes.unliteral(v) for k, v in kws.items()})
+
+    def __call__(self, *args, **kwargs):
+        raise TypeError(f"{self.py_func.__qualname__} is compiled for compiled callers only; "
+                        "call analytic.compiled's Python-callable twin instead")
+
+
+def internal(function=None, **options):
+    """Decorator: ``function`` as an ``Internal`` dispatcher (``INTERNAL``'s options plus ``options``)."""
+    def wrap(f):
+        return Internal(py_func=f, locals={}, targetoptions={**INTERNAL, **options})
+    return wrap if function is None else wrap(function)
+
+
+def compile_modules(modules, compile_function, inline=None, callees=None) -> dict[str, types.ModuleType]:
     """numba twins of every function defined in ``modules``, by module short name.
 
     Each twin is a new function object on the original's code, with its own
     globals: a copy of its module's, in which every function of ``modules``
-    is replaced by its compiled twin. numba reads those globals only when it
+    is replaced by its compiled twin, or by its twin in ``callees`` (a result
+    of this function) if given. numba reads those globals only when it
     compiles, so the order of definition does not matter.
 
-    ``inline`` maps a short module name to the functions numba should inline
-    into their callers.
+    ``compile_function(function, inline)`` makes a dispatcher (``inline``:
+    whether it is to be inlined into its callers); ``inline`` maps a short
+    module name to the functions to inline.
 
     Returns
     -------
@@ -68,20 +118,20 @@ def compile_modules(modules, options, inline=None) -> dict[str, types.ModuleType
     namespaces = []
     for module in modules:
         namespace = dict(vars(module))
+        short = module.__name__.rsplit(".", 1)[-1]
         for name, value in vars(module).items():
             if isinstance(value, types.FunctionType) and value.__module__ == module.__name__:
                 twin = types.FunctionType(value.__code__, namespace, name, value.__defaults__, value.__closure__)
                 twin.__qualname__, twin.__module__, twin.__doc__ = value.__qualname__, value.__module__, value.__doc__
-                short = module.__name__.rsplit(".", 1)[-1]
-                hint = {"inline": "always"} if name in (inline or {}).get(short, ()) else {}
-                twins[value] = numba.njit(**options, **hint)(twin)
+                twins[value] = compile_function(twin, name in (inline or {}).get(short, ()))
         namespaces.append((module, namespace))
     compiled = {}
     for module, namespace in namespaces:
+        short = module.__name__.rsplit(".", 1)[-1]
         for name, value in namespace.items():
             if isinstance(value, types.FunctionType) and value in twins:
-                namespace[name] = twins[value]
-        short = module.__name__.rsplit(".", 1)[-1]
+                namespace[name] = (getattr(callees[value.__module__.rsplit(".", 1)[-1]], value.__name__)
+                                   if callees is not None else twins[value])
         twin_module = types.ModuleType(f"{__name__}.{short}", f"{module.__name__}, compiled.")
         for name, value in vars(module).items():
             if isinstance(value, types.FunctionType) and value.__module__ == module.__name__:
@@ -131,11 +181,16 @@ def drop_stale_cache(directory: Path, paths, stamp_name: str = STAMP_NAME) -> bo
     return True
 
 
-_modules = compile_modules(MODEL_MODULES, OPTIONS, INLINE)
-geometry_ = _modules["geometry"]   # trailing underscore: not the Python module of that name
-limits_ = _modules["limits"]
-aero_ = _modules["aero"]
-eom_ = _modules["eom"]
-friction_ = _modules["friction"]
-stages_ = _modules["stages"]
+#: The model compiled for the kernel (``Internal`` dispatchers).
+kernel_twins = compile_modules(MODEL_MODULES, lambda f, inline: internal(f, forceinline=inline), INLINE)
+#: The model compiled for Python callers (tests, the benchmark): each function
+#: with its wrappers and disk cache, calling the kernel's twins.
+callable_twins = compile_modules(MODEL_MODULES, lambda f, inline: numba.njit(**CALLABLE)(f),
+                                 callees=kernel_twins)
+geometry_ = callable_twins["geometry"]   # trailing underscore: not the Python module of that name
+limits_ = callable_twins["limits"]
+aero_ = callable_twins["aero"]
+eom_ = callable_twins["eom"]
+friction_ = callable_twins["friction"]
+stages_ = callable_twins["stages"]
 drop_stale_cache(cache_directory(eom_.terms), SOURCES)

@@ -11,11 +11,14 @@ on the dense output, and the three stages in sequence (``shot``), for a
 range of design rows (``shots``, the one compiled entry point, which
 ``analytic.fast`` runs on several threads at once).
 
-Everything is compiled with ``cache=True`` (``analytic.compiled.OPTIONS``):
-the first call in a fresh checkout compiles and writes the machine code to
-``__pycache__``; later processes load it from there. Numbers that come from
-outside the model's source (the DOP853 coefficients, the drag table) are
-arguments, never globals a stale cache could freeze.
+The entry point is compiled with ``cache=True`` (``analytic.compiled.CALLABLE``):
+the first call in a fresh checkout compiles it, with everything it calls,
+and writes the machine code to ``__pycache__``; later processes load it from
+there. The other functions here are ``analytic.compiled.internal``: compiled
+once per argument type (a stage or a flag passed as a constant does not get
+its own copy), for compiled callers only. Numbers that come from outside the
+model's source (the DOP853 coefficients, the drag table) are arguments, never
+globals a stale cache could freeze.
 
 Designs arrive as rows laid out as ``analytic.parameters.Params``; results
 leave as rows laid out by the index constants below (``analytic.fast`` reads
@@ -26,11 +29,11 @@ from __future__ import annotations
 
 import math
 
+import numba
 import numpy as np
-from numba import njit
 from numba.np.unsafe.ndarray import to_fixed_tuple
 
-from analytic.compiled import OPTIONS, limits_, stages_
+from analytic.compiled import CALLABLE, internal, kernel_twins
 from analytic.limits import STAGE_STEP_LIMITS
 from analytic.outcome import LiftoffFailure, Status
 from analytic.parameters import N_PARAMS, Params
@@ -38,7 +41,7 @@ from analytic.stages import (ARM_STALLS, EVENT_NAMES, FIRST_SWITCH, FLIGHT, LOAD
                              PEAK_TIME_TOLERANCE, ROOT_NUDGE_ULPS, ROOT_TIME_TOLERANCE, SLIDE, SWING,
                              ZERO_START_PROBES)
 
-_JIT = OPTIONS
+stages_, limits_ = kernel_twins["stages"], kernel_twins["limits"]
 # The model's functions, compiled (``analytic.compiled``).
 derivative = stages_.derivative
 event_value = stages_.event_value
@@ -93,31 +96,39 @@ _N_STAGES = 12
 # arrays: stages 0-11 of the 8th-order step, the 5th- and 3rd-order error
 # estimators, and the dense output's three extra stages and its 4 x 16 matrix.
 
-@njit(**_JIT)
+@internal
 def _rk_step(stage, t, y, f, h, coef, K, y_new, f_new, tmp, p, table):
-    """One DOP853 step of size h from (t, y) with y'(t) = f; fills K[0:13]."""
+    """One DOP853 step of size h from (t, y) with y'(t) = f; fills K[0:13].
+
+    One call of the right-hand side in the loop, for the 11 stages and the
+    step's end alike: LLVM inlines it at each call site
+    (``analytic.compiled.INLINE``), and a second site would be a second copy.
+    """
     A, B = coef[0], coef[1]
     n = y.shape[0]
     for j in range(n):
         K[0, j] = f[j]
-    for s in range(1, _N_STAGES):
-        for j in range(n):
-            acc = 0.0
-            for q in range(s):
-                acc += K[q, j] * A[s, q]
-            tmp[j] = y[j] + acc * h
-        derivative(stage, tmp, p, table, K[s])
+    for s in range(1, _N_STAGES + 1):
+        if s < _N_STAGES:
+            for j in range(n):
+                acc = 0.0
+                for q in range(s):
+                    acc += K[q, j] * A[s, q]
+                tmp[j] = y[j] + acc * h
+            at = tmp
+        else:
+            for j in range(n):
+                acc = 0.0
+                for q in range(_N_STAGES):
+                    acc += K[q, j] * B[q]
+                y_new[j] = y[j] + h * acc
+            at = y_new
+        derivative(stage, at, p, table, K[s])
     for j in range(n):
-        acc = 0.0
-        for q in range(_N_STAGES):
-            acc += K[q, j] * B[q]
-        y_new[j] = y[j] + h * acc
-    derivative(stage, y_new, p, table, f_new)
-    for j in range(n):
-        K[_N_STAGES, j] = f_new[j]
+        f_new[j] = K[_N_STAGES, j]
 
 
-@njit(**_JIT)
+@internal
 def _error_norm(h, y, y_new, K, coef, rtol, atol):
     """DOP853's blended 5th/3rd-order error estimate, scaled by the tolerances (< 1: accept)."""
     E3, E5 = coef[3], coef[4]
@@ -136,7 +147,7 @@ def _error_norm(h, y, y_new, K, coef, rtol, atol):
     return abs(h) * err5 / math.sqrt((err5 + 0.01 * err3) * n)
 
 
-@njit(**_JIT)
+@internal
 def _rms(x, scale):
     total = 0.0
     for j in range(x.shape[0]):
@@ -144,7 +155,7 @@ def _rms(x, scale):
     return math.sqrt(total / x.shape[0])
 
 
-@njit(**_JIT)
+@internal
 def _initial_step(stage, t0, y0, f0, t_bound, rtol, atol, p, table):
     """Starting step: Hairer, Norsett & Wanner (1993), II.4, as in scipy's ``select_initial_step``."""
     interval = abs(t_bound - t0)
@@ -170,7 +181,7 @@ def _initial_step(stage, t0, y0, f0, t_bound, rtol, atol, p, table):
     return min(100.0 * h0, h1, interval)
 
 
-@njit(**_JIT)
+@internal
 def _dense_prepare(stage, t_old, h, y_old, y_new, f_new, coef, K, F, tmp, p, table):
     """The step's 7th-order interpolant: three more stages into K, then F (7, n)."""
     D, AX = coef[5], coef[6]
@@ -195,7 +206,7 @@ def _dense_prepare(stage, t_old, h, y_old, y_new, f_new, coef, K, F, tmp, p, tab
             F[3 + i, j] = h * acc
 
 
-@njit(**_JIT)
+@internal
 def _dense_eval(t, t_old, h, y_old, F, out):
     """The interpolant at t (Horner-like in x and 1 - x, highest term first)."""
     x = (t - t_old) / h
@@ -211,13 +222,13 @@ def _dense_eval(t, t_old, h, y_old, F, out):
         out[j] += y_old[j]
 
 
-@njit(**_JIT)
+@internal
 def _event_at(t, stage, k, t_old, h, y_old, F, tmp, p):
     _dense_eval(t, t_old, h, y_old, F, tmp)
     return event_value(stage, k, tmp, p)
 
 
-@njit(**_JIT)
+@internal
 def _brent(stage, k, xa, xb, fa, fb, t_old, h, y_old, F, tmp, p):
     """Root of the event between xa and xb (values fa, fb of opposite sign): Brent (1973).
 
@@ -268,13 +279,13 @@ _SQRT_EPS = math.sqrt(2.2e-16)
 _GOLDEN = 0.5 * (3.0 - math.sqrt(5.0))
 
 
-@njit(**_JIT)
+@internal
 def _negative_load(t, stage, k, t_old, h, y_old, F, tmp, p):
     _dense_eval(t, t_old, h, y_old, F, tmp)
     return -loads_at(stage, tmp, p)[k]
 
 
-@njit(**_JIT)
+@internal
 def _fminbound(stage, k, a, b, t_old, h, y_old, F, tmp, p):
     """``(t, value, calls)`` minimising ``-load k`` on [a, b]: Brent's bounded minimiser, step
     for step scipy's ``minimize_scalar(method="bounded")`` (xatol ``PEAK_TIME_TOLERANCE``, 500 calls)."""
@@ -343,7 +354,7 @@ def _fminbound(stage, k, a, b, t_old, h, y_old, F, tmp, p):
     return xf, -fx, num
 
 
-@njit(**_JIT)
+@internal
 def _refine_peaks(stage, brackets, bracket_y, best, coef, p, table, counts):
     """Refine each load's largest sample on the two steps beside it.
 
@@ -377,7 +388,7 @@ def _refine_peaks(stage, brackets, bracket_y, best, coef, p, table, counts):
                 best[k, 0], best[k, 1] = value, t_peak
 
 
-@njit(**_JIT)
+@internal
 def _sample_loads(stage, t, y, t_start, h, y_start, best, brackets, bracket_y, pending, ended, p, counts):
     """Compare the loads at (t, y), the end of the step (t_start, h) from ``y_start``, with the
     largest so far; a new largest keeps that step, and the next step (``pending``) beside it."""
@@ -398,19 +409,11 @@ def _sample_loads(stage, t, y, t_start, h, y_start, best, brackets, bracket_y, p
             brackets[k, 1, 0] = math.nan
             pending[k] = not ended
 
-# Each stage gets its own integrator (the stage a compile-time constant), so
-# that the right-hand side is inlined into the step with no branch on the
-# stage. The parts that run only a few times a stage (the first step, the
-# dense output, the root search) take the stage as a run-time number through
-# this array instead: one compiled copy of each rather than three, which
-# saves compile time at no measurable cost per shot.
-_RUNTIME_STAGE = np.arange(4)
-
 # integrate()'s outcome codes besides an event index.
 _REACHED_END, _FAILED, _OUT_OF_STEPS = -1, -2, -3
 
 
-@njit(**_JIT)
+@internal
 def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks, track_loads):
     """Integrate ``stage`` from (t0, y0) until a terminal event or ``t_bound``.
 
@@ -438,7 +441,7 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
     for k in range(ne):
         previous[k] = event_value(stage, k, y, p)
     t = t0
-    h_abs = _initial_step(_RUNTIME_STAGE[stage], t0, y, f, t_bound, rtol, atol, p, table)
+    h_abs = _initial_step(stage, t0, y, f, t_bound, rtol, atol, p, table)
     counts[1] += 2
     if not math.isfinite(h_abs):
         # A non-finite start or derivative: a NaN step would be shrunk forever.
@@ -451,7 +454,7 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
     bracket_y = np.empty((N_LOADS, 2, n))
     pending = np.zeros(N_LOADS, dtype=np.bool_)
     if track:
-        _sample_loads(_RUNTIME_STAGE[stage], t0, y, math.nan, 0.0, y, best, brackets, bracket_y, pending, False, p, counts)
+        _sample_loads(stage, t0, y, math.nan, 0.0, y, best, brackets, bracket_y, pending, False, p, counts)
     exponent = -1.0 / (_ERROR_ORDER + 1)
     steps = 0
     while t < t_bound:
@@ -504,18 +507,18 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
                 # Left zero at the step's start: did it come back within the step?
                 # (``stages.ZERO_START_PROBES``, as ``analytic.integrate`` does.)
                 if not dense_ready:
-                    _dense_prepare(_RUNTIME_STAGE[stage], t_old, h, y, y_new, f_new, coef, K, F, tmp, p, table)
+                    _dense_prepare(stage, t_old, h, y, y_new, f_new, coef, K, F, tmp, p, table)
                     counts[1] += 3
                     dense_ready = True
                 for i in range(1, ZERO_START_PROBES):
                     t_probe = t_old + (t_new - t_old) * i / ZERO_START_PROBES
-                    v_probe = _event_at(t_probe, _RUNTIME_STAGE[stage], k, t_old, h, y, F, tmp, p)
+                    v_probe = _event_at(t_probe, stage, k, t_old, h, y, F, tmp, p)
                     counts[1] += 1
                     if v_probe != 0.0 and (v_probe > 0.0) != (after > 0.0):
                         start, v_start = t_probe, v_probe
                         for j in range(i + 1, ZERO_START_PROBES):
                             t_next = t_old + (t_new - t_old) * j / ZERO_START_PROBES
-                            v_next = _event_at(t_next, _RUNTIME_STAGE[stage], k, t_old, h, y, F, tmp, p)
+                            v_next = _event_at(t_next, stage, k, t_old, h, y, F, tmp, p)
                             counts[1] += 1
                             if (v_next > 0.0) != (v_start > 0.0) or v_next == 0.0:
                                 end, v_end = t_next, v_next
@@ -527,13 +530,13 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
                 if not ((rising and direction >= 0) or (falling and direction <= 0)):
                     break
                 if not dense_ready:
-                    _dense_prepare(_RUNTIME_STAGE[stage], t_old, h, y, y_new, f_new, coef, K, F, tmp, p, table)
+                    _dense_prepare(stage, t_old, h, y, y_new, f_new, coef, K, F, tmp, p, table)
                     counts[1] += 3
                     dense_ready = True
                 if v_end == 0.0:
                     t_root = end
                 else:
-                    t_root = _brent(_RUNTIME_STAGE[stage], k, start, end, v_start, v_end, t_old, h, y, F, tmp, p)
+                    t_root = _brent(stage, k, start, end, v_start, v_end, t_old, h, y, F, tmp, p)
                 _dense_eval(t_root, t_old, h, y, F, y_root)
                 if event_armed(stage, k, y_root, p):
                     if event_terminal(stage, k):
@@ -549,7 +552,7 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
                 if t_root + nudge >= t_new:
                     break
                 start = t_root + nudge
-                v_start = _event_at(start, _RUNTIME_STAGE[stage], k, t_old, h, y, F, tmp, p)
+                v_start = _event_at(start, stage, k, t_old, h, y, F, tmp, p)
                 end, v_end = t_new, after
         for i in range(n_apex):
             if apex_t[i] <= hit_t:
@@ -558,23 +561,23 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
             y_hit = np.empty(n)
             _dense_eval(hit_t, t_old, h, y, F, y_hit)
             if track:
-                _sample_loads(_RUNTIME_STAGE[stage], hit_t, y_hit, t_old, h, y, best, brackets, bracket_y, pending, True, p,
+                _sample_loads(stage, hit_t, y_hit, t_old, h, y, best, brackets, bracket_y, pending, True, p,
                               counts)
-                _finish_peaks(_RUNTIME_STAGE[stage], best, brackets, bracket_y, peaks, coef, p, table, counts)
+                _finish_peaks(stage, best, brackets, bracket_y, peaks, coef, p, table, counts)
             return hit_k, hit_t, y_hit, apex
         if track:
-            _sample_loads(_RUNTIME_STAGE[stage], t_new, y_new, t_old, h, y, best, brackets, bracket_y, pending, False, p,
+            _sample_loads(stage, t_new, y_new, t_old, h, y, best, brackets, bracket_y, pending, False, p,
                           counts)
         t = t_new
         for j in range(n):
             y[j] = y_new[j]
             f[j] = f_new[j]
     if track:
-        _finish_peaks(_RUNTIME_STAGE[stage], best, brackets, bracket_y, peaks, coef, p, table, counts)
+        _finish_peaks(stage, best, brackets, bracket_y, peaks, coef, p, table, counts)
     return _REACHED_END, t, y, apex
 
 
-@njit(**_JIT)
+@internal
 def _finish_peaks(stage, best, brackets, bracket_y, peaks, coef, p, table, counts):
     """Refine this stretch's largest samples and keep each where it beats ``peaks``."""
     _refine_peaks(stage, brackets, bracket_y, best, coef, p, table, counts)
@@ -587,20 +590,20 @@ def _finish_peaks(stage, best, brackets, bracket_y, peaks, coef, p, table, count
 # A whole shot
 # --------------------------------------------------------------------------- #
 
-@njit(**_JIT)
+@internal
 def params(P):
     """The ``Params`` of a design row."""
     return Params(*to_fixed_tuple(P, N_PARAMS))
 
 
-@njit(**_JIT)
+@internal
 def _step_failed(out, code, stage):
     """Record a stage whose integration failed (``code``: ``_FAILED`` or ``_OUT_OF_STEPS``)."""
     out[STATUS], out[DETAIL] = STEP_FAILED, stage
     out[VALUE] = 1.0 if code == _OUT_OF_STEPS else 0.0
 
 
-@njit(inline="always")
+@internal(inline="always")
 def shot(P, table, coef, rtol, atol, track_loads, out):
     """Simulate the design row ``P`` through all three stages into the result row ``out``.
 
@@ -645,7 +648,7 @@ def shot(P, table, coef, rtol, atol, track_loads, out):
             if switches > MODE_SWITCH_LIMIT:
                 code = _FAILED
                 break
-            switch_mode(_RUNTIME_STAGE[SLIDE], code, y1, p)
+            switch_mode(SLIDE, code, y1, p)
     out[STEPS], out[EVALS] = counts[0], counts[1]
     if code != 1:
         out[END_T] = t1
@@ -672,7 +675,7 @@ def shot(P, table, coef, rtol, atol, track_loads, out):
         if switches > MODE_SWITCH_LIMIT:
             code = _FAILED
             break
-        switch_mode(_RUNTIME_STAGE[SWING], code, y2, p)
+        switch_mode(SWING, code, y2, p)
     out[STEPS], out[EVALS], out[END_T] = counts[0], counts[1], t2
     if code != 0:
         if code == _FAILED or code == _OUT_OF_STEPS:
@@ -704,13 +707,13 @@ def shot(P, table, coef, rtol, atol, track_loads, out):
     out[LANDING_T], out[LANDING_X], out[APEX] = t3, y3[0], max(y, apex) + p.h
 
 
-@njit(**_JIT)
+@internal
 def _write_peaks(peaks, out):
     for k in range(N_LOADS):
         out[PEAKS + 2 * k], out[PEAKS + 2 * k + 1] = peaks[k, 0], peaks[k, 1]
 
 
-@njit(**_JIT)
+@numba.njit(**CALLABLE)
 def shots(designs, start, stop, table, coef, rtol, atol, track_loads, out):
     """``shot`` for rows ``start:stop`` of ``designs`` (S, N_PARAMS) into those of ``out`` (S, N_RESULT).
 

@@ -22,19 +22,20 @@ _MODEL = {
     "eqs.py": "from toy.geo import lever\n\ndef force(x, p):\n    return lever(x, p) + p[1]\n",
     "kernel.py": textwrap.dedent("""\
         import numba
-        from analytic.compiled import compile_modules, drop_stale_cache, cache_directory, OPTIONS
+        from analytic.compiled import CALLABLE, cache_directory, compile_modules, drop_stale_cache, internal
         from toy import eqs, geo
-        modules = compile_modules((geo, eqs), OPTIONS)
-        if {stamped}:
-            drop_stale_cache(cache_directory(modules["eqs"].force), [geo.__file__, eqs.__file__, __file__])
+        modules = compile_modules((geo, eqs), lambda function, inline: internal(function))
         force = modules["eqs"].force
 
-        @numba.njit(**OPTIONS)
+        @numba.njit(**CALLABLE)
         def total(n, p):
             s = 0.0
             for i in range(n):
                 s += force(float(i), p)
             return s
+
+        if {stamped}:
+            drop_stale_cache(cache_directory(total), [geo.__file__, eqs.__file__, __file__])
         """),
 }
 
@@ -90,3 +91,30 @@ def test_every_analytic_module_the_model_imports_is_a_source_of_the_stamp():
         for node in ast.walk(tree):
             if isinstance(node, ast.ImportFrom) and node.module and node.module.startswith("analytic."):
                 assert node.module.split(".")[1] in sources, f"{path.name} imports {node.module}"
+
+
+def test_an_internal_function_is_compiled_once_per_type_not_per_constant():
+    """Constants passed to it (a stage, a joint) share one copy: numba alone makes one per value."""
+    import numba
+
+    def scaled(k, x):
+        return x * (k + 1)
+
+    shared, plain = compiled.internal(scaled), numba.njit(scaled)
+
+    def caller(f):
+        @numba.njit
+        def run(x):
+            return f(0, x) + f(1, x) + f(2, x)
+        return run
+
+    assert caller(shared)(1.0) == caller(plain)(1.0) == 6.0
+    assert len(shared.overloads) == 1
+    assert len(plain.overloads) == 3     # numba's own behaviour, which the kernel avoids
+
+
+def test_a_kernel_only_function_called_from_python_says_what_to_call():
+    with pytest.raises(TypeError, match="compiled callers only"):
+        compiled.kernel_twins["eom"].terms(0.1, 0.2, 0.3, 0.0, 0.0, 0.0, None)
+    assert isinstance(compiled.kernel_twins["stages"].derivative, compiled.Internal)
+    assert not isinstance(compiled.stages_.derivative, compiled.Internal)
