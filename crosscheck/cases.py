@@ -174,3 +174,17 @@ def default_suite(sample: int = 24, seed: int = 0) -> list[Case]:
     """The suite ``python -m crosscheck`` runs with no design files."""
     return (paper_cases() + exercise_cases() + failure_cases() + sample_cases(sample, seed) + rolling_cases()
             + friction_cases())
+
+
+#: The quick suite's cases, by name: the paper's design as published and at
+#: 61 deg, on a mid-weight rolling frame, with every loss, and one known failure.
+QUICK_CASES = ("table3", "table3-61deg", "table3-rolling-20kg", "table3-all-losses", "fails-never_releases")
+
+
+def quick_suite() -> list[Case]:
+    """The few designs ``make run`` checks in seconds (``QUICK_CASES``): one of each kind of
+    machine the default suite holds, with no sampled design."""
+    cases = {case.name: case for case in paper_cases() + failure_cases() + rolling_cases(sample=0)
+             + friction_cases(sample=0)}
+    return [cases[name] for name in QUICK_CASES]
+

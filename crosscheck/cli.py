@@ -16,7 +16,7 @@ from analytic.command_line import (OutputPathError, negative_numbers_as_values, 
                                    positive_float, positive_int)
 from analytic.design import DesignError
 from analytic.result import Shot
-from crosscheck.cases import Case, default_suite, file_cases, sample_cases
+from crosscheck.cases import QUICK_CASES, Case, default_suite, file_cases, quick_suite, sample_cases
 from crosscheck.compare import DEFAULT_DT, Comparison, compare, step_study
 from crosscheck.report import format_summary, format_table, write_report
 
@@ -58,6 +58,9 @@ def build_parser() -> argparse.ArgumentParser:
         prog="python -m crosscheck",
         description="Run designs through the analytic and the pymunk models and check that they agree.")
     parser.add_argument("designs", nargs="*", help="design TOML files (none: the default suite)")
+    parser.add_argument("--quick", action="store_true",
+                        help=f"instead of the default suite, its {len(QUICK_CASES)} designs of the paper's machine "
+                             "(as published, at 61 deg, rolling, with losses) and one failure: seconds, not a minute")
     parser.add_argument("--sample", type=int, default=None, metavar="N",
                         help="designs drawn over the paper's Table II bounds (default suite: 24)")
     parser.add_argument("--seed", type=int, default=0, help="seed of the sample (default 0)")
@@ -83,6 +86,8 @@ def main(argv: list[str] | None = None) -> int:
     try:
         if args.designs:
             cases = file_cases(args.designs) + sample_cases(args.sample or 0, args.seed)
+        elif args.quick:
+            cases = quick_suite() + sample_cases(args.sample or 0, args.seed)
         else:
             cases = default_suite(24 if args.sample is None else args.sample, args.seed)
     except DesignError as error:
