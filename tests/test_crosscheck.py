@@ -12,8 +12,8 @@ from analytic.design_file import save_design
 from analytic import outcome
 from analytic.result import Shot, Status
 from crosscheck import tolerances as tol
-from crosscheck.cases import (LOSS_VARIANTS, REALISTIC_LOSSES, default_suite, exercise_cases, failure_cases,
-                              friction_cases, paper_cases, sample_cases)
+from crosscheck.cases import (LOSS_VARIANTS, QUICK_CASES, REALISTIC_LOSSES, default_suite, exercise_cases, failure_cases,
+                              friction_cases, paper_cases, quick_suite, sample_cases)
 from crosscheck.cli import EXIT_AGREE, EXIT_DISAGREE, main
 from crosscheck.compare import compare, compare_shots, engine_simulate, step_study
 from engine_model import DEFAULT_DT, EngineError
@@ -271,3 +271,16 @@ def test_the_work_each_loss_took_is_compared_where_both_models_report_it(table3)
     # ... and a model that does not report them is not compared on them.
     unreported = compare_shots(dataclasses.replace(shot, energy_dissipated=None), shot)
     assert not any(row.quantity.startswith("dissipated_") for row in unreported)
+
+
+def test_the_quick_suite_is_the_default_suites_paper_machine_in_each_kind_and_a_failure():
+    quick = quick_suite()
+    assert [case.name for case in quick] == list(QUICK_CASES)
+    assert set(QUICK_CASES) <= {case.name for case in default_suite(sample=0)}
+    assert {case.group for case in quick} == {"paper", "rolling", "friction", "failure"}
+
+
+def test_cli_quick_runs_the_quick_suite_and_agrees(capsys):
+    assert main(["--quick", "--workers", "1", "--no-progress", "--json"]) == 0
+    result = json.loads(capsys.readouterr().out)
+    assert result["agree"] and [c["case"] for c in result["comparisons"]] == list(QUICK_CASES)
