@@ -234,6 +234,12 @@ class _Machine:
         self.projectile, = ax.plot([], [], marker="o", linestyle="none", color=PROJECTILE_COLOUR,
                                    markersize=marker_px * 72.0 / FRAME_DPI, zorder=5)
         self.ax, self.h = ax, h
+        #: What moves from frame to frame (``_Drawing`` redraws only these over a still background;
+        #: the base follows the view, with which the background is drawn again).
+        self.moving = [self.trace, self.sling, self.link, self.arm, self.counterweight, self.pivot,
+                       self.projectile]
+        if self.wheels:
+            self.moving += [self.frame_lines] + [artist for rim, spokes, *_ in self.wheels for artist in (rim, spokes)]
 
     def draw(self, state: FrameState, view: tuple[float, float, float, float]) -> None:
         x_min, x_max, y_min, y_max = view
@@ -284,8 +290,11 @@ class _Drawing:
         self.landing, = ax.plot([], [], marker="v", linestyle="none", color="#2060c0", markersize=9, zorder=6)
         self.landing_text = ax.text(0.0, 0.0, "", color="#2060c0", ha="center", va="bottom", fontsize=11,
                                     fontweight="bold", zorder=6)
-        self.text = ax.text(0.99, 0.98, "", transform=ax.transAxes, va="top", ha="right",
-                            family="monospace", fontsize=11)
+        # The design's name, still; under it the time, the stage and the playback speed, moving.
+        ax.text(0.99, 0.98, design.name, transform=ax.transAxes, va="top", ha="right", family="monospace",
+                fontsize=11)
+        self.text = ax.text(0.99, 0.98 - 1.25 * 11.0 / 72.0 * FRAME_DPI / FRAME_SIZE[1], "",
+                            transform=ax.transAxes, va="top", ha="right", family="monospace", fontsize=11)
         self.summary = ax.text(0.5, 0.55, "", transform=ax.transAxes, va="center", ha="center",
                                family="monospace", fontsize=12, zorder=7,
                                bbox=dict(boxstyle="round", facecolor="white", edgecolor="#808080", alpha=0.9))
@@ -296,9 +305,18 @@ class _Drawing:
             inset_ax.set_yticks([])
             for spine in inset_ax.spines.values():
                 spine.set_color("#a0a0a0")
-            inset_ax.set_title("the machine, close up", fontsize=9, loc="left")
+            # The inset's title belongs to the figure, so that it stays in the still background.
+            self.figure.text(INSET[0], INSET[1] + INSET[3] + 0.01, "the machine, close up", fontsize=9,
+                             ha="left", va="bottom")
             self.inset = _Machine(inset_ax, design, 0.6 * PROJECTILE_MARKER_PX)
             self.inset_view = machine_view(design)
+            inset_ax.set_animated(True)
+        # Drawn each frame over the still background (``pixels``), in the order of a whole draw.
+        self._moving = sorted(self.scene.moving + [self.landing, self.landing_text, self.text, self.summary],
+                              key=lambda artist: artist.get_zorder())
+        for artist in self._moving:
+            artist.set_animated(True)
+        self._background, self._background_view = None, None
 
     def draw(self, state: FrameState, view: tuple[float, float, float, float], speed: float | None = None,
              shot: Shot | None = None) -> None:
@@ -309,7 +327,7 @@ class _Drawing:
             self.inset.draw(state, (x_min + state.frame_x, x_max + state.frame_x, y_min, y_max))
         playback = "" if speed is None else (f"  {1.0 / speed:g}x slow motion" if speed < 1.0
                                              else "  real time" if speed == 1.0 else f"  {speed:g}x")
-        self.text.set_text(f"{self.design.name}\nt = {state.time:7.4f} s  {state.label}{playback}")
+        self.text.set_text(f"t = {state.time:7.4f} s  {state.label}{playback}")
         landed = shot is not None and shot.landing_time is not None and state.time >= shot.landing_time
         if landed:
             x = float(shot.landing_position[0])
@@ -324,8 +342,27 @@ class _Drawing:
             self.summary.set_visible(False)
 
     def pixels(self) -> np.ndarray:
-        self.figure.canvas.draw()
-        return np.asarray(self.figure.canvas.buffer_rgba()).copy()
+        """The frame as drawn now, (rows, columns, 4) RGBA.
+
+        What does not move (the ground scale, the fixed frame's legs) is
+        drawn once per view and kept as a background; each frame restores it
+        and draws over it what moves, in order of depth, then the inset
+        whole (it lies above the scene). Measured: a quarter of drawing the
+        whole figure each frame, for the same picture but where what moves
+        crosses the ground scale's ticks (over them now, under them before: a few pixels).
+        """
+        canvas = self.figure.canvas
+        view = (self.scene.ax.get_xlim(), self.scene.ax.get_ylim())
+        if self._background is None or view != self._background_view:
+            canvas.draw()
+            self._background, self._background_view = canvas.copy_from_bbox(self.figure.bbox), view
+        else:
+            canvas.restore_region(self._background)
+        for artist in self._moving:
+            self.figure.draw_artist(artist)
+        if self.inset is not None:
+            self.figure.draw_artist(self.inset.ax)
+        return np.asarray(canvas.buffer_rgba()).copy()
 
     def save(self, path: Path) -> np.ndarray:
         """Draw once, write the PNG from the canvas's pixels, and return them (RGBA).
