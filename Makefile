@@ -35,10 +35,10 @@ $(COMPILED): $(STAMP) $(wildcard analytic/*.py)
 compile: $(COMPILED)
 
 # `make run`: the default shot, the quick cross-check and the frames, two at a
-# time (the machine's cores). Quiet recipes (@); each job's report is printed
-# whole as it ends (--output-sync), under 40 lines in all.
+# time (the machine's cores; the shot first, the longest beside it). Quiet recipes (@); each
+# job's report is printed whole as it ends (--output-sync), under 40 lines in all.
 run: compile
-	@$(MAKE) --no-print-directory -j2 --output-sync=target run-shot run-crosscheck run-frames
+	@$(MAKE) --no-print-directory -j2 --output-sync=target run-shot run-frames run-crosscheck
 
 run-shot:
 	@$(PY) -m analytic simulate --plot $(OUT)/default-shot.png

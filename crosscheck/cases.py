@@ -176,15 +176,15 @@ def default_suite(sample: int = 24, seed: int = 0) -> list[Case]:
             + friction_cases())
 
 
-#: The quick suite's cases, by name: the paper's design as published and at
-#: 61 deg, on a mid-weight rolling frame, with every loss, and one known failure.
-QUICK_CASES = ("table3", "table3-61deg", "table3-rolling-20kg", "table3-all-losses", "fails-no_landing")
+#: The quick suite's cases, by name: the paper's design as published, at 61 deg
+#: and with every loss, and one known failure. No rolling frame: its engine
+#: steps the machine on through the whole flight (4-5 s a design, where these
+#: take 0.5-1 s); the default suite has nine.
+QUICK_CASES = ("table3", "table3-61deg", "table3-all-losses", "fails-no_landing")
 
 
 def quick_suite() -> list[Case]:
-    """The few designs ``make run`` checks in seconds (``QUICK_CASES``): one of each kind of
-    machine the default suite holds, with no sampled design."""
-    cases = {case.name: case for case in paper_cases() + failure_cases() + rolling_cases(sample=0)
-             + friction_cases(sample=0)}
+    """The few designs ``make run`` checks in seconds (``QUICK_CASES``), no sampled one."""
+    cases = {case.name: case for case in paper_cases() + failure_cases() + friction_cases(sample=0)}
     return [cases[name] for name in QUICK_CASES]
 

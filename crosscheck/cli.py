@@ -60,7 +60,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("designs", nargs="*", help="design TOML files (none: the default suite)")
     parser.add_argument("--quick", action="store_true",
                         help=f"instead of the default suite, its {len(QUICK_CASES)} designs of the paper's machine "
-                             "(as published, at 61 deg, rolling, with losses) and one failure: seconds, not a minute")
+                             "(as published, at 61 deg, with losses) and one failure: seconds, not a minute")
     parser.add_argument("--sample", type=int, default=None, metavar="N",
                         help="designs drawn over the paper's Table II bounds (default suite: 24)")
     parser.add_argument("--seed", type=int, default=0, help="seed of the sample (default 0)")
