@@ -1,12 +1,69 @@
-"""Fixtures: the default design and its vacuum twin (shared material lives in ``support``)."""
+"""Fixtures: the default design and its vacuum twin (shared material lives in ``support``); every
+module of the project imported before any test; and, under pytest-xdist (``make test``), which
+test each worker takes next."""
 
 from __future__ import annotations
 
+import importlib
+import pkgutil
+
 import pytest
 
+import analytic
+import crosscheck
+import engine_model
 from analytic.design import Design
 from analytic.design_file import default_design
 from support import with_projectile
+
+
+def _import_every_project_module() -> None:
+    """Hypothesis draws some values from the constants written in the modules loaded so far (its
+    "local constants"), so a derandomized test drew different examples depending on which of the
+    project's modules the tests before it happened to import: alone, in the whole suite, or on
+    whichever pytest-xdist worker it landed after whatever tests. With every module loaded first,
+    each test draws the same examples in any order, on any worker. (The ``__main__`` modules only
+    call ``cli.main``.)"""
+    for package in (analytic, engine_model, crosscheck):
+        for module in pkgutil.walk_packages(package.__path__, package.__name__ + "."):
+            if not module.name.endswith(".__main__"):
+                importlib.import_module(module.name)
+
+
+_import_every_project_module()
+
+#: Test files run whole on one pytest-xdist worker, in file order: one Dask cluster serves the
+#: whole module (its start costs 5 to 20 s, and its last test kills one of its workers).
+ONE_WORKER_FILES = {"tests/test_analytic_sweep_dask.py"}
+
+
+def pytest_collection_modifyitems(config, items):
+    """On pytest-xdist's workers, the ``slow`` tests first, in file order, then the rest: each worker
+    takes the next test as it finishes one, so the long tests start while hundreds of short ones
+    remain to even out the workers' loads, and none is left to run alone at the end. Every worker
+    sorts alike, as xdist requires. In one process the order stays pytest's own, so that a module's
+    fixtures are set up once."""
+    if hasattr(config, "workerinput"):
+        items.sort(key=lambda item: item.get_closest_marker("slow") is None)
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_xdist_make_scheduler(config, log):
+    """``-n N`` with xdist's default ``--dist load``: each test is its own unit of work, given to the
+    next free worker in collection order (the sort above), but every test of a file in
+    ``ONE_WORKER_FILES`` goes, as one unit, to one worker. (xdist's own ``--dist loadgroup`` would
+    do this with a mark, but with pytest 9.2 it silently stopped grouping: pytest-xdist issue 1386.)
+    Any other ``--dist`` is left to xdist."""
+    if config.getvalue("dist") != "load":
+        return None
+    from xdist.scheduler import LoadScopeScheduling
+
+    class OneWorkerFilesScheduling(LoadScopeScheduling):
+        def _split_scope(self, nodeid: str) -> str:
+            path = nodeid.split("::", 1)[0]
+            return path if path in ONE_WORKER_FILES else nodeid
+
+    return OneWorkerFilesScheduling(config, log)
 
 
 @pytest.fixture(scope="session")
