@@ -92,8 +92,11 @@ class OnDask:
                                   "distributed.admin.tick.interval": "1s",
                                   "distributed.admin.system-monitor.interval": "5s",
                                   "distributed.worker.memory.monitor-interval": "1s"}):
+                # The scheduler serves HTTP (metrics, health) even without a dashboard, on
+                # 8787 unless told otherwise: any free port, so that two clusters on one
+                # machine (two sweeps, the test suite on two workers) do not collide.
                 cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                       host="127.0.0.1", scheduler_port=0, dashboard_address=None,
+                                       host="127.0.0.1", scheduler_port=0, dashboard_address="127.0.0.1:0",
                                        silence_logs=logging.ERROR)
         except Exception as error:   # a cluster that fails to start says why in its own terms
             raise ExecutorError(f"a local Dask cluster of {workers} workers did not start: {error}") from error
