@@ -32,8 +32,11 @@ run: compile
 	@$(PY) -m crosscheck --report $(OUT)/crosscheck
 	@$(PY) -m engine_model render --out $(OUT)/frames --gif --mp4
 
+# On every core (pytest-xdist): each worker takes the next test as it finishes one, the
+# slow ones first, and a Dask-cluster module whole on one worker (tests/conftest.py).
+# `$(PY) -m pytest` alone still runs the whole suite in one process.
 test: compile
-	$(PY) -m pytest
+	$(PY) -m pytest -n auto
 
 clean:
 	rm -rf $(VENV) $(OUT) .pytest_cache .hypothesis build *.egg-info
