@@ -231,8 +231,8 @@ def test_many_batches_of_extreme_designs_end_in_named_outcomes(designs):
 
 #: The designs ``_check_both_paths`` passed in this process, by ``repr`` (every field, exactly;
 #: -0.0 apart from 0.0). Hypothesis reaches one design by several draws (an edge value or a
-#: default part drawn either way): the 25 examples of the slow test below hold 15 distinct
-#: designs, one of them six times. Both paths are deterministic, so a design drawn again is not
+#: default part drawn either way): the 25 examples of the slow test below hold 19 distinct
+#: designs, one of them four times. Both paths are deterministic, so a design drawn again is not
 #: shot again (1-4 s each); every distinct design is still checked, and a failure still fails
 #: the test that first drew it.
 _PASSED_BOTH_PATHS: set[str] = set()
