@@ -234,7 +234,7 @@ def test_many_batches_of_extreme_designs_end_in_named_outcomes(designs):
 #: -0.0 apart from 0.0). Hypothesis reaches one design by several draws (an edge value or a
 #: default part drawn either way): 25 examples of the slow test below held 19 distinct
 #: designs, one of them four times. Both paths are deterministic, so a design drawn again is not
-#: shot again (1-4 s each); every distinct design is still checked, and a failure still fails
+#: shot again (seconds each, some 30); every distinct design is still checked, and a failure still fails
 #: the test that first drew it.
 _PASSED_BOTH_PATHS: set[str] = set()
 
