@@ -10,6 +10,7 @@ from __future__ import annotations
 import dataclasses
 import datetime
 import math
+import os
 import tomllib
 from pathlib import Path
 
@@ -160,6 +161,17 @@ def paper_designs(draw) -> Design:
     rule = draw(st.sampled_from(["velocity", "sling"]))
     vector = np.array([values[name] for name in VARIABLE_NAMES])
     return design_at(dataclasses.replace(problem, arm=arm, release_rule=rule), vector, name="sampled")
+
+
+#: ``TREBUCHET_FULL_SAMPLES=1`` runs the sampled tests that ``sample_count`` sizes at their full counts.
+FULL_SAMPLES = os.environ.get("TREBUCHET_FULL_SAMPLES") == "1"
+
+
+def sample_count(suite: int, full: int) -> int:
+    """Examples a sampled slow test draws: ``suite`` in the suite (each such test says why that
+    many still cover its property), ``full`` with ``TREBUCHET_FULL_SAMPLES=1`` (the count it had
+    before the suite was fitted to its time: worth a run after changing what the test covers)."""
+    return full if FULL_SAMPLES else suite
 
 
 # --------------------------------------------------------------------------- #
