@@ -79,8 +79,11 @@ def test_sweep_writes_one_table_of_inputs_status_and_outcomes(tmp_path, capsys):
 @pytest.mark.slow   # a command in a fresh process, interrupted: about 10 s, more on a busy machine
 def test_an_interrupted_sweep_resumes_writing_each_chunk_once(tmp_path):
     path, out = sweep_file(tmp_path, steps=600, chunk=3), tmp_path / "out"   # 1000 chunks
+    # SIGINT's default action restored in the child: pytest-xdist's workers ignore SIGINT, a child
+    # inherits that, and Python then installs no KeyboardInterrupt handler (the command ran on to 0).
     process = subprocess.Popen([sys.executable, "-m", "analytic", "sweep", str(path), "--out", str(out), "--quiet"],
-                               cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                               cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     deadline = time.monotonic() + 120
     while len(list(out.glob("chunk-*.parquet"))) < 2 and process.poll() is None and time.monotonic() < deadline:
         time.sleep(0.01)
