@@ -397,7 +397,8 @@ def _sample_loads(stage, t, y, t_start, h, y_start, best, brackets, bracket_y, p
     for k in range(N_LOADS):
         if pending[k]:   # the step after the largest sample
             brackets[k, 1, 0], brackets[k, 1, 1], brackets[k, 1, 2] = t_start, h, t
-            bracket_y[k, 1, :] = y_start
+            for i in range(y_start.shape[0]):   # a loop: a slice copy costs 4 s of compile (its error message)
+                bracket_y[k, 1, i] = y_start[i]
             pending[k] = False
         if values[k] > best[k, 0]:
             best[k, 0], best[k, 1] = values[k], t
@@ -405,7 +406,8 @@ def _sample_loads(stage, t, y, t_start, h, y_start, best, brackets, bracket_y, p
                 brackets[k, 0, 0] = math.nan
             else:
                 brackets[k, 0, 0], brackets[k, 0, 1], brackets[k, 0, 2] = t_start, h, t
-                bracket_y[k, 0, :] = y_start
+                for i in range(y_start.shape[0]):
+                    bracket_y[k, 0, i] = y_start[i]
             brackets[k, 1, 0] = math.nan
             pending[k] = not ended
 
@@ -449,10 +451,17 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
     apex = -math.inf
     apex_t, apex_y = np.empty(4), np.empty(4)   # counted apex roots within one step
     track = track_loads and stage != FLIGHT
-    best = np.full((N_LOADS, 2), -math.inf)
-    brackets = np.full((N_LOADS, 2, 3), math.nan)
+    # Filled by loops: numba compiles np.full and np.zeros into a function per
+    # shape and type (about a second of a cold compile in all, measured).
+    best, brackets = np.empty((N_LOADS, 2)), np.empty((N_LOADS, 2, 3))
     bracket_y = np.empty((N_LOADS, 2, n))
-    pending = np.zeros(N_LOADS, dtype=np.bool_)
+    pending = np.empty(N_LOADS, dtype=np.bool_)
+    for k in range(N_LOADS):
+        pending[k] = False
+        for side in range(2):
+            best[k, side] = -math.inf
+            for j in range(3):
+                brackets[k, side, j] = math.nan
     if track:
         _sample_loads(stage, t0, y, math.nan, 0.0, y, best, brackets, bracket_y, pending, False, p, counts)
     exponent = -1.0 / (_ERROR_ORDER + 1)
@@ -617,7 +626,8 @@ def shot(P, table, coef, rtol, atol, track_loads, out):
     """
     for i in range(N_RESULT):
         out[i] = math.nan
-    counts = np.zeros(2)
+    counts = np.empty(2)
+    counts[0], counts[1] = 0.0, 0.0
     p = params(P)
     ddtheta0, normal0 = fires(p)
     if not (math.isfinite(ddtheta0) and math.isfinite(normal0)):
@@ -633,7 +643,9 @@ def shot(P, table, coef, rtol, atol, track_loads, out):
     # Stage 1: slide on the base until the normal force vanishes. A friction
     # mode's switch (an event from FIRST_SWITCH on) goes on from its root in the
     # new mode, as ``analytic.reference`` does.
-    peaks = np.full((N_LOADS, 2), -math.inf)
+    peaks = np.empty((N_LOADS, 2))
+    for k in range(N_LOADS):
+        peaks[k, 0], peaks[k, 1] = -math.inf, -math.inf
     y1 = np.empty(state_size(SLIDE, p))
     slide_start(p, y1)
     switches = 0
@@ -694,7 +706,9 @@ def shot(P, table, coef, rtol, atol, track_loads, out):
 
     # Stage 3: flight.
     t_max = t2 + flight_time_limit(y + p.h, vy, p.g)
-    code, t3, y3, apex = integrate(FLIGHT, t2, np.array([x, y, vx, vy]), t_max, coef, rtol, atol,
+    y_release = np.empty(4)
+    y_release[0], y_release[1], y_release[2], y_release[3] = x, y, vx, vy
+    code, t3, y3, apex = integrate(FLIGHT, t2, y_release, t_max, coef, rtol, atol,
                                    p, table, counts, peaks, False)
     out[STEPS], out[EVALS], out[END_T] = counts[0], counts[1], t3
     if code != 0:

@@ -118,3 +118,40 @@ def test_a_kernel_only_function_called_from_python_says_what_to_call():
         compiled.kernel_twins["eom"].terms(0.1, 0.2, 0.3, 0.0, 0.0, 0.0, None)
     assert isinstance(compiled.kernel_twins["stages"].derivative, compiled.Internal)
     assert not isinstance(compiled.stages_.derivative, compiled.Internal)
+
+
+def test_internal_functions_are_emitted_as_machine_code_only_inside_their_entry_point(monkeypatch):
+    """numba alone optimises and emits every callee's library as if it were an entry point,
+    the whole call tree below it again at each level; an ``Internal`` one is only linked."""
+    import numba
+    from numba.core.codegen import JITCodeLibrary
+
+    emitted = []
+    emit = JITCodeLibrary._finalize_specific
+
+    def recording(library):
+        emitted.append(library.name)
+        return emit(library)
+
+    monkeypatch.setattr(JITCodeLibrary, "_finalize_specific", recording)
+
+    def chain(make):
+        def inner_step(x):
+            return 2.0 * x + 1.0
+
+        def outer_step(x):
+            return inner(x) * inner(x + 1.0)
+
+        inner, outer = make(inner_step), make(outer_step)
+
+        @numba.njit
+        def entry_point(x):
+            return outer(x) - 1.0
+        return entry_point
+
+    from numba.core.registry import cpu_target
+    assert compiled.LinkOnlyLibrary(cpu_target.target_context.codegen(), "probe").fits_this_numba()
+    assert chain(compiled.internal)(1.0) == chain(numba.njit)(1.0) == 3.0 * 5.0 - 1.0
+    names = [name.rsplit(".", 1)[-1] for name in emitted]
+    assert names.count("entry_point") == 2          # one per chain
+    assert names.count("inner_step") == names.count("outer_step") == 1   # the plain numba chain's only
