@@ -23,8 +23,8 @@
   tighter tolerance and without histories, the fast path, the engine at its
   default step and at twice it.
 * **compile**: loading the fast path's machine code from the disk cache; with
-  ``--cold``, compiling it in a fresh process with an empty cache (2-3
-  minutes of CPU since friction and the peak loads), apart from every shot time.
+  ``--cold``, compiling it in a fresh process with an empty cache (about
+  25 s of CPU), apart from every shot time.
 * **sweep throughput**: one sweep (``--sweep-shots`` designs drawn over the
   paper's problem box, chunks of ``--sweep-chunk``) end to end, Parquet
   written, in this process on every core and on a 2-worker Dask
@@ -461,7 +461,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="runs per timing, the best counts (default %(default)s)")
     parser.add_argument("--cold", action="store_true",
                         help="also compile the fast path in a fresh process with an empty cache "
-                             "(2-3 minutes of CPU)")
+                             "(about 25 s of CPU)")
     parser.add_argument("--plot", metavar="FILE.png", help="plot the time per shot and the agreement per design")
     parser.add_argument("--sweep-shots", type=int, default=40_960,
                         help="designs in the sweep-throughput part (in this process and on a 2-worker "

@@ -31,6 +31,7 @@ from engine_model import friction as fr
 from engine_model import kinematics as kin
 from engine_model.build import Rig, build
 from engine_model.events import interpolate
+from engine_model.readout import body_row
 
 #: The joints that remain after release (``engine_model.kinematics.joint_drift``'s keys).
 MACHINE_JOINTS = ("pivot", "hinge", "rail")
@@ -121,8 +122,7 @@ def run_after_release(design: Design, release_time: float, release_state: np.nda
         impulses.append(fr.impulses(friction, False))
         opening_loads = _loads(friction, rig, None, raw[-1], design, 0.5 * dt)
         friction = fr.renew(friction, rig)
-    # At least two full steps, so that the landing is interpolated through three rows.
-    count = max(int(np.ceil((landing_time - release_time) / dt)), 2)
+    count = after_release_steps(release_time, landing_time, dt)
     loads = None
     for i in range(count):
         if friction is not None:
@@ -150,6 +150,11 @@ def run_after_release(design: Design, release_time: float, release_state: np.nda
                         len(raw), dissipated)
 
 
+def after_release_steps(release_time: float, landing_time: float, dt: float) -> int:
+    """Whole steps from release to landing: at least two, so that the landing is interpolated through three rows."""
+    return max(int(np.ceil((landing_time - release_time) / dt)), 2)
+
+
 def _loads(friction: fr.Friction, rig: Rig, before: tuple | None, row: tuple, design: Design,
            step: float) -> tuple[float, float, float]:
     """The axle's and the hinge's loads in the last step of ``step`` s, N (as in stages 1-2, without a projectile)."""
@@ -172,10 +177,11 @@ def _bodies(rig: Rig) -> dict[int, pymunk.Body]:
 
 
 def _read(bodies: dict[int, pymunk.Body]) -> tuple[float, ...]:
-    row = []
+    """A state row, every body's velocity its origin's."""
+    row = ()
     for body in bodies.values():
-        row += [*body.position, body.angle, *body.velocity_at_local_point((0.0, 0.0)), body.angular_velocity]
-    return tuple(row)
+        row += body_row(body, origin=True)
+    return row
 
 
 def _synchronise(raw: np.ndarray, start: np.ndarray) -> np.ndarray:

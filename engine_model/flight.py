@@ -16,6 +16,7 @@ from analytic.design import Design
 from analytic.limits import flight_time_limit
 from engine_model.build import EngineError, placeholder_moment
 from engine_model.events import crossing_fraction, highest, interpolate
+from engine_model.readout import motion, set_force
 
 
 #: The flight's step as a multiple of the machine's ``dt``. The machine needs
@@ -26,6 +27,11 @@ from engine_model.events import crossing_fraction, highest, interpolate
 #: -2.709e-6 at 10x, -2.713e-6 at 20x: the machine's error, not the flight's,
 #: at a tenth of the flight's steps.
 FLIGHT_STEP_MULTIPLE = 10
+#: Most pymunk steps in flight, after which the flight ends unlanded and the
+#: shot ``STEP_FAILED`` (``engine_model.shot.MACHINE_STEP_LIMIT`` for the
+#: machine). A real flight takes a few thousand (the cross-check's suite at
+#: most 7,156); a flight under a gravity of 1e-6 m/s^2 would take billions.
+FLIGHT_STEP_LIMIT = 400_000
 
 #: Longest flight step, as a fraction of the drag's time scale ``|v_rel| / |a_drag|``
 #: (the time in which drag alone would stop the projectile). The step is the
@@ -79,6 +85,7 @@ class Flight:
     limit: float
     apex: float
     drag_work: float = 0.0
+    out_of_steps: bool = False
 
     @property
     def landed(self) -> bool:
@@ -249,7 +256,7 @@ def fly(design: Design, release_time: float, position: np.ndarray, velocity: np.
             scale = 0.5 * (step + following) / step
             ax, ay = ax * scale, (ay - g) * scale + g
             drag_impulse = (drag_impulse[0] * scale, drag_impulse[1] * scale)
-        body.force = (mass * ax, mass * ay)
+        set_force(body, mass * ax, mass * ay)
         before = (vx, vy)
         space.step(step)
         steps += 1
@@ -259,8 +266,7 @@ def fly(design: Design, release_time: float, position: np.ndarray, velocity: np.
             short_time += step
         taken = [taken[1], step]
         step = following
-        x, y = body.position
-        vx, vy = body.velocity
+        x, y, vx, vy = motion(body)
         if not math.isfinite(x + y + vx + vy):
             raise EngineError(f"the flight went non-finite after {steps} steps of at most {dt:g} s")
         kick = -(drag_impulse[0] * 0.5 * (before[0] + vx) + drag_impulse[1] * 0.5 * (before[1] + vy))
@@ -271,10 +277,11 @@ def fly(design: Design, release_time: float, position: np.ndarray, velocity: np.
         path.append((x, y))
         if y + h < 0.0:
             break
-        if flown > limit or flown + (y + h) / max(-v_next[1], fall_cap) > limit:
+        out_of_steps = steps >= FLIGHT_STEP_LIMIT
+        if out_of_steps or flown > limit or flown + (y + h) / max(-v_next[1], fall_cap) > limit:
             path_array = np.array(path)
             return Flight(np.array(times), path_array, None, None, steps, limit,
-                          highest(np.array(times), path_array[:, 1]), work[-1])
+                          highest(np.array(times), path_array[:, 1]), work[-1], out_of_steps)
     # Equally spaced samples locate the landing on a parabola; after a change of step, a line.
     samples = 3 if steps >= 2 and taken[0] == taken[1] else 2
     heights = [p[1] + h for p in path[-samples:]]

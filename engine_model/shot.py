@@ -27,10 +27,11 @@ from analytic.outcome import LiftoffFailure
 from analytic.result import EnergyBudget, Shot, Stage, Status
 from engine_model import friction as fr
 from engine_model import kinematics as kin
-from engine_model.after_release import MACHINE_JOINTS, AfterRelease, run_after_release
+from engine_model.after_release import MACHINE_JOINTS, AfterRelease, after_release_steps, run_after_release
 from engine_model.build import DEFAULT_ITERATIONS, EngineError, Rig, build, machine_length
 from engine_model.events import crossing_fraction, interpolate
-from engine_model.flight import fly
+from engine_model.flight import FLIGHT_STEP_LIMIT, FLIGHT_STEP_MULTIPLE, fly
+from engine_model.readout import rig_row
 
 #: Default fixed step, s. At 5e-5 s release speed and range agree with the
 #: analytic model to 1.6e-6 and 2.7e-6 on the paper's design
@@ -44,6 +45,15 @@ DEFAULT_DT = 5e-5
 BASE_TOLERANCE = 1e-9
 #: Solver iterations of the opening step, which has no previous impulses to start from.
 STARTUP_ITERATIONS = 1000
+#: Most pymunk steps in stages 1-2 (and in a rolling machine's run after
+#: release), after which the run ends as ``STEP_FAILED``: the analogue of the
+#: analytic paths' ``STAGE_STEP_LIMITS``. The engine's step is fixed, so a
+#: slow machine needs more of them: the swing's time bound grows as
+#: 1/sqrt(gravity), and at 1e-6 m/s^2 the paper's machine would need 1e9
+#: steps (hours). The most any design of the cross-check's suite takes is
+#: 147,168 (its never-releasing design, run to the bound at the default
+#: step); 400,000 is about 16 s of stepping.
+MACHINE_STEP_LIMIT = 400_000
 #: A run whose joints come apart by more than this fraction of the machine's
 #: largest length is rejected: at 4x the default step the drift is about 1e-5
 #: of it, and above this the reported numbers would be off by more than that.
@@ -138,16 +148,9 @@ class _Run:
     release_fraction: float | None = None
 
 
-_ORIGIN = (0.0, 0.0)
-
-
 def read_state(rig: Rig) -> tuple[float, ...]:
     """The 24 numbers of a state row (``engine_model.kinematics``) read from the bodies."""
-    a, c, p, f = rig.arm, rig.counterweight, rig.projectile, rig.frame
-    return (*a.position, a.angle, *a.velocity_at_local_point(_ORIGIN), a.angular_velocity,
-            *c.position, c.angle, *c.velocity, c.angular_velocity,
-            *p.position, p.angle, *p.velocity, p.angular_velocity,
-            *f.position, f.angle, *f.velocity, f.angular_velocity)
+    return rig_row(rig.arm, rig.counterweight, rig.projectile, rig.frame)
 
 
 def simulate(design: Design, *, dt: float = DEFAULT_DT, iterations: int = DEFAULT_ITERATIONS,
@@ -225,6 +228,10 @@ def simulate(design: Design, *, dt: float = DEFAULT_DT, iterations: int = DEFAUL
         if flight.landed:
             fields.update(landing_time=flight.landing_time, landing_position=flight.landing_position,
                           apex_height=flight.apex + design.machine.pivot_height)
+        elif flight.out_of_steps:
+            run.status = Status.STEP_FAILED
+            run.message = step_limit_message("the flight", flight.steps, FLIGHT_STEP_MULTIPLE * dt, flight.limit,
+                                             FLIGHT_STEP_LIMIT)
         else:
             run.status, run.message = Status.NO_LANDING, outcome.no_landing_message(flight.limit)
     fields["min_sling_tension"] = (smallest_sample(tension) if sling == "rigid"
@@ -235,7 +242,13 @@ def simulate(design: Design, *, dt: float = DEFAULT_DT, iterations: int = DEFAUL
     shot = _assemble(design, run, times, sync, tension, fields)
     diagnostics = _diagnose(design, dt, iterations, sling, len(raw), flight_steps, drift, residual, shot, sync,
                             dissipated)
-    if shot.landing_time is not None:
+    after_steps = (0 if shot.landing_time is None or not design.base.rolling
+                   else after_release_steps(shot.release_time, shot.landing_time, dt))
+    if after_steps > MACHINE_STEP_LIMIT:
+        time_bound = shot.landing_time - shot.release_time
+        shot = dataclasses.replace(shot, status=Status.STEP_FAILED, message=step_limit_message(
+            "the rolling machine's run after release", after_steps, dt, time_bound, ahead=True))
+    elif shot.landing_time is not None:
         if not design.base.rolling:
             shot = dataclasses.replace(shot, frame_landing_displacement=0.0, frame_landing_velocity=0.0)
         else:
@@ -360,6 +373,8 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tupl
         if friction is not None:
             run.friction_limit.append(fr.set_limits(friction, fr.predicted_loads(loads, earlier_loads)))
             fr.aim(friction, rig, dt)
+        if k >= MACHINE_STEP_LIMIT:
+            return _fail(run, rig, Status.STEP_FAILED, step_limit_message("stages 1-2", k, dt, t_limit))
         step(dt)
         k += 1
         row = read_state(rig)
@@ -478,6 +493,17 @@ def _opening_step(rig: Rig, dt: float, iterations: int) -> tuple[float, ...]:
     rig.space.step(0.5 * dt)
     rig.space.iterations = iterations
     return read_state(rig)
+
+
+def step_limit_message(part: str, steps: int, dt: float, time_bound: float, limit: int = MACHINE_STEP_LIMIT,
+                       ahead: bool = False) -> str:
+    """Why a run ended ``STEP_FAILED``: ``part`` took (or, ``ahead``, would take) ``steps`` steps of
+    ``dt``, ``limit`` the most it may."""
+    took = "would need" if ahead else "took"
+    return (f"the engine stopped: {part} {took} {steps} steps of {dt:g} s ({steps * dt:.4g} s of motion, "
+            f"against a time bound of {time_bound:.4g} s), and the engine's limit is {limit} steps; "
+            f"the design is far outside anything buildable (a machine this slow: check gravity and the "
+            f"masses), or use a larger --dt")
 
 
 def _fail(run: _Run, rig: Rig, status: Status, message: str) -> tuple[_Run, Rig]:

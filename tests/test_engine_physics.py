@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -192,3 +193,67 @@ def test_the_rope_never_pushes_and_never_gains_energy(vacuum, engine):
     assert np.abs(rope_path - rigid.path[before]).max() < 1e-6
     slack = (rope.t > first_push) & (rope.t < rope.release_time)
     assert np.any(np.abs(rope.sling_tension[slack]) < 1e-9)  # slack: no pull but round-off
+
+
+def test_the_state_read_from_chipmunk_is_the_one_pymunks_properties_give(vacuum):
+    """``engine_model.readout`` calls Chipmunk's getters directly; every entry is the same double."""
+    from engine_model.after_release import _bodies, _read
+
+    rig = build(vacuum)
+    rig.space.step(0.5 * DEFAULT_DT)
+    for _ in range(2000):   # into the swing: every body moving and turning
+        rig.space.step(DEFAULT_DT)
+    bodies = (rig.arm, rig.counterweight, rig.projectile, rig.frame)
+    by_properties = []
+    for i, body in enumerate(bodies):
+        velocity = body.velocity_at_local_point((0.0, 0.0)) if i == 0 else body.velocity
+        by_properties += [*body.position, body.angle, *velocity, body.angular_velocity]
+    assert read_state(rig) == tuple(by_properties)
+    moving = (kin.ARM + kin.W, kin.COUNTERWEIGHT + kin.VX, kin.PROJECTILE + kin.VX, kin.PROJECTILE + kin.VY)
+    assert all(by_properties[i] != 0.0 for i in moving)   # not a state at rest
+    origins = []
+    for body in _bodies(rig).values():
+        origins += [*body.position, body.angle, *body.velocity_at_local_point((0.0, 0.0)), body.angular_velocity]
+    assert _read(_bodies(rig)) == tuple(origins)
+
+
+# The engine's step budgets (``MACHINE_STEP_LIMIT``, ``FLIGHT_STEP_LIMIT``): a machine too slow
+# for the fixed step (at a gravity of 1e-6 m/s^2 the paper's machine would need 1e9 steps)
+# ends STEP_FAILED with the reason, instead of running for hours. Each limit is lowered here
+# below what the paper's design needs (about 9,000 steps to release, 1,500 in flight and, on a
+# rolling frame, 66,000 after release), so that the test runs in a second.
+
+def test_a_machine_that_needs_more_steps_than_the_budget_stops_and_says_why(vacuum, monkeypatch):
+    import engine_model.shot as engine_shot
+
+    monkeypatch.setattr(engine_shot, "MACHINE_STEP_LIMIT", 2_000)
+    shot = simulate(vacuum)
+    assert shot.status is Status.STEP_FAILED
+    assert "stages 1-2 took 2000 steps of 5e-05 s" in shot.message and "gravity" in shot.message
+    assert len(shot.t) == 2_001            # the half step and 2,000 whole ones, then it stopped
+
+
+def test_a_flight_that_needs_more_steps_than_the_budget_stops_and_says_why(vacuum, monkeypatch):
+    import engine_model.flight as engine_flight
+
+    monkeypatch.setattr(engine_flight, "FLIGHT_STEP_LIMIT", 100)
+    shot = simulate(vacuum)
+    assert shot.status is Status.STEP_FAILED
+    assert shot.message.startswith("the engine stopped: the flight took 100 steps")
+    assert shot.release_time is not None and shot.landing_time is None
+
+
+def test_a_rolling_run_after_release_that_would_exceed_the_budget_is_not_started(monkeypatch):
+    import engine_model.after_release as after_release
+    import engine_model.shot as engine_shot
+
+    design = dataclasses.replace(default_design(), base=dataclasses.replace(
+        default_design().base, mobility="rolling", mass=20.0))
+    started = []
+    monkeypatch.setattr(engine_shot, "MACHINE_STEP_LIMIT", 20_000)   # stages 1-2 take about 7,600
+    monkeypatch.setattr(engine_shot, "run_after_release", lambda *a, **k: started.append(a))
+    shot = simulate(design)
+    needed = after_release.after_release_steps(shot.release_time, shot.landing_time, DEFAULT_DT)
+    assert needed > 20_000
+    assert shot.status is Status.STEP_FAILED and not started
+    assert f"the rolling machine's run after release would need {needed} steps" in shot.message
