@@ -14,7 +14,6 @@ time stamp.
 
 from __future__ import annotations
 
-import concurrent.futures
 import math
 import sys
 from dataclasses import dataclass
@@ -365,27 +364,19 @@ class _Drawing:
             self.figure.draw_artist(self.inset.ax)
         return np.asarray(canvas.buffer_rgba()).copy()
 
-    def save(self, path: Path, writer: concurrent.futures.Executor | None = None
-             ) -> tuple[np.ndarray, concurrent.futures.Future | None]:
-        """Draw once, write the PNG from the canvas's pixels (on ``writer``'s thread if given:
-        the future), and return them (RGBA).
+    def save(self, path: Path) -> np.ndarray:
+        """Draw once, write the PNG from the canvas's pixels, and return them (RGBA).
 
         One draw per frame rather than two (``savefig`` would draw the figure
         again); Pillow writes no time stamp or version, so frames stay deterministic.
         """
+        from PIL import Image
+
         pixels = self.pixels()
-        if writer is None:
-            write_png(pixels, path)
-            return pixels, None
-        return pixels, writer.submit(write_png, pixels, path)
-
-
-def write_png(pixels: np.ndarray, path: Path) -> None:
-    """``pixels`` (RGBA) as a PNG at zlib's fastest level: a third of a frame's time at the default
-    level, for files about 1.3x as large (the pixels are the same)."""
-    from PIL import Image
-
-    Image.fromarray(pixels, "RGBA").save(path, format="PNG", dpi=(FRAME_DPI, FRAME_DPI), compress_level=1)
+        # zlib's fastest level: a third of the frame's time at the default
+        # level, for files about 1.3x as large (the pixels are the same).
+        Image.fromarray(pixels, "RGBA").save(path, format="PNG", dpi=(FRAME_DPI, FRAME_DPI), compress_level=1)
+        return pixels
 
 
 def summary(shot: Shot) -> str:
@@ -423,21 +414,15 @@ def render_shot(shot: Shot, out_dir: str | Path, *, fps: float = DEFAULT_FPS,
     times, speeds = frame_times(shot, fps, swing_slow_motion, flight_speed)
     view = camera(shot.design, frame_state(shot, float(times[-1])))
     drawing = _Drawing(shot.design)
-    paths, frames, writes = [], [], []
-    # Each PNG is compressed on a thread of its own while the next frame is drawn
-    # (zlib runs without the GIL): 2.7 s of the default shot's 160 frames.
-    with concurrent.futures.ThreadPoolExecutor(max_workers=1) as writer:
-        for i, (time, speed) in enumerate(tqdm(list(zip(times, speeds)), desc="frames", unit="frame",
-                                               disable=not progress, file=sys.stderr)):
-            drawing.draw(frame_state(shot, float(time)), view, float(speed), shot)
-            path = out / f"frame_{i:05d}.png"
-            pixels, written = drawing.save(path, writer)
-            paths.append(path)
-            writes.append(written)
-            if gif or mp4:
-                frames.append(pixels[:, :, :3])
-        for written in writes:
-            written.result()   # a failed write raises here
+    paths, frames = [], []
+    for i, (time, speed) in enumerate(tqdm(list(zip(times, speeds)), desc="frames", unit="frame",
+                                           disable=not progress, file=sys.stderr)):
+        drawing.draw(frame_state(shot, float(time)), view, float(speed), shot)
+        path = out / f"frame_{i:05d}.png"
+        pixels = drawing.save(path)
+        paths.append(path)
+        if gif or mp4:
+            frames.append(pixels[:, :, :3])
     if frames:
         frames += [frames[-1]] * int(round(FINAL_HOLD * fps))
     if gif:
