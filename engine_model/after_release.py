@@ -31,7 +31,7 @@ from engine_model import friction as fr
 from engine_model import kinematics as kin
 from engine_model.build import Rig, build
 from engine_model.events import interpolate
-from engine_model.readout import body_row
+from engine_model.readout import body_row, stepper
 
 #: The joints that remain after release (``engine_model.kinematics.joint_drift``'s keys).
 MACHINE_JOINTS = ("pivot", "hinge", "rail")
@@ -124,6 +124,7 @@ def run_after_release(design: Design, release_time: float, release_state: np.nda
         friction = fr.renew(friction, rig)
     count = after_release_steps(release_time, landing_time, dt)
     loads = None
+    step = stepper(rig.space)
     for i in range(count):
         if friction is not None:
             # The first whole step's readings are off (``friction.renew``): the half step's stand in.
@@ -131,7 +132,7 @@ def run_after_release(design: Design, release_time: float, release_state: np.nda
             earlier, loads = loads, measured
             fr.set_limits(friction, fr.predicted_loads(loads, earlier))
             fr.aim(friction, rig, dt)
-        rig.space.step(dt)
+        step(dt)
         raw.append(_read(bodies))
         if friction is not None:
             impulses.append(fr.impulses(friction, False))

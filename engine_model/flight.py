@@ -16,7 +16,7 @@ from analytic.design import Design
 from analytic.limits import flight_time_limit
 from engine_model.build import EngineError, placeholder_moment
 from engine_model.events import crossing_fraction, highest, interpolate
-from engine_model.readout import motion, set_force
+from engine_model.readout import motion, set_force, stepper
 
 
 #: The flight's step as a multiple of the machine's ``dt``. The machine needs
@@ -244,6 +244,7 @@ def fly(design: Design, release_time: float, position: np.ndarray, velocity: np.
     steps = full_steps = 0
     short_time = 0.0
     taken = [0.0, 0.0]  # the last two steps
+    advance = stepper(space)
     while True:
         v_next = predicted(vx, vy, 0.5 * step)
         rate = drag(*v_next)
@@ -258,7 +259,7 @@ def fly(design: Design, release_time: float, position: np.ndarray, velocity: np.
             drag_impulse = (drag_impulse[0] * scale, drag_impulse[1] * scale)
         set_force(body, mass * ax, mass * ay)
         before = (vx, vy)
-        space.step(step)
+        advance(step)
         steps += 1
         if step == dt:
             full_steps += 1

@@ -31,7 +31,7 @@ from engine_model.after_release import MACHINE_JOINTS, AfterRelease, after_relea
 from engine_model.build import DEFAULT_ITERATIONS, EngineError, Rig, build, machine_length
 from engine_model.events import crossing_fraction, interpolate
 from engine_model.flight import FLIGHT_STEP_LIMIT, FLIGHT_STEP_MULTIPLE, fly
-from engine_model.readout import rig_row
+from engine_model.readout import rig_row, stepper
 
 #: Default fixed step, s. At 5e-5 s release speed and range agree with the
 #: analytic model to 1.6e-6 and 2.7e-6 on the paper's design
@@ -365,7 +365,7 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tupl
         run.friction_load.append(loads)
         friction = fr.renew(friction, rig)
 
-    step = rig.space.step
+    step = stepper(rig.space)
     previous = row
     earlier_loads = None
     k = 0
