@@ -66,31 +66,50 @@ def rig_row(arm: pymunk.Body, counterweight: pymunk.Body, projectile: pymunk.Bod
             pp.x, pp.y, _ANGLE(p), pv.x, pv.y, _SPIN(p), fp.x, fp.y, _ANGLE(f), fv.x, fv.y, _SPIN(f))
 
 
+
+def row_reader(arm: pymunk.Body, counterweight: pymunk.Body, projectile: pymunk.Body,
+               frame: pymunk.Body) -> Callable[[], tuple[float, ...]]:
+    """``rig_row`` of these bodies as a function of nothing, for a loop of steps: the bodies'
+    Chipmunk handles looked up once, and a static frame (a fixed base: Chipmunk never moves a
+    static body) read once. 5.1 us a row against ``rig_row``'s 6.5 us; the same doubles."""
+    a, c, p = arm._body, counterweight._body, projectile._body
+    position, angle, velocity, velocity_at, spin = _POSITION, _ANGLE, _VELOCITY, _VELOCITY_AT, _SPIN
+    origin = _ORIGIN
+    if frame.body_type != pymunk.Body.STATIC:
+        f = frame._body
+
+        def read() -> tuple[float, ...]:
+            ap, av, cp, cv = position(a), velocity_at(a, origin), position(c), velocity(c)
+            pp, pv, fp, fv = position(p), velocity(p), position(f), velocity(f)
+            return (ap.x, ap.y, angle(a), av.x, av.y, spin(a), cp.x, cp.y, angle(c), cv.x, cv.y, spin(c),
+                    pp.x, pp.y, angle(p), pv.x, pv.y, spin(p), fp.x, fp.y, angle(f), fv.x, fv.y, spin(f))
+        return read
+    fixed = body_row(frame, False)
+
+    def read_fixed() -> tuple[float, ...]:
+        ap, av, cp, cv, pp, pv = position(a), velocity_at(a, origin), position(c), velocity(c), position(p), velocity(p)
+        return (ap.x, ap.y, angle(a), av.x, av.y, spin(a), cp.x, cp.y, angle(c), cv.x, cv.y, spin(c),
+                pp.x, pp.y, angle(p), pv.x, pv.y, spin(p), *fixed)
+    return read_fixed
+
 def stepper(space: pymunk.Space) -> Callable[[float], None]:
     """A function of ``dt`` that does what ``space.step(dt)`` does, for a space of bodies and joints.
 
     pymunk's step checks the bodies added since the last one, locks the space
     so that objects added or removed from callbacks wait for the step's end,
-    and runs post-step callbacks. A space with no collision handlers, no
-    post-step callbacks, no threads and nothing waiting needs none of it, and
-    is stepped by Chipmunk directly; any other step (the first after a body
-    was added, say) is ``space.step``'s. Objects removed between steps (the
-    base's groove at lift-off) pymunk removes at once, as before.
+    and runs post-step callbacks. A step with none of that to do (no collision
+    handlers, no post-step callbacks, no threads, nothing waiting) is taken by
+    Chipmunk directly; any other (the first after a body was added, say) by
+    ``space.step``. Checked at every step: 0.2 us. Objects removed between
+    steps (the base's groove at lift-off) pymunk removes at once, as before.
     """
     handle = space._space
-    plain = [False]
 
     def step(dt: float) -> None:
-        if plain[0]:
-            _STEP(handle, dt)
-        else:
+        if (space._bodies_to_check or space._add_later or space._remove_later or space._post_step_callbacks
+                or space._handlers or space.threaded):
             space.step(dt)
-            plain[0] = not _bookkeeping(space)
+        else:
+            _STEP(handle, dt)
 
     return step
-
-
-def _bookkeeping(space: pymunk.Space) -> bool:
-    """Whether ``space.step`` has work besides Chipmunk's step (see ``stepper``)."""
-    return bool(space._bodies_to_check or space._add_later or space._remove_later
-                or space._post_step_callbacks or space._handlers or space.threaded)

@@ -31,7 +31,7 @@ from engine_model.after_release import MACHINE_JOINTS, AfterRelease, after_relea
 from engine_model.build import DEFAULT_ITERATIONS, EngineError, Rig, build, machine_length
 from engine_model.events import crossing_fraction, interpolate
 from engine_model.flight import FLIGHT_STEP_LIMIT, FLIGHT_STEP_MULTIPLE, fly
-from engine_model.readout import rig_row, stepper
+from engine_model.readout import rig_row, row_reader, stepper
 
 #: Default fixed step, s. At 5e-5 s release speed and range agree with the
 #: analytic model to 1.6e-6 and 2.7e-6 on the paper's design
@@ -366,7 +366,14 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tupl
         friction = fr.renew(friction, rig)
 
     step = stepper(rig.space)
+    read = row_reader(rig.arm, rig.counterweight, rig.projectile, rig.frame)
+    # The loop runs up to hundreds of thousands of times: its lists' appends and the row's
+    # indices are looked up once.
+    keep_row, keep_on_base, keep_tension = run.raw.append, run.on_base.append, run.tension.append
+    keep_normal, keep_value = run.normal.append, run.release_value.append
+    y_index, vy_index, alpha = kin.PROJECTILE + kin.Y, kin.PROJECTILE + kin.VY, m.release_angle
     previous = row
+    previous_value = run.release_value[-1]
     earlier_loads = None
     k = 0
     while True:
@@ -377,7 +384,7 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tupl
             return _fail(run, rig, Status.STEP_FAILED, step_limit_message("stages 1-2", k, dt, t_limit))
         step(dt)
         k += 1
-        row = read_state(rig)
+        row = read()
         if not math.isfinite(sum(row)):
             raise EngineError(f"the engine went unstable (non-finite state) at t = {k * dt:.5g} s "
                               f"with dt = {dt:g} s and {iterations} iterations: use a smaller dt "
@@ -398,15 +405,15 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tupl
             # At k = 1 pymunk's joints misreport the first whole step after the half step
             # (``friction.renew``): the opening half step's loads stand in.
             run.friction_load.append(loads)
-        value, armed = _release(previous, row, geometry, rule, m.release_angle)
-        run.raw.append(row)
-        run.on_base.append(on_base)
-        run.tension.append(tension)
-        run.normal.append(normal)
-        run.release_value.append(value)
+        value, armed = _release(previous, row, geometry, rule, alpha)
+        keep_row(row)
+        keep_on_base(on_base)
+        keep_tension(tension)
+        keep_normal(normal)
+        keep_value(value)
         previous = row
+        earlier_value, previous_value = previous_value, value
         t = k * dt
-        tip_height, centre_height, sling_forward = geometry[1] + h, row[kin.PROJECTILE + kin.Y] + h, geometry[2]
 
         if on_base:
             if normal < 0.0:
@@ -416,10 +423,10 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tupl
                 if friction is not None:
                     fr.remove_base(friction, rig.space)
                 on_base = False
-            elif sling_forward < SLING_VERTICAL_LIMIT:
+            elif geometry[2] < SLING_VERTICAL_LIMIT:
                 return _fail(run, rig, Status.NEVER_LIFTS_OFF,
                              outcome.never_lifts_off_message(LiftoffFailure.UNDER_TIP, t_limit))
-            elif tip_height < -BASE_TOLERANCE:
+            elif geometry[1] + h < -BASE_TOLERANCE:
                 return _fail(run, rig, Status.NEVER_LIFTS_OFF,
                              outcome.never_lifts_off_message(LiftoffFailure.ARM_BACK, t_limit))
             elif t > t_limit:
@@ -427,16 +434,14 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tupl
                              outcome.never_lifts_off_message(LiftoffFailure.TIME_LIMIT, t_limit))
             continue
 
-        if centre_height < -BASE_TOLERANCE and row[kin.PROJECTILE + kin.VY] < 0.0:
+        if row[y_index] + h < -BASE_TOLERANCE and row[vy_index] < 0.0:
             return _fail(run, rig, Status.HITS_BASE_BEFORE_RELEASE, outcome.hits_base_message(t))
-        values = run.release_value
-        if values[-2] < 0.0 <= values[-1] and armed:
-            run.release_fraction = crossing_fraction(tuple(values[-3:]))
+        if earlier_value < 0.0 <= value and armed:
+            run.release_fraction = crossing_fraction(tuple(run.release_value[-3:]))
             return run, rig
         if t > t_limit:
             return _fail(run, rig, Status.NEVER_RELEASES,
                          outcome.never_releases_message(m.release_rule, m.release_angle, t_limit))
-
 
 def _attach_friction(rig: Rig, design: Design, on_base: bool, dt: float,
                      loads: tuple[float, float, float] | None = None) -> fr.Friction | None:
