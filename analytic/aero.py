@@ -43,11 +43,13 @@
 
 from __future__ import annotations
 
+import hashlib
 import math
+import os
+from importlib import metadata
+from pathlib import Path
 
 import numpy as np
-from scipy.interpolate import PchipInterpolator
-from scipy.optimize import brentq
 
 DRAG_MODELS = ("none", "constant", "smooth-sphere", "golf-ball")
 #: Codes of the drag models in the compiled path (their positions in ``DRAG_MODELS``).
@@ -163,10 +165,14 @@ def _crossing(left, right, nominal: float) -> float:
     w0 = math.log10(nominal)
     if left(w0) == right(w0):
         return nominal
+    from scipy.optimize import brentq
+
     return 10.0 ** brentq(lambda w: left(w) - right(w), w0 - 0.04, w0 + 0.04, xtol=1e-13)
 
 
 def _build_table() -> np.ndarray:
+    from scipy.interpolate import PchipInterpolator
+
     table = np.zeros(N_DRAG_TABLE)
     table[OSEEN_END], table[LOW_END] = 0.01, 20.0
     table[INTERMEDIATE_END] = math.inf
@@ -195,8 +201,49 @@ def _piece_cd(i: int, w: float) -> float:
     return smooth_sphere_cd_above(10.0 ** w, selector)
 
 
+def _table_cache() -> Path:
+    """Where the built table is kept: beside this module's bytecode, named by what it is built
+    from (this file's bytes, and the scipy and numpy that build it)."""
+    key = hashlib.sha256(Path(__file__).read_bytes())
+    for package in ("scipy", "numpy"):
+        key.update(metadata.version(package).encode())
+    return Path(__file__).parent / "__pycache__" / f"drag_table-{key.hexdigest()[:16]}.npy"
+
+
+def _load_table() -> np.ndarray:
+    """``_build_table()``, from its cache file if there is a sound one (the same doubles).
+
+    Building it imports scipy's interpolation and root finding: 0.6-1.8 s of
+    every command's start-up (here, on a 2-core machine), most of the frames'
+    and the engine's whole import, which need nothing else of scipy's. The
+    cache is a data file, written (atomically) whether or not Python writes
+    its bytecode, as numba's is; one that cannot be read or written is
+    rebuilt, silently.
+    """
+    cache = _table_cache()
+    try:
+        table = np.load(cache, allow_pickle=False)
+        if table.shape == (N_DRAG_TABLE,) and table.dtype == np.float64:
+            return table
+    except (OSError, ValueError, EOFError):
+        pass
+    table = _build_table()
+    partial = cache.with_name(f"{cache.name}.{os.getpid()}.partial")
+    try:
+        cache.parent.mkdir(exist_ok=True)
+        with open(partial, "wb") as file:
+            np.save(file, table, allow_pickle=False)
+        os.replace(partial, cache)
+    except OSError:
+        try:
+            partial.unlink(missing_ok=True)
+        except OSError:   # under a file, say: there is nothing to remove
+            pass
+    return table
+
+
 #: The drag curves' constants (``N_DRAG_TABLE``,), in the layout above.
-DRAG_TABLE = _build_table()
+DRAG_TABLE = _load_table()
 DRAG_TABLE.flags.writeable = False
 
 

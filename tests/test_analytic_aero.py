@@ -284,3 +284,59 @@ def test_bad_physical_arguments_are_rejected_by_name(name, args):
         aero.reynolds_number(*args)
     with pytest.raises(ValueError, match=name):
         aero.drag_force_factor("golf-ball", *args, None)
+
+
+# --------------------------------------------------------------------------- #
+# The table's cache file (``aero._load_table``)
+# --------------------------------------------------------------------------- #
+
+def _same_doubles(a: np.ndarray, b: np.ndarray) -> bool:
+    return a.shape == b.shape and bool(np.all(a.view(np.int64) == b.view(np.int64)))
+
+
+def test_the_cached_table_is_the_built_one_bit_for_bit(tmp_path, monkeypatch):
+    cache = tmp_path / "cache" / "drag_table.npy"
+    monkeypatch.setattr(aero, "_table_cache", lambda: cache)
+    built = aero._load_table()                 # no file yet: built, and written
+    assert cache.exists() and not list(cache.parent.glob("*.partial"))
+    assert _same_doubles(built, aero._build_table())
+
+    def no_build():
+        raise AssertionError("built again although the cache file is sound")
+
+    monkeypatch.setattr(aero, "_build_table", no_build)
+    assert _same_doubles(aero._load_table(), built)
+
+
+@pytest.mark.parametrize("content", [b"", b"not a numpy file", None], ids=["empty", "garbage", "wrong-shape"])
+def test_an_unsound_cache_file_is_rebuilt_and_replaced(tmp_path, monkeypatch, content):
+    cache = tmp_path / "drag_table.npy"
+    if content is None:
+        np.save(cache, np.zeros(3))
+    else:
+        cache.write_bytes(content)
+    monkeypatch.setattr(aero, "_table_cache", lambda: cache)
+    assert _same_doubles(aero._load_table(), aero._build_table())
+    assert _same_doubles(np.load(cache), aero._build_table())
+
+
+def test_a_cache_that_cannot_be_written_still_gives_the_table(tmp_path, monkeypatch):
+    blocker = tmp_path / "a-file"
+    blocker.write_text("")
+    monkeypatch.setattr(aero, "_table_cache", lambda: blocker / "drag_table.npy")   # under a file
+    assert _same_doubles(aero._load_table(), aero._build_table())
+
+
+def test_the_cache_is_named_by_the_module_and_the_libraries_that_build_it():
+    name = aero._table_cache().name
+    assert name.startswith("drag_table-") and name.endswith(".npy") and len(name) == len("drag_table-.npy") + 16
+
+
+def test_with_the_table_cached_the_engine_imports_no_scipy():
+    import subprocess
+    import sys
+
+    aero._load_table()   # writes the cache if it was missing
+    code = "import sys, engine_model.cli, engine_model.render; print(any(m.startswith('scipy') for m in sys.modules))"
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert result.stdout.strip() == "False"

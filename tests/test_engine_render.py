@@ -52,6 +52,15 @@ def test_frames_are_time_warped_slow_swing_real_time_flight_up_to_the_landing(sh
     size, chunks = _png_size_and_chunks(paths[-1])
     assert size == FRAME_SIZE == (960, 540)
     assert not {b"tEXt", b"iTXt", b"zTXt", b"tIME"} & set(chunks)  # nothing that varies between runs
+    # An RGB file (colour type 2 in IHDR) of the frame's pixels, which are opaque: nothing dropped.
+    from PIL import Image
+
+    assert paths[-1].read_bytes()[25] == 2
+    state = frame_state(shot, float(times[-1]))
+    drawn = draw_frame(shot.design, state, camera(shot.design, state))
+    assert np.all(drawn[:, :, 3] == 255)
+    with Image.open(paths[0]) as first:
+        assert first.mode == "RGB" and np.asarray(first).shape == (540, 960, 3)
 
 
 def test_every_frame_has_the_same_view_and_the_last_sums_up(shot):
