@@ -102,7 +102,12 @@ def stepper(space: pymunk.Space) -> Callable[[float], None]:
     Chipmunk directly; any other (the first after a body was added, say) by
     ``space.step``. Checked at every step: 0.2 us. Objects removed between
     steps (the base's groove at lift-off) pymunk removes at once, as before.
+    On a pymunk whose space lacks any of the attributes checked
+    (``fits_this_pymunk``), every step is ``space.step``'s: the same
+    numbers, slower.
     """
+    if not fits_this_pymunk(space):
+        return space.step
     handle = space._space
 
     def step(dt: float) -> None:
@@ -113,3 +118,13 @@ def stepper(space: pymunk.Space) -> Callable[[float], None]:
             _STEP(handle, dt)
 
     return step
+
+
+#: The ``pymunk.Space`` attributes ``stepper`` reads: pymunk 7's own bookkeeping.
+_SPACE_ATTRIBUTES = ("_space", "_bodies_to_check", "_add_later", "_remove_later", "_post_step_callbacks",
+                     "_handlers", "threaded")
+
+
+def fits_this_pymunk(space: pymunk.Space) -> bool:
+    """Whether ``space`` has every attribute ``stepper`` checks (pymunk is not pinned above 7)."""
+    return all(hasattr(space, name) for name in _SPACE_ATTRIBUTES)

@@ -229,7 +229,7 @@ def test_stepping_through_chipmunk_gives_pymunks_step_bit_for_bit(vacuum):
     """``readout.stepper`` calls ``cpSpaceStep`` itself once ``Space.step`` has nothing else to do."""
     import pymunk
 
-    from engine_model.readout import stepper
+    from engine_model.readout import fits_this_pymunk, stepper
 
     rigs = [build(vacuum), build(vacuum)]
     for rig in rigs:
@@ -239,6 +239,7 @@ def test_stepping_through_chipmunk_gives_pymunks_step_bit_for_bit(vacuum):
         rigs[0].space.step(DEFAULT_DT)
         step(DEFAULT_DT)
     assert read_state(rigs[1]) == read_state(rigs[0]) and read_state(rigs[0])[kin.ARM + kin.W] != 0.0
+    assert fits_this_pymunk(rigs[1].space)   # on this pymunk the steps above were Chipmunk's own
     # A space with a post-step callback (or a body not yet stepped) is left to pymunk's step.
     space, called = pymunk.Space(), []
     space.add(pymunk.Body(1.0, 1.0))
@@ -247,6 +248,13 @@ def test_stepping_through_chipmunk_gives_pymunks_step_bit_for_bit(vacuum):
         space.add_post_step_callback(lambda space, key: called.append(key), len(called))
         step(0.01)
     assert len(called) == 3
+    # A pymunk without that bookkeeping gets its own step throughout.
+    class Bare:
+        def step(self, dt):
+            called.append(dt)
+
+    stepper(Bare())(0.5)
+    assert called[-1] == 0.5
 
 # The engine's step budgets (``MACHINE_STEP_LIMIT``, ``FLIGHT_STEP_LIMIT``): a machine too slow
 # for the fixed step (at a gravity of 1e-6 m/s^2 the paper's machine would need 1e9 steps)
