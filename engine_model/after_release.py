@@ -31,7 +31,7 @@ from engine_model import friction as fr
 from engine_model import kinematics as kin
 from engine_model.build import Rig, build
 from engine_model.events import interpolate
-from engine_model.readout import body_row, stepper
+from engine_model.readout import origin_reader, stepper
 
 #: The joints that remain after release (``engine_model.kinematics.joint_drift``'s keys).
 MACHINE_JOINTS = ("pivot", "hinge", "rail")
@@ -117,7 +117,8 @@ def run_after_release(design: Design, release_time: float, release_state: np.nda
     rig.space.iterations = max(startup_iterations, iterations)
     rig.space.step(0.5 * dt)
     rig.space.iterations = iterations
-    raw = [_read(bodies)]
+    read = origin_reader(*bodies.values())
+    raw = [read()]
     if friction is not None:
         impulses.append(fr.impulses(friction, False))
         opening_loads = _loads(friction, rig, None, raw[-1], design, 0.5 * dt)
@@ -133,7 +134,7 @@ def run_after_release(design: Design, release_time: float, release_state: np.nda
             fr.set_limits(friction, fr.predicted_loads(loads, earlier))
             fr.aim(friction, rig, dt)
         step(dt)
-        raw.append(_read(bodies))
+        raw.append(read())
         if friction is not None:
             impulses.append(fr.impulses(friction, False))
     raw = np.array(raw)
@@ -165,24 +166,16 @@ def _loads(friction: fr.Friction, rig: Rig, before: tuple | None, row: tuple, de
         axle = fr.axle_load_from_momentum(before, row, design, (0.0, 0.0), step, projectile=False)
     else:
         # The opening half step (no row before it) takes the pivot's own reading, ballast and all.
-        axle = rig.pivot.impulse / step
-    hinge = rig.hinge.impulse / step
+        axle = fr.impulse(rig.pivot) / step
+    hinge = fr.impulse(rig.hinge) / step
     if friction.point_hinge:
-        hinge = math.hypot(hinge, friction.hinge.impulse / step)
+        hinge = math.hypot(hinge, fr.impulse(friction.hinge) / step)
     return axle, hinge, 0.0
 
 
 def _bodies(rig: Rig) -> dict[int, pymunk.Body]:
     return {kin.ARM: rig.arm, kin.COUNTERWEIGHT: rig.counterweight, kin.PROJECTILE: rig.projectile,
             kin.FRAME: rig.frame}
-
-
-def _read(bodies: dict[int, pymunk.Body]) -> tuple[float, ...]:
-    """A state row, every body's velocity its origin's."""
-    row = ()
-    for body in bodies.values():
-        row += body_row(body, origin=True)
-    return row
 
 
 def _synchronise(raw: np.ndarray, start: np.ndarray) -> np.ndarray:

@@ -76,7 +76,9 @@ def build_parser() -> argparse.ArgumentParser:
     commands = parser.add_subparsers(dest="command", required=True)
     common = argparse.ArgumentParser(add_help=False)
     common.add_argument("design", nargs="?", help="design TOML (default: the paper's Table III optimum)")
-    common.add_argument("--dt", type=positive_float, default=DEFAULT_DT, help=f"fixed step, s (default {DEFAULT_DT:g})")
+    common.add_argument("--dt", type=positive_float, default=None,
+                        help=f"fixed step, s, kept whatever the shot costs (default {DEFAULT_DT:g}, "
+                             f"lengthened where a slow machine would need more than the shot's step budget)")
     common.add_argument("--iterations", type=positive_int, default=DEFAULT_ITERATIONS,
                         help=f"solver iterations per step (default {DEFAULT_ITERATIONS})")
     common.add_argument("--sling", choices=SLINGS, default="rigid",

@@ -34,10 +34,12 @@ them: its space is exactly what it was before friction existed.
 from __future__ import annotations
 
 import math
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
 import pymunk
+from pymunk._chipmunk import lib
 
 from analytic.design import Design
 from engine_model import kinematics as kin
@@ -61,6 +63,19 @@ HELD_ACCELERATION = 1e-3
 #: way: their ends must never be reached (there pymunk's groove also pushes along it).
 GROOVE_REACH = 10.0
 
+# The constraints' impulse and limit read and set through pymunk's own cffi
+# binding, the C functions its properties call (``engine_model.readout``):
+# the same doubles, without a property and pymunk's ``__setattr__`` wrapper
+# around each. Friction's bookkeeping took 67 us a machine step on a long
+# swing with every loss (the solver itself 21 us of it).
+_IMPULSE, _SET_MAX_FORCE = lib.cpConstraintGetImpulse, lib.cpConstraintSetMaxForce
+_MAX_FORCE, _VELOCITY = lib.cpConstraintGetMaxForce, lib.cpBodyGetVelocity
+
+
+def impulse(joint: pymunk.Constraint) -> float:
+    """``joint.impulse``: its impulse in the last step."""
+    return _IMPULSE(joint._constraint)
+
 
 @dataclass(frozen=True)
 class Friction:
@@ -81,10 +96,11 @@ class Friction:
     hinge: pymunk.Constraint | None
     base: pymunk.GrooveJoint | None
     ballast: float
+    point_hinge: bool = dataclasses.field(init=False)
 
-    @property
-    def point_hinge(self) -> bool:
-        return isinstance(self.hinge, pymunk.GrooveJoint)
+    def __post_init__(self):
+        # Read at every step: an attribute, not an isinstance check each time.
+        object.__setattr__(self, "point_hinge", isinstance(self.hinge, pymunk.GrooveJoint))
 
 
 @dataclass(frozen=True)
@@ -217,7 +233,8 @@ def predicted_loads(loads: tuple[float, float, float],
     """
     if earlier is None:
         return loads
-    return tuple(max(2.0 * now - before, 0.0) for now, before in zip(loads, earlier, strict=True))
+    (a, b, c), (a0, b0, c0) = loads, earlier
+    return max(2.0 * a - a0, 0.0), max(2.0 * b - b0, 0.0), max(2.0 * c - c0, 0.0)
 
 
 def limits(design: Design, loads: tuple[float, float, float]) -> tuple[float, float, float]:
@@ -233,11 +250,12 @@ def set_limits(friction: Friction, loads: tuple[float, float, float]) -> tuple[f
     """Set each friction constraint's limit from its joint's load (N); returns the ``limits``."""
     axle, hinge, base = limits(friction.design, loads)
     if friction.axle is not None:
-        friction.axle.max_force = axle
+        _SET_MAX_FORCE(friction.axle._constraint, axle)
     if friction.hinge is not None:
-        friction.hinge.max_force = hinge / friction.design.machine.counterweight_link if friction.point_hinge else hinge
+        _SET_MAX_FORCE(friction.hinge._constraint,
+                       hinge / friction.design.machine.counterweight_link if friction.point_hinge else hinge)
     if friction.base is not None:
-        friction.base.max_force = base
+        _SET_MAX_FORCE(friction.base._constraint, base)
     return axle, hinge, base
 
 
@@ -269,11 +287,11 @@ def impulses(friction: Friction, on_base: bool) -> tuple[float, float, float]:
     """Each friction constraint's impulse in the last step (magnitude; 0 where absent): the axle's and
     the hinge's as torque impulses, N m s (a point counterweight's groove: its impulse times the link),
     the base's, N s, only while ``on_base``."""
-    hinge = 0.0 if friction.hinge is None else friction.hinge.impulse
+    hinge = 0.0 if friction.hinge is None else _IMPULSE(friction.hinge._constraint)
     if friction.point_hinge:
         hinge *= friction.design.machine.counterweight_link
-    return (0.0 if friction.axle is None else friction.axle.impulse, hinge,
-            0.0 if friction.base is None or not on_base else friction.base.impulse)
+    return (0.0 if friction.axle is None else _IMPULSE(friction.axle._constraint), hinge,
+            0.0 if friction.base is None or not on_base else _IMPULSE(friction.base._constraint))
 
 
 def saturated(joint: pymunk.Constraint | None, step: float) -> bool:
@@ -297,9 +315,10 @@ def base_friction_force(friction: Friction, rig: Rig, step: float, sling_x: floa
     joint = friction.base
     if joint is None:
         return 0.0
-    size = joint.impulse / step
-    sliding = rig.projectile.velocity.x - rig.frame.velocity.x
-    if saturated(joint, step) and sliding != 0.0:
+    impulse = _IMPULSE(joint._constraint)
+    size = impulse / step
+    sliding = _VELOCITY(rig.projectile._body).x - _VELOCITY(rig.frame._body).x
+    if impulse >= (1.0 - SATURATION) * _MAX_FORCE(joint._constraint) * step and sliding != 0.0:   # ``saturated``
         return -math.copysign(size, sliding)
     return -math.copysign(size, sling_x)
 

@@ -92,6 +92,23 @@ def row_reader(arm: pymunk.Body, counterweight: pymunk.Body, projectile: pymunk.
                 pp.x, pp.y, angle(p), pv.x, pv.y, spin(p), *fixed)
     return read_fixed
 
+def origin_reader(a: pymunk.Body, b: pymunk.Body, held: pymunk.Body,
+                  d: pymunk.Body) -> Callable[[], tuple[float, ...]]:
+    """``body_row(body, origin=True)`` of the four bodies, concatenated, as a function of nothing,
+    for the rolling machine's run after release: their handles looked up once, and ``held`` (the
+    projectile, taken out of the space: nothing moves it) read once. The same doubles."""
+    ha, hb, hd = a._body, b._body, d._body
+    position, angle, velocity_at, spin, origin = _POSITION, _ANGLE, _VELOCITY_AT, _SPIN, _ORIGIN
+    still = body_row(held, True)
+
+    def read() -> tuple[float, ...]:
+        ap, av, bp, bv = position(ha), velocity_at(ha, origin), position(hb), velocity_at(hb, origin)
+        dp, dv = position(hd), velocity_at(hd, origin)
+        return (ap.x, ap.y, angle(ha), av.x, av.y, spin(ha), bp.x, bp.y, angle(hb), bv.x, bv.y, spin(hb),
+                *still, dp.x, dp.y, angle(hd), dv.x, dv.y, spin(hd))
+    return read
+
+
 def stepper(space: pymunk.Space) -> Callable[[float], None]:
     """A function of ``dt`` that does what ``space.step(dt)`` does, for a space of bodies and joints.
 

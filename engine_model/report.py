@@ -49,6 +49,8 @@ def format_shot(shot: Shot) -> str:
               f"{diagnostics.sling} sling"),
              ("max joint drift", f"{diagnostics.max_joint_drift:.3g}", "m"),
              ("energy error", f"{diagnostics.energy_error:.3g}", "of the counterweight's available energy")]
+    if diagnostics.discarded_steps or diagnostics.after_release_dt > diagnostics.dt:
+        rows.append(("step budget", _budget_note(diagnostics), ""))
     if shot.design.base.rolling:
         rows += [("momentum error", f"{diagnostics.momentum_error:.3g}", "of the largest frame momentum"),
                  ("energy error after release", f"{diagnostics.after_release_energy_error:.3g}",
@@ -56,3 +58,16 @@ def format_shot(shot: Shot) -> str:
     rows += [("warning", warning, "") for warning in shot.warnings]
     width = max(len(label) for label, _, _ in rows)
     return "\n".join(f"{label:<{width}}  {value}  {unit}".rstrip() for label, value, unit in rows)
+
+
+def _budget_note(diagnostics) -> str:
+    """What the step budget of a shot at the default step changed (``engine_model.shot.SHOT_STEP_BUDGET``)."""
+    from engine_model.shot import DEFAULT_DT, MACHINE_FINE_STEPS
+
+    notes = []
+    if diagnostics.discarded_steps:
+        notes.append(f"stages 1-2 outlasted {MACHINE_FINE_STEPS:,} steps of the default step, and were run "
+                     f"again at {diagnostics.dt:g} s ({diagnostics.discarded_steps:,} steps discarded)")
+    if diagnostics.after_release_dt > diagnostics.dt:
+        notes.append(f"the run after release at {diagnostics.after_release_dt:.3g} s")
+    return "; ".join(notes) + f"; --dt {DEFAULT_DT:g} keeps the default step, however long it takes"

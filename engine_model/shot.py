@@ -54,6 +54,34 @@ STARTUP_ITERATIONS = 1000
 #: 147,168 (its never-releasing design, run to the bound at the default
 #: step); 400,000 is about 16 s of stepping.
 MACHINE_STEP_LIMIT = 400_000
+#: The step budget of a shot at the default step (``simulate(dt=None)``),
+#: which keeps every valid design's shot within about 4 s. A fixed step makes
+#: the engine's work grow with the machine's time scale, and the swing's time
+#: bound (``analytic.limits.swing_time_limit``: three pendulum periods) is
+#: what a design that never releases runs to: 147,168 steps (5.3 s) for the
+#: cross-check's, 1/sqrt(gravity) more on Mars or the Moon (7.4 s, 11.9 s),
+#: and one with every loss ran 80,913 steps (5.5 s) to a late release.
+#: So (``_run_within_budget``) stages 1-2 take ``MACHINE_FINE_STEPS`` steps
+#: of ``DEFAULT_DT`` at most (1 s of motion: the paper's design releases at
+#: 0.38 s); a run not over by then is run again with the swing's whole time
+#: bound spread over ``MACHINE_COARSE_STEPS`` steps, to find its outcome, and
+#: where that is an event at time t (a release, or the projectile hitting
+#: the base) once more at the step that spreads ``REFINE_MARGIN`` t over
+#: ``MACHINE_REFINED_STEPS`` steps, or ``DEFAULT_DT`` if longer (t up to 2 s:
+#: the same numbers as an unbudgeted run). The budget's cost was measured
+#: on the slowest kind of step, with every loss: 55 us in stages 1-2, 46 us
+#: after release.
+MACHINE_FINE_STEPS = 20_000
+MACHINE_COARSE_STEPS = 15_000
+MACHINE_REFINED_STEPS = 45_000
+REFINE_MARGIN = 1.1
+#: A shot at the default step takes at most this many machine steps, the
+#: rolling machine's run after release included (its step is lengthened to
+#: fit what stages 1-2 left of the budget, but never to fewer than
+#: ``AFTER_RELEASE_MIN_STEPS``). The cross-check's rolling designs take at
+#: most 78,085 (7,581 in stages 1-2 and 70,504 after release).
+SHOT_STEP_BUDGET = 80_000
+AFTER_RELEASE_MIN_STEPS = 10_000
 #: A run whose joints come apart by more than this fraction of the machine's
 #: largest length is rejected: at 4x the default step the drift is about 1e-5
 #: of it, and above this the reported numbers would be off by more than that.
@@ -79,7 +107,8 @@ class EngineDiagnostics:
 
     Attributes
     ----------
-    dt : fixed step, s.
+    dt : fixed step of stages 1-2, s (the flight's is ``FLIGHT_STEP_MULTIPLE`` times it, or times
+        ``DEFAULT_DT`` for a step the step budget lengthened).
     iterations : pymunk solver iterations per step.
     sling : ``"rigid"`` or ``"rope"``.
     machine_steps, flight_steps : pymunk steps in stages 1-2 and in flight.
@@ -112,6 +141,11 @@ class EngineDiagnostics:
         give in the step (N m, N m, N), set from the loads of the two steps
         before (``friction.predicted_loads``); ``applied``, what it gave (its
         impulse over the step); ``load``, each joint's load (N) measured in the step.
+    after_release_dt : rolling frame only (0 otherwise): the step of the run
+        after release, s; ``dt`` unless the shot's step budget lengthened it.
+    discarded_steps : steps of stages 1-2 taken within the step budget by
+        runs whose results were not kept (``_run_within_budget``; 0 when the
+        first run at the default step finished).
     """
 
     dt: float
@@ -128,6 +162,8 @@ class EngineDiagnostics:
     after_release_energy_error: float = 0.0
     dissipated_history: np.ndarray | None = None
     friction_steps: dict[str, np.ndarray] | None = None
+    after_release_dt: float = 0.0
+    discarded_steps: int = 0
 
 
 @dataclass
@@ -146,6 +182,7 @@ class _Run:
     status: Status | None = None
     message: str = ""
     release_fraction: float | None = None
+    out_of_steps: bool = False
 
 
 def read_state(rig: Rig) -> tuple[float, ...]:
@@ -153,7 +190,7 @@ def read_state(rig: Rig) -> tuple[float, ...]:
     return rig_row(rig.arm, rig.counterweight, rig.projectile, rig.frame)
 
 
-def simulate(design: Design, *, dt: float = DEFAULT_DT, iterations: int = DEFAULT_ITERATIONS,
+def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAULT_ITERATIONS,
              sling: str = "rigid") -> Shot:
     """Simulate a shot of ``design`` in pymunk through all three stages.
 
@@ -164,7 +201,11 @@ def simulate(design: Design, *, dt: float = DEFAULT_DT, iterations: int = DEFAUL
     Parameters
     ----------
     design : a validated ``Design``.
-    dt : fixed step, s.
+    dt : fixed step, s. None (the default): ``DEFAULT_DT`` within the shot's
+        step budget (``MACHINE_FINE_STEPS``, ``SHOT_STEP_BUDGET``), lengthened
+        for a swing or a rolling machine's run after release that would
+        need more; ``shot.diagnostics`` gives the steps taken. A step given
+        is kept whatever it costs (up to ``MACHINE_STEP_LIMIT`` steps).
     iterations : pymunk solver iterations per step (at least about 20).
     sling : ``"rigid"`` (PinJoint) or ``"rope"`` (SlideJoint, pulls only).
 
@@ -189,9 +230,14 @@ def simulate(design: Design, *, dt: float = DEFAULT_DT, iterations: int = DEFAUL
         in a rolling machine's run after release; use a smaller ``dt`` or more
         ``iterations``.
     """
-    if not (math.isfinite(dt) and dt > 0.0):
+    budget = dt is None
+    discarded = 0
+    if budget:
+        dt, run, rig, discarded = _run_within_budget(design, iterations, sling)
+    elif not (math.isfinite(dt) and dt > 0.0):
         raise ValueError(f"dt = {dt!r}: must be a positive number of seconds")
-    run, rig = _run_machine(design, dt, iterations, sling)
+    else:
+        run, rig = _run_machine(design, dt, iterations, sling, MACHINE_STEP_LIMIT)
     raw = np.array(run.raw)
     on_base = np.array(run.on_base)
     sync = kin.synchronise(raw, design.base.rolling)
@@ -218,7 +264,9 @@ def simulate(design: Design, *, dt: float = DEFAULT_DT, iterations: int = DEFAUL
         times = np.append(times[:-1], release_time)
         position = kin.position(release_state[None, :], kin.PROJECTILE)[0]
         velocity = kin.velocity(release_state[None, :], kin.PROJECTILE)[0]
-        flight = fly(design, release_time, position, velocity, dt)
+        # The flight's step is the default's multiple within the budget too: a lone body's steps are cheap.
+        flight_base = DEFAULT_DT if budget else dt
+        flight = fly(design, release_time, position, velocity, flight_base)
         flight_steps = flight.steps
         drag_work = flight.drag_work
         fields.update(release_time=release_time, release_position=position,
@@ -230,7 +278,7 @@ def simulate(design: Design, *, dt: float = DEFAULT_DT, iterations: int = DEFAUL
                           apex_height=flight.apex + design.machine.pivot_height)
         elif flight.out_of_steps:
             run.status = Status.STEP_FAILED
-            run.message = step_limit_message("the flight", flight.steps, FLIGHT_STEP_MULTIPLE * dt, flight.limit,
+            run.message = step_limit_message("the flight", flight.steps, FLIGHT_STEP_MULTIPLE * flight_base, flight.limit,
                                              FLIGHT_STEP_LIMIT)
         else:
             run.status, run.message = Status.NO_LANDING, outcome.no_landing_message(flight.limit)
@@ -242,8 +290,13 @@ def simulate(design: Design, *, dt: float = DEFAULT_DT, iterations: int = DEFAUL
     shot = _assemble(design, run, times, sync, tension, fields)
     diagnostics = _diagnose(design, dt, iterations, sling, len(raw), flight_steps, drift, residual, shot, sync,
                             dissipated)
+    after_dt = dt
+    if budget and shot.landing_time is not None and design.base.rolling:
+        allowed = max(SHOT_STEP_BUDGET - discarded - len(raw), AFTER_RELEASE_MIN_STEPS)
+        # Whole steps, less the opening half step and one for the rounding of ceil(time / step).
+        after_dt = max(dt, (shot.landing_time - shot.release_time) / (allowed - 2))
     after_steps = (0 if shot.landing_time is None or not design.base.rolling
-                   else after_release_steps(shot.release_time, shot.landing_time, dt))
+                   else after_release_steps(shot.release_time, shot.landing_time, after_dt))
     if after_steps > MACHINE_STEP_LIMIT:
         time_bound = shot.landing_time - shot.release_time
         shot = dataclasses.replace(shot, status=Status.STEP_FAILED, message=step_limit_message(
@@ -253,7 +306,7 @@ def simulate(design: Design, *, dt: float = DEFAULT_DT, iterations: int = DEFAUL
             shot = dataclasses.replace(shot, frame_landing_displacement=0.0, frame_landing_velocity=0.0)
         else:
             # The machine was trusted up to release; only then is it worth stepping on.
-            after = run_after_release(design, shot.release_time, release_state, shot.landing_time, dt,
+            after = run_after_release(design, shot.release_time, release_state, shot.landing_time, after_dt,
                                       iterations, STARTUP_ITERATIONS)
             landing = after.landing_state
             shot = dataclasses.replace(
@@ -261,8 +314,10 @@ def simulate(design: Design, *, dt: float = DEFAULT_DT, iterations: int = DEFAUL
                 frame_landing_velocity=float(landing[kin.FRAME + kin.VX]),
                 max_frame_speed=max(shot.max_frame_speed,
                                     largest_speed(kin.column(after.states, kin.FRAME, kin.VX))))
-            diagnostics = _diagnose_after_release(design, dt, iterations, after, diagnostics)
-    diagnostics = dataclasses.replace(diagnostics, friction_steps=_friction_steps(run, dt))
+            diagnostics = _diagnose_after_release(design, after_dt, iterations, after, diagnostics)
+    diagnostics = dataclasses.replace(diagnostics, friction_steps=_friction_steps(run, dt),
+                                      after_release_dt=float(after_dt) if after_steps else 0.0,
+                                      discarded_steps=discarded if budget else 0)
     return dataclasses.replace(shot, diagnostics=diagnostics)
 
 
@@ -290,8 +345,45 @@ def _frame(state: np.ndarray, quantity: int, design: Design) -> float:
     return float(state[kin.FRAME + quantity]) if design.base.rolling else 0.0
 
 
-def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tuple[_Run, Rig]:
-    """Step stages 1 and 2 until release or a failure; the loop behind ``simulate``."""
+def _run_within_budget(design: Design, iterations: int, sling: str) -> tuple[float, _Run, Rig, int]:
+    """Stages 1-2 at the default step within the step budget (``MACHINE_FINE_STEPS``): the step
+    used, the run, its rig, and the steps of the runs discarded on the way.
+
+    A run at ``DEFAULT_DT`` that outlasts ``MACHINE_FINE_STEPS`` is run
+    again over the swing's whole time bound at ``coarse_step``. Its verdict
+    stands where it ran to the bound (never releases, never lifts off); where
+    it released or hit the base at time t, the swing is run once more at
+    ``max(DEFAULT_DT, REFINE_MARGIN t / MACHINE_REFINED_STEPS)`` (the default
+    step itself for t up to 2 s), whose result replaces the coarse one
+    unless it runs out of steps first.
+    """
+    run, rig = _run_machine(design, DEFAULT_DT, iterations, sling, MACHINE_FINE_STEPS)
+    if not run.out_of_steps:
+        return DEFAULT_DT, run, rig, 0
+    discarded = len(run.raw)
+    coarse = coarse_step(design)
+    # The bound is passed at MACHINE_COARSE_STEPS + 1 steps; the limit is a guard.
+    run, rig = _run_machine(design, coarse, iterations, sling, MACHINE_COARSE_STEPS + 10)
+    if run.status not in (None, Status.HITS_BASE_BEFORE_RELEASE):
+        return coarse, run, rig, discarded
+    event = len(run.raw) * coarse
+    fitted = max(DEFAULT_DT, REFINE_MARGIN * event / MACHINE_REFINED_STEPS)
+    refined, refined_rig = _run_machine(design, fitted, iterations, sling, MACHINE_REFINED_STEPS)
+    if refined.out_of_steps:
+        return coarse, run, rig, discarded + len(refined.raw)
+    return fitted, refined, refined_rig, discarded + len(run.raw)
+
+
+def coarse_step(design: Design) -> float:
+    """The step of a run at the default step that outlasted ``MACHINE_FINE_STEPS``, s: the swing's
+    time bound over ``MACHINE_COARSE_STEPS``."""
+    return swing_time_limit(machine_length(design), design.environment.gravity) / MACHINE_COARSE_STEPS
+
+
+def _run_machine(design: Design, dt: float, iterations: int, sling: str,
+                 limit: int = MACHINE_STEP_LIMIT) -> tuple[_Run, Rig]:
+    """Step stages 1 and 2 until release, a failure, or ``limit`` steps (``STEP_FAILED``, and
+    ``run.out_of_steps``); the loop behind ``simulate``."""
     m = design.machine
     h, g = m.pivot_height, design.environment.gravity
     t_limit = swing_time_limit(machine_length(design), g)
@@ -380,8 +472,9 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str) -> tupl
         if friction is not None:
             run.friction_limit.append(fr.set_limits(friction, fr.predicted_loads(loads, earlier_loads)))
             fr.aim(friction, rig, dt)
-        if k >= MACHINE_STEP_LIMIT:
-            return _fail(run, rig, Status.STEP_FAILED, step_limit_message("stages 1-2", k, dt, t_limit))
+        if k >= limit:
+            run.out_of_steps = True
+            return _fail(run, rig, Status.STEP_FAILED, step_limit_message("stages 1-2", k, dt, t_limit, limit))
         step(dt)
         k += 1
         row = read()
@@ -479,11 +572,11 @@ def _loads(friction: fr.Friction, rig: Rig, before: tuple, row: tuple, design: D
     elif friction.ballast > 0.0:
         axle = fr.axle_load_from_momentum(before, row, design, base_force, dt)
     else:
-        axle = rig.pivot.impulse / step
-    hinge = rig.hinge.impulse / step
+        axle = fr.impulse(rig.pivot) / step
+    hinge = fr.impulse(rig.hinge) / step
     if friction.point_hinge:
-        hinge = math.hypot(hinge, friction.hinge.impulse / step)
-    base = rig.groove.impulse / step if friction.base is not None else 0.0
+        hinge = math.hypot(hinge, fr.impulse(friction.hinge) / step)
+    base = fr.impulse(rig.groove) / step if friction.base is not None else 0.0
     return axle, hinge, base
 
 

@@ -47,6 +47,18 @@ def test_simulate_table_names_the_outcome(capsys, tmp_path):
     assert "status" in out and "ok" in out and "range from pivot" in out and "rope sling" in out
 
 
+def test_a_swing_beyond_the_step_budget_says_so_and_how_to_keep_the_step(capsys, tmp_path):
+    # The design that never releases, on the Moon: 362,151 steps at the default step (11.9 s).
+    design = failure_designs()[Status.NEVER_RELEASES]
+    path = tmp_path / "moon.toml"
+    save_design(dataclasses.replace(design, environment=dataclasses.replace(design.environment, gravity=1.62)),
+                path)
+    assert main(["simulate", str(path)]) == EXIT_NO_THROW
+    out = capsys.readouterr().out
+    assert "never_releases" in out
+    assert "step budget" in out and "20,001 steps discarded" in out and "--dt 5e-05 keeps the default step" in out
+
+
 def test_an_invalid_design_exits_2_with_the_field_named(capsys, tmp_path):
     path = tmp_path / "bad.toml"
     save_design(default_design(), path)

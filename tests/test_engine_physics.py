@@ -198,7 +198,8 @@ def test_the_rope_never_pushes_and_never_gains_energy(vacuum, engine):
 
 def test_the_state_read_from_chipmunk_is_the_one_pymunks_properties_give(vacuum):
     """``engine_model.readout`` calls Chipmunk's getters directly; every entry is the same double."""
-    from engine_model.after_release import _bodies, _read
+    from engine_model.after_release import _bodies
+    from engine_model.readout import origin_reader
 
     rig = build(vacuum)
     rig.space.step(0.5 * DEFAULT_DT)
@@ -221,7 +222,7 @@ def test_the_state_read_from_chipmunk_is_the_one_pymunks_properties_give(vacuum)
     origins = []
     for body in _bodies(rig).values():
         origins += [*body.position, body.angle, *body.velocity_at_local_point((0.0, 0.0)), body.angular_velocity]
-    assert _read(_bodies(rig)) == tuple(origins)
+    assert origin_reader(*_bodies(rig).values())() == tuple(origins)   # the run after release's reader
 
 
 
@@ -256,17 +257,17 @@ def test_stepping_through_chipmunk_gives_pymunks_step_bit_for_bit(vacuum):
     stepper(Bare())(0.5)
     assert called[-1] == 0.5
 
-# The engine's step budgets (``MACHINE_STEP_LIMIT``, ``FLIGHT_STEP_LIMIT``): a machine too slow
-# for the fixed step (at a gravity of 1e-6 m/s^2 the paper's machine would need 1e9 steps)
-# ends STEP_FAILED with the reason, instead of running for hours. Each limit is lowered here
-# below what the paper's design needs (about 9,000 steps to release, 1,750 in flight and, on a
-# rolling frame, 66,000 after release), so that the test runs in a second.
+# The engine's step limits for a step given (``MACHINE_STEP_LIMIT``, ``FLIGHT_STEP_LIMIT``): a
+# machine too slow for the fixed step (at a gravity of 1e-6 m/s^2 the paper's machine would need
+# 1e9 steps) ends STEP_FAILED with the reason, instead of running for hours. Each limit is lowered
+# here below what the paper's design needs (about 9,000 steps to release, 1,750 in flight and, on
+# a rolling frame, 66,000 after release), so that the test runs in a second.
 
 def test_a_machine_that_needs_more_steps_than_the_budget_stops_and_says_why(vacuum, monkeypatch):
     import engine_model.shot as engine_shot
 
     monkeypatch.setattr(engine_shot, "MACHINE_STEP_LIMIT", 2_000)
-    shot = simulate(vacuum)
+    shot = simulate(vacuum, dt=DEFAULT_DT)   # a step given: no step budget
     assert shot.status is Status.STEP_FAILED
     assert "stages 1-2 took 2000 steps of 5e-05 s" in shot.message and "gravity" in shot.message
     assert len(shot.t) == 2_001            # the half step and 2,000 whole ones, then it stopped
@@ -291,8 +292,73 @@ def test_a_rolling_run_after_release_that_would_exceed_the_budget_is_not_started
     started = []
     monkeypatch.setattr(engine_shot, "MACHINE_STEP_LIMIT", 20_000)   # stages 1-2 take about 7,600
     monkeypatch.setattr(engine_shot, "run_after_release", lambda *a, **k: started.append(a))
-    shot = simulate(design)
+    shot = simulate(design, dt=DEFAULT_DT)
     needed = after_release.after_release_steps(shot.release_time, shot.landing_time, DEFAULT_DT)
     assert needed > 20_000
     assert shot.status is Status.STEP_FAILED and not started
     assert f"the rolling machine's run after release would need {needed} steps" in shot.message
+
+
+# The step budget of a shot at the default step (``engine_model.shot.MACHINE_FINE_STEPS`` and the
+# constants after it): a design that never releases runs to the swing's time bound, which took
+# 147,168 steps (5.3 s) at the default step for the cross-check's, 362,151 (11.9 s) on the Moon.
+
+def _moon(design: Design) -> Design:
+    return dataclasses.replace(design, environment=dataclasses.replace(design.environment, gravity=1.62))
+
+
+def test_a_shot_that_ends_within_the_fine_steps_is_the_one_a_given_step_gives(engine, vacuum):
+    given = simulate(vacuum, dt=DEFAULT_DT)
+    assert engine.diagnostics.dt == DEFAULT_DT and engine.diagnostics.discarded_steps == 0
+    assert np.array_equal(engine.t, given.t) and np.array_equal(engine.q, given.q)
+    assert engine.range == given.range and engine.landing_time == given.landing_time
+
+
+def test_the_budget_gives_a_swing_that_never_releases_its_verdict_in_few_steps():
+    import engine_model.shot as engine_shot
+
+    design = _moon(failure_designs()[Status.NEVER_RELEASES])
+    assert analytic_simulate(design).status is Status.NEVER_RELEASES   # the analytic verdict, as on Earth
+    shot = simulate(design)
+    assert shot.status is Status.NEVER_RELEASES and PHRASES[Status.NEVER_RELEASES] in shot.message
+    diagnostics = shot.diagnostics
+    # The default step gave up after MACHINE_FINE_STEPS; the swing's whole bound took the coarse steps.
+    assert diagnostics.discarded_steps == engine_shot.MACHINE_FINE_STEPS + 1
+    assert diagnostics.dt == engine_shot.coarse_step(design) > 10 * DEFAULT_DT
+    assert diagnostics.machine_steps <= engine_shot.MACHINE_COARSE_STEPS + 2
+
+
+def test_the_budget_takes_a_late_release_again_at_a_step_fitted_to_it():
+    """The cross-check's latest release (3.5 s): found by the coarse run, then swung at the step that
+    spreads 1.1 times its time over ``MACHINE_REFINED_STEPS``; held to the cross-check's limits."""
+    import engine_model.shot as engine_shot
+    from crosscheck import tolerances as tol
+    from crosscheck.cases import sample_cases
+
+    design = sample_cases(17, 0)[16].design
+    reference = analytic_simulate(design)
+    shot = simulate(design)
+    diagnostics = shot.diagnostics
+    assert DEFAULT_DT < diagnostics.dt < 2 * DEFAULT_DT
+    assert diagnostics.dt == pytest.approx(engine_shot.REFINE_MARGIN * reference.release_time
+                                           / engine_shot.MACHINE_REFINED_STEPS, rel=0.01)
+    assert diagnostics.machine_steps + diagnostics.discarded_steps <= engine_shot.SHOT_STEP_BUDGET
+    assert shot.ok
+    assert abs(shot.release_speed / reference.release_speed - 1.0) < tol.RELEASE_SPEED_REL
+    assert abs(shot.range - reference.range) < tol.RANGE_REL * max(reference.range, tol.RANGE_FLOOR)
+    assert abs(shot.release_time - reference.release_time) < tol.EVENT_TIME
+
+
+def test_the_budget_fits_a_rolling_machines_run_after_release_in_what_is_left(monkeypatch):
+    import engine_model.shot as engine_shot
+
+    design = dataclasses.replace(default_design(), base=dataclasses.replace(
+        default_design().base, mobility="rolling", mass=20.0))
+    monkeypatch.setattr(engine_shot, "SHOT_STEP_BUDGET", 30_000)   # 7,639 in stages 1-2, 66,000 after
+    shot = simulate(design)
+    diagnostics = shot.diagnostics
+    assert shot.ok and diagnostics.dt == DEFAULT_DT and diagnostics.after_release_dt > 2 * DEFAULT_DT
+    assert diagnostics.machine_steps + diagnostics.after_release_steps <= 30_000 + 1
+    # Where the frame is at landing, against the analytic model: within the range's relative limit.
+    reference = analytic_simulate(design)
+    assert shot.frame_landing_displacement == pytest.approx(reference.frame_landing_displacement, rel=1e-3)
