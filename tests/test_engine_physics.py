@@ -330,7 +330,9 @@ def test_the_budget_gives_a_swing_that_never_releases_its_verdict_in_few_steps()
 
 def test_the_budget_takes_a_late_release_again_at_a_step_fitted_to_it():
     """The cross-check's latest release (3.5 s): found by the coarse run, then swung at the step that
-    spreads 1.1 times its time over ``MACHINE_REFINED_STEPS``; held to the cross-check's limits."""
+    spreads 1.1 times its time over ``MACHINE_REFINED_STEPS``; held to the cross-check's limits
+    (measured against the reference path: 1.0e-8 in release speed at the default step, 5e-9 at the
+    fitted one, 1.1e-4 s)."""
     import engine_model.shot as engine_shot
     from crosscheck import tolerances as tol
     from crosscheck.cases import sample_cases
@@ -339,7 +341,7 @@ def test_the_budget_takes_a_late_release_again_at_a_step_fitted_to_it():
     reference = analytic_simulate(design)
     shot = simulate(design)
     diagnostics = shot.diagnostics
-    assert DEFAULT_DT < diagnostics.dt < 2 * DEFAULT_DT
+    assert DEFAULT_DT < diagnostics.dt < 3 * DEFAULT_DT
     assert diagnostics.dt == pytest.approx(engine_shot.REFINE_MARGIN * reference.release_time
                                            / engine_shot.MACHINE_REFINED_STEPS, rel=0.01)
     assert diagnostics.machine_steps + diagnostics.discarded_steps <= engine_shot.SHOT_STEP_BUDGET
@@ -354,7 +356,7 @@ def test_the_budget_fits_a_rolling_machines_run_after_release_in_what_is_left(mo
 
     design = dataclasses.replace(default_design(), base=dataclasses.replace(
         default_design().base, mobility="rolling", mass=20.0))
-    monkeypatch.setattr(engine_shot, "SHOT_STEP_BUDGET", 30_000)   # 7,639 in stages 1-2, 66,000 after
+    monkeypatch.setattr(engine_shot, "SHOT_STEP_BUDGET", 30_000)   # 7,639 in stages 1-2, 65,938 after
     shot = simulate(design)
     diagnostics = shot.diagnostics
     assert shot.ok and diagnostics.dt == DEFAULT_DT and diagnostics.after_release_dt > 2 * DEFAULT_DT
@@ -362,3 +364,18 @@ def test_the_budget_fits_a_rolling_machines_run_after_release_in_what_is_left(mo
     # Where the frame is at landing, against the analytic model: within the range's relative limit.
     reference = analytic_simulate(design)
     assert shot.frame_landing_displacement == pytest.approx(reference.frame_landing_displacement, rel=1e-3)
+
+
+def test_a_release_between_the_fine_steps_and_the_fitted_ones_goes_on_at_the_default_step():
+    """The paper's design releases at 0.38 s; under a gravity of 1 m/s^2, at 1.2 s: after the fine
+    steps (1 s), within the default step's share of the refined ones (1.6 s). The run at the default
+    step pauses for the coarse run, then goes on; the numbers are the ones a given step gives."""
+    import engine_model.shot as engine_shot
+
+    design = default_design()
+    design = dataclasses.replace(design, environment=dataclasses.replace(design.environment, gravity=1.0))
+    shot = simulate(design)
+    given = simulate(design, dt=DEFAULT_DT)
+    assert engine_shot.MACHINE_FINE_STEPS < given.diagnostics.machine_steps < engine_shot.MACHINE_REFINED_STEPS
+    assert shot.diagnostics.dt == DEFAULT_DT and 0 < shot.diagnostics.discarded_steps <= engine_shot.MACHINE_COARSE_STEPS + 2
+    assert np.array_equal(shot.q, given.q) and shot.range == given.range
