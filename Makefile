@@ -13,11 +13,13 @@ OUT    ?= out
 # writes the bytecode at install as pip does (--compile-bytecode), so that no
 # process compiles the libraries' sources again (3.4 s of each command where
 # PYTHONDONTWRITEBYTECODE is set).
+# One line says what is under way; a failing step still prints its command and error.
 $(STAMP): pyproject.toml
-	$(PYTHON) -m venv $(VENV)
-	$(PY) -m pip install -qq uv
-	$(PY) -m uv pip install --quiet --compile-bytecode --python $(PY) -e '.[test]'
-	touch $(STAMP)
+	@echo "installing into $(VENV)/ (about 30-50 s on a fresh machine)"
+	@$(PYTHON) -m venv $(VENV)
+	@$(PY) -m pip install -qq uv
+	@$(PY) -m uv pip install --quiet --compile-bytecode --python $(PY) -e '.[test]'
+	@touch $(STAMP)
 
 install: $(STAMP)
 
@@ -28,8 +30,7 @@ install: $(STAMP)
 # ``analytic compile`` then compiles; otherwise it only loads, in 4-5 s).
 COMPILED := $(VENV)/.compiled-stamp
 $(COMPILED): $(STAMP) $(wildcard analytic/*.py)
-	@echo "compiling the fast path once, so that no later command stalls on it:"
-	$(PY) -m analytic compile
+	@$(PY) -m analytic compile
 	@touch $(COMPILED)
 
 compile: $(COMPILED)
@@ -44,7 +45,6 @@ run-shot:
 	@$(PY) -m analytic simulate --plot $(OUT)/default-shot.png
 
 run-crosscheck:
-	@echo "== cross-check, quick suite: analytic against engine (the full suite: make crosscheck)"
 	@$(PY) -m crosscheck --quick --workers 1 --no-progress --report $(OUT)/crosscheck
 
 run-frames:

@@ -124,7 +124,8 @@ def _compile_progress(enabled: bool):
             if self.bar is None:
                 print("compiling the fast path once (about 20 s); "
                       "later runs load it from the cache in about 0.3 s", file=sys.stderr, flush=True)
-                self.bar = tqdm(desc="compiling", unit=" functions", file=sys.stderr, mininterval=0.5)
+                self.bar = tqdm(desc="compiling", unit=" functions", file=sys.stderr, mininterval=0.5,
+                                leave=False)   # gone when done: `analytic compile` then prints the time
             function = ev.data["dispatcher"].py_func
             if function.__module__.startswith("analytic."):
                 self.under_way.append(function.__name__)

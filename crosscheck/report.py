@@ -58,20 +58,24 @@ def worst_cases(comparisons: list[Comparison]) -> dict[str, dict]:
     return worst
 
 
-def format_summary(comparisons: list[Comparison], study: StepStudy | None, steps_detail: bool = True) -> str:
-    """The verdict, the worst case per quantity as a fraction of its tolerance, the engine's step and
-    drift, and the convergence study (with a line per step if ``steps_detail``)."""
+def format_summary(comparisons: list[Comparison], study: StepStudy | None, steps_detail: bool = True,
+                   title: str | None = None, engine_detail: bool = True) -> str:
+    """The verdict (after ``title``, if given), the worst case per quantity as a fraction of its
+    tolerance, and, if ``engine_detail``, the engine's step and drift and the convergence study (with
+    a line per step if ``steps_detail``)."""
     agreed = sum(c.agree for c in comparisons)
     outcomes = {}
     for c in comparisons:
         outcomes[c.analytic_status] = outcomes.get(c.analytic_status, 0) + 1
-    lines = [f"{agreed} of {len(comparisons)} designs agree "
+    lines = [("" if title is None else f"{title}: ") + f"{agreed} of {len(comparisons)} designs agree "
              f"(analytic outcomes: {', '.join(f'{k} {v}' for k, v in sorted(outcomes.items()))})",
              "worst case per quantity (|difference| as a fraction of its tolerance):"]
     for quantity, w in worst_cases(comparisons).items():
         shown, unit = _display(w["difference"], w["unit"])
         lines.append(f"  {quantity:<14} {shown:>12} {unit:<4} rel {w['relative']:.2e}  "
                      f"{w['fraction_of_tolerance']:.3f} of tolerance  ({w['case']})")
+    if not engine_detail:
+        return "\n".join(lines)
     steps = sorted({c.engine_dt for c in comparisons if c.engine_dt is not None})
     if len(steps) > 1:
         refined = [f"{c.case} ({c.engine_dt:.3g} s)" for c in comparisons if c.engine_dt not in (None, steps[-1])]

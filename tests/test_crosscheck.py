@@ -284,3 +284,16 @@ def test_cli_quick_runs_the_quick_suite_and_agrees(capsys):
     assert main(["--quick", "--workers", "1", "--no-progress", "--json"]) == 0
     result = json.loads(capsys.readouterr().out)
     assert result["agree"] and [c["case"] for c in result["comparisons"]] == list(QUICK_CASES)
+
+
+def test_cli_quick_prints_the_verdict_and_the_worst_case_per_quantity_only(tmp_path, capsys):
+    # ``make run``'s check (issue 15: the whole report under 40 lines): a titled verdict and a line
+    # per quantity; the engine's step, drift and convergence only in the report folder.
+    assert main(["--quick", "--workers", "1", "--no-progress", "--report", str(tmp_path)]) == 0
+    printed = capsys.readouterr().out.splitlines()
+    compared = {row["quantity"] for c in json.loads((tmp_path / "crosscheck.json").read_text())["comparisons"]
+                for row in c["rows"] if row["difference"] is not None}
+    assert printed[0].startswith(f"quick cross-check, analytic against engine: {len(QUICK_CASES)} of ")
+    assert not any(line.startswith("engine") for line in printed)
+    assert len(printed) == 2 + len(compared) + 1, printed   # verdict, header, a row per quantity, the files
+    assert "largest joint drift" in (tmp_path / "table.txt").read_text()
