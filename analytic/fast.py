@@ -137,11 +137,23 @@ def _compile_progress(enabled: bool):
                 self.bar.set_postfix_str(self.under_way[-1] if self.under_way else "", refresh=False)
             self.bar.update()
 
+    class LastStep(event.Listener):
+        """Names the last seconds, in which no function is counted: the entry point's lowering,
+        where LLVM optimises the whole kernel and emits its machine code."""
+
+        def on_start(self, ev):
+            if (listener.bar is not None and ev.data["qualname"] == kernel.shots.py_func.__qualname__
+                    and ev.data["name"].startswith("native_lowering")):
+                listener.bar.set_postfix_str("the whole kernel's machine code")
+
+        def on_end(self, ev):
+            pass
+
     if not enabled:
         yield
         return
     listener = Listener()
-    with event.install_listener("numba:compile", listener):
+    with event.install_listener("numba:compile", listener), event.install_listener("numba:run_pass", LastStep()):
         yield
     if listener.bar is not None:
         listener.bar.close()

@@ -348,3 +348,22 @@ def test_bench_json_has_the_figures_and_the_paths_agree(capsys):
     assert ratios[0] == 1.0 and all(r > 0.0 for r in ratios)
     fast_entry = next(m for m in figures["models"] if m["label"] == "analytic fast path")
     assert fast_entry["ratio"] < 1.0   # compiled beats the reference (measured: about 1/700)
+
+
+def test_compile_progress_counts_names_the_last_step_and_clears_itself(capsys):
+    # Issue 15: a cold compile says what it is doing, counts the functions, names the last
+    # seconds (the entry point's machine code) and leaves no bar behind for the caller's
+    # "ready" line. A throwaway function named as the kernel's entry point stands in for it
+    # (compiled in milliseconds, not 20 s).
+    import numba
+
+    def shots(x):
+        return x + 1.0
+
+    shots.__qualname__ = kernel.shots.py_func.__qualname__
+    with fast._compile_progress(True):
+        assert numba.njit(shots)(1.0) == 2.0
+    err = capsys.readouterr().err
+    assert err.startswith("compiling the fast path once (about 20 s)")
+    assert "\rcompiling: " in err and "the whole kernel's machine code" in err
+    assert err.rsplit("\r", 1)[-1].strip() == ""    # the bar is gone (tqdm leave=False)
