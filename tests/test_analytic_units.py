@@ -170,3 +170,32 @@ def test_display_converts_only_what_the_system_names():
 def test_a_bare_number_keeps_its_meaning(table3):
     data = _data(table3)
     assert design_from_dict(data) == table3
+
+
+@pytest.mark.slow   # three Python processes and a copy of pint
+def test_units_still_read_after_another_environment_that_cached_pint_is_deleted(tmp_path):
+    # Found on 2026-11-25: with pint's shared per-user cache (``cache_folder=":auto:"``) every
+    # checkout on the machine refused "2 ft" once the checkout that first filled the cache was
+    # deleted (pint 0.25 keeps the definition files' path in its cache). Here another
+    # environment (a copy of pint) fills the per-user cache and is deleted; this environment's
+    # units must still read.
+    import shutil
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    import pint
+
+    other = tmp_path / "other-environment"
+    shutil.copytree(Path(pint.__file__).parent, other / "pint")
+    env = {**__import__("os").environ, "XDG_CACHE_HOME": str(tmp_path / "user-cache")}
+    fill = "import pint; print(pint.UnitRegistry(cache_folder=':auto:').Quantity('2 ft').to('m').magnitude)"
+    for _ in range(2):   # built, then read from the cache
+        subprocess.run([sys.executable, "-c", fill], env={**env, "PYTHONPATH": str(other)}, check=True,
+                       capture_output=True)
+    assert any((tmp_path / "user-cache" / "pint").iterdir())
+    shutil.rmtree(other)
+    read = "from analytic.design_file import *; from analytic import units; print(units.parse('machine.sling_length', '2 ft', units.LENGTH))"
+    done = subprocess.run([sys.executable, "-c", read], env=env, capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr[-500:]
+    assert float(done.stdout) == pytest.approx(0.6096, rel=1e-15)   # 2 ft = 0.6096 m exactly (international foot)
