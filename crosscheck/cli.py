@@ -109,9 +109,9 @@ def main(argv: list[str] | None = None) -> int:
             print()
         # --quick (``make run``'s check) prints the verdict and the worst cases only; the engine's
         # step, drift and convergence go to --report's table.txt (and with --table, here too).
-        brief = args.quick and not args.table
-        print(format_summary(comparisons, study, steps_detail=args.table,
-                             title="quick cross-check, analytic against engine" if args.quick else None, engine_detail=not brief))
+        title = "quick cross-check, analytic against engine" if args.quick else None
+        print(format_summary(comparisons, study, steps_detail=args.table, title=title,
+                             engine_detail=not (args.quick and not args.table)))
         if args.report:
             print(f"report in {args.report}: " + ", ".join(p.name for p in paths))
     return EXIT_AGREE if all(c.agree for c in comparisons) else EXIT_DISAGREE
