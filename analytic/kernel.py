@@ -48,6 +48,7 @@ event_value = stages_.event_value
 event_direction = stages_.event_direction
 event_terminal = stages_.event_terminal
 event_armed = stages_.event_armed
+event_count = stages_.event_count
 fires = stages_.fires
 swing_start = stages_.swing_start
 slide_start = stages_.slide_start
@@ -58,7 +59,6 @@ frame_state = stages_.frame_state
 loads_at = stages_.loads_at
 flight_time_limit = limits_.flight_time_limit
 
-N_EVENTS = tuple(len(names) for names in EVENT_NAMES)
 
 # Layout of a result row.
 (STATUS, DETAIL, LIFTOFF_T, RELEASE_T, RELEASE_X, RELEASE_Y, RELEASE_VX, RELEASE_VY,
@@ -430,7 +430,7 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
     beside the largest sample, as ``analytic.reference`` does.
     """
     n = y0.shape[0]
-    ne = N_EVENTS[stage]
+    ne = event_count(stage, p)
     K = np.empty((_N_STAGES + 4, n))
     F = np.empty((7, n))
     y, y_new = np.empty(n), np.empty(n)

@@ -66,6 +66,11 @@ EVENT_NAMES = ((), ("under_tip", "liftoff", "arm_back", "arm_stalls", "hinge_sto
 FIRST_SWITCH = (0, 4, 2, 2)
 #: Index of ``arm_stalls`` in stage 1.
 ARM_STALLS = 3
+#: The first friction event of each stage (``arm_stalls`` in stage 1): a design without
+#: friction watches only the events before it (``event_count``).
+FIRST_FRICTION_EVENT = (0, ARM_STALLS, FIRST_SWITCH[2], 2)
+#: How many events each stage has (``EVENT_NAMES``).
+EVENT_COUNT = tuple(len(names) for names in EVENT_NAMES)
 #: A shot may switch friction modes this many times; more is a failure
 #: (``STEP_FAILED``): stick and slip chattering without end.
 MODE_SWITCH_LIMIT = 2000
@@ -128,6 +133,14 @@ def sling_off_vertical(theta, p):
     ``-limit``) even beyond the sling's reach."""
     cos_beta = -(p.h + p.La * math.cos(theta)) / p.Ls
     return math.sqrt(max(0.0, 1.0 - cos_beta * cos_beta)) - SLING_VERTICAL_LIMIT
+
+
+def event_count(stage, p):
+    """How many of ``stage``'s events (``EVENT_NAMES``, in order) the design ``p`` watches: the
+    friction events only with friction (without it they are a constant 1 and never fire)."""
+    if lossy(p):
+        return EVENT_COUNT[stage]
+    return FIRST_FRICTION_EVENT[stage]
 
 
 def event_value(stage, k, y, p):
