@@ -124,7 +124,7 @@ def chart(design: Design, varies: list[Vary]) -> Chart:
     ranges = np.full(len(settings), math.nan)
     loads = {name: np.full(len(settings), math.nan) for name, _, _ in LOAD_COLUMNS}
     if designs:
-        shots = fast.shoot(designs)
+        shots = fast.shoot(designs, loads=True)   # the chart draws them
         status[built] = shots.status
         ranges[built] = shots.range
         for name in loads:

@@ -39,10 +39,10 @@ from numba.core.registry import CPUDispatcher
 from llvmlite import binding as llvm
 from llvmlite import ir as llvmir
 
-from analytic import aero, eom, friction, geometry, limits, outcome, parameters, stages
+from analytic import aero, eom, friction, geometry, limits, outcome, parameters, peaks, stages
 
 #: The modules whose functions are compiled, each calling only those before it.
-MODEL_MODULES = (geometry, limits, aero, eom, friction, stages)
+MODEL_MODULES = (geometry, limits, peaks, aero, eom, friction, stages)
 #: Options of every compiled function. ``error_model="numpy"``: a division by
 #: zero gives inf/NaN (a rejected step) instead of raising, as in Python's
 #: float arithmetic on the reference path; no fastmath, so IEEE arithmetic is
@@ -271,4 +271,5 @@ aero_ = callable_twins["aero"]
 eom_ = callable_twins["eom"]
 friction_ = callable_twins["friction"]
 stages_ = callable_twins["stages"]
+peaks_ = callable_twins["peaks"]
 drop_stale_cache(cache_directory(eom_.terms), SOURCES)

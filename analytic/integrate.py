@@ -69,6 +69,10 @@ class Segment:
         for a segment of zero length, or when neither samples nor ``continuous`` were asked for).
     step_t : (k,) the start, every accepted step's end and the end, s.
     step_y : (k, m) the states there.
+    step_f : (k, m) the derivative there, as the integrator computed it (a row of NaN where it
+        did not: the start and an event's root).
+    last_step_end : where the step that holds the end would have ended, s (the end itself unless
+        an event stopped the step short).
     """
 
     t: np.ndarray
@@ -80,6 +84,8 @@ class Segment:
     solution: OdeSolution | None = None
     step_t: np.ndarray | None = None
     step_y: np.ndarray | None = None
+    step_f: np.ndarray | None = None
+    last_step_end: float | None = None
 
 
 
@@ -112,6 +118,8 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
     solver = DOP853(fun, t0, np.asarray(y0, dtype=float), t_end, rtol=rtol, atol=atol)
     times, states = [t0], [solver.y.copy()]
     step_t, step_y = [t0], [solver.y.copy()]
+    unknown = np.full(len(solver.y), np.nan)
+    step_f = [unknown]
     sampled = output_step is not None
     record = sampled or continuous
     roots: dict[str, list[tuple[float, np.ndarray]]] = {e.name: [] for e in events if not e.terminal}
@@ -125,9 +133,10 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
         if step_t[-1] < t_last:
             step_t.append(t_last)
             step_y.append(y_last.copy())
+            step_f.append(unknown)
         segment = Segment(np.array(times), np.array(states), None, t_last, y_last.copy(), roots,
                           OdeSolution(step_ends, interpolants) if interpolants else None,
-                          np.array(step_t), np.array(step_y))
+                          np.array(step_t), np.array(step_y), np.array(step_f), t_last)
         return IntegrationError(message, solver.t, step_limit, segment)
 
     if not np.isfinite(solver.h_abs):
@@ -169,6 +178,7 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
         t_stop = solver.t if hit is None else hit[0]
         step_t.append(t_stop)
         step_y.append(solver.y.copy() if hit is None else dense(t_stop))
+        step_f.append(solver.f.copy() if hit is None else unknown)
         while next_output < t_stop:
             times.append(next_output)
             states.append(dense(next_output))
@@ -182,14 +192,28 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
                 roots[name] = [(t, y) for t, y in roots[name] if t <= t_hit]
             return Segment(np.array(times), np.array(states), event.name, t_hit, y_hit, roots,
                            OdeSolution(step_ends, interpolants) if record else None,
-                           np.array(step_t), np.array(step_y))
+                           np.array(step_t), np.array(step_y), np.array(step_f), solver.t)
 
     if times[-1] < solver.t:
         times.append(solver.t)
         states.append(solver.y.copy())
     solution = OdeSolution(step_ends, interpolants) if interpolants else None
     return Segment(np.array(times), np.array(states), None, solver.t, solver.y.copy(), roots, solution,
-                   np.array(step_t), np.array(step_y))
+                   np.array(step_t), np.array(step_y), np.array(step_f), solver.t)
+
+
+def step_interpolant(fun: Callable[[float, np.ndarray], np.ndarray], t_start: float, y_start: np.ndarray,
+                     t_end: float, *, rtol: float, atol: float):
+    """The dense output of the accepted step from ``(t_start, y_start)`` to ``t_end``, taken again.
+
+    The same arithmetic as when ``integrate`` took it (the same start, step and
+    derivative), so the same interpolant: cheaper than keeping every step's
+    interpolant for the few that hold a peak.
+    """
+    solver = DOP853(fun, t_start, np.asarray(y_start, dtype=float), t_end, rtol=rtol, atol=atol)
+    solver.h_abs = 2.0 * (t_end - t_start)   # clipped to the bound, t_end: the step's own size
+    solver.step()
+    return solver.dense_output()
 
 
 class _LazyDense:

@@ -38,10 +38,10 @@ from analytic.limits import STAGE_STEP_LIMITS
 from analytic.outcome import LiftoffFailure, Status
 from analytic.parameters import N_PARAMS, Params
 from analytic.stages import (ARM_STALLS, EVENT_NAMES, FIRST_SWITCH, FLIGHT, LOAD_NAMES, MODE_SWITCH_LIMIT,
-                             PEAK_TIME_TOLERANCE, ROOT_NUDGE_ULPS, ROOT_TIME_TOLERANCE, SLIDE, SWING,
+                             ROOT_NUDGE_ULPS, ROOT_TIME_TOLERANCE, SLIDE, SWING,
                              ZERO_START_PROBES)
 
-stages_, limits_ = kernel_twins["stages"], kernel_twins["limits"]
+stages_, limits_, peaks_ = kernel_twins["stages"], kernel_twins["limits"], kernel_twins["peaks"]
 # The model's functions, compiled (``analytic.compiled``).
 derivative = stages_.derivative
 event_value = stages_.event_value
@@ -57,6 +57,8 @@ switch_mode = stages_.switch_mode
 flight_start = stages_.flight_start
 frame_state = stages_.frame_state
 loads_at = stages_.loads_at
+loads_after_step = stages_.loads_after_step
+search_start, search_next, search_update = peaks_.search_start, peaks_.search_next, peaks_.search_update
 flight_time_limit = limits_.flight_time_limit
 
 
@@ -275,141 +277,94 @@ def _brent(stage, k, xa, xb, fa, fb, t_old, h, y_old, F, tmp, p):
     return xcur
 
 
-_SQRT_EPS = math.sqrt(2.2e-16)
-_GOLDEN = 0.5 * (3.0 - math.sqrt(5.0))
-
-
-@internal
-def _negative_load(t, stage, k, t_old, h, y_old, F, tmp, p):
-    _dense_eval(t, t_old, h, y_old, F, tmp)
-    return -loads_at(stage, tmp, p)[k]
-
-
-@internal
-def _fminbound(stage, k, a, b, t_old, h, y_old, F, tmp, p):
-    """``(t, value, calls)`` minimising ``-load k`` on [a, b]: Brent's bounded minimiser, step
-    for step scipy's ``minimize_scalar(method="bounded")`` (xatol ``PEAK_TIME_TOLERANCE``, 500 calls)."""
-    xatol = PEAK_TIME_TOLERANCE
-    fulc = a + _GOLDEN * (b - a)
-    nfc, xf = fulc, fulc
-    rat = e = 0.0
-    x = xf
-    fx = _negative_load(x, stage, k, t_old, h, y_old, F, tmp, p)
-    num = 1
-    ffulc = fnfc = fx
-    xm = 0.5 * (a + b)
-    tol1 = _SQRT_EPS * abs(xf) + xatol / 3.0
-    tol2 = 2.0 * tol1
-    while abs(xf - xm) > (tol2 - 0.5 * (b - a)):
-        golden = True
-        if abs(e) > tol1:   # a parabolic fit
-            golden = False
-            r = (xf - nfc) * (fx - ffulc)
-            q = (xf - fulc) * (fx - fnfc)
-            pp = (xf - fulc) * q - (xf - nfc) * r
-            q = 2.0 * (q - r)
-            if q > 0.0:
-                pp = -pp
-            q = abs(q)
-            r = e
-            e = rat
-            if abs(pp) < abs(0.5 * q * r) and pp > q * (a - xf) and pp < q * (b - xf):
-                rat = (pp + 0.0) / q
-                x = xf + rat
-                if (x - a) < tol2 or (b - x) < tol2:
-                    si = (1.0 if xm - xf > 0.0 else -1.0) if xm != xf else 1.0
-                    rat = tol1 * si
-            else:
-                golden = True
-        if golden:
-            e = (a - xf) if xf >= xm else (b - xf)
-            rat = _GOLDEN * e
-        si = (1.0 if rat > 0.0 else -1.0) if rat != 0.0 else 1.0
-        x = xf + si * max(abs(rat), tol1)
-        fu = _negative_load(x, stage, k, t_old, h, y_old, F, tmp, p)
-        num += 1
-        if fu <= fx:
-            if x >= xf:
-                a = xf
-            else:
-                b = xf
-            fulc, ffulc = nfc, fnfc
-            nfc, fnfc = xf, fx
-            xf, fx = x, fu
-        else:
-            if x < xf:
-                a = x
-            else:
-                b = x
-            if fu <= fnfc or nfc == xf:
-                fulc, ffulc = nfc, fnfc
-                nfc, fnfc = x, fu
-            elif fu <= ffulc or fulc == xf or fulc == nfc:
-                fulc, ffulc = x, fu
-        xm = 0.5 * (a + b)
-        tol1 = _SQRT_EPS * abs(xf) + xatol / 3.0
-        tol2 = 2.0 * tol1
-        if num >= 500:
-            break
-    return xf, -fx, num
-
+# --------------------------------------------------------------------------- #
+# Peak loads: sampled at every step's end, located around the largest sample
+# --------------------------------------------------------------------------- #
+# Per load k (``stages.LOAD_NAMES``): ``samples[k]`` holds the largest sample
+# ``(t, value)`` at 2, 3 and the samples before and after it at 0, 1 and 4, 5
+# (NaN times: none); ``brackets[k, side]`` the step ending at the largest sample
+# (side 0) and the step after it (side 1) as ``(t_start, h, t_end)``, and
+# ``bracket_y[k, side]`` the state at ``t_start``; ``pending[k]``: side 1 is the
+# next step. ``last`` holds the previous sample's values, then its time.
 
 @internal
-def _refine_peaks(stage, brackets, bracket_y, best, coef, p, table, counts):
-    """Refine each load's largest sample on the two steps beside it.
-
-    ``brackets`` (N_LOADS, 2, 3) holds, for the step ending and the step
-    starting at the sample, ``(t_start, h, t_end)`` (NaN: none) and
-    ``bracket_y`` (N_LOADS, 2, n) the state at ``t_start``. Each step is taken
-    again from there (the same arithmetic, so the same step) to rebuild its
-    interpolant: cheaper than building the interpolant on every step in
-    case it holds a peak. ``best`` (N_LOADS, 2) is updated in place.
-    """
-    n = bracket_y.shape[2]
-    K = np.empty((_N_STAGES + 4, n))
-    F = np.empty((7, n))
-    f, y_new, f_new, tmp = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
-    built_t, built_h = math.nan, math.nan   # the step whose interpolant F holds
-    for side in range(2):
-        for k in range(N_LOADS):   # loads often peak on the same step: F is reused then
-            t_start, h, t_end = brackets[k, side, 0], brackets[k, side, 1], brackets[k, side, 2]
-            if math.isnan(t_start) or not t_end > t_start:
-                continue
-            y_start = bracket_y[k, side]
-            if not (t_start == built_t and h == built_h):
-                derivative(stage, y_start, p, table, f)
-                _rk_step(stage, t_start, y_start, f, h, coef, K, y_new, f_new, tmp, p, table)
-                _dense_prepare(stage, t_start, h, y_start, y_new, f_new, coef, K, F, tmp, p, table)
-                counts[1] += 1 + _N_STAGES + 3
-                built_t, built_h = t_start, h
-            t_peak, value, calls = _fminbound(stage, k, t_start, t_end, t_start, h, y_start, F, tmp, p)
-            counts[1] += calls   # each load is one evaluation of the accelerations
-            if value > best[k, 0]:
-                best[k, 0], best[k, 1] = value, t_peak
-
-
-@internal
-def _sample_loads(stage, t, y, t_start, h, y_start, best, brackets, bracket_y, pending, ended, p, counts):
-    """Compare the loads at (t, y), the end of the step (t_start, h) from ``y_start``, with the
-    largest so far; a new largest keeps that step, and the next step (``pending``) beside it."""
-    values = loads_at(stage, y, p)
-    counts[1] += 1
+def _sample_loads(t, values, t_start, h, y_start, samples, brackets, bracket_y, pending, last, ended):
+    """Take the loads ``values`` at ``t``, the end of the step ``(t_start, h)`` from ``y_start``
+    (``t_start`` NaN: the stretch's first sample). ``ended``: no step follows."""
     for k in range(N_LOADS):
-        if pending[k]:   # the step after the largest sample
+        if pending[k]:
             brackets[k, 1, 0], brackets[k, 1, 1], brackets[k, 1, 2] = t_start, h, t
             for i in range(y_start.shape[0]):   # a loop: a slice copy costs 4 s of compile (its error message)
                 bracket_y[k, 1, i] = y_start[i]
+            samples[k, 4], samples[k, 5] = t, values[k]
             pending[k] = False
-        if values[k] > best[k, 0]:
-            best[k, 0], best[k, 1] = values[k], t
-            if math.isnan(t_start):
-                brackets[k, 0, 0] = math.nan
-            else:
-                brackets[k, 0, 0], brackets[k, 0, 1], brackets[k, 0, 2] = t_start, h, t
+        if values[k] > samples[k, 3]:
+            samples[k, 0], samples[k, 1] = last[N_LOADS], last[k]
+            samples[k, 2], samples[k, 3] = t, values[k]
+            samples[k, 4] = math.nan
+            brackets[k, 0, 0], brackets[k, 0, 1], brackets[k, 0, 2] = t_start, h, t
+            if not math.isnan(t_start):
                 for i in range(y_start.shape[0]):
                     bracket_y[k, 0, i] = y_start[i]
             brackets[k, 1, 0] = math.nan
             pending[k] = not ended
+        last[k] = values[k]
+    last[N_LOADS] = t
+
+
+@internal
+def _interpolant(stage, brackets, bracket_y, k, side, key, F, coef, p, table, counts):
+    """Rebuild into ``F`` the interpolant of load ``k``'s bracket step ``side``, unless ``F`` holds it
+    already (``key``: the ``(t_start, h)`` it holds). The step is taken again from its start (the same
+    arithmetic, so the same step): cheaper than an interpolant on every step in case it holds a peak."""
+    t_start, h = brackets[k, side, 0], brackets[k, side, 1]
+    if t_start == key[0] and h == key[1]:
+        return
+    n = bracket_y.shape[2]
+    K = np.empty((_N_STAGES + 4, n))
+    f, y_new, f_new, tmp = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+    y_start = bracket_y[k, side]
+    derivative(stage, y_start, p, table, f)
+    _rk_step(stage, t_start, y_start, f, h, coef, K, y_new, f_new, tmp, p, table)
+    _dense_prepare(stage, t_start, h, y_start, y_new, f_new, coef, K, F, tmp, p, table)
+    counts[1] += 1 + _N_STAGES + 3
+    key[0], key[1] = t_start, h
+
+
+@internal
+def _finish_peaks(stage, samples, brackets, bracket_y, peaks, coef, p, table, counts):
+    """Locate each load's largest value around its largest sample (``analytic.peaks``' search on
+    the two steps' interpolants) and keep it in ``peaks`` (N_LOADS, 2) where it beats it."""
+    n = bracket_y.shape[2]
+    F = np.empty((2, 7, n))
+    keys = np.empty((2, 2))
+    for side in range(2):
+        keys[side, 0], keys[side, 1] = math.nan, math.nan
+    tmp = np.empty(n)
+    for k in range(N_LOADS):
+        if not samples[k, 3] > -math.inf:
+            continue
+        t_before, t_after = math.nan, math.nan
+        for side in range(2):
+            t_start, t_end = brackets[k, side, 0], brackets[k, side, 2]
+            if not math.isnan(t_start) and t_end > t_start:
+                _interpolant(stage, brackets, bracket_y, k, side, keys[side], F[side], coef, p, table, counts)
+                if side == 0:
+                    t_before = t_start
+                else:
+                    t_after = t_end
+        search = search_start(t_before, samples[k, 1], samples[k, 2], samples[k, 3], t_after, samples[k, 5])
+        while True:
+            done, u, search = search_next(search)
+            if done:
+                break
+            side = 0 if u <= samples[k, 2] else 1
+            _dense_eval(u, brackets[k, side, 0], brackets[k, side, 1], bracket_y[k, side], F[side], tmp)
+            counts[1] += 1   # each load is one evaluation of the accelerations
+            search = search_update(search, u, -loads_at(stage, tmp, p)[k])
+        if -search.fx > peaks[k, 0]:
+            peaks[k, 0], peaks[k, 1] = -search.fx, search.x
+
 
 # integrate()'s outcome codes besides an event index.
 _REACHED_END, _FAILED, _OUT_OF_STEPS = -1, -2, -3
@@ -453,17 +408,23 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
     track = track_loads and stage != FLIGHT
     # Filled by loops: numba compiles np.full and np.zeros into a function per
     # shape and type (about a second of a cold compile in all, measured).
-    best, brackets = np.empty((N_LOADS, 2)), np.empty((N_LOADS, 2, 3))
+    samples, brackets = np.empty((N_LOADS, 6)), np.empty((N_LOADS, 2, 3))
     bracket_y = np.empty((N_LOADS, 2, n))
     pending = np.empty(N_LOADS, dtype=np.bool_)
+    last = np.empty(N_LOADS + 1)
     for k in range(N_LOADS):
         pending[k] = False
+        samples[k, 3] = -math.inf
+        for j in range(0, 6, 2):
+            samples[k, j] = math.nan
         for side in range(2):
-            best[k, side] = -math.inf
             for j in range(3):
                 brackets[k, side, j] = math.nan
     if track:
-        _sample_loads(stage, t0, y, math.nan, 0.0, y, best, brackets, bracket_y, pending, False, p, counts)
+        last[N_LOADS] = math.nan
+        _sample_loads(t0, loads_at(stage, y, p), math.nan, 0.0, y, samples, brackets, bracket_y, pending, last,
+                      False)
+        counts[1] += 1
     exponent = -1.0 / (_ERROR_ORDER + 1)
     steps = 0
     while t < t_bound:
@@ -570,29 +531,22 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
             y_hit = np.empty(n)
             _dense_eval(hit_t, t_old, h, y, F, y_hit)
             if track:
-                _sample_loads(stage, hit_t, y_hit, t_old, h, y, best, brackets, bracket_y, pending, True, p,
-                              counts)
-                _finish_peaks(stage, best, brackets, bracket_y, peaks, coef, p, table, counts)
+                _sample_loads(hit_t, loads_at(stage, y_hit, p), t_old, h, y, samples, brackets, bracket_y, pending,
+                              last, True)
+                counts[1] += 1
+                _finish_peaks(stage, samples, brackets, bracket_y, peaks, coef, p, table, counts)
             return hit_k, hit_t, y_hit, apex
-        if track:
-            _sample_loads(stage, t_new, y_new, t_old, h, y, best, brackets, bracket_y, pending, False, p,
-                          counts)
+        if track:   # at the step's end the derivative is known (f_new): stage 2 reads the accelerations
+            _sample_loads(t_new, loads_after_step(stage, y_new, f_new, p), t_old, h, y, samples, brackets,
+                          bracket_y, pending, last, False)
+            counts[1] += 1 if stage == SLIDE else 0
         t = t_new
         for j in range(n):
             y[j] = y_new[j]
             f[j] = f_new[j]
     if track:
-        _finish_peaks(stage, best, brackets, bracket_y, peaks, coef, p, table, counts)
+        _finish_peaks(stage, samples, brackets, bracket_y, peaks, coef, p, table, counts)
     return _REACHED_END, t, y, apex
-
-
-@internal
-def _finish_peaks(stage, best, brackets, bracket_y, peaks, coef, p, table, counts):
-    """Refine this stretch's largest samples and keep each where it beats ``peaks``."""
-    _refine_peaks(stage, brackets, bracket_y, best, coef, p, table, counts)
-    for k in range(N_LOADS):
-        if best[k, 0] > peaks[k, 0]:
-            peaks[k, 0], peaks[k, 1] = best[k, 0], best[k, 1]
 
 
 # --------------------------------------------------------------------------- #

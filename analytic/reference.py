@@ -15,10 +15,11 @@ from scipy.integrate import OdeSolution
 from scipy.optimize import minimize_scalar
 
 from analytic import eom, friction, outcome, stages
+from analytic import peaks as peak_search
 from analytic.aero import DRAG_TABLE
 from analytic.design import Design
 from analytic.geometry import projectile_state
-from analytic.integrate import Event, IntegrationError, Segment, integrate
+from analytic.integrate import Event, IntegrationError, Segment, integrate, step_interpolant
 from analytic.limits import STAGE_STEP_LIMITS, flight_time_limit
 from analytic.outcome import LiftoffFailure, Stage, Status
 from analytic.parameters import Params, params
@@ -38,6 +39,10 @@ FLIGHT_OUTPUT_STEP = 5e-3
 #: 2e5 the spacings hold up to time limits of 100 s (stages 1-2; 17 s over the
 #: paper's bounds) and 1000 s of flight (a vacuum flight of 9 s).
 HISTORY_SAMPLE_LIMIT = 200_000
+
+#: Peak loads before any is found: (N_LOADS, 2) of -inf (value, time).
+_NO_PEAKS = np.full((len(stages.LOAD_NAMES), 2), -np.inf)
+_NO_PEAKS.flags.writeable = False
 
 _LIFTOFF_FAILURES = {"under_tip": LiftoffFailure.UNDER_TIP, "arm_back": LiftoffFailure.ARM_BACK,
                      "arm_stalls": LiftoffFailure.STALLED, None: LiftoffFailure.TIME_LIMIT}
@@ -101,12 +106,12 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
     try:
         # Stage 1: slide on the base until the normal force vanishes.
         if normal0 > 0.0:
-            pieces = _run_modes(stage, p, 0.0, y1, p.t_limit, rtol, atol, output_step, loads, switches)
-            peaks = _pieces_peaks(stage, pieces, p, loads, np.full((len(stages.LOAD_NAMES), 2), -np.inf))
+            pieces = _run_modes(stage, p, 0.0, y1, p.t_limit, rtol, atol, output_step, False, switches)
+            peaks = _pieces_peaks(stage, pieces, p, loads, _NO_PEAKS, rtol, atol)
             slide = _merge(pieces)
         else:  # the sling already pulls harder than the projectile's weight
             slide = Segment(np.zeros(1), y1[None, :], "liftoff", 0.0, y1, {})
-            peaks = np.full((len(stages.LOAD_NAMES), 2), -np.inf)
+            peaks = _NO_PEAKS
         if histories:
             history.append(_history(Stage.SLIDE, slide, p))
         segments.append((Stage.SLIDE, slide))
@@ -123,8 +128,8 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
             stages.swing_start(slide.y_end, p, y2)
         except FLOAT_ERRORS:
             y2[:] = math.nan   # the integrator ends the stage as step_failed
-        pieces = _run_modes(stage, p, slide.t_end, y2, p.t_limit, rtol, atol, output_step, loads, switches)
-        peaks = _pieces_peaks(stage, pieces, p, loads, peaks)
+        pieces = _run_modes(stage, p, slide.t_end, y2, p.t_limit, rtol, atol, output_step, False, switches)
+        peaks = _pieces_peaks(stage, pieces, p, loads, peaks, rtol, atol)
         swing = _merge(pieces)
         reached.update(_peak_fields(peaks))
         if histories:
@@ -220,12 +225,8 @@ def quietly(function, *args, otherwise):
         return otherwise
 
 
-def _run(stage: Stage, p: Params, t0: float, y0: np.ndarray, t_end: float, rtol: float, atol: float,
-         output_step: float | None, continuous: bool) -> Segment:
-    """Integrate ``stage`` from (t0, y0) until one of its terminal events or ``t_end``; ``continuous``:
-    keep the continuous solution (on which the peak loads are located)."""
-    size = len(y0)
-
+def _rhs(stage: Stage, p: Params, size: int):
+    """The stage's right-hand side ``rhs(t, y)`` for scipy, NaN where Python's floats raise."""
     def rhs(t, y):
         out = np.empty(size)
         try:
@@ -234,8 +235,15 @@ def _run(stage: Stage, p: Params, t0: float, y0: np.ndarray, t_end: float, rtol:
             out[:] = math.nan   # the compiled path's inf or NaN: a rejected step
         return out
 
-    return integrate(rhs, t0, y0, t_end, _events(stage, p), rtol=rtol, atol=atol, output_step=output_step,
-                     continuous=continuous, max_steps=STAGE_STEP_LIMITS[stage])
+    return rhs
+
+
+def _run(stage: Stage, p: Params, t0: float, y0: np.ndarray, t_end: float, rtol: float, atol: float,
+         output_step: float | None, continuous: bool) -> Segment:
+    """Integrate ``stage`` from (t0, y0) until one of its terminal events or ``t_end``; ``continuous``:
+    keep the continuous solution."""
+    return integrate(_rhs(stage, p, len(y0)), t0, y0, t_end, _events(stage, p), rtol=rtol, atol=atol,
+                     output_step=output_step, continuous=continuous, max_steps=STAGE_STEP_LIMITS[stage])
 
 
 def _run_modes(stage: Stage, p: Params, t0: float, y0: np.ndarray, t_end: float, rtol: float, atol: float,
@@ -295,12 +303,13 @@ def _merge(pieces: list[Segment]) -> Segment:
                        [piece.step_y[:-1] for piece in pieces[:-1]] + [last.step_y]))
 
 
-def _pieces_peaks(stage: Stage, pieces: list[Segment], p: Params, loads: bool, peaks: np.ndarray) -> np.ndarray:
+def _pieces_peaks(stage: Stage, pieces: list[Segment], p: Params, loads: bool, peaks: np.ndarray, rtol: float,
+                  atol: float) -> np.ndarray:
     """``peaks`` updated with each piece's (``_stage_peaks``) where it beats them, as the compiled
     path does for each stretch it integrates."""
     peaks = peaks.copy()
     for piece in pieces:
-        found = _stage_peaks(stage, piece, p, loads)
+        found = _stage_peaks(stage, piece, p, loads, rtol, atol)
         later = found[:, 0] > peaks[:, 0]
         peaks[later] = found[later]
     return peaks
@@ -401,30 +410,46 @@ def _smallest_tension(t: np.ndarray, stage: np.ndarray, tension: np.ndarray, seg
     return float(min(best.fun, tension[i]))
 
 
-def _stage_peaks(stage: Stage, segment: Segment, p: Params, loads: bool = True) -> np.ndarray:
+def _stage_peaks(stage: Stage, segment: Segment, p: Params, loads: bool, rtol: float, atol: float) -> np.ndarray:
     """The largest of each load (``stages.LOAD_NAMES``) over a stage-1 or stage-2 segment, and when,
     shape (N_LOADS, 2).
 
-    Sampled at the start, every accepted step's end and the end, then refined
-    on the continuous solution over the step on either side of the largest
-    sample (Brent's bounded method, ``stages.PEAK_TIME_TOLERANCE``): the
-    compiled path does the same on the same steps. Not ``loads``: none (-inf).
+    Sampled at the start, every accepted step's end and the end, then located
+    on the interpolants of the steps on either side of the largest sample
+    (``analytic.peaks``' search, started from the samples): the compiled path
+    does the same on the same steps. Not ``loads``: none (-inf).
     """
     if not loads:
         return np.full((len(stages.LOAD_NAMES), 2), -np.inf)
-    values = np.array([stages.loads_at(int(stage), y, p) for y in segment.step_y])   # (k, N_LOADS)
+    values = np.array([stages.loads_at(int(stage), y, p) if np.isnan(f[0]) else
+                       stages.loads_after_step(int(stage), y, f, p)
+                       for y, f in zip(segment.step_y, segment.step_f, strict=True)])   # (k, N_LOADS)
+    times = segment.step_t
+    rhs = _rhs(stage, p, segment.step_y.shape[1])
+    built: dict[int, object] = {}
+
+    def interpolant(j: int):
+        """The dense output of the step from sample j to sample j + 1 (its full length)."""
+        if j not in built:
+            end = segment.last_step_end if j + 2 == len(times) else times[j + 1]
+            built[j] = step_interpolant(rhs, times[j], segment.step_y[j], end, rtol=rtol, atol=atol)
+        return built[j]
+
     peaks = np.empty((values.shape[1], 2))
     for k in range(values.shape[1]):
         i = int(np.argmax(values[:, k]))
-        peaks[k] = values[i, k], segment.step_t[i]
-        for a, b in ((i - 1, i), (i, i + 1)):
-            if a < 0 or b >= len(segment.step_t) or not segment.step_t[b] > segment.step_t[a]:
-                continue
-            found = minimize_scalar(lambda s: -stages.loads_at(int(stage), segment.solution(s), p)[k],
-                                    bounds=(segment.step_t[a], segment.step_t[b]), method="bounded",
-                                    options={"xatol": stages.PEAK_TIME_TOLERANCE, "maxiter": 500})
-            if -found.fun > peaks[k, 0]:
-                peaks[k] = -found.fun, found.x
+        before = i > 0 and times[i] > times[i - 1]
+        after = i + 1 < len(times) and times[i + 1] > times[i]
+        search = peak_search.search_start(times[i - 1] if before else math.nan, values[i - 1, k] if before else 0.0,
+                                          times[i], values[i, k], times[i + 1] if after else math.nan,
+                                          values[i + 1, k] if after else 0.0)
+        while True:
+            done, u, search = peak_search.search_next(search)
+            if done:
+                break
+            state = interpolant(i - 1 if u <= times[i] else i)(u)
+            search = peak_search.search_update(search, u, -stages.loads_at(int(stage), state, p)[k])
+        peaks[k] = -search.fx, search.x
     return peaks
 
 

@@ -489,12 +489,17 @@ def machine_frame(y, p, momentum, start_time, start_y, start_x, time):
             (momentum - b1 * y[2] - b2 * y[3]) / mass)
 
 
-#: Peak loads are located on the dense output to this time tolerance, s (plus sqrt(eps) |t|):
-#: Brent's bounded minimiser, scipy's ``minimize_scalar(method="bounded")`` on the reference
-#: path and its port in the compiled one.
-PEAK_TIME_TOLERANCE = 1e-10
 #: What ``loads_at`` returns, in order (``analytic.eom.loads``): N, N, N, m/s^2.
 LOAD_NAMES = ("axle_load", "hinge_load", "sling_tension", "projectile_acceleration")
+
+
+def loads_after_step(stage, y, f, p):
+    """``loads_at(stage, y, p)`` at a step's end, where the integrator already holds the derivative
+    ``f`` at ``y``: stage 2 reads its accelerations from ``f`` (the same numbers ``loads_at`` would
+    compute again), stage 1 computes them with the base's push."""
+    if stage == SWING:
+        return loads(y[0], y[1], y[2], y[3], y[4], y[5], f[3], f[4], f[5], 0.0, p)
+    return loads_at(stage, y, p)
 
 
 def loads_at(stage, y, p):

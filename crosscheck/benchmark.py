@@ -149,7 +149,7 @@ def paths(count: int, seed: int, repeat: int, batch_repeat: int, progress: bool)
     fast_shots, fast_s = each("fast", fast.simulate_fast, repeat)
     _, fast_no_loads_s = each("fast, no loads", lambda d: fast.simulate_fast(d, loads=False), repeat)
     agree = agreement(designs, reference, fast_shots)
-    evaluations = fast.shoot(designs).evaluations
+    evaluations = fast.shoot(designs, loads=True).evaluations
     evaluations_no_loads = fast.shoot(designs, loads=False).evaluations
 
     rows = np.tile(fast.pack_many(designs), (batch_repeat, 1))
@@ -165,7 +165,7 @@ def paths(count: int, seed: int, repeat: int, batch_repeat: int, progress: bool)
                                               lossy)
     lossy_fast, lossy_fast_s = each("fast, friction", fast.simulate_fast, repeat, lossy)
     lossy_agree = agreement(lossy, lossy_reference, lossy_fast)
-    lossy_evaluations = fast.shoot(lossy).evaluations
+    lossy_evaluations = fast.shoot(lossy, loads=True).evaluations
     friction = {
         "friction_reference_time_ratio": float(np.median(lossy_reference_s)) / reference_median,
         "friction_fast_time_ratio": float(np.median(lossy_fast_s)) / fast_median,

@@ -28,7 +28,7 @@ def test_one_field_writes_a_row_a_design_with_the_loads(table3, tmp_path):
     masses = [float(r["machine.counterweight_mass [kg]"]) for r in rows]
     assert masses == pytest.approx(np.linspace(1.0, 3.0, 9).tolist())
     # Each row is the fast path's shot of that design.
-    shots = fast.shoot([field("counterweight_mass").replace(table3, m) for m in masses])
+    shots = fast.shoot([field("counterweight_mass").replace(table3, m) for m in masses], loads=True)
     for row, i in zip(rows, range(9), strict=True):
         assert row["status"] == shots.status[i]
         assert float(row["range [m]"]) == shots.range[i]

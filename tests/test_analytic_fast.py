@@ -367,3 +367,13 @@ def test_compile_progress_counts_names_the_last_step_and_clears_itself(capsys):
     assert err.startswith("compiling the fast path once (about 20 s)")
     assert "\rcompiling: " in err and "the whole kernel's machine code" in err
     assert err.rsplit("\r", 1)[-1].strip() == ""    # the bar is gone (tqdm leave=False)
+
+
+def test_a_batch_finds_the_peak_loads_only_when_asked():
+    designs = table_ii_sample(4, seed=7)
+    without, with_loads = fast.shoot(designs), fast.shoot(designs, loads=True)
+    assert np.all(np.isnan(without.peak_axle_load)) and np.all(np.isnan(without.peak_sling_tension_time))
+    thrown = with_loads.ok
+    assert thrown.any() and np.all(np.isfinite(with_loads.peak_sling_tension[thrown]))
+    # The loads are outputs only: the shot itself is the same either way.
+    np.testing.assert_array_equal(without.range, with_loads.range)

@@ -342,7 +342,7 @@ def test_the_batch_reports_the_single_shots_peaks():
     from crosscheck.cases import sample_cases
 
     designs = [c.design for c in sample_cases(12, seed=5)]
-    batch = fast.shoot(designs)
+    batch = fast.shoot(designs, loads=True)
     for i, design in enumerate(designs):
         single = fast.simulate_fast(design)
         for name in PEAK_NAMES:

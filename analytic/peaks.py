@@ -1,0 +1,126 @@
+"""Where a load peaks between two samples: Brent's bounded search, written once for both paths.
+
+Both analytic paths sample each load (``stages.loads_at``) at every accepted
+step's end, then locate the largest on the integrator's dense output over
+the steps on either side of the largest sample. The search is Brent's
+bounded minimiser (Brent 1973, ch. 5; the algorithm of scipy's
+``minimize_scalar(method="bounded")``) on minus the load, started from the
+three samples themselves: its first trial is the vertex of the parabola
+through them, so it needs a handful of evaluations where a search from the
+golden section of the bracket needs two dozen on each side.
+
+It is written in reverse communication, as plain arithmetic on floats that
+the compiled path compiles too: ``search_start`` makes the search's state
+from the samples, ``search_next`` gives the next time to evaluate (or says
+the search is done), and ``search_update`` takes the value found there. The
+caller evaluates the load, on its own dense output.
+
+The state is a ``Search``: the bracket ``[a, b]``; the best three points so
+far ``x, w, v`` (times) with minus the load there ``fx, fw, fv``; the last
+two steps ``d, e``; and the evaluations made.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+#: Peak loads are located to this time tolerance, s (plus sqrt(eps) |t|).
+PEAK_TIME_TOLERANCE = 1e-10
+#: The most evaluations one search makes.
+SEARCH_CALLS = 500
+_SQRT_EPS = math.sqrt(2.2e-16)
+_GOLDEN = 0.5 * (3.0 - math.sqrt(5.0))
+
+
+class Search(NamedTuple):
+    """The state of one search (see the module's docstring); times in s, values minus the load."""
+
+    a: float
+    b: float
+    x: float
+    w: float
+    v: float
+    fx: float
+    fw: float
+    fv: float
+    d: float
+    e: float
+    calls: float
+
+
+def search_start(t_before, before, t_peak, peak, t_after, after):
+    """The search for the largest load around the sample ``(t_peak, peak)``, with its neighbours.
+
+    ``(t_before, before)`` and ``(t_after, after)`` are the samples on either
+    side (a time of NaN: none on that side, the bracket ends at ``t_peak``).
+    With both neighbours the first trial is the vertex of the parabola through
+    the three samples; with one, the search starts with a golden-section step.
+    """
+    a = t_peak if math.isnan(t_before) else t_before
+    b = t_peak if math.isnan(t_after) else t_after
+    if math.isnan(t_before) or math.isnan(t_after):
+        t_other = b if math.isnan(t_before) else a
+        f_other = -(after if math.isnan(t_before) else before)
+        return Search(a, b, t_peak, t_other, t_other, -peak, f_other, f_other, 0.0, 0.0, 0.0)
+    # The better neighbour is the second-best point w, the other v (Brent's order).
+    if after >= before:
+        w, fw, v, fv = t_after, -after, t_before, -before
+    else:
+        w, fw, v, fv = t_before, -before, t_after, -after
+    span = b - a
+    return Search(a, b, t_peak, w, v, -peak, fw, fv, span, span, 0.0)
+
+
+def search_next(s):
+    """``(done, u, s)``: the next time ``u`` to evaluate and the state with its step, or done
+    (the bracket is within the tolerance of the best point, or ``SEARCH_CALLS`` were made)."""
+    xm = 0.5 * (s.a + s.b)
+    tol1 = _SQRT_EPS * abs(s.x) + PEAK_TIME_TOLERANCE / 3.0
+    tol2 = 2.0 * tol1
+    if abs(s.x - xm) <= tol2 - 0.5 * (s.b - s.a) or s.calls >= SEARCH_CALLS or not s.b > s.a:
+        return True, s.x, s
+    d, e = s.d, s.e
+    golden = True
+    if abs(e) > tol1:   # a parabola through x, w and v
+        r = (s.x - s.w) * (s.fx - s.fv)
+        q = (s.x - s.v) * (s.fx - s.fw)
+        p = (s.x - s.v) * q - (s.x - s.w) * r
+        q = 2.0 * (q - r)
+        if q > 0.0:
+            p = -p
+        q = abs(q)
+        r = e
+        e = d
+        if abs(p) < abs(0.5 * q * r) and p > q * (s.a - s.x) and p < q * (s.b - s.x):
+            d = p / q
+            u = s.x + d
+            if (u - s.a) < tol2 or (s.b - u) < tol2:
+                d = tol1 if xm >= s.x else -tol1
+            golden = False
+    if golden:
+        e = (s.a - s.x) if s.x >= xm else (s.b - s.x)
+        d = _GOLDEN * e
+    u = s.x + (1.0 if d >= 0.0 else -1.0) * max(abs(d), tol1)
+    return False, u, Search(s.a, s.b, s.x, s.w, s.v, s.fx, s.fw, s.fv, d, e, s.calls)
+
+
+def search_update(s, u, fu):
+    """The state after evaluating minus the load, ``fu``, at ``u`` (from ``search_next``)."""
+    a, b = s.a, s.b
+    calls = s.calls + 1.0
+    if fu <= s.fx:
+        if u >= s.x:
+            a = s.x
+        else:
+            b = s.x
+        return Search(a, b, u, s.x, s.w, fu, s.fx, s.fw, s.d, s.e, calls)
+    if u < s.x:
+        a = u
+    else:
+        b = u
+    if fu <= s.fw or s.w == s.x:
+        return Search(a, b, s.x, u, s.w, s.fx, fu, s.fw, s.d, s.e, calls)
+    if fu <= s.fv or s.v == s.x or s.v == s.w:
+        return Search(a, b, s.x, s.w, u, s.fx, s.fw, fu, s.d, s.e, calls)
+    return Search(a, b, s.x, s.w, s.v, s.fx, s.fw, s.fv, s.d, s.e, calls)
