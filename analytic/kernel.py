@@ -282,84 +282,116 @@ def _brent(stage, k, xa, xb, fa, fb, t_old, h, y_old, F, tmp, p):
 # --------------------------------------------------------------------------- #
 # Per load k (``stages.LOAD_NAMES``): ``samples[k]`` holds the largest sample
 # ``(t, value)`` at 2, 3 and the samples before and after it at 0, 1 and 4, 5
-# (NaN times: none); ``brackets[k, side]`` the step ending at the largest sample
-# (side 0) and the step after it (side 1) as ``(t_start, h, t_end)``, and
-# ``bracket_y[k, side]`` the state at ``t_start``; ``pending[k]``: side 1 is the
-# next step. ``last`` holds the previous sample's values, then its time.
+# (NaN times: none); ``sides[k]`` the steps on either side of it: the step ending
+# at the sample (0) and the step after it (1), -1 for none; ``pending[k]``: side
+# 1 is the next step. ``last`` holds the previous sample's values, then its time.
+#
+# A step is its stages K[0:13], its start and full end ``(y, y_new)`` and
+# ``(t_start, h, t_end)``, t_end where the stretch stopped within it. The
+# integrator keeps its last two steps in two buffers, alternately (``LIVE + b``
+# for buffer b); a step that a load still needs when its buffer is about to be
+# taken again is saved, once, in a slot of the pool (0 to ``POOL_SLOTS - 1``).
+# While a load rises, each step replaces the last and nothing is copied; the
+# interpolants are built at the end, for the few steps around a peak.
+POOL_SLOTS = 2 * N_LOADS
+LIVE = POOL_SLOTS
+
 
 @internal
-def _sample_loads(t, values, t_start, h, y_start, samples, brackets, bracket_y, pending, last, ended):
-    """Take the loads ``values`` at ``t``, the end of the step ``(t_start, h)`` from ``y_start``
-    (``t_start`` NaN: the stretch's first sample). ``ended``: no step follows."""
+def _save_step(buffer, sides, K2, live_y, live_t, pool_k, pool_y, pool_t):
+    """Move every load's reference to live ``buffer`` into a free pool slot, copying the step once."""
+    slot = -1
+    for k in range(N_LOADS):
+        for side in range(2):
+            if sides[k, side] == LIVE + buffer:
+                if slot < 0:
+                    slot = 0
+                    taken = True
+                    while taken:
+                        taken = False
+                        for j in range(N_LOADS):
+                            if sides[j, 0] == slot or sides[j, 1] == slot:
+                                taken = True
+                        if taken:
+                            slot += 1
+                    n = live_y.shape[2]
+                    for q in range(_N_STAGES + 1):
+                        for i in range(n):   # loops: a slice copy costs 4 s of compile (its error message)
+                            pool_k[slot, q, i] = K2[buffer, q, i]
+                    for i in range(n):
+                        pool_y[slot, 0, i], pool_y[slot, 1, i] = live_y[buffer, 0, i], live_y[buffer, 1, i]
+                    for j in range(3):
+                        pool_t[slot, j] = live_t[buffer, j]
+                sides[k, side] = slot
+
+
+@internal
+def _sample_loads(t, values, buffer, samples, sides, pending, last, ended):
+    """Take the loads ``values`` at ``t``, where the step in live ``buffer`` stopped (-1: the
+    stretch's first sample, no step). ``ended``: no step follows."""
+    here = LIVE + buffer if buffer >= 0 else -1
     for k in range(N_LOADS):
         if pending[k]:
-            brackets[k, 1, 0], brackets[k, 1, 1], brackets[k, 1, 2] = t_start, h, t
-            for i in range(y_start.shape[0]):   # a loop: a slice copy costs 4 s of compile (its error message)
-                bracket_y[k, 1, i] = y_start[i]
+            sides[k, 1] = here
             samples[k, 4], samples[k, 5] = t, values[k]
             pending[k] = False
         if values[k] > samples[k, 3]:
             samples[k, 0], samples[k, 1] = last[N_LOADS], last[k]
             samples[k, 2], samples[k, 3] = t, values[k]
             samples[k, 4] = math.nan
-            brackets[k, 0, 0], brackets[k, 0, 1], brackets[k, 0, 2] = t_start, h, t
-            if not math.isnan(t_start):
-                for i in range(y_start.shape[0]):
-                    bracket_y[k, 0, i] = y_start[i]
-            brackets[k, 1, 0] = math.nan
+            sides[k, 0], sides[k, 1] = here, -1
             pending[k] = not ended
         last[k] = values[k]
     last[N_LOADS] = t
 
 
 @internal
-def _interpolant(stage, brackets, bracket_y, k, side, key, F, coef, p, table, counts):
-    """Rebuild into ``F`` the interpolant of load ``k``'s bracket step ``side``, unless ``F`` holds it
-    already (``key``: the ``(t_start, h)`` it holds). The step is taken again from its start (the same
-    arithmetic, so the same step): cheaper than an interpolant on every step in case it holds a peak."""
-    t_start, h = brackets[k, side, 0], brackets[k, side, 1]
-    if t_start == key[0] and h == key[1]:
-        return
-    n = bracket_y.shape[2]
-    K = np.empty((_N_STAGES + 4, n))
-    f, y_new, f_new, tmp = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
-    y_start = bracket_y[k, side]
-    derivative(stage, y_start, p, table, f)
-    _rk_step(stage, t_start, y_start, f, h, coef, K, y_new, f_new, tmp, p, table)
-    _dense_prepare(stage, t_start, h, y_start, y_new, f_new, coef, K, F, tmp, p, table)
-    counts[1] += 1 + _N_STAGES + 3
-    key[0], key[1] = t_start, h
-
-
-@internal
-def _finish_peaks(stage, samples, brackets, bracket_y, peaks, coef, p, table, counts):
+def _finish_peaks(stage, samples, sides, K2, live_y, live_t, pool_k, pool_y, pool_t, peaks, coef, p, table,
+                  counts):
     """Locate each load's largest value around its largest sample (``analytic.peaks``' search on
-    the two steps' interpolants) and keep it in ``peaks`` (N_LOADS, 2) where it beats it."""
-    n = bracket_y.shape[2]
-    F = np.empty((2, 7, n))
-    keys = np.empty((2, 2))
-    for side in range(2):
-        keys[side, 0], keys[side, 1] = math.nan, math.nan
+    its steps' interpolants) and keep it in ``peaks`` (N_LOADS, 2) where it beats it."""
+    n = pool_y.shape[2]
+    F = np.empty((POOL_SLOTS + 2, 7, n))
+    built = np.empty(POOL_SLOTS + 2, dtype=np.bool_)
+    for ref in range(POOL_SLOTS + 2):
+        built[ref] = False
+    K = np.empty((_N_STAGES + 4, n))
     tmp = np.empty(n)
+    starts, ends = np.empty(2), np.empty(2)
     for k in range(N_LOADS):
         if not samples[k, 3] > -math.inf:
             continue
-        t_before, t_after = math.nan, math.nan
         for side in range(2):
-            t_start, t_end = brackets[k, side, 0], brackets[k, side, 2]
-            if not math.isnan(t_start) and t_end > t_start:
-                _interpolant(stage, brackets, bracket_y, k, side, keys[side], F[side], coef, p, table, counts)
-                if side == 0:
-                    t_before = t_start
-                else:
-                    t_after = t_end
-        search = search_start(t_before, samples[k, 1], samples[k, 2], samples[k, 3], t_after, samples[k, 5])
+            ref = sides[k, side]
+            starts[side], ends[side] = math.nan, math.nan
+            if ref < 0:
+                continue
+            live = ref >= LIVE
+            t_start = live_t[ref - LIVE, 0] if live else pool_t[ref, 0]
+            h = live_t[ref - LIVE, 1] if live else pool_t[ref, 1]
+            starts[side], ends[side] = t_start, live_t[ref - LIVE, 2] if live else pool_t[ref, 2]
+            if not built[ref]:
+                for q in range(_N_STAGES + 1):
+                    for i in range(n):
+                        K[q, i] = K2[ref - LIVE, q, i] if live else pool_k[ref, q, i]
+                y_old = live_y[ref - LIVE, 0] if live else pool_y[ref, 0]
+                y_end = live_y[ref - LIVE, 1] if live else pool_y[ref, 1]
+                _dense_prepare(stage, t_start, h, y_old, y_end, K[_N_STAGES], coef, K, F[ref], tmp, p, table)
+                counts[1] += 3
+                built[ref] = True
+        before = ends[0] > starts[0]
+        after = ends[1] > starts[1]
+        search = search_start(starts[0] if before else math.nan, samples[k, 1], samples[k, 2], samples[k, 3],
+                              ends[1] if after else math.nan, samples[k, 5])
         while True:
             done, u, search = search_next(search)
             if done:
                 break
-            side = 0 if u <= samples[k, 2] else 1
-            _dense_eval(u, brackets[k, side, 0], brackets[k, side, 1], bracket_y[k, side], F[side], tmp)
+            ref = sides[k, 0] if u <= samples[k, 2] else sides[k, 1]
+            live = ref >= LIVE
+            t_start = live_t[ref - LIVE, 0] if live else pool_t[ref, 0]
+            h = live_t[ref - LIVE, 1] if live else pool_t[ref, 1]
+            _dense_eval(u, t_start, h, live_y[ref - LIVE, 0] if live else pool_y[ref, 0], F[ref], tmp)
             counts[1] += 1   # each load is one evaluation of the accelerations
             search = search_update(search, u, -loads_at(stage, tmp, p)[k])
         if -search.fx > peaks[k, 0]:
@@ -368,6 +400,14 @@ def _finish_peaks(stage, samples, brackets, bracket_y, peaks, coef, p, table, co
 
 # integrate()'s outcome codes besides an event index.
 _REACHED_END, _FAILED, _OUT_OF_STEPS = -1, -2, -3
+
+
+@internal
+def _keep_step(buffer, t_start, h, t_end, y, y_new, live_y, live_t):
+    """Record the step just taken (its stages are in ``K2[buffer]``): its ends and times."""
+    for i in range(y.shape[0]):
+        live_y[buffer, 0, i], live_y[buffer, 1, i] = y[i], y_new[i]
+    live_t[buffer, 0], live_t[buffer, 1], live_t[buffer, 2] = t_start, h, t_end
 
 
 @internal
@@ -386,7 +426,8 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
     """
     n = y0.shape[0]
     ne = event_count(stage, p)
-    K = np.empty((_N_STAGES + 4, n))
+    K2 = np.empty((2, _N_STAGES + 4, n))   # the last two steps' stages, alternately
+    K = K2[0]
     F = np.empty((7, n))
     y, y_new = np.empty(n), np.empty(n)
     for j in range(n):
@@ -408,28 +449,29 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
     track = track_loads and stage != FLIGHT
     # Filled by loops: numba compiles np.full and np.zeros into a function per
     # shape and type (about a second of a cold compile in all, measured).
-    samples, brackets = np.empty((N_LOADS, 6)), np.empty((N_LOADS, 2, 3))
-    bracket_y = np.empty((N_LOADS, 2, n))
+    samples, sides = np.empty((N_LOADS, 6)), np.empty((N_LOADS, 2), dtype=np.int64)
     pending = np.empty(N_LOADS, dtype=np.bool_)
     last = np.empty(N_LOADS + 1)
+    slots = POOL_SLOTS if track else 0
+    pool_k, pool_y, pool_t = np.empty((slots, _N_STAGES + 1, n)), np.empty((slots, 2, n)), np.empty((slots, 3))
+    live_y, live_t = np.empty((2, 2, n)), np.empty((2, 3))
     for k in range(N_LOADS):
         pending[k] = False
         samples[k, 3] = -math.inf
         for j in range(0, 6, 2):
             samples[k, j] = math.nan
-        for side in range(2):
-            for j in range(3):
-                brackets[k, side, j] = math.nan
+        sides[k, 0], sides[k, 1] = -1, -1
     if track:
         last[N_LOADS] = math.nan
-        _sample_loads(t0, loads_at(stage, y, p), math.nan, 0.0, y, samples, brackets, bracket_y, pending, last,
-                      False)
+        _sample_loads(t0, loads_at(stage, y, p), -1, samples, sides, pending, last, False)
         counts[1] += 1
     exponent = -1.0 / (_ERROR_ORDER + 1)
     steps = 0
     while t < t_bound:
         if steps == STAGE_STEP_LIMITS[stage]:
             return _OUT_OF_STEPS, t, y, apex
+        buffer = steps % 2
+        K = K2[buffer]
         min_step = 10.0 * abs(np.nextafter(t, math.inf) - t)
         if h_abs < min_step:
             h_abs = min_step
@@ -531,21 +573,25 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
             y_hit = np.empty(n)
             _dense_eval(hit_t, t_old, h, y, F, y_hit)
             if track:
-                _sample_loads(hit_t, loads_at(stage, y_hit, p), t_old, h, y, samples, brackets, bracket_y, pending,
-                              last, True)
+                _keep_step(buffer, t_old, h, hit_t, y, y_new, live_y, live_t)
+                _sample_loads(hit_t, loads_at(stage, y_hit, p), buffer, samples, sides, pending, last, True)
                 counts[1] += 1
-                _finish_peaks(stage, samples, brackets, bracket_y, peaks, coef, p, table, counts)
+                _finish_peaks(stage, samples, sides, K2, live_y, live_t, pool_k, pool_y, pool_t, peaks, coef, p,
+                              table, counts)
             return hit_k, hit_t, y_hit, apex
         if track:   # at the step's end the derivative is known (f_new): stage 2 reads the accelerations
-            _sample_loads(t_new, loads_after_step(stage, y_new, f_new, p), t_old, h, y, samples, brackets,
-                          bracket_y, pending, last, False)
+            _keep_step(buffer, t_old, h, t_new, y, y_new, live_y, live_t)
+            _sample_loads(t_new, loads_after_step(stage, y_new, f_new, p), buffer, samples, sides, pending, last,
+                          False)
+            _save_step(1 - buffer, sides, K2, live_y, live_t, pool_k, pool_y, pool_t)   # the next step takes it
             counts[1] += 1 if stage == SLIDE else 0
         t = t_new
         for j in range(n):
             y[j] = y_new[j]
             f[j] = f_new[j]
     if track:
-        _finish_peaks(stage, samples, brackets, bracket_y, peaks, coef, p, table, counts)
+        _finish_peaks(stage, samples, sides, K2, live_y, live_t, pool_k, pool_y, pool_t, peaks, coef, p, table,
+                      counts)
     return _REACHED_END, t, y, apex
 
 

@@ -358,7 +358,8 @@ def _events(stage: Stage, p: Params) -> tuple[Event, ...]:
                      armed=lambda t, y: quietly(stages.event_armed, stage, k, y, p, otherwise=False),
                      terminal=stages.event_terminal(stage, k))
 
-    return tuple(event(k, name) for k, name in enumerate(stages.EVENT_NAMES[stage]))
+    names = stages.EVENT_NAMES[stage][:stages.event_count(stage, p)]   # friction's only with friction
+    return tuple(event(k, name) for k, name in enumerate(names))
 
 
 # --------------------------------------------------------------------------- #
