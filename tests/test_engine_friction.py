@@ -246,7 +246,7 @@ def test_pymunks_motor_holds_the_arm_exactly_when_the_static_balance_says(table3
                          axle_radius=0.0064)
     rig = build(design)
     friction = fr.attach(rig, design, on_base=True)
-    fr.set_limits(friction, fr.static_loads(design))
+    fr.set_limits(friction, fr.static_loads(design), fr.STUCK)
     rig.space.iterations = 1000
     for _ in range(200):
         rig.space.step(5e-5)
