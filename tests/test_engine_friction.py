@@ -226,6 +226,29 @@ def test_a_machine_its_axle_holds_never_fires_at_the_static_torque_balance(table
     assert below.status is not Status.NEVER_FIRES and below.q[-1, 0] < below.q[0, 0] - 0.1
 
 
+def test_static_friction_holds_at_rest_a_machine_the_kinetic_would_let_fire(table3):
+    threshold = static_threshold(with_losses(table3, axle_friction=1.0, axle_radius=0.0064))
+    kinetic = dict(axle_friction=0.9 * threshold, axle_radius=0.0064)
+    held = simulate(with_losses(table3, **kinetic, axle_static_friction=1.1 * threshold), dt=2e-4)
+    assert held.status is Status.NEVER_FIRES and "axle's friction holds it" in held.message
+    fired = simulate(with_losses(table3, **kinetic), dt=2e-4)
+    assert fired.status is not Status.NEVER_FIRES and fired.q[-1, 0] < fired.q[0, 0] - 0.1
+
+
+def test_a_joint_that_held_gets_its_static_limit_and_one_that_slipped_its_kinetic(table3):
+    """Each step's limit is mu r times the predicted load, mu the static coefficient after a step in
+    which the constraint held (under its limit) and the kinetic one after a step it slipped (at it)."""
+    shot = simulate(dataclasses.replace(table3, losses=STATIC_HINGE))
+    steps = shot.diagnostics.friction_steps
+    limit, applied, load = steps["limit"][:, 1], steps["applied"][:, 1], steps["load"][:, 1]
+    rows = np.arange(4, len(limit))
+    predicted = np.maximum(2.0 * load[rows - 1] - load[rows - 2], 0.0)
+    slipped = applied[rows - 1] >= (1.0 - SATURATION_ROUND_OFF) * limit[rows - 1]
+    assert slipped.sum() > 100 and (~slipped).sum() > 100, "no stick and slip to tell apart"
+    mu = np.where(slipped, 1.0, 1.3)   # STATIC_HINGE: kinetic 1.0, static 1.3
+    np.testing.assert_allclose(limit[rows], mu * 0.1 * predicted, rtol=1e-14)
+
+
 def test_a_rigid_sling_on_a_stiff_base_holds_a_weak_machine(table3):
     # The known never-lifts-off design (a 1.87 kg projectile on a 3 cm sling): at rest the
     # arm's tip must push the projectile along the base, and a rigid sling can push. With
@@ -266,7 +289,9 @@ def _rest_row(design: Design) -> np.ndarray:
 # The energy audit
 # --------------------------------------------------------------------------- #
 
-AUDITED = {**LOSS_VARIANTS, "all-losses-point-counterweight": REALISTIC_LOSSES}
+#: A hinge that sticks at rest and again before release, holding up to 1.3 times what it gives slipping.
+STATIC_HINGE = Losses(hinge_friction=1.0, hinge_radius=0.1, hinge_static_friction=1.3)
+AUDITED = {**LOSS_VARIANTS, "all-losses-point-counterweight": REALISTIC_LOSSES, "static-hinge": STATIC_HINGE}
 
 
 @pytest.mark.parametrize("name", AUDITED)
