@@ -125,7 +125,8 @@ def run_after_release(design: Design, release_time: float, release_state: np.nda
     if friction is not None:
         impulses.append(fr.impulses(friction, False))
         opening_loads = _loads(friction, rig, None, raw[-1], design, 0.5 * dt)
-        slips = fr.slipping(friction, 0.5 * dt)
+        rates = fr.joint_rates(raw[-1], design)
+        slips = fr.slipping(friction, 0.5 * dt, rates, rates)
         friction = fr.renew(friction, rig)
     count = after_release_steps(release_time, landing_time, dt)
     loads = None
@@ -141,7 +142,8 @@ def run_after_release(design: Design, release_time: float, release_state: np.nda
         raw.append(read())
         if friction is not None:
             impulses.append(fr.impulses(friction, False))
-            slips = fr.slipping(friction, dt)
+            rates, earlier_rates = fr.joint_rates(raw[-1], design), rates
+            slips = fr.slipping(friction, dt, rates, earlier_rates)
     raw = np.array(raw)
     states = _synchronise(raw, release_state)
     times = release_time + dt * np.arange(len(raw))

@@ -244,6 +244,8 @@ def predicted_loads(loads: tuple[float, float, float],
 
 #: Every friction joint stuck (``limits``' ``slips``): the machine at rest.
 STUCK = (False, False, False)
+#: The joints' relative rates at rest (``joint_rates``).
+AT_REST = (0.0, 0.0, 0.0)
 
 
 def limits(design: Design, loads: tuple[float, float, float],
@@ -311,11 +313,40 @@ def saturated(joint: pymunk.Constraint | None, step: float) -> bool:
     return joint is not None and joint.impulse >= (1.0 - SATURATION) * joint.max_force * step
 
 
-def slipping(friction: Friction, step: float) -> tuple[bool, bool, bool]:
+def slipping(friction: Friction, step: float, rate: tuple[float, float, float],
+             earlier: tuple[float, float, float]) -> tuple[bool, bool, bool]:
     """Which joints (axle, hinge, base) slip in the next step: those whose constraint applied its whole
-    limit in the last step of ``step`` s (``saturated``). The others held: their relative motion
-    stopped, and the next step holds them up to the static limit (``limits``)."""
-    return saturated(friction.axle, step), saturated(friction.hinge, step), saturated(friction.base, step)
+    limit in the last step of ``step`` s (``saturated``), unless about to stop. The others held: their
+    relative motion stopped, and the next step holds them up to the static limit (``limits``).
+
+    A slipping joint is about to stop when its relative rate (``joint_rates`` after the last step,
+    ``rate``, and after the one before, ``earlier``), going on as it changed in the last step, reaches
+    zero within the next: that step gets the static limit, under which the constraint stops the joint
+    and holds it if the static friction can (a joint stopping with the kinetic limit alone would be
+    driven through zero whenever holding it takes more than the kinetic friction).
+    """
+    joints = (friction.axle, friction.hinge, friction.base)
+    return tuple(saturated(joint, step) and r * (2.0 * r - r0) > 0.0
+                 for joint, r, r0 in zip(joints, rate, earlier, strict=True))
+
+
+def joint_rates(row: tuple, design: Design) -> tuple[float, float, float]:
+    """Each friction joint's signed relative rate at the raw ``row`` (pymunk's velocities after a step):
+    the arm's turn on the frame and the counterweight's (a point counterweight: its link's) on the arm,
+    rad/s, the projectile's slide along the base, m/s."""
+    m = design.machine
+    arm_w = row[kin.ARM + kin.W]
+    if m.counterweight_inertia == 0.0:
+        theta, short = row[kin.ARM + kin.ANGLE], m.arm_short
+        # The hinge at (0, -arm_short) on the arm; the link's turn is the weight's motion across it.
+        dx = row[kin.COUNTERWEIGHT + kin.X] - (row[kin.ARM + kin.X] + short * math.sin(theta))
+        dy = row[kin.COUNTERWEIGHT + kin.Y] - (row[kin.ARM + kin.Y] - short * math.cos(theta))
+        dvx = row[kin.COUNTERWEIGHT + kin.VX] - (row[kin.ARM + kin.VX] + arm_w * short * math.cos(theta))
+        dvy = row[kin.COUNTERWEIGHT + kin.VY] - (row[kin.ARM + kin.VY] + arm_w * short * math.sin(theta))
+        hinge = (dx * dvy - dy * dvx) / (dx * dx + dy * dy) - arm_w
+    else:
+        hinge = row[kin.COUNTERWEIGHT + kin.W] - arm_w
+    return (arm_w - row[kin.FRAME + kin.W], hinge, row[kin.PROJECTILE + kin.VX] - row[kin.FRAME + kin.VX])
 
 
 def remove_base(friction: Friction, space: pymunk.Space) -> None:

@@ -474,7 +474,8 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str, limit: 
         opening_loads = _loads(friction, rig, _mirrored(row), row, design,
                                (base_force, normal if on_base else 0.0), dt, 0.5 * dt)
         # The joints that broke free of their static hold slip from the start: kinetic limits.
-        slips = fr.slipping(friction, 0.5 * dt)
+        rates = fr.joint_rates(row, design)
+        slips = fr.slipping(friction, 0.5 * dt, rates, fr.AT_REST)
         rig = build(design, sling=sling, iterations=iterations, on_base=on_base)
         friction = _attach_friction(rig, design, on_base, dt, opening_loads, slips)
         row = _opening_step(rig, dt, iterations)
@@ -492,7 +493,8 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str, limit: 
                        dt, 0.5 * dt)
         run.friction_limit.append(fr.limits(design, opening_loads, slips))
         run.friction_load.append(loads)
-        slips = fr.slipping(friction, 0.5 * dt)
+        rates = fr.joint_rates(row, design)
+        slips = fr.slipping(friction, 0.5 * dt, rates, fr.AT_REST)
         friction = fr.renew(friction, rig)
 
     step = stepper(rig.space)
@@ -530,7 +532,8 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str, limit: 
             base_force = _base_friction(friction, rig, dt, geometry, on_base)
             tension, normal = _forces(previous, row, geometry, on_base, design, dt, base_force)
             run.friction_impulse.append(fr.impulses(friction, on_base))
-            slips = fr.slipping(friction, dt)
+            rates, earlier_rates = fr.joint_rates(row, design), rates
+            slips = fr.slipping(friction, dt, rates, earlier_rates)
             earlier_loads = loads
             if k > 1:
                 loads = _loads(friction, rig, previous, row, design, (base_force, normal if on_base else 0.0),

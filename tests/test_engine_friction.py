@@ -249,6 +249,32 @@ def test_a_joint_that_held_gets_its_static_limit_and_one_that_slipped_its_kineti
     np.testing.assert_allclose(limit[rows], mu * 0.1 * predicted, rtol=1e-14)
 
 
+def test_a_slipping_joint_about_to_stop_gets_its_static_limit(table3, monkeypatch):
+    """``slipping``: a saturated constraint slips on, unless its rate, changing as in the last step,
+    reaches zero within the next (then that step may hold it, up to the static limit)."""
+    design = dataclasses.replace(table3, losses=REALISTIC_LOSSES)
+    friction = fr.attach(build(design), design, on_base=True)
+    monkeypatch.setattr(fr, "saturated", lambda joint, step: True)
+    # axle: 1.0 -> 0.5 next, slipping on; hinge: -0.5 -> +0.2, stops within the step; base: 0.2 -> 0.3.
+    assert fr.slipping(friction, 5e-5, (1.0, -0.5, 0.2), (1.5, -1.2, 0.1)) == (True, False, True)
+    monkeypatch.setattr(fr, "saturated", lambda joint, step: False)
+    assert fr.slipping(friction, 5e-5, (1.0, -0.5, 0.2), (1.5, -1.2, 0.1)) == (False, False, False)
+
+
+@pytest.mark.parametrize("point", [False, True], ids=["inertial-counterweight", "point-counterweight"])
+def test_the_joints_signed_rates_are_the_sliding_rates_the_work_is_taken_over(table3, point):
+    """``joint_rates`` on raw rows against ``rates`` (the magnitudes the dissipated work uses, from
+    ``kinematics.coordinates``), over a shot with every loss."""
+    design = dataclasses.replace(with_machine(table3, counterweight_inertia=0.0) if point else table3,
+                                 losses=REALISTIC_LOSSES)
+    run, _ = _run_machine(design, 2e-4, 200, "rigid")
+    rows = np.array(run.raw)
+    qdot = kin.coordinates(rows, design, np.zeros(3))[1]
+    expected = fr.rates(rows, qdot, design)
+    signed = np.array([fr.joint_rates(tuple(row), design) for row in rows])
+    np.testing.assert_allclose(np.abs(signed), expected, rtol=1e-9, atol=1e-12)
+
+
 def test_a_rigid_sling_on_a_stiff_base_holds_a_weak_machine(table3):
     # The known never-lifts-off design (a 1.87 kg projectile on a 3 cm sling): at rest the
     # arm's tip must push the projectile along the base, and a rigid sling can push. With
