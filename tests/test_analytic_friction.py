@@ -368,6 +368,36 @@ def test_energy_audit_closes_on_sampled_designs_with_random_losses():
             assert _audit(shot) <= AUDIT_TOL, design.name
 
 
+def test_energy_audit_closes_and_the_paths_agree_with_random_static_coefficients():
+    """Sampled designs with random losses whose static coefficients are 1 to 3 times the kinetic ones,
+    every other one on a rolling frame: nothing is dissipated while a joint is stuck, so the audit
+    closes as without them (10.9), and the fast path agrees with the reference (FAST_TOL)."""
+    from support import table_ii_sample
+
+    from analytic.fast import simulate_fast
+
+    rng = np.random.default_rng(9)
+    fired = 0
+    for i, design in enumerate(table_ii_sample(6, seed=23)):
+        kinetic = dict(axle_friction=float(rng.uniform(0, 0.6)), hinge_friction=float(rng.uniform(0, 0.6)),
+                       base_friction=float(rng.uniform(0, 1)))
+        losses = Losses(**kinetic, axle_radius=float(rng.uniform(0.003, 0.03)),
+                        hinge_radius=float(rng.uniform(0.003, 0.03)),
+                        **{f"{k.removesuffix('_friction')}_static_friction": v * float(rng.uniform(1, 3))
+                           for k, v in kinetic.items()})
+        design = dataclasses.replace(design, losses=losses)
+        if i % 2:
+            design = dataclasses.replace(design, base=Base(mobility="rolling", mass=float(rng.uniform(5, 100))))
+        shot, fast = simulate(design), simulate_fast(design)
+        assert fast.status is shot.status, design.name
+        if shot.status is not Status.NEVER_FIRES:
+            fired += 1
+            assert _audit(shot) <= AUDIT_TOL, design.name
+        if shot.range is not None:
+            assert abs(fast.range - shot.range) <= FAST_TOL * abs(shot.range), design.name
+    assert fired >= 3
+
+
 def test_energy_audit_closes_on_a_rolling_frame(paper):
     design = dataclasses.replace(with_losses(paper, **ALL), base=Base(mobility="rolling", mass=300.0))
     shot = simulate(design)
@@ -678,6 +708,9 @@ def test_static_coefficients_default_to_the_kinetic_and_are_written_back_only_wh
     assert (given.losses.static("axle"), given.losses.static("hinge"), given.losses.static("base")) == (0.2, 0.15, 0.3)
     p = params(given)
     assert (p.mua_s, p.muh_s, p.mub_s) == (0.2, 0.15, 0.3)
+    from analytic.fields import field
+
+    assert field("losses.hinge_static_friction").get(given) == 0.15   # not given: the kinetic one
     path = tmp_path / "static.toml"
     save_design(given, path)
     assert load_design(path).losses == given.losses
