@@ -550,7 +550,8 @@ def _held_by_static_friction(paper, name, radius):
     """The paper's design with ``name``'s kinetic coefficient 0.9 times the one that balances gravity at
     rest and its static one 1.1 times it, and the same design with the static one left out (kinetic)."""
     unit = dict(axle_radius=1.0) if name == "axle" else {}
-    drive, axle_unit, base_unit = friction.rest_balance(params(with_losses(paper, **{f"{name}_friction": 1.0}, **unit)))
+    unit_design = with_losses(paper, **{f"{name}_friction": 1.0}, **unit)
+    drive, axle_unit, base_unit = friction.rest_balance(params(unit_design))
     balance = drive / (axle_unit * radius if name == "axle" else base_unit)
     sized = dict(axle_radius=radius) if name == "axle" else {}
     kinetic = {f"{name}_friction": 0.9 * balance, **sized}
