@@ -259,6 +259,9 @@ class Base:
 #: The ``[losses]`` table's joints: each has a Coulomb coefficient and the
 #: radius of the pin (or bearing) it acts at.
 FRICTION_JOINTS = ("axle", "hinge")
+#: Every friction of the ``[losses]`` table: the joints' and the base's; each has a kinetic
+#: coefficient ``{name}_friction`` and an optional static one ``{name}_static_friction``.
+FRICTIONS = ("axle", "hinge", "base")
 
 
 @dataclass(frozen=True)
@@ -274,6 +277,11 @@ class Losses:
         short arm, opposing the link's rotation relative to the arm.
     base_friction : Coulomb coefficient of the projectile (or its sled)
         sliding on the base in stage 1: ``base_friction * N`` against its sliding.
+    axle_static_friction, hinge_static_friction, base_static_friction : the
+        static coefficients: a joint at rest (or the projectile at rest on
+        the base) holds up to this coefficient times its load, and once it
+        slips the kinetic one above acts. None (not given): the kinetic
+        coefficient (``static``). Never below the kinetic one.
 
     A joint's coefficient without its radius (or a radius without its
     coefficient) is refused: the torque needs both.
@@ -284,6 +292,9 @@ class Losses:
     hinge_friction: float = 0.0
     hinge_radius: float = 0.0
     base_friction: float = 0.0
+    axle_static_friction: float | None = None
+    hinge_static_friction: float | None = None
+    base_static_friction: float | None = None
 
     def __post_init__(self) -> None:
         for name in ("axle_friction", "axle_radius", "hinge_friction", "hinge_radius", "base_friction"):
@@ -296,6 +307,25 @@ class Losses:
             if coefficient > 0.0 and radius == 0.0:
                 raise DesignError(f"losses.{joint}_friction", coefficient,
                                   f"a coefficient without its radius: give losses.{joint}_radius (m) too")
+        for friction in FRICTIONS:
+            static = getattr(self, f"{friction}_static_friction")
+            if static is None:
+                continue
+            name, kinetic = f"losses.{friction}_static_friction", getattr(self, f"{friction}_friction")
+            require_non_negative(name, static)
+            if static < kinetic:
+                raise DesignError(name, static, f"is below the kinetic coefficient losses.{friction}_friction = "
+                                                f"{kinetic:g}: what a joint holds at rest is at least what it "
+                                                f"gives slipping")
+            if friction in FRICTION_JOINTS and static > 0.0 and getattr(self, f"{friction}_radius") == 0.0:
+                raise DesignError(name, static,
+                                  f"a coefficient without its radius: give losses.{friction}_radius (m) too")
+
+    def static(self, friction: str) -> float:
+        """The static coefficient of ``friction`` (``"axle"``, ``"hinge"`` or ``"base"``): as given, or
+        its kinetic one."""
+        static = getattr(self, f"{friction}_static_friction")
+        return getattr(self, f"{friction}_friction") if static is None else static
 
     @property
     def ideal(self) -> bool:

@@ -118,11 +118,13 @@ def base_from_dict(data: Any) -> Base:
     return Base(**values)
 
 
-_LOSSES_KEYS = ("axle_friction", "axle_radius", "hinge_friction", "hinge_radius", "base_friction")
+_LOSSES_KEYS = ("axle_friction", "axle_radius", "hinge_friction", "hinge_radius", "base_friction",
+                "axle_static_friction", "hinge_static_friction", "base_static_friction")
 
 
 def losses_from_dict(data: Any) -> Losses:
-    """The optional ``[losses]`` table: Coulomb coefficients and pin radii (m), each 0 if absent."""
+    """The optional ``[losses]`` table: Coulomb coefficients and pin radii (m), each 0 if absent (a static
+    coefficient, if absent, is its kinetic one)."""
     values = read_values("losses", require_table("losses", data, optional=True), numbers=_LOSSES_KEYS)
     return Losses(**values)
 
@@ -162,7 +164,7 @@ def design_to_dict(design: Design, units: dict[str, str] | None = None) -> dict[
     if design.base != Base():   # a fixed frame is the default: its table is left out
         layout["base"] = {k: v for k, v in dataclasses.asdict(design.base).items() if v is not None}
     if not design.losses.ideal:   # the ideal machine is the default: its table is left out
-        layout["losses"] = dataclasses.asdict(design.losses)
+        layout["losses"] = {k: v for k, v in dataclasses.asdict(design.losses).items() if v is not None}
     if units is not None:
         for table in layout.values():
             if isinstance(table, dict):

@@ -48,6 +48,8 @@ class Field:
     def get(self, design: Design) -> float | None:
         """The field's value in ``design``, in file units (None: not set, e.g. a fixed frame's mass)."""
         value = getattr(getattr(design, self.table), self.key)
+        if value is None and self.key.endswith("_static_friction"):   # not given: the kinetic coefficient
+            value = design.losses.static(self.key.removesuffix("_static_friction"))
         if value is None:
             return None
         return math.degrees(value) if self.kind is ANGLE else float(value)

@@ -18,6 +18,9 @@ symbol     meaning                                             design field
 mua, ra    axle's Coulomb coefficient and radius               losses.axle_*
 muh, rh    hinge's Coulomb coefficient and radius              losses.hinge_*
 mub        base's Coulomb coefficient (stage 1)                losses.base_friction
+mua_s,     the static coefficients: what holds a joint stuck    losses.*_static_friction
+muh_s,     (and the machine at rest); at least the kinetic
+mub_s      ones above, which act while it slips [10.9]
 ta, th     friction torques on the arm (axle) and on the       --
            link (hinge), N m [10.1]
 F (fb)     the base's friction force on the projectile, N      --
@@ -58,8 +61,20 @@ FRICTION_ITERATIONS = 30
 
 
 def lossy(p):
-    """Whether the design has any friction (otherwise every function runs the ideal machine's arithmetic)."""
-    return p.mua > 0.0 or p.muh > 0.0 or p.mub > 0.0
+    """Whether the design has any friction (otherwise every function runs the ideal machine's arithmetic):
+    a static coefficient is never below its kinetic one, so the static ones tell."""
+    return p.mua_s > 0.0 or p.muh_s > 0.0 or p.mub_s > 0.0
+
+
+def kinetic_arm(joint, p):
+    """``mu r`` of the joint (0 axle, 1 hinge), m: its friction torque slipping, per newton of load [10.2]."""
+    return p.mua * p.ra if joint == 0 else p.muh * p.rh
+
+
+def static_arm(joint, p):
+    """``mu_s r`` of the joint (0 axle, 1 hinge), m: the most friction torque that holds it stuck, per
+    newton of load [10.9]; 0 for a joint without friction."""
+    return p.mua_s * p.ra if joint == 0 else p.muh_s * p.rh
 
 
 def _solve3(a11, a12, a13, a21, a22, a23, a31, a32, a33, r1, r2, r3):
@@ -94,15 +109,20 @@ def friction_newton(base, unit_a, unit_h, unit_b, sa, sh, sb, p):
     * axle: ``ta + mua ra sa |A| = 0`` slipping, ``theta'' = 0`` stuck, ``ta = 0`` without friction;
     * hinge: ``th + muh rh sh |H| = 0`` slipping, ``phi'' = 0`` stuck, ``th = 0`` without friction;
     * base: ``F + mub sb N = 0`` on the base (N > 0 there), ``F = 0`` otherwise.
+
+    A joint can be stuck when it has static friction (``static_arm``); slipping
+    it gives the kinetic friction (``kinetic_arm``, which may be 0).
     """
-    ka, kh = p.mua * p.ra, p.muh * p.rh
+    ka, kh = kinetic_arm(0, p), kinetic_arm(1, p)
+    stuck_a = sa == 0.0 and static_arm(0, p) > 0.0
+    stuck_h = sh == 0.0 and static_arm(1, p) > 0.0
     ta, th, fb = 0.0, 0.0, 0.0
     for _ in range(FRICTION_ITERATIONS):
         ax = base[0] + ta * unit_a[0] + th * unit_h[0] + fb * unit_b[0]
         ay = base[1] + ta * unit_a[1] + th * unit_h[1] + fb * unit_b[1]
         hx = base[2] + ta * unit_a[2] + th * unit_h[2] + fb * unit_b[2]
         hy = base[3] + ta * unit_a[3] + th * unit_h[3] + fb * unit_b[3]
-        if ka > 0.0 and sa == 0.0:
+        if stuck_a:
             r1 = base[5] + ta * unit_a[5] + th * unit_h[5] + fb * unit_b[5]
             j11, j12, j13 = unit_a[5], unit_h[5], unit_b[5]
         elif ka > 0.0:
@@ -114,7 +134,7 @@ def friction_newton(base, unit_a, unit_h, unit_b, sa, sh, sb, p):
             j13 = g * (ax * unit_b[0] + ay * unit_b[1])
         else:
             r1, j11, j12, j13 = ta, 1.0, 0.0, 0.0
-        if kh > 0.0 and sh == 0.0:
+        if stuck_h:
             r2 = base[6] + ta * unit_a[6] + th * unit_h[6] + fb * unit_b[6]
             j21, j22, j23 = unit_a[6], unit_h[6], unit_b[6]
         elif kh > 0.0:
@@ -174,9 +194,9 @@ def swing_friction(theta, phi, psi, dtheta, dphi, dpsi, sa, sh, p):
     ddtheta = a1 + ta * ua1 + th * uh1
     ddphi = a2 + ta * ua2 + th * uh2
     ddpsi = a3 + ta * ua3 + th * uh3
-    if sa == 0.0 and p.mua > 0.0:
+    if sa == 0.0 and static_arm(0, p) > 0.0:
         ddtheta = 0.0
-    if sh == 0.0 and p.muh > 0.0:
+    if sh == 0.0 and static_arm(1, p) > 0.0:
         ddphi = 0.0
     axle = _size(_combine(base, unit_a, unit_h, unit_b, ta, th, 0.0, 0),
                   _combine(base, unit_a, unit_h, unit_b, ta, th, 0.0, 1))
@@ -231,9 +251,9 @@ def slide_friction(theta, phi, dtheta, dphi, sa, sh, sb, p):
     ta, th, fb = friction_newton(base, unit_a, unit_h, unit_b, sa, sh, sb, p)
     ddtheta = a1 + ta * ua1 + th * uh1 + fb * ub1
     ddphi = a2 + ta * ua2 + th * uh2 + fb * ub2
-    if sa == 0.0 and p.mua > 0.0:
+    if sa == 0.0 and static_arm(0, p) > 0.0:
         ddtheta = 0.0
-    if sh == 0.0 and p.muh > 0.0:
+    if sh == 0.0 and static_arm(1, p) > 0.0:
         ddphi = 0.0
     normal = _combine(base, unit_a, unit_h, unit_b, ta, th, fb, 4)
     axle = _size(_combine(base, unit_a, unit_h, unit_b, ta, th, fb, 0),
@@ -249,17 +269,18 @@ def rest_balance(p):
     ``drive`` is gravity's generalised force turning the arm clockwise (the
     reduced stage-1 ``-r1`` at rest: the counterweight's and the arm's
     weights; the projectile's cancels on the base). The most friction can
-    hold against it: the base's ``mub N |dx_P/dtheta|`` (its friction on the
-    projectile at its limit, pulled along the flat sling) and the axle's
-    ``mua ra |A|`` with the axle's load ``A`` at rest under that friction.
-    The machine fires when ``drive > axle_hold + base_hold``.
+    hold against it, static friction at rest [10.9]: the base's
+    ``mub_s N |dx_P/dtheta|`` (its friction on the projectile at its limit,
+    pulled along the flat sling) and the axle's ``mua_s ra |A|`` with the
+    axle's load ``A`` at rest under that friction. The machine fires when
+    ``drive > axle_hold + base_hold``.
     """
     theta, phi = p.theta0, p.phi0
     _, _, _, r1, _, _, _, _, f3, s, _, sin_beta = slide_system(theta, phi, 0.0, 0.0, p)
     psi = slide_constraint(theta, 0.0, p)[0]
     normal = -f3 / (-p.Ls * sin_beta)
     dx = slide_rate(theta, s, sin_beta, p)
-    base_force = p.mub * normal if dx >= 0.0 else -p.mub * normal
+    base_force = p.mub_s * normal if dx >= 0.0 else -p.mub_s * normal
     ax, ay, _, _, _, _ = joint_forces_sliding(theta, phi, psi, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, normal,
                                               base_force, p)
-    return -r1, p.mua * p.ra * _size(ax, ay), base_force * dx
+    return -r1, static_arm(0, p) * _size(ax, ay), base_force * dx

@@ -33,6 +33,9 @@ phi0        counterweight angle at rest, rad                     (``design.initi
 mua, ra     axle's Coulomb coefficient and radius (m)            losses.axle_friction, axle_radius
 muh, rh     hinge's Coulomb coefficient and radius (m)           losses.hinge_friction, hinge_radius
 mub         base's Coulomb coefficient (stage 1)                 losses.base_friction
+mua_s,      the static coefficients of the axle, the hinge and   losses.*_static_friction
+muh_s,      the base (each at least its kinetic one; the
+mub_s       kinetic one when the file does not give it)
 ==========  ===================================================  ==========================
 """
 
@@ -80,6 +83,9 @@ class Params(NamedTuple):
     muh: float
     rh: float
     mub: float
+    mua_s: float
+    muh_s: float
+    mub_s: float
 
 
 #: Length of a design row (``Params`` in order).
@@ -102,4 +108,5 @@ def params(design) -> Params:
         rolling=float(design.base.rolling), Mf=design.base.mass if design.base.rolling else 0.0,
         t_limit=swing_time_limit(m, env.gravity), theta0=theta0, phi0=phi0,
         mua=losses.axle_friction, ra=losses.axle_radius, muh=losses.hinge_friction, rh=losses.hinge_radius,
-        mub=losses.base_friction)
+        mub=losses.base_friction, mua_s=losses.static("axle"), muh_s=losses.static("hinge"),
+        mub_s=losses.static("base"))

@@ -40,7 +40,7 @@ from analytic.aero import force_factor
 from analytic.eom import (frame_coupling, frame_displacement, frame_velocity, horizontal_moment, loads,
                           loads_sliding, slide_accelerations, slide_constraint, swing_accelerations, terms,
                           total_mass)
-from analytic.friction import lossy, rest_balance, slide_friction, slide_rate, swing_friction
+from analytic.friction import lossy, rest_balance, slide_friction, slide_rate, static_arm, swing_friction
 from analytic.geometry import projectile_state, release_at
 from analytic.limits import SLING_VERTICAL_LIMIT
 from analytic.outcome import Stage
@@ -224,15 +224,15 @@ def fires(p):
 def rest_modes(p):
     """The friction modes ``(axle, hinge, base)`` the shot starts in: the arm slips clockwise
     (-1), the projectile slides the way dx_P/dtheta theta' points, and the hinge, at rest,
-    stays stuck if its friction can hold the counterweight's link (0), or slips the
+    stays stuck if its static friction can hold the counterweight's link (0), or slips the
     way it is pushed (as ``decide_modes`` would)."""
     _, _, s, _, sin_beta = slide_constraint(p.theta0, 0.0, p)
     sb = -1.0 if slide_rate(p.theta0, s, sin_beta, p) >= 0.0 else 1.0
     sh = 1.0
-    if p.muh > 0.0:
+    if static_arm(1, p) > 0.0:
         _, _, _, _, th, _, _, hinge, _ = slide_friction(p.theta0, p.phi0, 0.0, 0.0, -1.0, 0.0, sb, p)
         sh = 0.0
-        if not abs(th) < p.muh * p.rh * hinge:
+        if not abs(th) < static_arm(1, p) * hinge:
             sh = -1.0 if th > 0.0 else 1.0
     return -1.0, sh, sb
 
@@ -287,8 +287,8 @@ def friction_event(stage, k, y, p):
 
     * ``arm_stalls``: ``-theta'`` (stage 1, with axle or base friction);
     * ``axle_stops``, ``hinge_stops``: the slipping joint's rate times its mode;
-    * ``axle_slips``, ``hinge_slips``: the stuck joint's friction capacity less the
-      torque holding it, ``mu r |F| - |t|``;
+    * ``axle_slips``, ``hinge_slips``: the stuck joint's static friction capacity less the
+      torque holding it, ``mu_s r |F| - |t|`` (``friction.static_arm``);
     * ``slide_reverses``: the projectile's slide over the base times its mode.
 
     An event for a friction the design lacks, or for a joint in the other
@@ -298,7 +298,7 @@ def friction_event(stage, k, y, p):
         return 1.0
     core = STATE_SIZE[stage]
     if stage == SLIDE and k == ARM_STALLS:
-        return -y[2] if (p.mua > 0.0 or p.mub > 0.0) else 1.0
+        return -y[2] if (p.mua_s > 0.0 or p.mub_s > 0.0) else 1.0
     if stage == SLIDE and k == 6:
         if p.mub == 0.0:
             return 1.0
@@ -306,7 +306,7 @@ def friction_event(stage, k, y, p):
         return y[9] * slide_rate(y[0], s, sin_beta, p) * y[2]
     joint = switched_joint(stage, k)
     slips = (k - FIRST_SWITCH[stage]) % 2 == 1
-    friction = p.mua * p.ra if joint == 0 else p.muh * p.rh
+    friction = static_arm(joint, p)
     mode = y[core + 3 + joint]
     if friction == 0.0 or (mode == 0.0) != slips:
         return 1.0
@@ -331,25 +331,21 @@ def switched_joint(stage, k):
 MODE_CHOICES = (0.0, -1.0, 1.0)
 
 
-def _joint_friction(joint, p):
-    """``mu r`` of the joint (0 axle, 1 hinge), m."""
-    return p.mua * p.ra if joint == 0 else p.muh * p.rh
-
-
 def _at_rest(stage, joint, y, p):
     """Whether ``joint`` has friction, may stick in ``stage`` (not the axle in stage 1) and its
     rate is exactly 0 (stuck, or just stopped): its mode is to be chosen."""
-    if _joint_friction(joint, p) == 0.0 or (stage == SLIDE and joint == 0):
+    if static_arm(joint, p) == 0.0 or (stage == SLIDE and joint == 0):
         return False
     return y[STATE_SIZE[stage] // 2 + joint] == 0.0
 
 
 def consistent(stage, y, p, free_axle, free_hinge, must_slip):
     """Whether the modes in ``y`` of the joints at rest (``free_*``) are consistent: each stuck
-    one is held with room to spare, ``mu r |F| > |t|``; each slipping one accelerates
-    the way it slips (its friction opposes the motion it starts). The joint
-    ``must_slip`` (its hold just failed: its acceleration slipping is 0 to round-off)
-    must slip the way its holding torque pushes it instead, the sign of ``-t``."""
+    one is held by its static friction with room to spare, ``mu_s r |F| > |t|``
+    (``friction.static_arm``); each slipping one accelerates the way it slips
+    (its kinetic friction opposes the motion it starts). The joint ``must_slip``
+    (its hold just failed: with equal coefficients its acceleration slipping is 0
+    to round-off) must slip the way its holding torque pushes it instead, the sign of ``-t``."""
     solution = friction_solution(stage, y, p)
     core = STATE_SIZE[stage]
     for joint in range(2):
@@ -359,7 +355,7 @@ def consistent(stage, y, p, free_axle, free_hinge, must_slip):
         if mode == 0.0:
             torque = solution[4] if joint == 0 else solution[5]
             load = solution[7] if joint == 0 else solution[8]
-            if not abs(torque) < _joint_friction(joint, p) * load:
+            if not abs(torque) < static_arm(joint, p) * load:
                 return False
         elif joint == must_slip:
             y[core + 3 + joint] = 0.0
@@ -408,7 +404,7 @@ def decide_modes(stage, y, p, must_slip):
         solution = friction_solution(stage, y, p)
         torque = solution[4] if joint == 0 else solution[5]
         load = solution[7] if joint == 0 else solution[8]
-        if joint == must_slip or not abs(torque) < _joint_friction(joint, p) * load:
+        if joint == must_slip or not abs(torque) < static_arm(joint, p) * load:
             y[core + 3 + joint] = -1.0 if torque > 0.0 else 1.0
 
 

@@ -139,11 +139,26 @@ HELD_COUNTERWEIGHT_MASS = 0.3
 HELD_AXLE = Losses(axle_friction=0.3, axle_radius=0.0064)
 
 
+#: Static coefficients 1.3 times the kinetic ones of ``REALISTIC_LOSSES`` (dry wood on wood or a
+#: plain bearing holds about a third more at rest than it gives sliding).
+STATIC_FACTOR = 1.3
+REALISTIC_STATIC_LOSSES = dataclasses.replace(
+    REALISTIC_LOSSES, **{f"{name}_static_friction": STATIC_FACTOR * getattr(REALISTIC_LOSSES, f"{name}_friction")
+                         for name in ("axle", "hinge", "base")})
+#: A hinge that sticks at rest and again before release (a 20 cm pin), holding up to 1.3 times what it
+#: gives slipping: the static coefficient changes when it breaks free and whether it sticks.
+STICKING_STATIC_HINGE = Losses(hinge_friction=1.0, hinge_radius=0.1, hinge_static_friction=1.3)
+#: ``HELD_AXLE``'s hold by static friction alone: the kinetic coefficient (0.15) would let it fire.
+HELD_STATIC_AXLE = Losses(axle_friction=0.15, axle_radius=0.0064, axle_static_friction=0.3)
+
+
 def friction_cases(sample: int = 3, seed: int = 0) -> list[Case]:
     """Each loss alone and all together on the paper's design (as published and at 61 deg: all losses),
     all losses on the first ``sample`` designs of ``sample_cases(sample, seed)`` (a light arm among them,
     whose engine arm carries ballast), the paper's point counterweight and its rolling frame with all losses,
-    and a machine its axle's friction holds (``never_fires``)."""
+    and a machine its axle's friction holds (``never_fires``); with static coefficients above the kinetic
+    ones, the paper's design with all losses and with a sticking hinge, the first sampled design with all
+    losses, and the held machine held by its static friction alone (``never_fires``)."""
     table3 = default_design()
     cases = [Case(f"table3-{name}", dataclasses.replace(table3, name=f"table3-{name}", losses=losses), "friction")
              for name, losses in LOSS_VARIANTS.items()]
@@ -158,6 +173,14 @@ def friction_cases(sample: int = 3, seed: int = 0) -> list[Case]:
         cases.append(Case(name, dataclasses.replace(case.design, name=name, losses=REALISTIC_LOSSES), "friction"))
     held = _variant(table3, "table3-held-by-its-axle", machine={"counterweight_mass": HELD_COUNTERWEIGHT_MASS})
     cases.append(Case(held.name, dataclasses.replace(held, losses=HELD_AXLE), "friction", "never_fires"))
+    static = [("table3-all-losses-static", table3, REALISTIC_STATIC_LOSSES),
+              ("table3-sticking-hinge-static", table3, STICKING_STATIC_HINGE)]
+    static += [(f"{case.name}-all-losses-static", case.design, REALISTIC_STATIC_LOSSES)
+               for case in sample_cases(sample, seed)[:1]]
+    for name, design, losses in static:
+        cases.append(Case(name, dataclasses.replace(design, name=name, losses=losses), "friction"))
+    name = "table3-held-by-static-friction"
+    cases.append(Case(name, dataclasses.replace(held, name=name, losses=HELD_STATIC_AXLE), "friction", "never_fires"))
     return cases
 
 

@@ -112,7 +112,10 @@ def run_after_release(design: Design, release_time: float, release_state: np.nda
     friction = fr.attach(rig, design, on_base=False)
     impulses = []
     if friction is not None:
-        fr.set_limits(friction, fr.static_loads(design))
+        # A joint turning at release slips (kinetic limit); one at rest holds (static).
+        qdot = kin.coordinates(release_state[None, :], design, np.zeros(3))[1]
+        slips = tuple(bool(rate > 0.0) for rate in fr.rates(release_state[None, :], qdot, design)[0])
+        fr.set_limits(friction, fr.static_loads(design), slips)
         fr.aim(friction, rig, 0.5 * dt)
     rig.space.iterations = max(startup_iterations, iterations)
     rig.space.step(0.5 * dt)
@@ -122,6 +125,8 @@ def run_after_release(design: Design, release_time: float, release_state: np.nda
     if friction is not None:
         impulses.append(fr.impulses(friction, False))
         opening_loads = _loads(friction, rig, None, raw[-1], design, 0.5 * dt)
+        rates = fr.joint_rates(raw[-1], design)
+        slips = fr.slipping(friction, 0.5 * dt, rates, rates)
         friction = fr.renew(friction, rig)
     count = after_release_steps(release_time, landing_time, dt)
     loads = None
@@ -131,12 +136,14 @@ def run_after_release(design: Design, release_time: float, release_state: np.nda
             # The first whole step's readings are off (``friction.renew``): the half step's stand in.
             measured = _loads(friction, rig, raw[-2], raw[-1], design, dt) if i > 1 else opening_loads
             earlier, loads = loads, measured
-            fr.set_limits(friction, fr.predicted_loads(loads, earlier))
+            fr.set_limits(friction, fr.predicted_loads(loads, earlier), slips)
             fr.aim(friction, rig, dt)
         step(dt)
         raw.append(read())
         if friction is not None:
             impulses.append(fr.impulses(friction, False))
+            rates, earlier_rates = fr.joint_rates(raw[-1], design), rates
+            slips = fr.slipping(friction, dt, rates, earlier_rates)
     raw = np.array(raw)
     states = _synchronise(raw, release_state)
     times = release_time + dt * np.arange(len(raw))

@@ -3,12 +3,16 @@
 pymunk's own means, one velocity-level constraint per loss whose ``max_force``
 is the friction's limit, set before every step from the load its joint
 carries, predicted from the two steps before (pymunk reports a constraint's
-impulse only after the step that applied it; ``predicted_loads``):
+impulse only after the step that applied it; ``predicted_loads``). The limit
+takes the static coefficient while the joint holds and the kinetic one while
+it slips (``limits``): a constraint that held in the last step (its impulse
+under its limit, the relative motion stopped) is stuck for the next, one that
+applied its whole limit (saturated) slips (``slipping``):
 
 * axle: a ``SimpleMotor`` of rate 0 between the frame and the arm. It holds
   their relative rotation at zero (stick) unless that needs more torque than
   ``axle_friction * axle_radius * |axle load|``, where it saturates and
-  applies that torque against the rotation (slip). A motor applies a pure
+  applies the kinetic torque against the rotation (slip). A motor applies a pure
   torque, so it changes no joint's force directly.
 * hinge: the same between the arm and the counterweight; for a point
   counterweight (a PinJoint link and a body whose own rotation is decoupled,
@@ -114,7 +118,7 @@ class StaticBalance:
         counterweight hangs plumb and the sling lies unloaded on the base.
     axle_load : N, the axle's reaction: the arm's and counterweight's weight.
     holding_torque : N m, the most the axle's static friction can hold:
-        ``axle_friction * axle_radius * axle_load``.
+        ``axle_static_friction * axle_radius * axle_load``.
     """
 
     gravity_torque: float
@@ -130,7 +134,7 @@ class StaticBalance:
         losses = design.losses
         return (f"the counterweight cannot lift the arm: the axle's friction holds it at rest "
                 f"(gravity's torque about the pivot {-self.gravity_torque:.4g} N m against at most "
-                f"{self.holding_torque:.4g} N m of static friction = {losses.axle_friction:g} x "
+                f"{self.holding_torque:.4g} N m of static friction = {losses.static('axle'):g} x "
                 f"{losses.axle_radius * 1e3:g} mm x {self.axle_load:.4g} N on the axle)")
 
 
@@ -139,7 +143,7 @@ def held_message(design: Design, arm_acceleration: float, balance: StaticBalance
     text = (f"the counterweight cannot lift the arm: friction holds the machine at rest (the arm's angular "
             f"acceleration at rest is {arm_acceleration:+.3g} rad/s^2, under the {HELD_ACCELERATION:g} "
             f"rad/s^2 that could turn it within the swing's time limit)")
-    if balance.gravity_torque < 0.0 and design.losses.base_friction > 0.0 and sling == "rigid":
+    if balance.gravity_torque < 0.0 and design.losses.static("base") > 0.0 and sling == "rigid":
         text += (f": gravity's torque about the pivot, {-balance.gravity_torque:.4g} N m, is more than the "
                  f"axle's friction holds alone ({balance.holding_torque:.4g} N m), but the base's friction "
                  f"holds the projectile, and the rigid sling holds the arm by it")
@@ -154,7 +158,7 @@ def static_balance(design: Design, rest: np.ndarray) -> StaticBalance:
     torque = -g * (m.arm_mass * arm_x + m.counterweight_mass * counterweight_x)
     load = (m.arm_mass + m.counterweight_mass) * g
     losses = design.losses
-    return StaticBalance(float(torque), float(load), losses.axle_friction * losses.axle_radius * load)
+    return StaticBalance(float(torque), float(load), losses.static("axle") * losses.axle_radius * load)
 
 
 def attach(rig: Rig, design: Design, on_base: bool) -> Friction | None:
@@ -192,15 +196,16 @@ def _add(rig: Rig, design: Design, on_base: bool) -> Friction:
     m = design.machine
     reach = GROOVE_REACH * (m.arm_long + m.arm_short + m.counterweight_link + m.sling_length)
     axle = hinge = base = None
-    if losses.axle_friction > 0.0:
+    # A static coefficient is never below its kinetic one: the static ones tell which joints have friction.
+    if losses.static("axle") > 0.0:
         axle = pymunk.SimpleMotor(rig.frame, rig.arm, 0.0)
-    if losses.hinge_friction > 0.0:
+    if losses.static("hinge") > 0.0:
         if m.counterweight_inertia == 0.0:
             # Aimed along the link before each step (``aim``).
             hinge = pymunk.GrooveJoint(rig.arm, rig.counterweight, (0.0, -reach), (0.0, reach), (0.0, 0.0))
         else:
             hinge = pymunk.SimpleMotor(rig.arm, rig.counterweight, 0.0)
-    if losses.base_friction > 0.0 and on_base:
+    if losses.static("base") > 0.0 and on_base:
         base = pymunk.GrooveJoint(rig.frame, rig.projectile, (0.0, -reach), (0.0, reach), (0.0, 0.0))
     added = [joint for joint in (axle, hinge, base) if joint is not None]
     for joint in added:
@@ -237,18 +242,27 @@ def predicted_loads(loads: tuple[float, float, float],
     return max(2.0 * a - a0, 0.0), max(2.0 * b - b0, 0.0), max(2.0 * c - c0, 0.0)
 
 
-def limits(design: Design, loads: tuple[float, float, float]) -> tuple[float, float, float]:
+#: Every friction joint stuck (``limits``' ``slips``): the machine at rest.
+STUCK = (False, False, False)
+#: The joints' relative rates at rest (``joint_rates``).
+AT_REST = (0.0, 0.0, 0.0)
+
+
+def limits(design: Design, loads: tuple[float, float, float],
+           slips: tuple[bool, bool, bool]) -> tuple[float, float, float]:
     """The friction each joint can give under its load (N): torques ``mu r |F|`` (N m) at the axle and the
-    hinge, the force ``mu N`` (N) on the base."""
+    hinge, the force ``mu N`` (N) on the base; ``mu`` the kinetic coefficient where ``slips`` (axle,
+    hinge, base) says the joint slips, the static one where it holds."""
     losses = design.losses
-    return (losses.axle_friction * losses.axle_radius * loads[0],
-            losses.hinge_friction * losses.hinge_radius * loads[1],
-            losses.base_friction * loads[2])
+    axle, hinge, base = (getattr(losses, f"{joint}_friction") if slip else losses.static(joint)
+                         for joint, slip in zip(JOINTS, slips, strict=True))
+    return axle * losses.axle_radius * loads[0], hinge * losses.hinge_radius * loads[1], base * loads[2]
 
 
-def set_limits(friction: Friction, loads: tuple[float, float, float]) -> tuple[float, float, float]:
-    """Set each friction constraint's limit from its joint's load (N); returns the ``limits``."""
-    axle, hinge, base = limits(friction.design, loads)
+def set_limits(friction: Friction, loads: tuple[float, float, float],
+               slips: tuple[bool, bool, bool]) -> tuple[float, float, float]:
+    """Set each friction constraint's limit from its joint's load (N) and mode (``limits``); returns them."""
+    axle, hinge, base = limits(friction.design, loads, slips)
     if friction.axle is not None:
         _SET_MAX_FORCE(friction.axle._constraint, axle)
     if friction.hinge is not None:
@@ -297,6 +311,42 @@ def impulses(friction: Friction, on_base: bool) -> tuple[float, float, float]:
 def saturated(joint: pymunk.Constraint | None, step: float) -> bool:
     """The constraint applied its whole limit in the last step of ``step`` s (it slipped)."""
     return joint is not None and joint.impulse >= (1.0 - SATURATION) * joint.max_force * step
+
+
+def slipping(friction: Friction, step: float, rate: tuple[float, float, float],
+             earlier: tuple[float, float, float]) -> tuple[bool, bool, bool]:
+    """Which joints (axle, hinge, base) slip in the next step: those whose constraint applied its whole
+    limit in the last step of ``step`` s (``saturated``), unless about to stop. The others held: their
+    relative motion stopped, and the next step holds them up to the static limit (``limits``).
+
+    A slipping joint is about to stop when its relative rate (``joint_rates`` after the last step,
+    ``rate``, and after the one before, ``earlier``), going on as it changed in the last step, reaches
+    zero within the next: that step gets the static limit, under which the constraint stops the joint
+    and holds it if the static friction can (a joint stopping with the kinetic limit alone would be
+    driven through zero whenever holding it takes more than the kinetic friction).
+    """
+    joints = (friction.axle, friction.hinge, friction.base)
+    return tuple(saturated(joint, step) and r * (2.0 * r - r0) > 0.0
+                 for joint, r, r0 in zip(joints, rate, earlier, strict=True))
+
+
+def joint_rates(row: tuple, design: Design) -> tuple[float, float, float]:
+    """Each friction joint's signed relative rate at the raw ``row`` (pymunk's velocities after a step):
+    the arm's turn on the frame and the counterweight's (a point counterweight: its link's) on the arm,
+    rad/s, the projectile's slide along the base, m/s."""
+    m = design.machine
+    arm_w = row[kin.ARM + kin.W]
+    if m.counterweight_inertia == 0.0:
+        theta, short = row[kin.ARM + kin.ANGLE], m.arm_short
+        # The hinge at (0, -arm_short) on the arm; the link's turn is the weight's motion across it.
+        dx = row[kin.COUNTERWEIGHT + kin.X] - (row[kin.ARM + kin.X] + short * math.sin(theta))
+        dy = row[kin.COUNTERWEIGHT + kin.Y] - (row[kin.ARM + kin.Y] - short * math.cos(theta))
+        dvx = row[kin.COUNTERWEIGHT + kin.VX] - (row[kin.ARM + kin.VX] + arm_w * short * math.cos(theta))
+        dvy = row[kin.COUNTERWEIGHT + kin.VY] - (row[kin.ARM + kin.VY] + arm_w * short * math.sin(theta))
+        hinge = (dx * dvy - dy * dvx) / (dx * dx + dy * dy) - arm_w
+    else:
+        hinge = row[kin.COUNTERWEIGHT + kin.W] - arm_w
+    return (arm_w - row[kin.FRAME + kin.W], hinge, row[kin.PROJECTILE + kin.VX] - row[kin.FRAME + kin.VX])
 
 
 def remove_base(friction: Friction, space: pymunk.Space) -> None:

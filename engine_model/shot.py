@@ -473,8 +473,11 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str, limit: 
         # taken again with the limits its loads give (its range moved by 1.2e-5 m).
         opening_loads = _loads(friction, rig, _mirrored(row), row, design,
                                (base_force, normal if on_base else 0.0), dt, 0.5 * dt)
+        # The joints that broke free of their static hold slip from the start: kinetic limits.
+        rates = fr.joint_rates(row, design)
+        slips = fr.slipping(friction, 0.5 * dt, rates, fr.AT_REST)
         rig = build(design, sling=sling, iterations=iterations, on_base=on_base)
-        friction = _attach_friction(rig, design, on_base, dt, opening_loads)
+        friction = _attach_friction(rig, design, on_base, dt, opening_loads, slips)
         row = _opening_step(rig, dt, iterations)
         geometry = _row_geometry(row, m)
         base_force = _base_friction(friction, rig, 0.5 * dt, geometry, on_base)
@@ -488,8 +491,10 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str, limit: 
         run.friction_impulse.append(fr.impulses(friction, on_base))
         loads = _loads(friction, rig, _mirrored(row), row, design, (base_force, normal if on_base else 0.0),
                        dt, 0.5 * dt)
-        run.friction_limit.append(fr.limits(design, opening_loads))
+        run.friction_limit.append(fr.limits(design, opening_loads, slips))
         run.friction_load.append(loads)
+        rates = fr.joint_rates(row, design)
+        slips = fr.slipping(friction, 0.5 * dt, rates, fr.AT_REST)
         friction = fr.renew(friction, rig)
 
     step = stepper(rig.space)
@@ -505,7 +510,7 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str, limit: 
     k = 0
     while True:
         if friction is not None:
-            run.friction_limit.append(fr.set_limits(friction, fr.predicted_loads(loads, earlier_loads)))
+            run.friction_limit.append(fr.set_limits(friction, fr.predicted_loads(loads, earlier_loads), slips))
             fr.aim(friction, rig, dt)
         if k >= limit:
             more = None if at_limit is None else at_limit(k)
@@ -527,6 +532,8 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str, limit: 
             base_force = _base_friction(friction, rig, dt, geometry, on_base)
             tension, normal = _forces(previous, row, geometry, on_base, design, dt, base_force)
             run.friction_impulse.append(fr.impulses(friction, on_base))
+            rates, earlier_rates = fr.joint_rates(row, design), rates
+            slips = fr.slipping(friction, dt, rates, earlier_rates)
             earlier_loads = loads
             if k > 1:
                 loads = _loads(friction, rig, previous, row, design, (base_force, normal if on_base else 0.0),
@@ -575,12 +582,14 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str, limit: 
                          outcome.never_releases_message(m.release_rule, m.release_angle, t_limit))
 
 def _attach_friction(rig: Rig, design: Design, on_base: bool, dt: float,
-                     loads: tuple[float, float, float] | None = None) -> fr.Friction | None:
+                     loads: tuple[float, float, float] | None = None,
+                     slips: tuple[bool, bool, bool] = fr.STUCK) -> fr.Friction | None:
     """``engine_model.friction.attach``, its limits set for the opening half step from ``loads`` (N;
-    default: the loads at rest, ``friction.static_loads``)."""
+    default: the loads at rest, ``friction.static_loads``) and the joints' ``slips`` (default: each
+    held at rest, its static limit)."""
     friction = fr.attach(rig, design, on_base)
     if friction is not None:
-        fr.set_limits(friction, fr.static_loads(design) if loads is None else loads)
+        fr.set_limits(friction, fr.static_loads(design) if loads is None else loads, slips)
         fr.aim(friction, rig, 0.5 * dt)
     return friction
 

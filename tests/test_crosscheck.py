@@ -214,7 +214,8 @@ def test_the_full_table_is_printed_only_when_asked(tmp_path, capsys, table3):
 
 #: The friction cases cheap enough for every run: the paper's design with each loss and all.
 FAST_FRICTION = {"table3-axle-friction", "table3-hinge-friction", "table3-base-friction", "table3-all-losses",
-                 "table3-held-by-its-axle"}
+                 "table3-held-by-its-axle", "table3-all-losses-static", "table3-sticking-hinge-static",
+                 "table3-held-by-static-friction"}
 
 
 def test_the_friction_group_has_each_loss_alone_and_together_and_is_in_the_default_suite():
@@ -224,10 +225,16 @@ def test_the_friction_group_has_each_loss_alone_and_together_and_is_in_the_defau
         present = {field for field in ("axle_friction", "hinge_friction", "base_friction") if getattr(losses, field)}
         assert present == ({"axle_friction", "hinge_friction", "base_friction"} if name == "all-losses"
                            else {name.replace("-", "_")}), name
-    assert sum(name.startswith("sample-") for name in cases) == 3
+    assert sum(name.startswith("sample-") and name.endswith("-all-losses") for name in cases) == 3
     assert any(case.design.base.rolling for case in cases.values())
     assert any(case.design.machine.counterweight_inertia == 0.0 for case in cases.values())
-    assert [c.expected for c in cases.values() if c.expected] == ["never_fires"]
+    assert [c.expected for c in cases.values() if c.expected] == ["never_fires", "never_fires"]
+    # Static coefficients above the kinetic ones: the paper's design and a sampled one.
+    static = {name for name, case in cases.items()
+              if any(case.design.losses.static(j) > getattr(case.design.losses, f"{j}_friction")
+                     for j in ("axle", "hinge", "base"))}
+    assert {"table3-all-losses-static", "table3-held-by-static-friction"} <= static
+    assert any(name.startswith("sample-") for name in static)
     assert {c.group for c in cases.values()} == {"friction"}
     assert set(cases) <= {case.name for case in default_suite(sample=0)}
 

@@ -31,6 +31,7 @@ from pathlib import Path
 from typing import Any
 
 from analytic.design import (
+    FRICTION_JOINTS,
     MAX_MAGNITUDE,
     MAX_SLING_RELEASE_ANGLE,
     MAX_VELOCITY_RELEASE_ANGLE,
@@ -400,8 +401,9 @@ def _parameter(name: str, spec: CalibrationSpec, start: Any, bounds: Any) -> Par
 def _require_used(name: str, target: Field, shot: ShotSpec, design: Design, given: dict[str, float]) -> None:
     """Refuse a parameter that cannot change this shot: a joint's coefficient without its
     radius, a drag factor without drag."""
-    if target.table == "losses" and target.key.endswith("_friction") and target.key != "base_friction":
-        radius = target.key.replace("_friction", "_radius")
+    joint = target.key.partition("_")[0]
+    if target.table == "losses" and target.key.endswith("_friction") and joint in FRICTION_JOINTS:
+        radius = f"{joint}_radius"
         if given.get(f"losses.{radius}", getattr(shot.design.losses, radius)) == 0.0:
             raise DesignError("fit", name, f"{shot.label} ({shot.design_file}) has no losses.{radius}: the "
                                            f"torque is coefficient x radius x load, so give the radius (m) in "

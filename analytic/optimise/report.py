@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from analytic.design import FRICTIONS
 from analytic.optimise.constraints import (CONSTRAINT_NAMES, axle_distance, constraint_values,
                                            footprint)
 from analytic.optimise.problem import ANGLE_VARIABLES, FRAME_MASS, LOADS, Problem, design_at
@@ -71,9 +72,12 @@ def format_tables(problem: Problem, columns: list[tuple[str, np.ndarray, float]]
     lines = ["Table III (optimisation results; lengths cm, angles deg)", head]
     if not problem.losses.ideal:
         losses = problem.losses
+        static = [f"{name} {losses.static(name):g}" for name in FRICTIONS
+                  if losses.static(name) != getattr(losses, f"{name}_friction")]
         lines.insert(1, f"with losses: axle {losses.axle_friction:g} x {1000 * losses.axle_radius:g} mm, "
                         f"hinge {losses.hinge_friction:g} x {1000 * losses.hinge_radius:g} mm, "
-                        f"base {losses.base_friction:g} (Coulomb coefficients x pin radii)")
+                        f"base {losses.base_friction:g} (Coulomb coefficients x pin radii)"
+                        + (f"; static: {', '.join(static)}" if static else ""))
     dims = [dimensions(problem, values) for _, values, _ in columns]
     for label, key, unit in _DIMENSIONS:
         digits = 1 if unit == "deg" and key == "release_angle" else 2

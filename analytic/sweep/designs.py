@@ -19,7 +19,7 @@ import math
 
 import numpy as np
 
-from analytic.design import BeamArm, largest_length
+from analytic.design import FRICTIONS, BeamArm, largest_length
 from analytic.design_file import design_from_dict
 from analytic.limits import swing_time_limit
 from analytic.parameters import Params, params
@@ -114,6 +114,11 @@ def kernel_rows(base: Base, columns: dict[str, np.ndarray]) -> np.ndarray:
     rows = np.tile(row, (size, 1))
     for field in varied & set(PARAM_OF_FIELD):
         rows[:, _COLUMN[PARAM_OF_FIELD[field]]] = values[field]
+    for friction in FRICTIONS:
+        # ``Losses.static``: a static coefficient the design does not give is its kinetic one.
+        kinetic = f"losses.{friction}_friction"
+        if kinetic in varied and f"losses.{friction}_static_friction" not in base.values:
+            rows[:, _COLUMN[PARAM_OF_FIELD[kinetic] + "_s"]] = values[kinetic]
     if varied & {"projectile.diameter", "projectile.drag_factor"}:
         # ``Projectile.drag_area``: the frontal area, then times the drag factor.
         rows[:, _COLUMN["area"]] = per_row(lambda d, factor: math.pi * d**2 / 4.0 * factor,
