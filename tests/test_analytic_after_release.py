@@ -105,6 +105,32 @@ def test_the_machine_without_friction_satisfies_the_sympy_equations(model, sampl
     _check_equations(model, ideal, q, qd, qdd, 0.0, 0.0, 0.0, 0.0)
 
 
+def test_compiled_machine_after_release_is_bit_identical_to_the_python_one():
+    """Stage 4 is compiled into the fast path's kernel with the rest of ``analytic.stages`` (which runs
+    none of it): its right-hand side, events and mode switches give the Python bits."""
+    from analytic import compiled
+    from analytic.aero import DRAG_TABLE
+
+    rng = np.random.default_rng(SEED + 8)
+    for base in (Base(), Base(mobility="rolling", mass=30.0)):
+        m = stages.machine_params(params(dataclasses.replace(default_design(), base=base, losses=LOSSES)))
+        for _ in range(30):
+            sa, sh = rng.choice([-1.0, 0.0, 1.0], size=2)
+            y = np.array([*rng.uniform(-math.pi, math.pi, 2), *(rng.normal(0.0, 4.0, 2) * [sa != 0.0, sh != 0.0]),
+                          *rng.uniform(0.0, 1.0, 3), sa, sh, 0.0])
+            got, expected = np.empty(len(y)), np.empty(len(y))
+            compiled.stages_.derivative(stages.MACHINE, y, m, DRAG_TABLE, got)
+            stages.derivative(stages.MACHINE, y, m, DRAG_TABLE, expected)
+            np.testing.assert_array_equal(got, expected)
+            for k in range(len(stages.EVENT_NAMES[stages.MACHINE])):
+                assert compiled.stages_.event_value(stages.MACHINE, k, y, m) == stages.event_value(stages.MACHINE, k,
+                                                                                                   y, m)
+                y_got, y_expected = y.copy(), y.copy()
+                compiled.stages_.switch_mode(stages.MACHINE, k, y_got, m)
+                stages.switch_mode(stages.MACHINE, k, y_expected, m)
+                np.testing.assert_array_equal(y_got, y_expected)
+
+
 # --------------------------------------------------------------------------- #
 # A whole run after release
 # --------------------------------------------------------------------------- #
