@@ -470,7 +470,8 @@ def flight_start(y, p):
 
 def machine_params(p):
     """The design's ``Params`` without the projectile (mP = 0): the machine after release, the
-    ``p`` of every stage-4 function (section 10.9). Python only: the compiled path has no stage 4."""
+    ``p`` of every stage-4 function (section 10.9). Python only (a namedtuple's ``_replace``): the
+    fast path compiles stage 4 with the rest of this module but never runs it."""
     return p._replace(mP=0.0)
 
 
