@@ -232,3 +232,16 @@ def test_both_models_simulate_json_report_the_frame_at_landing_alike(tmp_path, c
         assert abs(engine - analytic) <= FRAME_LANDING_DISPLACEMENT and abs(analytic) > 0.05
     else:
         assert analytic == engine == 0.0
+
+
+def test_a_failed_run_after_release_leaves_the_frame_at_landing_unreported_with_a_warning(monkeypatch):
+    """The shot itself stands (it landed); only what the run after release gives is missing."""
+    design = dataclasses.replace(_rolling(default_design()), losses=LOSSES)
+    limits = list(reference.STAGE_STEP_LIMITS)
+    limits[stages.MACHINE] = 3
+    monkeypatch.setattr(reference, "STAGE_STEP_LIMITS", tuple(limits))
+    shot = simulate(design)
+    assert shot.status is Status.OK and shot.range is not None
+    assert shot.frame_landing_displacement is None and shot.max_frame_speed is None
+    assert any("after release could not be integrated" in warning for warning in shot.warnings)
+    assert shot.to_json()["frame_landing_displacement"] is None
