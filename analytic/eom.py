@@ -152,6 +152,34 @@ def rolling_terms(theta, phi, psi, dtheta, dphi, dpsi, p):
             m33 - k * b3 * b3, f1 + k * b1 * c, f2 + k * b2 * c, f3 + k * b3 * c)
 
 
+def machine_terms(theta, phi, dtheta, dphi, m):
+    """After release [10.9]: the swing's system of the arm and counterweight alone,
+    ``(m11, m12, m22, f1, f2)``.
+
+    ``m`` is the design's numbers without the projectile (mP = 0,
+    ``stages.machine_params``): the psi row and column vanish, and on a rolling
+    frame ``rolling_terms`` takes the machine's own mass and moment. A momentum
+    the frame keeps from release changes nothing here (section 10.9).
+    """
+    if m.rolling:
+        m11, m12, _, m22, _, _, f1, f2, _ = rolling_terms(theta, phi, 0.0, dtheta, dphi, 0.0, m)
+        return m11, m12, m22, f1, f2
+    m11, m12, _, m22, _, f1, f2, _ = terms(theta, phi, 0.0, dtheta, dphi, 0.0, m)
+    return m11, m12, m22, f1, f2
+
+
+def solve_pair(a11, a12, a22, r1, r2):
+    """``x`` with ``A x = r`` for the symmetric positive definite 2x2 ``A``."""
+    det = a11 * a22 - a12 * a12
+    return (r1 * a22 - r2 * a12) / det, (r2 * a11 - r1 * a12) / det
+
+
+def machine_accelerations(theta, phi, dtheta, dphi, m):
+    """After release, without friction: ``(theta'', phi'')``, rad/s^2 (``m`` as in ``machine_terms``)."""
+    m11, m12, m22, f1, f2 = machine_terms(theta, phi, dtheta, dphi, m)
+    return solve_pair(m11, m12, m22, f1, f2)
+
+
 def ground_force(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, p):
     """The ground's vertical push on the frame, N: ``Mt g + d2/dt2 (sum m y)`` over the moving parts.
 

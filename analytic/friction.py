@@ -35,8 +35,8 @@ from __future__ import annotations
 
 import math
 
-from analytic.eom import (joint_forces, joint_forces_in_gravity, joint_forces_sliding, rolling_terms,
-                          slide_constraint, slide_system, solve_symmetric, terms)
+from analytic.eom import (joint_forces, joint_forces_in_gravity, joint_forces_sliding, machine_terms,
+                          rolling_terms, slide_constraint, slide_system, solve_pair, solve_symmetric, terms)
 
 
 # Coulomb friction at the axle (torque ta on the arm, relative rate theta'),
@@ -183,6 +183,28 @@ def swing_friction(theta, phi, psi, dtheta, dphi, dpsi, sa, sh, p):
     a1, a2, a3 = solve_symmetric(m11, m12, m13, m22, m23, m33, f1, f2, f3)
     ua1, ua2, ua3 = solve_symmetric(m11, m12, m13, m22, m23, m33, 1.0, 0.0, 0.0)
     uh1, uh2, uh3 = solve_symmetric(m11, m12, m13, m22, m23, m33, 0.0, 1.0, 0.0)
+    return _joints(theta, phi, psi, dtheta, dphi, dpsi, a1, a2, a3, ua1, ua2, ua3, uh1, uh2, uh3, sa, sh, p)
+
+
+def machine_friction(theta, phi, dtheta, dphi, sa, sh, m):
+    """After release, with friction [10.9]: ``(theta'', phi'', ta, th, |A|, |H|)``.
+
+    ``m`` is the design's numbers without the projectile (``stages.machine_params``):
+    ``swing_friction`` with the psi row and column gone (``eom.machine_terms``)
+    and no sling force. ``sa``, ``sh`` as in ``swing_friction``.
+    """
+    m11, m12, m22, f1, f2 = machine_terms(theta, phi, dtheta, dphi, m)
+    a1, a2 = solve_pair(m11, m12, m22, f1, f2)
+    ua1, ua2 = solve_pair(m11, m12, m22, 1.0, 0.0)
+    uh1, uh2 = solve_pair(m11, m12, m22, 0.0, 1.0)
+    ddtheta, ddphi, _, ta, th, axle, hinge = _joints(theta, phi, 0.0, dtheta, dphi, 0.0, a1, a2, 0.0, ua1, ua2,
+                                                     0.0, uh1, uh2, 0.0, sa, sh, m)
+    return ddtheta, ddphi, ta, th, axle, hinge
+
+
+def _joints(theta, phi, psi, dtheta, dphi, dpsi, a1, a2, a3, ua1, ua2, ua3, uh1, uh2, uh3, sa, sh, p):
+    """The axle's and the hinge's friction off the base [10.3], from the accelerations without
+    friction ``a`` and per unit of ta (``ua``) and th (``uh``): ``(theta'', phi'', psi'', ta, th, |A|, |H|)``."""
     bx, by, bhx, bhy, _, _ = joint_forces(theta, phi, psi, dtheta, dphi, dpsi, a1, a2, a3, 0.0, p)
     rax, ray, rahx, rahy = _force_response(theta, phi, psi, ua1, ua2, ua3, 0.0, 0.0, p)
     rhx, rhy, rhhx, rhhy = _force_response(theta, phi, psi, uh1, uh2, uh3, 0.0, 0.0, p)

@@ -27,17 +27,19 @@ FLIGHT_TIME_FACTOR = 100.0
 FLIGHT_TIME_MARGIN = 60.0
 
 #: Accepted integrator steps each stage may take (indexed by stage number:
-#: slide, swing, flight) before the shot ends as step_failed. The time limits
-#: above bound a stage's time, not its work: where the motion turns stiff (a
-#: projectile a billionth of the counterweight, drag that stops it within
-#: nanoseconds, a sling a thousand times the arm, whose stage-1 terms cancel to
-#: rounding noise) the step size collapses without ever falling below the
+#: slide, swing, flight, the machine after release) before the shot ends as
+#: step_failed. The time limits above bound a stage's time, not its work:
+#: where the motion turns stiff (a projectile a billionth of the counterweight,
+#: drag that stops it within nanoseconds, a sling a thousand times the arm,
+#: whose stage-1 terms cancel to rounding noise) the step size collapses without ever falling below the
 #: resolution of t, and a stage would take billions of steps. Measured on the
 #: cross-check suite and 400 designs over the paper's bounds: a slide takes at
 #: most 43 steps, a swing 483 (one that never releases, to its time limit), a
 #: flight 43, the no-landing balloon's 9,642. Each limit is ten times the
 #: largest seen, twice for the flight: a few seconds of the reference path.
-STAGE_STEP_LIMITS = (0, 5_000, 5_000, 20_000)
+#: The machine after release runs as long as the flight, and gets the flight's
+#: limit for each stretch between friction's mode switches.
+STAGE_STEP_LIMITS = (0, 5_000, 5_000, 20_000, 20_000)
 
 
 def swing_time_limit(largest_length: float, gravity: float) -> float:

@@ -53,7 +53,7 @@ _LIFTOFF_FAILURES = {"under_tip": LiftoffFailure.UNDER_TIP, "arm_back": LiftoffF
 # compiled path does silently with its plain floats; numpy's scalars would warn.
 @np.errstate(over="ignore", invalid="ignore", divide="ignore")
 def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAULT_ATOL,
-             histories: bool = True, loads: bool = True) -> Shot:
+             histories: bool = True, loads: bool = True, after_release: bool | None = None) -> Shot:
     """Simulate a shot of ``design`` through all three stages.
 
     Parameters
@@ -66,6 +66,11 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
         the numbers are identical either way.
     loads : find the peak loads (on the continuous solution of stages 1-2, which
         costs about as much again as a summary without them); False leaves them None.
+    after_release : on a rolling frame, run the machine on from release to landing for
+        the frame's place there (``frame_landing_*``; stage 4, friction included: with
+        friction several times the cost of a summary). None: with histories only, so
+        that a summary costs what it did and holds the fast path's numbers; False
+        leaves them None. A fixed frame's are 0 either way.
 
     Returns
     -------
@@ -172,37 +177,47 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
                        outcome.no_landing_message(t_max - release_time), **reached)
     apex = max([position[1]] + [y[1] for _, y in flight.roots["apex"]])
     landing = flight.y_end[:2]
-    if histories:
+    if not p.rolling:
+        reached.update(frame_landing_displacement=0.0, frame_landing_velocity=0.0, after_release_speed=0.0)
+    elif histories if after_release is None else after_release:
         reached.update(_frame_after_release(p, swing.y_end, release_time, flight.t_end, rtol, atol,
-                                            reached["frame_release_displacement"], velocity[0]))
+                                            reached["frame_release_displacement"], velocity[0], output_step))
     return _finish(design, p, history, segments, Status.OK, outcome.thrown_message(landing[0]), **reached,
                    landing_time=flight.t_end, landing_position=landing, apex_height=apex + p.h,
                    flight_t=flight.t, flight_path=flight.y[:, :2])
 
 
 def _frame_after_release(p: Params, release_state: np.ndarray, release_time: float, landing_time: float,
-                         rtol: float, atol: float, release_x: float, projectile_vx: float) -> dict:
-    """The frame at landing and its largest speed after release: the machine swings on alone.
+                         rtol: float, atol: float, release_x: float, projectile_vx: float,
+                         output_step: float | None) -> dict:
+    """The frame at landing (and, with ``output_step``, its largest speed after release): the machine
+    swings on alone, its friction sticking and slipping (stage 4, section 10.9).
 
-    Zero momentum before release leaves the machine with the projectile's
-    opposite, ``-mP vx``, after it.
+    A rolling frame only (a fixed one's machine moves nothing the shot reports after
+    release). Zero momentum before release leaves the machine with the projectile's
+    opposite, ``-mP vx``, after it. A run that fails leaves the frame's landing
+    unreported, with a warning.
     """
-    if not p.rolling:
-        return {"frame_landing_displacement": 0.0, "frame_landing_velocity": 0.0, "after_release_speed": 0.0}
-    start = np.array([release_state[0], release_state[1], release_state[3], release_state[4]])
-
-    def rhs(t, y):
-        out = np.empty(4)
-        stages.machine_derivative(y, p, out)
-        return out
-
-    segment = integrate(rhs, release_time, start, landing_time, (), rtol=rtol, atol=atol,
-                        output_step=SWING_OUTPUT_STEP)
+    m = stages.machine_params(p)
+    start = np.empty(stages.state_size(stages.MACHINE, m))
+    try:
+        stages.machine_start(release_state, m, start)
+        pieces = _run_modes(stages.MACHINE, m, release_time, start, landing_time, rtol, atol, output_step, False,
+                            [0])
+    except (IntegrationError, *FLOAT_ERRORS) as error:
+        return {"after_release_warning": after_release_warning(str(error))}
+    machine = _merge(pieces)
     momentum = -p.mP * projectile_vx
-    frames = np.array([stages.machine_frame(y, p, momentum, release_time, start, release_x, t)
-                       for t, y in zip(segment.t, segment.y, strict=True)])
+    frames = np.array([stages.machine_frame(y, m, momentum, release_time, start, release_x, t)
+                       for t, y in zip(machine.t, machine.y, strict=True)])
     return {"frame_landing_displacement": float(frames[-1, 0]), "frame_landing_velocity": float(frames[-1, 1]),
             "after_release_speed": float(np.max(np.abs(frames[:, 1])))}
+
+
+def after_release_warning(why: str) -> str:
+    """What a failed run of the machine after release means for the result."""
+    return (f"the rolling machine's motion after release could not be integrated ({why}), so the frame's "
+            f"place at landing is not reported")
 
 
 # --------------------------------------------------------------------------- #
@@ -474,11 +489,13 @@ def _dissipated(p: Params, segments, drag: float) -> dict[str, float]:
 
 
 def _finish(design: Design, p: Params, history, segments, status: Status, message: str, **fields) -> Shot:
+    after_release = fields.pop("after_release_speed", None)
+    warnings = tuple(filter(None, [fields.pop("after_release_warning", None)]))
     if history is None:   # summary only
         fields.pop("flight_t", None)
         fields.pop("flight_path", None)
         fields["energy_dissipated"] = _dissipated(p, segments, fields.pop("drag_work", 0.0))
-        return Shot(design, status, message, **fields)
+        return Shot(design, status, message, **fields, warnings=warnings)
     rows = [row for part in history for row in part]
     if not rows:   # failed in its very first stretch: the state at rest
         y1 = np.empty(stages.state_size(Stage.SLIDE, p))
@@ -511,10 +528,10 @@ def _finish(design: Design, p: Params, history, segments, status: Status, messag
     loads = np.array([stages.loads_at(int(k), y, p) for k, y in zip(stage, raw, strict=True)])   # (n, N_LOADS)
     fields.update(axle_load=loads[:, 0], hinge_load=loads[:, 1], projectile_acceleration=loads[:, 3])
     if p.rolling and ground.min() < 0.0:
-        fields["warnings"] = (jump_warning(float(ground.min()), float(t[int(np.argmin(ground))]), p.g),)
+        warnings = (jump_warning(float(ground.min()), float(t[int(np.argmin(ground))]), p.g), *warnings)
+    fields["warnings"] = warnings
     frame_speed = max(abs(eom.frame_velocity(*state, p)) for state in states)
-    after_release = fields.pop("after_release_speed", None)
-    if status is Status.OK:
+    if status is Status.OK and after_release is not None:
         fields["max_frame_speed"] = max(frame_speed, after_release)
     released = None
     if fields.get("release_time") is not None:

@@ -24,7 +24,7 @@ JSON_KEYS = (
     "release_position", "release_velocity", "release_speed", "launch_angle",
     "range", "range_from_release", "apex_height", "flight_time", "landing_time",
     "landed_behind_pivot", "energy_efficiency", "range_efficiency", "min_sling_tension",
-    "frame_release_displacement", "frame_release_velocity",
+    "frame_release_displacement", "frame_release_velocity", "frame_landing_displacement",
     *(f"{name}{suffix}" for name in PEAK_NAMES for suffix in ("", "_time")),
     "energy_dissipated", "warnings",
 )
@@ -94,8 +94,10 @@ class Shot:
         and arm between firing and release.
     frame_release_displacement, frame_release_velocity : the frame's X (m) and X' (m/s)
         at release: 0 for a fixed frame, None if not released.
-    frame_landing_displacement, frame_landing_velocity : the same at landing (the
-        machine swings on after release), None where not computed (the fast path).
+    frame_landing_displacement, frame_landing_velocity : the same at the projectile's landing
+        time (the machine swings on after release, its joints' friction with it): 0 for a
+        fixed frame, None if not landed or not computed (the fast path; the reference path's
+        summary unless asked, ``analytic.reference.simulate``'s ``after_release``).
     max_frame_speed : largest |X'| from firing to landing, m/s (None where not computed).
     frame_x : (n,) the frame's X on ``t``, m (empty for a fixed frame or a summary).
     peak_axle_load, peak_hinge_load : largest force of the frame on the arm at the axle and
@@ -294,6 +296,7 @@ class Shot:
             "min_sling_tension": number(self.min_sling_tension),
             "frame_release_displacement": number(self.frame_release_displacement),
             "frame_release_velocity": number(self.frame_release_velocity),
+            "frame_landing_displacement": number(self.frame_landing_displacement),
             **{f"{name}{suffix}": number(getattr(self, f"{name}{suffix}"))
                for name in PEAK_NAMES for suffix in ("", "_time")},
             "energy_dissipated": (None if self.energy_dissipated is None

@@ -21,9 +21,18 @@ stage  state y                                      events (value; counted direc
                                                     (``friction_event``; falling; switch modes)
 3      [x, y, vx, vy] from the pivot                landing (height above base; falling; yes),
                                                     apex (vy; falling; no: recorded)
+4      [theta, phi, theta', phi']: the machine      axle_stops, axle_slips, hinge_stops, hinge_slips
+       after release, without the projectile        (``friction_event``; falling; switch modes)
+       (``MACHINE``; ``p`` is ``machine_params``)
 =====  ===========================================  ================================================
 
-With friction (``docs/derivation.md`` section 10) stages 1-2 carry six more
+Stage 4 is not a stage of the shot's outcome: it runs alongside the flight, from
+release to landing, for the frame's place at landing (``docs/derivation.md``
+section 10.9). Its functions take ``machine_params(p)``, the design's numbers
+without the projectile (mP = 0), so that they are stage 2's with one row and
+column fewer.
+
+With friction (``docs/derivation.md`` section 10) stages 1-2 and 4 carry six more
 entries (``FRICTION_STATE``: the work each friction dissipated, then the
 modes); a friction event ends an integration, ``switch_mode`` writes the new
 modes into the state and the stage goes on from there. Without friction
@@ -38,17 +47,20 @@ import math
 
 from analytic.aero import force_factor
 from analytic.eom import (frame_coupling, frame_displacement, frame_velocity, horizontal_moment, loads,
-                          loads_sliding, slide_accelerations, slide_constraint, swing_accelerations, terms,
-                          total_mass)
-from analytic.friction import lossy, rest_balance, slide_friction, slide_rate, static_arm, swing_friction
+                          loads_sliding, machine_accelerations, slide_accelerations, slide_constraint,
+                          swing_accelerations, total_mass)
+from analytic.friction import (lossy, machine_friction, rest_balance, slide_friction, slide_rate, static_arm,
+                               swing_friction)
 from analytic.geometry import projectile_state, release_at
 from analytic.limits import SLING_VERTICAL_LIMIT
 from analytic.outcome import Stage
 
 SLIDE, SWING, FLIGHT = int(Stage.SLIDE), int(Stage.SWING), int(Stage.FLIGHT)
+#: The machine after release (stage 4): the arm and the counterweight swing on without the projectile.
+MACHINE = 4
 #: Length of the state of each stage (indexed by stage number), without friction.
-STATE_SIZE = (0, 4, 6, 4)
-#: A design with friction carries ``FRICTION_STATE`` more entries in stages 1-2, after
+STATE_SIZE = (0, 4, 6, 4, 4)
+#: A design with friction carries ``FRICTION_STATE`` more entries in stages 1-2 and 4, after
 #: the stage's own (``state_size``): the work dissipated so far by the axle's, the
 #: hinge's and the base's friction (J, integrated with the motion), then the modes
 #: of the axle, the hinge and the base (constant between events: +1/-1 slipping
@@ -60,15 +72,15 @@ FRICTION_STATE = 6
 EVENT_NAMES = ((), ("under_tip", "liftoff", "arm_back", "arm_stalls", "hinge_stops", "hinge_slips",
                     "slide_reverses"),
                ("release", "hits_base", "axle_stops", "axle_slips", "hinge_stops", "hinge_slips"),
-               ("landing", "apex"))
+               ("landing", "apex"), ("axle_stops", "axle_slips", "hinge_stops", "hinge_slips"))
 #: The first event of each stage that switches a friction mode (the stage goes on
 #: from there in the new mode, ``switch_mode``); ``arm_stalls`` ends stage 1 instead.
-FIRST_SWITCH = (0, 4, 2, 2)
+FIRST_SWITCH = (0, 4, 2, 2, 0)
 #: Index of ``arm_stalls`` in stage 1.
 ARM_STALLS = 3
 #: The first friction event of each stage (``arm_stalls`` in stage 1): a design without
 #: friction watches only the events before it (``event_count``).
-FIRST_FRICTION_EVENT = (0, ARM_STALLS, FIRST_SWITCH[2], 2)
+FIRST_FRICTION_EVENT = (0, ARM_STALLS, FIRST_SWITCH[2], 2, 0)
 #: How many events each stage has (``EVENT_NAMES``).
 EVENT_COUNT = tuple(len(names) for names in EVENT_NAMES)
 #: A shot may switch friction modes this many times; more is a failure
@@ -117,6 +129,15 @@ def derivative(stage, y, p, table, out):
             return
         a, b, c = swing_accelerations(y[0], y[1], y[2], y[3], y[4], y[5], p)
         out[0], out[1], out[2], out[3], out[4], out[5] = y[3], y[4], y[5], a, b, c
+    elif stage == MACHINE:
+        if lossy(p):
+            ddtheta, ddphi, ta, th, _, _ = machine_friction(y[0], y[1], y[2], y[3], y[7], y[8], p)
+            out[0], out[1], out[2], out[3] = y[2], y[3], ddtheta, ddphi
+            out[4], out[5], out[6] = -ta * y[2], -th * y[3], 0.0
+            out[7], out[8], out[9] = 0.0, 0.0, 0.0
+            return
+        ddtheta, ddphi = machine_accelerations(y[0], y[1], y[2], y[3], p)
+        out[0], out[1], out[2], out[3] = y[2], y[3], ddtheta, ddphi
     else:
         vx_rel = y[2] - p.wind
         vy = y[3]
@@ -165,6 +186,8 @@ def event_value(stage, k, y, p):
             vx, vy = ground_velocity(y, p)
             return release_at(int(p.rule), p.alpha, y[0], y[2], vx, vy)[0]
         return p.La * math.cos(y[0]) + p.Ls * math.cos(y[0] + y[2]) + p.h
+    if stage == MACHINE:
+        return friction_event(stage, k, y, p)
     if k == 0:
         return y[1] + p.h
     return y[3]
@@ -270,13 +293,17 @@ def swing_start(y, p, out):
 # --------------------------------------------------------------------------- #
 
 def friction_solution(stage, y, p):
-    """The friction at the stage-1 or stage-2 state ``y`` of a design with friction:
-    ``(theta'', phi'', psi'', N, ta, th, F, |A|, |H|, dx_P/dtheta)`` (N, F and dx_P/dtheta 0 in stage 2)."""
+    """The friction at the stage-1, stage-2 or stage-4 state ``y`` of a design with friction:
+    ``(theta'', phi'', psi'', N, ta, th, F, |A|, |H|, dx_P/dtheta)`` (N, F and dx_P/dtheta 0 in stages
+    2 and 4, psi'' 0 in stage 4)."""
     if stage == SLIDE:
         ddtheta, ddphi, normal, ta, th, fb, axle, hinge, dx = slide_friction(y[0], y[1], y[2], y[3], y[7],
                                                                             y[8], y[9], p)
         _, _, s, c, _ = slide_constraint(y[0], y[2], p)
         return ddtheta, ddphi, s * ddtheta + c, normal, ta, th, fb, axle, hinge, dx
+    if stage == MACHINE:
+        ddtheta, ddphi, ta, th, axle, hinge = machine_friction(y[0], y[1], y[2], y[3], y[7], y[8], p)
+        return ddtheta, ddphi, 0.0, 0.0, ta, th, 0.0, axle, hinge, 0.0
     ddtheta, ddphi, ddpsi, ta, th, axle, hinge = swing_friction(y[0], y[1], y[2], y[3], y[4], y[5], y[9],
                                                                 y[10], p)
     return ddtheta, ddphi, ddpsi, 0.0, ta, th, 0.0, axle, hinge, 0.0
@@ -321,7 +348,7 @@ def friction_event(stage, k, y, p):
 
 def switched_joint(stage, k):
     """The joint (0 axle, 1 hinge) of the friction event ``k``: stage 1 has only the hinge's
-    (the axle's stall ends it), stage 2 the axle's then the hinge's."""
+    (the axle's stall ends it), stages 2 and 4 the axle's then the hinge's."""
     if stage == SLIDE:
         return 1
     return (k - FIRST_SWITCH[stage]) // 2
@@ -450,34 +477,31 @@ def flight_start(y, p):
     return x + frame_x, height, vx + frame_v, vy
 
 
-def machine_derivative(y, p, out):
-    """After release: the arm and counterweight swing on alone, y = [theta, phi, theta', phi'].
+def machine_params(p):
+    """The design's ``Params`` without the projectile (mP = 0): the machine after release, the
+    ``p`` of every stage-4 function (section 10.9). Python only (a namedtuple's ``_replace``): the
+    fast path compiles stage 4 with the rest of this module but never runs it."""
+    return p._replace(mP=0.0)
 
-    The stage-2 system without the projectile (mP = 0 drops its row and
-    column). A rolling frame keeps the machine's momentum from release, which
-    adds only a total derivative to the Lagrangian: the same reduced system
-    as before, with the machine's mass alone (``machine_frame``).
+
+def machine_start(y, m, out):
+    """Write the stage-4 start into ``out`` (``state_size(MACHINE, m)``) from the stage-2 state ``y`` at
+    release: ``(theta, phi, theta', phi')``, then with friction the work so far and the joints' modes,
+    a stuck joint checked again without the sling's pull (``settle``). ``m``: ``machine_params``."""
+    out[0], out[1], out[2], out[3] = y[0], y[1], y[3], y[4]
+    if lossy(m):
+        out[4], out[5], out[6], out[7], out[8], out[9] = y[6], y[7], y[8], y[9], y[10], 0.0
+        settle(MACHINE, out, m)
+
+
+def machine_frame(y, m, momentum, start_time, start_y, start_x, time):
+    """The frame's ``(X, X')`` after release at ``time`` and stage-4 state ``y`` (section 10.9).
+
+    ``m``: ``machine_params``. ``momentum`` is the machine's horizontal momentum
+    at release (kg m/s), kept since (the friction's torques are internal):
+    ``Mt X' + S' = momentum`` with the machine's own mass and moment, so
+    ``X = start_x + (momentum (t - t_r) - (S(q) - S(q_r))) / Mt``.
     """
-    m = p._replace(mP=0.0)
-    m11, m12, _, m22, _, f1, f2, _ = terms(y[0], y[1], 0.0, y[2], y[3], 0.0, m)
-    if p.rolling:
-        b1, b2, _, c = frame_coupling(y[0], y[1], 0.0, y[2], y[3], 0.0, m)
-        k = 1.0 / total_mass(m)
-        m11, m12, m22 = m11 - k * b1 * b1, m12 - k * b1 * b2, m22 - k * b2 * b2
-        f1, f2 = f1 + k * b1 * c, f2 + k * b2 * c
-    det = m11 * m22 - m12 * m12
-    out[0], out[1] = y[2], y[3]
-    out[2], out[3] = (f1 * m22 - f2 * m12) / det, (f2 * m11 - f1 * m12) / det
-
-
-def machine_frame(y, p, momentum, start_time, start_y, start_x, time):
-    """The frame's ``(X, X')`` after release at ``time`` and machine state ``y`` (``machine_derivative``).
-
-    ``momentum`` is the machine's horizontal momentum at release (kg m/s),
-    kept since: ``Mt X' + S' = momentum`` with the machine's own mass and
-    moment, so ``X = start_x + (momentum (t - t_r) - (S(q) - S(q_r))) / Mt``.
-    """
-    m = p._replace(mP=0.0)
     mass = total_mass(m)
     b1, b2, _, _ = frame_coupling(y[0], y[1], 0.0, y[2], y[3], 0.0, m)
     moved = horizontal_moment(y[0], y[1], 0.0, m) - horizontal_moment(start_y[0], start_y[1], 0.0, m)

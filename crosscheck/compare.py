@@ -94,6 +94,9 @@ def compare_shots(a: Shot, e: Shot) -> tuple[Row, ...]:
         rows += [_numeric(f"dissipated_{name}", "J", a.energy_dissipated[name], e.energy_dissipated[name],
                           max(tol.ENERGY_DISSIPATED_REL * abs(a.energy_dissipated[name]), floor))
                  for name in LOSS_NAMES]
+    if a.frame_landing_displacement is not None and e.frame_landing_displacement is not None:
+        rows.append(_numeric("frame_landing_displacement", "m", a.frame_landing_displacement,
+                             e.frame_landing_displacement, tol.FRAME_LANDING_DISPLACEMENT))
     return tuple(rows)
 
 

@@ -491,11 +491,10 @@ def test_joints_at_rest_together_get_consistent_modes_and_the_audit_converges(mo
     design = dataclasses.replace(table_ii_sample(28, seed=21)[27], base=Base(mobility="rolling", mass=87.75),
                                  losses=Losses(axle_friction=0.2254, axle_radius=0.0221, hinge_friction=0.205,
                                                hinge_radius=0.0252, base_friction=0.2306))
-    p = params(design)
     original, switches = stages.switch_mode, []
 
-    def checked(stage, k, y, p_):
-        original(stage, k, y, p_)
+    def checked(stage, k, y, p):
+        original(stage, k, y, p)
         name = stages.EVENT_NAMES[stage][k]
         switches.append(name)
         core = stages.STATE_SIZE[stage]

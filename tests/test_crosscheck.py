@@ -280,6 +280,25 @@ def test_the_work_each_loss_took_is_compared_where_both_models_report_it(table3)
     assert not any(row.quantity.startswith("dissipated_") for row in unreported)
 
 
+def test_the_rolling_frame_at_landing_is_compared_and_holds_the_joints_friction_after_release(monkeypatch):
+    """On the reference path (the fast one does not report it) the frame's place at landing agrees;
+    with the joints' friction left out after release (the machine's numbers without it) it does not."""
+    from analytic import stages
+    from analytic.reference import simulate
+
+    case = next(c for c in friction_cases() if c.name == "table3-rolling-10kg-all-losses")
+    engine = engine_simulate(case.design, DEFAULT_DT)
+    rows = {row.quantity: row for row in compare_shots(simulate(case.design, histories=False, after_release=True),
+                                                        engine)}
+    assert all(row.ok for row in rows.values()), [row for row in rows.values() if not row.ok]
+    assert rows["frame_landing_displacement"].tolerance == tol.FRAME_LANDING_DISPLACEMENT
+    frictionless = stages.machine_params
+    monkeypatch.setattr(stages, "machine_params", lambda p: frictionless(p)._replace(mua=0.0, muh=0.0, mub=0.0))
+    rows = {row.quantity: row for row in compare_shots(simulate(case.design, histories=False, after_release=True),
+                                                        engine)}
+    assert not rows["frame_landing_displacement"].ok and rows["range"].ok
+
+
 def test_the_quick_suite_is_the_default_suites_paper_machine_with_and_without_losses_and_a_failure():
     quick = quick_suite()
     assert [case.name for case in quick] == list(QUICK_CASES)
