@@ -98,7 +98,7 @@ def test_machine_friction_satisfies_the_sympy_equations_at_any_momentum(model, s
 @pytest.mark.parametrize("sample", SAMPLES[:4], ids=[f"machine{i}" for i in range(4)])
 def test_the_machine_without_friction_satisfies_the_sympy_equations(model, sample):
     m, angles, rates, momentum, _, spare = sample
-    ideal = m._replace(mua=0.0, muh=0.0, mub=0.0)
+    ideal = m._replace(mua=0.0, muh=0.0, mub=0.0, mua_s=0.0, muh_s=0.0, mub_s=0.0)
     y, out = np.array([*angles, *rates]), np.empty(4)
     stages.derivative(stages.MACHINE, y, ideal, None, out)
     q, qd, qdd = _sympy_state(ideal, angles, rates, momentum, out[2], out[3], spare)
@@ -196,7 +196,7 @@ def test_friction_after_release_changes_where_the_rolling_frame_lands():
     design = dataclasses.replace(_rolling(default_design()), losses=LOSSES)
     shot = simulate(design, histories=False, after_release=True)
     m, machine, _ = _after_release(design)
-    ideal = m._replace(mua=0.0, muh=0.0, mub=0.0)
+    ideal = m._replace(mua=0.0, muh=0.0, mub=0.0, mua_s=0.0, muh_s=0.0, mub_s=0.0)
     start = machine.y[0, :4].copy()
     frictionless = reference._run(stages.MACHINE, ideal, shot.release_time, start, shot.landing_time,
                                   reference.DEFAULT_RTOL, reference.DEFAULT_ATOL, None, False)
