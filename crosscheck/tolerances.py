@@ -87,3 +87,13 @@ ENERGY_DISSIPATED_REL = 1e-3
 #: design is 0.24 mJ, 1 % of its base's loss; the engine's energy audit
 #: closes to 7e-6 of the available energy at the default step.
 ENERGY_DISSIPATED_FLOOR = 1e-5
+
+# --------------------------------------------------------------------------- #
+# Peak loads and the frame's displacement
+# --------------------------------------------------------------------------- #
+
+#: Each peak load (``analytic.result.PEAK_NAMES``), relative. PLACEHOLDER
+PEAK_LOAD_REL = 1e-3
+
+#: The frame's displacement at release, m. PLACEHOLDER
+FRAME_DISPLACEMENT = 1e-4
