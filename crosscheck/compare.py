@@ -115,8 +115,9 @@ def compare_shots(a: Shot, e: Shot) -> tuple[Row, ...]:
              for name, unit in zip(PEAK_NAMES, PEAK_UNITS, strict=True)
              if getattr(a, name) is not None and getattr(e, name) is not None]
     if a.frame_release_displacement is not None and e.frame_release_displacement is not None:
-        rows.append(_numeric("frame_release_displacement", "m", a.frame_release_displacement,
-                             e.frame_release_displacement, tol.FRAME_DISPLACEMENT))
+        shift = a.frame_release_displacement
+        rows.append(_numeric("frame_release_displacement", "m", shift, e.frame_release_displacement,
+                             tol.FRAME_DISPLACEMENT_REL * max(abs(shift), tol.FRAME_DISPLACEMENT_FLOOR)))
     if a.energy_dissipated is not None and e.energy_dissipated is not None:
         # Never zero (1 J's worth at least): rows are plotted as difference / tolerance.
         floor = tol.ENERGY_DISSIPATED_FLOOR * max(abs(a.counterweight_energy_released or 0.0), 1.0)

@@ -516,6 +516,10 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str, limit: 
     y_index, vy_index, alpha = kin.PROJECTILE + kin.Y, kin.PROJECTILE + kin.VY, m.release_angle
     previous = row
     previous_value = run.release_value[-1]
+    # The axle's or the base's friction can stop the arm before lift-off (its clockwise turn
+    # ends): the shot ends there, as in the analytic model (``docs/derivation.md``, 10.4).
+    stalls = friction is not None and (design.losses.axle_friction > 0.0 or design.losses.base_friction > 0.0)
+    spin_index = kin.ARM + kin.W
     earlier_loads = None
     k = 0
     while True:
@@ -569,6 +573,9 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str, limit: 
                 if friction is not None:
                     fr.remove_base(friction, rig.space)
                 on_base = False
+            elif stalls and row[spin_index] >= 0.0:
+                return _fail(run, rig, Status.NEVER_LIFTS_OFF,
+                             outcome.never_lifts_off_message(LiftoffFailure.STALLED, t_limit))
             elif geometry[2] < SLING_VERTICAL_LIMIT:
                 return _fail(run, rig, Status.NEVER_LIFTS_OFF,
                              outcome.never_lifts_off_message(LiftoffFailure.UNDER_TIP, t_limit))
