@@ -33,7 +33,7 @@ def with_dissipated_work(shot: Shot) -> Shot:
     summary of its design, where it threw but reports none (the fast path leaves it out).
 
     The reference summary (``analytic.reference.simulate(histories=False)``, without the peak loads,
-    which the shot has) integrates the same model; they are taken only where it threw too.
+    which the shot has) integrates the same model; its work is taken only where it threw too.
     """
     if not shot.ok or shot.energy_dissipated is not None:
         return shot
@@ -138,8 +138,8 @@ def compare(case: Case, dt: float = DEFAULT_DT, engine: Callable[[Design, float]
     reference, or ``analytic_shot``, already simulated (``run_cases`` shoots
     all cases in one batch). Either way a valid design gives a ``Shot``, whose
     status names any failure. A thrown shot without the work each loss took
-    (the fast path's) gets it from the reference summary (``with_dissipated_work``:
-    10-200 ms a design, in the worker that runs its engine).
+    (the fast path's) gets it from the reference summary (``with_dissipated_work``,
+    in the worker that runs its engine: 2.3 s for the default suite's 57 thrown designs).
 
     The engine runs at ``dt``; where its own diagnostics say the run is not
     accurate enough (energy error above ``ENGINE_ENERGY_TRUST``, or an
