@@ -51,7 +51,9 @@ def worst_cases(comparisons: list[Comparison]) -> dict[str, dict]:
             if row.difference is None:
                 continue
             ratio = abs(row.difference) / row.tolerance
-            relative = abs(row.difference) / abs(row.analytic) if row.analytic else math.inf
+            # 0 against 0 (a fixed frame's displacement, an absent loss's work) is no difference.
+            relative = (abs(row.difference) / abs(row.analytic) if row.analytic
+                        else math.inf if row.difference else 0.0)
             if ratio >= worst.get(row.quantity, {}).get("fraction_of_tolerance", -1.0):
                 worst[row.quantity] = {"case": c.case, "difference": row.difference, "unit": row.unit,
                                        "relative": relative, "fraction_of_tolerance": ratio}
