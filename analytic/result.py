@@ -107,7 +107,7 @@ class Shot:
     peak_projectile_acceleration : largest acceleration the projectile feels (the sling's
         and the base's force on it over its mass, gravity excluded), m/s^2.
     peak_*_time : when each peak occurs, s from firing. None for a machine that never
-        fires or a failed integration, and from the engine model.
+        fires or a failed integration (the engine model: ``engine_model.loads``).
     axle_load, hinge_load, projectile_acceleration : (n,) the loads on ``t`` (N, N, m/s^2;
         empty for a summary).
     min_ground_force : smallest vertical push of the ground on the frame through stages

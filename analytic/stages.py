@@ -316,7 +316,8 @@ def friction_event(stage, k, y, p):
     * ``axle_stops``, ``hinge_stops``: the slipping joint's rate times its mode;
     * ``axle_slips``, ``hinge_slips``: the stuck joint's static friction capacity less the
       torque holding it, ``mu_s r |F| - |t|`` (``friction.static_arm``);
-    * ``slide_reverses``: the projectile's slide over the base times its mode.
+    * ``slide_reverses``: the slide's direction over the base times its mode, ``-sigma_b D``
+      (its velocity is ``D theta'`` with ``theta' < 0`` throughout stage 1).
 
     An event for a friction the design lacks, or for a joint in the other
     mode, is the constant 1 (it never fires).
@@ -329,8 +330,11 @@ def friction_event(stage, k, y, p):
     if stage == SLIDE and k == 6:
         if p.mub == 0.0:
             return 1.0
+        # The slide's direction with the arm turning clockwise, as it does throughout stage 1
+        # (``arm_stalls`` ends the stage where it stops): -D, not D theta', which also reaches 0
+        # where the arm stalls, and would tie with arm_stalls there.
         _, _, s, _, sin_beta = slide_constraint(y[0], y[2], p)
-        return y[9] * slide_rate(y[0], s, sin_beta, p) * y[2]
+        return -y[9] * slide_rate(y[0], s, sin_beta, p)
     joint = switched_joint(stage, k)
     slips = (k - FIRST_SWITCH[stage]) % 2 == 1
     friction = static_arm(joint, p)

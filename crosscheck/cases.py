@@ -19,7 +19,7 @@ from analytic.optimise.problem import default_problem, design_at, from_unit
 @dataclass(frozen=True)
 class Case:
     """One design to run through both models; ``group`` is paper, exercise, failure, sample, rolling,
-    friction or file."""
+    friction, stage-1-events or file."""
 
     name: str
     design: Design
@@ -184,6 +184,39 @@ def friction_cases(sample: int = 3, seed: int = 0) -> list[Case]:
     return cases
 
 
+#: A machine whose arm friction stops before the projectile leaves the base (stage 1's
+#: ``arm_stalls``), ``never_lifts_off``: a design drawn over the paper's Table II bounds with a
+#: 4.78 kg counterweight and heavy friction (a 36.6 mm axle at 0.48, a 11.9 mm hinge pin at 0.2,
+#: the base at 1.09), found by sampling 6,000 such designs with the reference path (76 stalled;
+#: numbers rounded). The stall comes 0.46 s after firing. On the paper's own geometry no
+#: counterweight from 0.4 to 6.5 kg stalls with axle and base coefficients up to 0.5 and 1.0.
+STALLING_MACHINE = dict(pivot_height=0.567, arm_long=0.579, arm_short=0.1354, arm_mass=0.232, arm_cg=0.2217,
+                        arm_inertia=0.0099, counterweight_mass=4.78, counterweight_link=0.2456,
+                        counterweight_inertia=0.00935, sling_length=0.2915, release_angle=-0.1093)
+STALLING_LOSSES = Losses(axle_friction=0.48, axle_radius=0.0366, hinge_friction=0.2, hinge_radius=0.0119,
+                         base_friction=1.09)
+#: The sling, as a multiple of the long arm, with which the paper's design drags its projectile
+#: back and then forward over the base before lift-off (stage 1's ``slide_reverses``). The
+#: slide reverses where ``x_P(theta)`` is extreme, ``x_P cos(theta) = h sin(theta)`` with ``x_P``
+#: the projectile's distance ahead of the pivot: only a sling long against the arm gets there
+#: before the sling stands vertical (none of 400 designs drawn over Table II's bounds does).
+REVERSING_SLING = 2.0
+
+
+def stage1_event_cases() -> list[Case]:
+    """Whole shots through stage 1's friction events: the sampled machine whose arm stalls
+    (``STALLING_MACHINE``) and the paper's design with all of ``REALISTIC_LOSSES`` on a sling
+    ``REVERSING_SLING`` times its long arm, whose slide reverses (it is thrown, 1.9 m)."""
+    table3 = default_design()
+    stalls = dataclasses.replace(_variant(table3, "sampled-arm-stalls", machine=STALLING_MACHINE),
+                                 losses=STALLING_LOSSES)
+    name = "table3-long-sling-all-losses"
+    reverses = dataclasses.replace(
+        _variant(table3, name, machine={"sling_length": REVERSING_SLING * table3.machine.arm_long}),
+        losses=REALISTIC_LOSSES)
+    return [Case(stalls.name, stalls, "stage-1-events", "never_lifts_off"), Case(name, reverses, "stage-1-events")]
+
+
 def file_cases(paths: list[str]) -> list[Case]:
     """Designs from the user's TOML files."""
     cases = []
@@ -196,7 +229,7 @@ def file_cases(paths: list[str]) -> list[Case]:
 def default_suite(sample: int = 24, seed: int = 0) -> list[Case]:
     """The suite ``python -m crosscheck`` runs with no design files."""
     return (paper_cases() + exercise_cases() + failure_cases() + sample_cases(sample, seed) + rolling_cases()
-            + friction_cases())
+            + friction_cases() + stage1_event_cases())
 
 
 #: The quick suite's cases, by name: the paper's design as published, at 61 deg

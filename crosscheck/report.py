@@ -51,18 +51,35 @@ def worst_cases(comparisons: list[Comparison]) -> dict[str, dict]:
             if row.difference is None:
                 continue
             ratio = abs(row.difference) / row.tolerance
-            relative = abs(row.difference) / abs(row.analytic) if row.analytic else math.inf
+            # 0 against 0 (a fixed frame's displacement, an absent loss's work) is no difference.
+            relative = (abs(row.difference) / abs(row.analytic) if row.analytic
+                        else math.inf if row.difference else 0.0)
             if ratio >= worst.get(row.quantity, {}).get("fraction_of_tolerance", -1.0):
                 worst[row.quantity] = {"case": c.case, "difference": row.difference, "unit": row.unit,
                                        "relative": relative, "fraction_of_tolerance": ratio}
     return worst
 
 
+#: In the brief summary (``--quick`` without ``--table``: ``make run``'s, which keeps its whole
+#: report under 40 lines), each of these families of rows is one line, its worst member's.
+BRIEF_FAMILIES = ("peak_", "dissipated_")
+
+
+def brief(worst: dict[str, dict]) -> dict[str, dict]:
+    """``worst_cases`` with each family of ``BRIEF_FAMILIES`` down to its worst member, in order."""
+    kept: dict[str, tuple[str, dict]] = {}
+    for quantity, w in worst.items():
+        family = next((f for f in BRIEF_FAMILIES if quantity.startswith(f)), quantity)
+        if family not in kept or w["fraction_of_tolerance"] > kept[family][1]["fraction_of_tolerance"]:
+            kept[family] = (quantity, w)
+    return dict(kept.values())
+
+
 def format_summary(comparisons: list[Comparison], study: StepStudy | None, steps_detail: bool = True,
                    title: str | None = None, engine_detail: bool = True) -> str:
     """The verdict (after ``title``, if given), the worst case per quantity as a fraction of its
     tolerance, and, if ``engine_detail``, the engine's step and drift and the convergence study (with
-    a line per step if ``steps_detail``)."""
+    a line per step if ``steps_detail``); without it, one line per family of ``BRIEF_FAMILIES``."""
     agreed = sum(c.agree for c in comparisons)
     outcomes = {}
     for c in comparisons:
@@ -70,9 +87,11 @@ def format_summary(comparisons: list[Comparison], study: StepStudy | None, steps
     lines = [("" if title is None else f"{title}: ") + f"{agreed} of {len(comparisons)} designs agree "
              f"(analytic outcomes: {', '.join(f'{k} {v}' for k, v in sorted(outcomes.items()))})",
              "worst case per quantity (|difference| as a fraction of its tolerance):"]
-    for quantity, w in worst_cases(comparisons).items():
+    worst = worst_cases(comparisons) if engine_detail else brief(worst_cases(comparisons))
+    width = max(map(len, worst), default=0)
+    for quantity, w in worst.items():
         shown, unit = _display(w["difference"], w["unit"])
-        lines.append(f"  {quantity:<14} {shown:>12} {unit:<4} rel {w['relative']:.2e}  "
+        lines.append(f"  {quantity:<{width}} {shown:>12} {unit:<5} rel {w['relative']:.2e}  "
                      f"{w['fraction_of_tolerance']:.3f} of tolerance  ({w['case']})")
     if not engine_detail:
         return "\n".join(lines)

@@ -25,9 +25,10 @@ from analytic.design import Design, Machine, initial_angles
 from analytic.geometry import RELEASE_RULES, release_value
 from analytic.limits import SLING_VERTICAL_LIMIT, swing_time_limit
 from analytic.outcome import LiftoffFailure
-from analytic.result import EnergyBudget, Shot, Stage, Status
+from analytic.result import PEAK_NAMES, EnergyBudget, Shot, Stage, Status
 from engine_model import friction as fr
 from engine_model import kinematics as kin
+from engine_model import loads as engine_loads
 from engine_model.after_release import MACHINE_JOINTS, AfterRelease, after_release_steps, run_after_release
 from engine_model.build import DEFAULT_ITERATIONS, EngineError, Rig, build, machine_length
 from engine_model.events import crossing_fraction, interpolate
@@ -259,6 +260,7 @@ def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAU
     residual = kin.constraint_residuals(raw, design, sling, on_base, steps)
     times = dt * np.arange(len(raw))
     tension = np.array(run.tension)
+    loads = engine_loads.load_histories(raw, tension, design, dt)
     dissipated = _friction_work(run, sync, design)
 
     fields: dict = {"liftoff_time": run.liftoff_time}
@@ -273,6 +275,7 @@ def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAU
         sync = np.vstack([sync[:-1], release_state])
         dissipated = np.vstack([dissipated[:-1], interpolate(dissipated[-3:], s)])
         tension = np.append(tension[:-1], release_tension)
+        loads = np.vstack([loads[:-1], interpolate(loads[-3:], s)])
         times = np.append(times[:-1], release_time)
         position = kin.position(release_state[None, :], kin.PROJECTILE)[0]
         velocity = kin.velocity(release_state[None, :], kin.PROJECTILE)[0]
@@ -298,6 +301,7 @@ def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAU
     fields["min_sling_tension"] = (smallest_sample(tension) if sling == "rigid"
                                    else float(tension.min()))
     fields["max_frame_speed"] = largest_speed(kin.column(sync, kin.FRAME, kin.VX)) if design.base.rolling else 0.0
+    fields.update(_peaks(loads, times, run))
     fields["energy_dissipated"] = {**dict(zip(fr.JOINTS, (float(w) for w in dissipated[-1]), strict=True)),
                                    "drag": float(drag_work)}
     shot = _assemble(design, run, times, sync, tension, fields)
@@ -332,6 +336,17 @@ def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAU
                                       after_release_dt=float(after_dt) if after_steps else 0.0,
                                       discarded_steps=discarded if budget else 0)
     return dataclasses.replace(shot, diagnostics=diagnostics)
+
+
+def _peaks(loads: np.ndarray, times: np.ndarray, run: _Run) -> dict[str, float]:
+    """``Shot``'s peak loads and their times (``analytic.result.PEAK_NAMES``) over stages 1-2 from the
+    (n, 4) ``loads`` on ``times``; none for a machine that never fired (its one row is at rest)."""
+    if run.status is Status.NEVER_FIRES:
+        return {}
+    fields = {}
+    for name, (value, time) in zip(PEAK_NAMES, engine_loads.peaks(loads, times), strict=True):
+        fields[name], fields[f"{name}_time"] = value, time
+    return fields
 
 
 def _friction_work(run: _Run, sync: np.ndarray, design: Design) -> np.ndarray:
@@ -506,6 +521,10 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str, limit: 
     y_index, vy_index, alpha = kin.PROJECTILE + kin.Y, kin.PROJECTILE + kin.VY, m.release_angle
     previous = row
     previous_value = run.release_value[-1]
+    # The axle's or the base's friction can stop the arm before lift-off (its clockwise turn
+    # ends): the shot ends there, as in the analytic model (``docs/derivation.md``, 10.4).
+    stalls = friction is not None and (design.losses.axle_friction > 0.0 or design.losses.base_friction > 0.0)
+    spin_index = kin.ARM + kin.W
     earlier_loads = None
     k = 0
     while True:
@@ -561,6 +580,9 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str, limit: 
                 if friction is not None:
                     fr.remove_base(friction, rig.space)
                 on_base = False
+            elif stalls and row[spin_index] >= 0.0:
+                return _fail(run, rig, Status.NEVER_LIFTS_OFF,
+                             outcome.never_lifts_off_message(LiftoffFailure.STALLED, t_limit))
             elif geometry[2] < SLING_VERTICAL_LIMIT:
                 return _fail(run, rig, Status.NEVER_LIFTS_OFF,
                              outcome.never_lifts_off_message(LiftoffFailure.UNDER_TIP, t_limit))

@@ -510,9 +510,10 @@ def test_joints_at_rest_together_get_consistent_modes_and_the_audit_converges(mo
 
 
 def test_friction_events_watch_the_rates_and_are_inert_without_their_friction(paper):
-    """The events' values on a stage-1 state (no design here reverses its slide or stalls its arm in
-    stage 1, so these two are checked on states): arm_stalls is -theta', slide_reverses the slide's
-    velocity D theta' times its sign, and a switch at slide_reverses flips the sign."""
+    """The events' values on a stage-1 state (whole shots through both: test_crosscheck.py's
+    ``stage-1-events`` group): arm_stalls is -theta', slide_reverses the slide's direction with
+    the arm turning clockwise, -D, times its sign (not D theta', which would reach 0 with the
+    arm's stall too), and a switch at slide_reverses flips the sign."""
     names = stages.EVENT_NAMES[stages.SLIDE]
     ideal = params(paper)
     y4 = np.array([ideal.theta0 - 0.2, ideal.phi0 + 0.1, -3.0, 1.5])
@@ -520,9 +521,9 @@ def test_friction_events_watch_the_rates_and_are_inert_without_their_friction(pa
     p = params(with_losses(paper, **ALL))
     y = np.concatenate([y4, [0.1, 0.2, 0.3, -1.0, 1.0, -1.0]])
     _, _, s, _, sin_beta = eom.slide_constraint(y[0], y[2], p)
-    slide = friction.slide_rate(y[0], s, sin_beta, p) * y[2]
+    slide = friction.slide_rate(y[0], s, sin_beta, p)
     assert stages.event_value(stages.SLIDE, names.index("arm_stalls"), y, p) == 3.0
-    assert stages.event_value(stages.SLIDE, names.index("slide_reverses"), y, p) == pytest.approx(-slide)
+    assert stages.event_value(stages.SLIDE, names.index("slide_reverses"), y, p) == pytest.approx(slide)
     assert stages.event_value(stages.SLIDE, names.index("hinge_stops"), y, p) == 1.5      # phi' times +1
     assert stages.event_value(stages.SLIDE, names.index("hinge_slips"), y, p) == 1.0      # not stuck: inert
     stages.switch_mode(stages.SLIDE, names.index("slide_reverses"), y, p)
