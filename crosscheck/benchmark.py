@@ -356,6 +356,7 @@ def run(design=None, count: int = 200, seed: int = 0, repeat: int = 5, batch_rep
         figures.update(throughput(sweep_shots, sweep_chunk))
     return {
         **{key: figures[key] for key in BENCH_KEYS[:5]},
+        **machine_facts(),
         "compile_s": compile_s if compile_s is not None else cache_load_s,
         "cache_load_s": cache_load_s,
         "models": models(design, max(1, repeat // 2)),
@@ -364,6 +365,111 @@ def run(design=None, count: int = 200, seed: int = 0, repeat: int = 5, batch_rep
         "import_s": import_s,
         **{key: value for key, value in figures.items() if key not in BENCH_KEYS},
     }
+
+
+def machine_facts() -> dict:
+    """When and where the figures were measured: date (UTC), processors, CPU model, versions, commit."""
+    import datetime
+    import platform
+
+    import numba
+    import scipy
+
+    model = None
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                model = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    try:
+        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=Path(__file__).parent,
+                                capture_output=True, text=True, check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        commit = None
+    return {"date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+            "cpu_count": os.cpu_count(), "cpu_model": model, "python": platform.python_version(),
+            "numba": numba.__version__, "scipy": scipy.__version__, "commit": commit}
+
+
+# --------------------------------------------------------------------------- #
+# A baseline: an earlier commit's benchmark, beside this one's
+# --------------------------------------------------------------------------- #
+
+#: The keys compared with a baseline, and the baseline's key each is divided by (the
+#: pre-friction code has no ``fast_no_loads_median_shot_s``: its shots had no loads to find).
+BASELINE_RATIOS = {"fast_median_shot_s": ("fast_median_shot_s", "fast_no_loads_median_shot_s"),
+                   "fast_no_loads_median_shot_s": ("fast_no_loads_median_shot_s", "fast_median_shot_s"),
+                   "batch_shots_per_s": ("batch_shots_per_s",),
+                   "reference_median_shot_s": ("reference_median_shot_s",)}
+
+
+class BaselineError(RuntimeError):
+    """The baseline commit could not be checked out or benchmarked (the message says why)."""
+
+
+def baseline_source(rev: str, folder: Path) -> str:
+    """Write commit ``rev``'s tree into ``folder`` (``git archive``); returns the full commit id."""
+    here = Path(__file__).resolve().parent
+    try:
+        commit = subprocess.run(["git", "rev-parse", "--verify", f"{rev}^{{commit}}"], cwd=here,
+                                capture_output=True, text=True, check=True).stdout.strip()
+        archive = subprocess.run(["git", "archive", commit], cwd=here, capture_output=True, check=True).stdout
+    except FileNotFoundError as error:
+        raise BaselineError(f"--baseline {rev}: git is not installed ({error})") from error
+    except subprocess.CalledProcessError as error:
+        raise BaselineError(f"--baseline {rev}: not a commit of this repository "
+                            f"({error.stderr.strip() if isinstance(error.stderr, str) else error.stderr.decode().strip()})"
+                            ) from error
+    subprocess.run(["tar", "-x", "-C", str(folder)], input=archive, check=True)
+    return commit
+
+
+def baseline_figures(folder: Path, designs: int, seed: int, repeat: int, progress: bool) -> dict:
+    """The benchmark of the sources in ``folder`` (its own ``python -m analytic bench --json``), run
+    with this interpreter and its packages; its fast path compiles there first (cached in ``folder``)."""
+    options = subprocess.run([sys.executable, "-m", "analytic", "bench", "--help"], cwd=folder,
+                             env=_baseline_env(folder), capture_output=True, text=True)
+    if options.returncode != 0:
+        raise BaselineError(f"the baseline's bench does not start: {options.stderr.strip()[-400:]}")
+    command = [sys.executable, "-m", "analytic", "bench", "--json", "--quiet", "--designs", str(designs),
+               "--seed", str(seed), "--repeat", str(repeat)]
+    for flag, extra in (("--no-cold", ["--no-cold"]), ("--sweep-shots", ["--sweep-shots", "0"])):
+        if flag in options.stdout:
+            command += extra
+    if progress:
+        print("  the baseline's benchmark (its first shot compiles its fast path) ...", file=sys.stderr, flush=True)
+    done = subprocess.run(command, cwd=folder, env=_baseline_env(folder), capture_output=True, text=True)
+    try:
+        return json.loads(done.stdout)
+    except json.JSONDecodeError as error:
+        raise BaselineError(f"the baseline's bench gave no figures (exit {done.returncode}): "
+                            f"{done.stderr.strip()[-400:]}") from error
+
+
+def _baseline_env(folder: Path) -> dict:
+    """The environment of the baseline's processes: its own sources first, no progress bars."""
+    return dict(os.environ, PYTHONPATH=str(folder), PYTHONDONTWRITEBYTECODE="1")
+
+
+def with_baseline(run_figures: Callable[[], dict], rev: str, designs: int, seed: int, repeat: int,
+                  progress: bool) -> dict:
+    """This checkout's figures with commit ``rev``'s measured just before and just after them (B A B),
+    and each key of ``BASELINE_RATIOS`` as a ratio to the mean of the two."""
+    with tempfile.TemporaryDirectory(prefix="bench-baseline-") as folder:
+        commit = baseline_source(rev, Path(folder))
+        before = baseline_figures(Path(folder), designs, seed, repeat, progress)
+        figures = run_figures()
+        after = baseline_figures(Path(folder), designs, seed, repeat, progress)
+    base = {}
+    for key, candidates in BASELINE_RATIOS.items():
+        found = next((name for name in candidates if name in before and name in after), None)
+        if found is not None:
+            base[key] = {"baseline_key": found, "baseline": [before[found], after[found]],
+                         "ratio": figures[key] / (0.5 * (before[found] + after[found]))}
+    figures["baseline"] = {"rev": rev, "commit": commit, "figures": base}
+    return figures
 
 
 # --------------------------------------------------------------------------- #
@@ -422,6 +528,84 @@ def format_bench(figures: dict) -> str:
     return "\n".join(lines)
 
 
+def performance_page(figures: dict, command: str) -> str:
+    """The documentation's performance page (Markdown), every figure from ``figures`` (``--json``)."""
+    f = figures
+    ms = 1e3
+    rows = [
+        ("fast path, one shot with its peak loads (median)", f"{f['fast_median_shot_s'] * ms:.3f} ms",
+         "fast_median_shot_s"),
+        ("fast path, one shot without them (median)", f"{f['fast_no_loads_median_shot_s'] * ms:.3f} ms",
+         "fast_no_loads_median_shot_s"),
+        ("finding the peak loads costs", f"{f['load_tracking_time_ratio']:.2f} x the time, "
+         f"{f['load_tracking_evaluation_ratio']:.2f} x the evaluations", "load_tracking_time_ratio"),
+        (f"a batch (`shoot`), {f['batch_threads']} threads", f"{f['batch_shots_per_s']:,.0f} shots/s",
+         "batch_shots_per_s"),
+        ("a batch on one thread", f"{f['batch_one_thread_shots_per_s']:,.0f} shots/s",
+         "batch_one_thread_shots_per_s"),
+        ("reference path, summary with the peak loads (median)", f"{f['reference_median_shot_s'] * ms:.2f} ms",
+         "reference_median_shot_s"),
+        ("reference path with histories (median)", f"{f['reference_full_median_shot_s'] * ms:.2f} ms",
+         "reference_full_median_shot_s"),
+        ("speed-up, fast over reference", f"{f['speedup']:.0f} x", "speedup"),
+        ("friction (typical losses), time per shot", f"{f['friction_fast_time_ratio']:.2f} x the ideal's (fast), "
+         f"{f['friction_reference_time_ratio']:.2f} x (reference)", "friction_fast_time_ratio"),
+        ("the paths' agreement", f"{f['max_range_rel_diff']:.1e} in range; "
+         f"{len(f['status_mismatches']) + len(f['friction_status_mismatches'])} different outcomes",
+         "max_range_rel_diff"),
+        ("loading the compiled fast path from its cache", f"{f['cache_load_s']:.2f} s", "cache_load_s"),
+    ]
+    if f.get("compile_measured_cold"):
+        rows.append(("compiling it, cold (a fresh process)", f"{f['compile_s']:.1f} s", "compile_s"))
+    if "sweep_shots" in f:
+        rows += [(f"a sweep of {f['sweep_shots']:,} designs, this process",
+                  f"{f['sweep_in_process_shots_per_s']:,.0f} shots/s", "sweep_in_process_shots_per_s"),
+                 (f"the same on a {f['sweep_cluster_workers']}-worker Dask cluster",
+                  f"{f['sweep_cluster_shots_per_s']:,.0f} shots/s", "sweep_cluster_shots_per_s")]
+    lines = [
+        "# Performance",
+        "",
+        "<!-- Generated by the command below from its own figures: do not edit by hand. -->",
+        "",
+        f"Measured on {f['date']} at commit `{f['commit']}`, on {f['cpu_count']} processors "
+        f"({f['cpu_model']}), Python {f['python']}, numba {f['numba']}, scipy {f['scipy']}, by",
+        "",
+        f"    {command}",
+        "",
+        f"over the paper's optimum and {f['designs'] - 1} designs drawn over the paper's Table II "
+        f"(seed {f['seed']}; {f['designs_thrown']} throw). Each design's time is the best of a few runs; "
+        "the figures are medians over the designs. The machine is shared: compare the ratios, "
+        "which are measured in the same run.",
+        "",
+        "| what | figure | `--json` key |",
+        "|---|---|---|",
+        *(f"| {label} | {value} | `{key}` |" for label, value, key in rows),
+    ]
+    baseline = f.get("baseline")
+    if baseline:
+        lines += [
+            "",
+            f"## Against commit `{baseline['commit'][:7]}` (`--baseline {baseline['rev']}`)",
+            "",
+            "That commit's own benchmark, run with the same interpreter just before and just after this "
+            "one's; each ratio is this checkout's figure over the mean of its two.",
+            "",
+            "| key | this checkout | baseline (before, after) | ratio |",
+            "|---|---|---|---|",
+        ]
+        for key, entry in baseline["figures"].items():
+            scale, unit = (1.0, " shots/s") if key.endswith("per_s") else (1e3, " ms")
+            b0, b1 = (v * scale for v in entry["baseline"])
+            named = "" if entry["baseline_key"] == key else f" (its `{entry['baseline_key']}`)"
+            lines.append(f"| `{key}` | {f[key] * scale:,.4g}{unit} | {b0:,.4g}, {b1:,.4g}{unit}{named} | "
+                         f"{entry['ratio']:.2f} |")
+    lines += ["", "## Every model on one design", "",
+              f"{f['models_design']}, each as a multiple of one reference shot (the first row), in the same run:", "",
+              "| model and path | time | multiple |", "|---|---|---|",
+              *(f"| {m['label']} | {m['seconds'] * 1e3:.2f} ms | {m['ratio']:.4f} |" for m in f["models"]), ""]
+    return "\n".join(lines)
+
+
 def save_bench_figure(figures: dict, path) -> None:
     """Time per shot of each path (histogram, log scale) and the fast path's range difference per design."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -468,6 +652,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "LocalCluster; 0 skips it; default %(default)s)")
     parser.add_argument("--sweep-chunk", type=int, default=None,
                         help="chunk size of that sweep (default: the sweep files' default)")
+    parser.add_argument("--baseline", metavar="REV",
+                        help="also benchmark commit REV of this repository (its sources in a temporary folder, "
+                             "run with this interpreter) just before and just after this one, and give each "
+                             "headline figure as a ratio to it")
+    parser.add_argument("--markdown", metavar="FILE.md",
+                        help="write the documentation's performance page from these figures")
     parser.add_argument("--quiet", action="store_true", help="no progress bars")
 
 
@@ -504,8 +694,30 @@ def main(args: argparse.Namespace | list[str] | None = None) -> int:
         except DesignError as error:
             print(f"invalid design: {error}", file=sys.stderr)
             return 2
-    figures = run(design, count=args.designs, seed=args.seed, repeat=args.repeat, cold=args.cold,
-                  progress=not args.quiet, sweep_shots=args.sweep_shots, sweep_chunk=args.sweep_chunk)
+    markdown = None
+    if args.markdown:
+        from analytic.command_line import OutputPathError, output_file
+
+        try:
+            markdown = output_file(args.markdown, "--markdown", formats=(".md",))
+        except OutputPathError as error:
+            print(error, file=sys.stderr)
+            return 2
+
+    def measure() -> dict:
+        return run(design, count=args.designs, seed=args.seed, repeat=args.repeat, cold=args.cold,
+                   progress=not args.quiet, sweep_shots=args.sweep_shots, sweep_chunk=args.sweep_chunk)
+
+    try:
+        figures = (measure() if args.baseline is None else
+                   with_baseline(measure, args.baseline, args.designs, args.seed, args.repeat, not args.quiet))
+    except BaselineError as error:
+        print(error, file=sys.stderr)
+        return 2
+    if markdown is not None:
+        argv = sys.argv[1:] if isinstance(args, argparse.Namespace) else []
+        command = "python -m analytic bench " + " ".join(a for a in argv if a != "bench")
+        markdown.write_text(performance_page(figures, command.strip()))
     if plot is not None:
         save_bench_figure(figures, plot)
     figures.pop("per_design")

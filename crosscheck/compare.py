@@ -29,18 +29,23 @@ PEAK_UNITS = ("N", "N", "N", "m/s^2")
 
 
 def with_dissipated_work(shot: Shot) -> Shot:
-    """``shot`` with the work each loss took (``Shot.energy_dissipated``) from the reference path's
-    summary of its design, where it threw but reports none (the fast path leaves it out).
+    """``shot`` with what only the reference path reports, from its summary of the design, where the
+    shot threw but lacks it (the fast path leaves it out): the work each loss took
+    (``Shot.energy_dissipated``) and the frame at landing (``frame_landing_displacement``, the machine
+    swung on after release).
 
-    The reference summary (``analytic.reference.simulate(histories=False)``, without the peak loads,
-    which the shot has) integrates the same model; its work is taken only where it threw too.
+    The reference summary (``analytic.reference.simulate(histories=False, after_release=True)``,
+    without the peak loads, which the shot has) integrates the same model; its numbers are taken only
+    where it threw too.
     """
-    if not shot.ok or shot.energy_dissipated is not None:
+    if not shot.ok or (shot.energy_dissipated is not None and shot.frame_landing_displacement is not None):
         return shot
-    reference = simulate(shot.design, histories=False, loads=False)
+    reference = simulate(shot.design, histories=False, loads=False, after_release=True)
     if not reference.ok:
         return shot
-    return dataclasses.replace(shot, energy_dissipated=reference.energy_dissipated)
+    return dataclasses.replace(shot, energy_dissipated=reference.energy_dissipated,
+                               frame_landing_displacement=reference.frame_landing_displacement,
+                               frame_landing_velocity=reference.frame_landing_velocity)
 
 
 @dataclass(frozen=True)
