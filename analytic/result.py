@@ -58,6 +58,13 @@ class EnergyBudget:
         return sum(self.dissipated.values(), np.zeros_like(self.total))
 
 
+def _empty(*shape: int, dtype=float):
+    """A read-only empty array: every shot without a history shares one of each shape."""
+    array = np.empty((0, *shape), dtype=dtype)
+    array.flags.writeable = False
+    return lambda: array
+
+
 @dataclass(frozen=True)
 class Shot:
     """The outcome of simulating one design.
@@ -143,16 +150,16 @@ class Shot:
     frame_landing_displacement: float | None = None
     frame_landing_velocity: float | None = None
     max_frame_speed: float | None = None
-    t: np.ndarray = field(default_factory=lambda: np.empty(0))
-    stage: np.ndarray = field(default_factory=lambda: np.empty(0, dtype=int))
-    q: np.ndarray = field(default_factory=lambda: np.empty((0, 3)))
-    qdot: np.ndarray = field(default_factory=lambda: np.empty((0, 3)))
-    path: np.ndarray = field(default_factory=lambda: np.empty((0, 2)))
-    sling_tension: np.ndarray = field(default_factory=lambda: np.empty(0))
+    t: np.ndarray = field(default_factory=_empty())
+    stage: np.ndarray = field(default_factory=_empty(dtype=int))
+    q: np.ndarray = field(default_factory=_empty(3))
+    qdot: np.ndarray = field(default_factory=_empty(3))
+    path: np.ndarray = field(default_factory=_empty(2))
+    sling_tension: np.ndarray = field(default_factory=_empty())
     energy: EnergyBudget | None = None
-    flight_t: np.ndarray = field(default_factory=lambda: np.empty(0))
-    flight_path: np.ndarray = field(default_factory=lambda: np.empty((0, 2)))
-    frame_x: np.ndarray = field(default_factory=lambda: np.empty(0))
+    flight_t: np.ndarray = field(default_factory=_empty())
+    flight_path: np.ndarray = field(default_factory=_empty(2))
+    frame_x: np.ndarray = field(default_factory=_empty())
     min_ground_force: float | None = None
     peak_axle_load: float | None = None
     peak_axle_load_time: float | None = None
@@ -162,9 +169,9 @@ class Shot:
     peak_sling_tension_time: float | None = None
     peak_projectile_acceleration: float | None = None
     peak_projectile_acceleration_time: float | None = None
-    axle_load: np.ndarray = field(default_factory=lambda: np.empty(0))
-    hinge_load: np.ndarray = field(default_factory=lambda: np.empty(0))
-    projectile_acceleration: np.ndarray = field(default_factory=lambda: np.empty(0))
+    axle_load: np.ndarray = field(default_factory=_empty())
+    hinge_load: np.ndarray = field(default_factory=_empty())
+    projectile_acceleration: np.ndarray = field(default_factory=_empty())
     warnings: tuple[str, ...] = ()
     diagnostics: Any = None
 

@@ -377,3 +377,34 @@ def test_a_batch_finds_the_peak_loads_only_when_asked():
     assert thrown.any() and np.all(np.isfinite(with_loads.peak_sling_tension[thrown]))
     # The loads are outputs only: the shot itself is the same either way.
     np.testing.assert_array_equal(without.range, with_loads.range)
+
+
+def test_bench_refuses_a_baseline_that_is_not_a_commit(capsys):
+    args = build_parser().parse_args(["bench", "--designs", "1", "--repeat", "1", "--quiet", "--sweep-shots", "0",
+                                      "--baseline", "no-such-revision-here"])
+    assert bench_main(args) == 2
+    err = capsys.readouterr().err
+    assert "--baseline no-such-revision-here" in err and "not a commit" in err
+
+
+@pytest.mark.slow
+def test_bench_measures_a_baseline_before_and_after_and_writes_the_page_from_its_figures(tmp_path, capsys):
+    # This very commit as the baseline: its sources copied out and benchmarked by their own bench
+    # (a cold compile of its fast path in the temporary folder), before and after this checkout's run.
+    page = tmp_path / "performance.md"
+    args = build_parser().parse_args(["bench", "--json", "--designs", "2", "--repeat", "1", "--quiet",
+                                      "--sweep-shots", "0", "--baseline", "HEAD", "--markdown", str(page)])
+    assert bench_main(args) == 0
+    figures = json.loads(capsys.readouterr().out)
+    baseline = figures["baseline"]
+    assert baseline["rev"] == "HEAD" and len(baseline["commit"]) == 40
+    for key in ("fast_median_shot_s", "fast_no_loads_median_shot_s", "batch_shots_per_s",
+                "reference_median_shot_s"):
+        entry = baseline["figures"][key]
+        before, after = entry["baseline"]
+        assert before > 0.0 and after > 0.0
+        assert entry["ratio"] == pytest.approx(figures[key] / (0.5 * (before + after)))
+    text = page.read_text()
+    assert f"at commit `{figures['commit']}`, on {figures['cpu_count']} processors" in text
+    assert f"| `batch_shots_per_s` | {figures['batch_shots_per_s']:,.4g} shots/s |" in text
+    assert f"{figures['date']}" in text
