@@ -553,6 +553,12 @@ def performance_page(figures: dict, command: str) -> str:
         ("the paths' agreement", f"{f['max_range_rel_diff']:.1e} in range; "
          f"{len(f['status_mismatches']) + len(f['friction_status_mismatches'])} different outcomes",
          "max_range_rel_diff"),
+        ("scipy's DOP853 on stage 2 of the paper's design, the Python model",
+         f"{f['scipy_swing_python_rhs_s'] * ms:.2f} ms", "scipy_swing_python_rhs_s"),
+        ("the same, the model compiled as its right-hand side", f"{f['scipy_swing_compiled_rhs_s'] * ms:.2f} ms",
+         "scipy_swing_compiled_rhs_s"),
+        ("the fast path's whole shot (three stages) of that design", f"{f['fast_whole_shot_s'] * ms:.3f} ms",
+         "fast_whole_shot_s"),
         ("loading the compiled fast path from its cache", f"{f['cache_load_s']:.2f} s", "cache_load_s"),
     ]
     if f.get("compile_measured_cold"):
