@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import math
 import numbers
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -275,8 +275,9 @@ class Losses:
     base_friction : Coulomb coefficient of the projectile (or its sled)
         sliding on the base in stage 1: ``base_friction * N`` against its sliding.
 
-    A joint's coefficient without its radius (or a radius without its
-    coefficient) is refused: the torque needs both.
+    A joint's coefficient without its radius is refused: the torque needs both.
+    A radius with a zero coefficient is a frictionless bearing of known size,
+    the ideal machine's joint.
     """
 
     axle_friction: float = 0.0
@@ -290,17 +291,14 @@ class Losses:
             require_non_negative(f"losses.{name}", getattr(self, name))
         for joint in FRICTION_JOINTS:
             coefficient, radius = getattr(self, f"{joint}_friction"), getattr(self, f"{joint}_radius")
-            if radius > 0.0 and coefficient == 0.0:
-                raise DesignError(f"losses.{joint}_radius", radius,
-                                  f"a radius without its coefficient: give losses.{joint}_friction too")
             if coefficient > 0.0 and radius == 0.0:
                 raise DesignError(f"losses.{joint}_friction", coefficient,
                                   f"a coefficient without its radius: give losses.{joint}_radius (m) too")
 
     @property
     def ideal(self) -> bool:
-        """No friction anywhere (the default)."""
-        return self == Losses()
+        """No friction anywhere: every coefficient zero (a joint's radius alone adds none)."""
+        return replace(self, axle_radius=0.0, hinge_radius=0.0) == Losses()
 
 
 @dataclass(frozen=True)
