@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import math
 import numbers
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields
 from typing import Any
 
 import numpy as np
@@ -298,7 +298,7 @@ class Losses:
     @property
     def ideal(self) -> bool:
         """No friction anywhere: every coefficient zero (a joint's radius alone adds none)."""
-        return replace(self, axle_radius=0.0, hinge_radius=0.0) == Losses()
+        return all(getattr(self, f.name) == 0.0 for f in fields(self) if not f.name.endswith("_radius"))
 
 
 @dataclass(frozen=True)

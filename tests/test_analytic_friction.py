@@ -306,6 +306,12 @@ def assert_same_shot(got, expected):
         assert np.array_equal(getattr(got, name), getattr(expected, name)), name
 
 
+def test_losses_are_ideal_exactly_when_every_coefficient_is_zero():
+    assert all(Losses(**table).ideal for table in ZERO_LOSSES.values())
+    for table in (AXLE, HINGE, BASE, ALL, dict(axle_friction=1e-12, axle_radius=0.0064)):
+        assert not Losses(**table).ideal, table
+
+
 @pytest.mark.parametrize("table", ZERO_LOSSES, ids=list(ZERO_LOSSES))
 @pytest.mark.parametrize("frame", ["fixed", "rolling"])
 def test_zero_coefficients_give_the_ideal_shot_bit_for_bit(paper, frame, table):
