@@ -339,7 +339,9 @@ def test_the_ideal_shot_is_the_one_before_friction_and_a_vanishing_coefficient_t
     assert got == pytest.approx(BEFORE_FRICTION[frame], rel=BEFORE_FRICTION_REL), f"{got!r}"
     tiny = simulate(with_losses(design, axle_friction=1e-12, axle_radius=0.0064), histories=False)
     assert friction.lossy(params(tiny.design))
-    assert tiny.range == pytest.approx(ideal.range, rel=1e-9)   # the friction path, at a vanishing coefficient
+    # The friction path at a vanishing coefficient: other arithmetic, so other steps, within the
+    # integrator's error (measured 5.1e-11 fixed, 9.6e-11 rolling).
+    assert tiny.range == pytest.approx(ideal.range, rel=1e-9)
 
 
 def test_a_frictionless_bearing_gives_the_ideal_shot_on_the_fast_path_bit_for_bit(paper):
