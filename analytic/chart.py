@@ -187,7 +187,7 @@ def _line_figure(result: Chart, fig):
     ax_joints.set(ylabel="force (N)")
     ax_joints.legend(fontsize=8)
     ax_sling.plot(x, result.loads["peak_sling_tension"], "-", color="tab:purple", label="peak sling tension (N)")
-    ax_sling.set(xlabel=f"{v.field.name} ({v.field.unit})", ylabel="sling tension (N)")
+    ax_sling.set(xlabel=v.field.label, ylabel="sling tension (N)")
     ax_g = ax_sling.twinx()
     g = result.design.environment.gravity
     ax_g.plot(x, result.loads["peak_projectile_acceleration"] / g, "--", color="tab:orange",
@@ -223,7 +223,7 @@ def _map_figure(result: Chart, fig):
             lines = ax.contour(grid_x, grid_y, z, levels=8, colors="w", linewidths=0.6)
             if values is result.range:   # labelled where a team reads off a distance
                 ax.clabel(lines, fontsize=7, fmt="%.3g")
-        ax.set(title=title, xlabel=f"{vx.field.name} ({vx.field.unit})", ylabel=f"{vy.field.name} ({vy.field.unit})")
+        ax.set(title=title, xlabel=vx.field.label, ylabel=vy.field.label)
     ax_status = axes[len(panels)]
     ax_status.set_facecolor("0.85")
     ok = result.status == "ok"
@@ -231,8 +231,7 @@ def _map_figure(result: Chart, fig):
     for (status, mask), marker in zip(failures.items(), _MARKERS, strict=False):
         ax_status.plot(result.settings[mask, 1], result.settings[mask, 0], marker, color="k", ms=5,
                        ls="none", label=status.replace("_", " "))
-    ax_status.set(title="outcome", xlabel=f"{vx.field.name} ({vx.field.unit})",
-                  ylabel=f"{vy.field.name} ({vy.field.unit})")
+    ax_status.set(title="outcome", xlabel=vx.field.label, ylabel=vy.field.label)
     ax_status.legend(fontsize=8, loc="best")
     for ax in axes[len(panels) + 1:]:
         ax.set_visible(False)

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import math
 import numbers
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import Any
 
 import numpy as np
@@ -283,8 +283,9 @@ class Losses:
         slips the kinetic one above acts. None (not given): the kinetic
         coefficient (``static``). Never below the kinetic one.
 
-    A joint's coefficient without its radius (or a radius without its
-    coefficient) is refused: the torque needs both.
+    A joint's coefficient without its radius is refused: the torque needs both.
+    A radius with a zero coefficient is a frictionless bearing of known size,
+    the ideal machine's joint.
     """
 
     axle_friction: float = 0.0
@@ -301,9 +302,6 @@ class Losses:
             require_non_negative(f"losses.{name}", getattr(self, name))
         for joint in FRICTION_JOINTS:
             coefficient, radius = getattr(self, f"{joint}_friction"), getattr(self, f"{joint}_radius")
-            if radius > 0.0 and coefficient == 0.0:
-                raise DesignError(f"losses.{joint}_radius", radius,
-                                  f"a radius without its coefficient: give losses.{joint}_friction too")
             if coefficient > 0.0 and radius == 0.0:
                 raise DesignError(f"losses.{joint}_friction", coefficient,
                                   f"a coefficient without its radius: give losses.{joint}_radius (m) too")
@@ -329,8 +327,8 @@ class Losses:
 
     @property
     def ideal(self) -> bool:
-        """No friction anywhere (the default)."""
-        return self == Losses()
+        """No friction anywhere: every coefficient zero (a joint's radius alone adds none)."""
+        return all(getattr(self, f.name) == 0.0 for f in fields(self) if not f.name.endswith("_radius"))
 
 
 @dataclass(frozen=True)

@@ -163,7 +163,7 @@ def design_to_dict(design: Design, units: dict[str, str] | None = None) -> dict[
               "environment": dataclasses.asdict(design.environment)}
     if design.base != Base():   # a fixed frame is the default: its table is left out
         layout["base"] = {k: v for k, v in dataclasses.asdict(design.base).items() if v is not None}
-    if not design.losses.ideal:   # the ideal machine is the default: its table is left out
+    if design.losses != Losses():   # no friction and no radii is the default: its table is left out
         layout["losses"] = {k: v for k, v in dataclasses.asdict(design.losses).items() if v is not None}
     if units is not None:
         for table in layout.values():

@@ -45,6 +45,11 @@ class Field:
         """Its unit in files and in the tools' output (SI; ``deg`` for angles)."""
         return "deg" if self.kind is ANGLE else self.kind.file_unit.replace(" ", "")
 
+    @property
+    def label(self) -> str:
+        """Its name and unit for an axis (``axis_label``)."""
+        return axis_label(self.name, self.unit)
+
     def get(self, design: Design) -> float | None:
         """The field's value in ``design``, in file units (None: not set, e.g. a fixed frame's mass)."""
         value = getattr(getattr(design, self.table), self.key)
@@ -68,6 +73,11 @@ class Field:
         inner = math.radians(value) if self.kind is ANGLE else float(value)
         part = dataclasses.replace(getattr(design, self.table), **{self.key: inner})
         return dataclasses.replace(design, **{self.table: part})
+
+
+def axis_label(name: str, unit: str) -> str:
+    """``name (unit)``, or the name alone for a dimensionless quantity (no empty brackets)."""
+    return f"{name} ({unit})" if unit else name
 
 
 def field(name: str) -> Field:

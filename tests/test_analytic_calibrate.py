@@ -248,8 +248,22 @@ def test_the_prototype_calibration_reads_its_friction_parameter(monkeypatch):
     (parameter,) = spec.parameters
     assert (parameter.start, parameter.lower, parameter.scale) == (DEFAULT_LOSS_START, 0.0, 0.1)
     assert spec.design_at(spec.shots[0], [0.2]).losses == Losses(axle_friction=0.2, axle_radius=0.0064)
-    # At 0 the radius goes too: the same machine, and a radius alone is refused.
-    assert spec.design_at(spec.shots[0], [0.0]).losses == Losses()
+    # At 0 the radius stays: a frictionless bearing of known size.
+    assert spec.design_at(spec.shots[0], [0.0]).losses == Losses(axle_radius=0.0064)
+
+
+def test_a_coefficient_fitted_from_zero_starts_at_the_ideal_machine(tmp_path):
+    """A start at 0 (its lower bound) is the ideal machine's shot, bit for bit, and the fit
+    still meets the prototype's range."""
+    path = write_calibration(tmp_path / "shots.toml", ["losses.axle_friction"],
+                             [{"design": str(PROTOTYPE_FILE), "range": PROTOTYPE_RANGE, "range_uncertainty": 0.5}],
+                             given={"losses.axle_radius": 0.0064}, start={"losses.axle_friction": 0.0})
+    result = calibrate(load_calibration(path))
+    assert result.start.tolist() == [0.0]
+    ideal = simulate(load_design(PROTOTYPE_FILE), histories=False, loads=False)
+    assert result.initial[0].values["range"] == ideal.range
+    assert result.converged and result.fitted[0].values["range"] == pytest.approx(PROTOTYPE_RANGE, abs=1e-4)
+    assert result.values[0] > 0.0
 
 
 def test_the_prototype_calibration_file_names_the_prototype_and_its_range():

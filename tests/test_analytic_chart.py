@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import csv
+import dataclasses
 
 import numpy as np
 import pytest
 
 from analytic import cli, fast
 from analytic.chart import chart, chart_figure, vary
+from analytic.design import Losses
 from analytic.design_file import save_design
 from analytic.fields import field
 
@@ -87,3 +89,30 @@ def test_bad_input_exits_2_and_writes_nothing(table3, tmp_path, capsys, varies, 
     err = capsys.readouterr().err
     assert err.startswith("invalid input: ") and all(w in err for w in words), err
     assert not (tmp_path / "c").exists()
+
+
+def test_a_coefficient_varied_from_zero_draws_its_first_point_as_the_ideal_machine(table3, tmp_path):
+    # A bearing of known radius: at 0 it is frictionless, the ideal machine's shot bit for bit.
+    bearing = dataclasses.replace(table3, losses=Losses(axle_friction=0.15, axle_radius=0.0064))
+    path = tmp_path / "d.toml"
+    save_design(bearing, path)
+    assert cli.main(["chart", str(path), "--vary", "losses.axle_friction=0:0.2:5", "--out", str(tmp_path / "c")]) == 0
+    rows = _rows(tmp_path / "c" / "chart.csv")
+    assert [row["status"] for row in rows] == ["ok"] * 5
+    ideal = fast.shoot([table3])
+    assert float(rows[0]["range [m]"]) == ideal.range[0]
+    assert float(rows[0]["peak_axle_load [N]"]) == ideal.peak_axle_load[0]
+    ranges = [float(row["range [m]"]) for row in rows]
+    assert all(a > b for a, b in zip(ranges, ranges[1:], strict=False))   # friction takes range away
+
+
+@pytest.mark.parametrize("spec, label", [("losses.axle_friction", "losses.axle_friction"),
+                                         ("counterweight_mass", "machine.counterweight_mass (kg)"),
+                                         ("release_angle", "machine.release_angle (deg)")])
+def test_an_axis_names_its_field_and_a_unit_only_where_there_is_one(table3, spec, label):
+    bearing = dataclasses.replace(table3, losses=Losses(axle_friction=0.15, axle_radius=0.0064))
+    start = field(spec).check(bearing)
+    line = chart_figure(chart(bearing, [vary(spec, start, 1.1 * start, 2)]))
+    assert line.axes[2].get_xlabel() == label
+    grid = chart_figure(chart(bearing, [vary("projectile.mass", 0.04, 0.05, 2), vary(spec, start, 1.1 * start, 2)]))
+    assert {ax.get_xlabel() for ax in grid.axes if ax.get_visible() and ax.get_xlabel()} == {label}

@@ -297,6 +297,9 @@ PEAK_TIME = 1e-6
 #: ``min_sling_tension`` of the paper's Table III design before the joint forces were written
 #: (eq. 5.2; ``python -m analytic simulate --json`` at the commit before them).
 TABLE3_MIN_TENSION = -3.993551549280145
+#: ... held to this, relative: the integrator's error. DOP853 at rtol = atol = 1e-10 (the
+#: default) is 5.4e-10 from a run 100x tighter (measured); another CPU's libm moves it by 4e-14.
+TABLE3_MIN_TENSION_REL = 1e-8
 
 
 def _assert_peaks_agree(design):
@@ -366,7 +369,7 @@ def test_the_tension_history_is_eq_5_2_and_the_minimum_is_unchanged(table3):
         rows.append(_tension_eq_5_2(q[0], q[2], qd[0], qd[2], ddtheta, normal, p))
     scale = float(np.max(np.abs(rows)))
     assert np.max(np.abs(shot.sling_tension - np.array(rows))) <= REL_TOL * scale
-    assert shot.min_sling_tension == pytest.approx(TABLE3_MIN_TENSION, rel=1e-12)
+    assert shot.min_sling_tension == pytest.approx(TABLE3_MIN_TENSION, rel=TABLE3_MIN_TENSION_REL)
 
 
 @pytest.mark.parametrize("frame", [None, 5.0], ids=["fixed", "rolling-5kg"])

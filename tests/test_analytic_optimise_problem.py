@@ -264,7 +264,7 @@ def test_a_problems_losses_are_every_candidates():
 
 
 @pytest.mark.parametrize(("entry", "field"), [({"axle_friction": -0.1, "axle_radius": 0.01}, "losses.axle_friction"),
-                                              ({"hinge_radius": 0.005}, "losses.hinge_radius"),
+                                              ({"hinge_friction": 0.2}, "losses.hinge_friction"),
                                               ({"base_friction": "lots"}, "losses.base_friction"),
                                               ({"bearing": 0.1}, "losses.bearing")])
 def test_a_problems_bad_losses_name_the_field(entry, field):

@@ -3,6 +3,7 @@ the report, and Sobol' indices of the Ishigami function through the same pipelin
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import signal
@@ -179,3 +180,24 @@ def test_ishigami_sobol_indices_match_the_known_values_within_their_intervals(tm
     assert np.array_equal(ordered.first, shuffled.first) and np.array_equal(ordered.total, shuffled.total)
     # The bootstrap intervals are seeded: the same report each time.
     assert np.array_equal(ordered.first_conf, shuffled.first_conf)
+
+
+def test_a_sweep_of_a_coefficient_from_zero_starts_at_the_ideal_machine(tmp_path, capsys):
+    # A bearing of known radius with zero friction is the ideal machine's (bit for bit on the same rows).
+    from analytic.design import Losses
+    from analytic.design_file import default_design, save_design
+    from analytic.sweep.plot import grid_figure
+
+    ideal = default_design()
+    save_design(dataclasses.replace(ideal, losses=Losses(axle_friction=0.15, axle_radius=0.0064)), tmp_path / "d.toml")
+    path = tmp_path / "sweep.toml"
+    path.write_text('design = "d.toml"\n[grid]\n"losses.axle_friction" = {from = 0.0, to = 0.2, steps = 5}\n')
+    out = tmp_path / "out"
+    assert main(["sweep", str(path), "--out", str(out), "--quiet"]) == 0, capsys.readouterr().err
+    table = ds.dataset(str(out)).to_table().sort_by("index")
+    assert table["status"].to_pylist() == ["ok"] * 5
+    ranges = table["range"].to_numpy()
+    assert ranges[0] == shoot([ideal]).range[0] and np.all(np.diff(ranges) < 0.0)
+    settings = storage.read_settings(out)
+    figure = grid_figure(analyses.grid_map(settings, read_table(out)), "range", settings["sweep"]["units"])
+    assert figure.axes[0].get_xlabel() == "losses.axle_friction"   # dimensionless: no empty "()"

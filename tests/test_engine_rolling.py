@@ -41,16 +41,25 @@ HEAVY_FACTORS = (1e2, 1e3, 1e4)
 DECADE_BAND = (9.0, 11.0)
 
 #: The engine's numbers for the paper's design at dt = 4e-4 s, recorded from
-#: the engine before the frame could roll: a fixed frame must reproduce them bit for bit.
+#: the engine before the frame could roll: a fixed frame must reproduce them.
 #: Range and landing time from the engine before the frame could roll but with the
 #: flight stepped at 10x dt (branch i15-first-contact, commit fb012bd; the test steps it so,
 #: as ``engine_model.flight.FLIGHT_STEP_MULTIPLE`` is 40 since); the rest are unchanged by
 #: that (the machine's stages are stepped as before).
 FIXED_FRAME_AT_4E_4 = {"release_speed": 24.322604321479904, "range": 45.29943957884262,
                        "liftoff_time": 0.1484417433063473, "release_time": 0.3824620184745078,
-                       "landing_time": 3.640023136280195, "min_sling_tension": -3.9844530449001185}
+                       "landing_time": 3.640023136280195, "min_sling_tension": -3.9844530449001185,
+                       "max_joint_drift": 5.434021304306924e-05}   # m
 FIXED_FRAME_ENERGY_AT_4E_4 = -0.001323130381022608   # energy.total at release, J
-FIXED_FRAME_DRIFT_AT_4E_4 = 5.434021304306924e-05     # max_joint_drift, m
+#: ... held to this, relative: far below the step's own error and far above round-off.
+#: Halving dt moves these by 7e-6 (lift-off time) to 1.8e-3 (the least sling tension)
+#: and the drift to a quarter, so a change to how a stage is stepped shows; another CPU's libm moves
+#: them by at most 8e-12 (lift-off time, measured under the variables of
+#: docs/contributing.md, "Testing on another CPU").
+FIXED_FRAME_REL = 1e-9
+#: ... and the energy, a small difference of the machine's ~40 J, to this (J): halving dt
+#: moves it by 1.1e-3 J, another CPU's libm by 3.6e-13 J (measured as above).
+FIXED_FRAME_ENERGY_ABS = 1e-9
 
 
 def rolling(design: Design, mass: float) -> Design:
@@ -149,10 +158,10 @@ def test_a_heavy_frame_tends_to_the_fixed_one(table3):
 def test_a_fixed_frame_gives_the_numbers_it_always_gave(table3, monkeypatch):
     monkeypatch.setattr(engine_model.flight, "FLIGHT_STEP_MULTIPLE", 10)   # as when recorded
     shot = simulate(table3, dt=4e-4)
-    for name, value in FIXED_FRAME_AT_4E_4.items():
-        assert getattr(shot, name) == value, name
-    assert shot.energy.total[-1] == FIXED_FRAME_ENERGY_AT_4E_4
-    assert shot.diagnostics.max_joint_drift == FIXED_FRAME_DRIFT_AT_4E_4
+    numbers = {name: getattr(shot.diagnostics if name == "max_joint_drift" else shot, name)
+               for name in FIXED_FRAME_AT_4E_4}
+    assert numbers == pytest.approx(FIXED_FRAME_AT_4E_4, rel=FIXED_FRAME_REL), f"{numbers!r}"
+    assert shot.energy.total[-1] == pytest.approx(FIXED_FRAME_ENERGY_AT_4E_4, abs=FIXED_FRAME_ENERGY_ABS)
     assert "rail" not in shot.diagnostics.joint_drift
     # Its frame fields: it did not move.
     assert (shot.frame_release_displacement, shot.frame_release_velocity) == (0.0, 0.0)

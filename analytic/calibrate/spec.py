@@ -171,21 +171,14 @@ class CalibrationSpec:
 def with_fields(design: Design, settings: dict[str, float]) -> Design:
     """``design`` with several fields set at once (file units), one replacement per table.
 
-    At once, because the losses' rules tie fields together (a radius needs its
-    coefficient). A joint's coefficient set to 0 takes its radius to 0 with it:
-    the torque ``coefficient * radius * |F|`` is zero either way, and the design
-    refuses a radius without its coefficient.
+    At once, because the losses' rules tie fields together (a coefficient needs
+    its radius).
     """
     tables: dict[str, dict[str, float]] = {}
     for name, value in settings.items():
         target = field(name)
         inner = math.radians(value) if target.kind is ANGLE else float(value)
         tables.setdefault(target.table, {})[target.key] = inner
-    losses = tables.get("losses")
-    if losses is not None:
-        for joint in ("axle", "hinge"):
-            if losses.get(f"{joint}_friction", getattr(design.losses, f"{joint}_friction")) == 0.0:
-                losses[f"{joint}_radius"] = 0.0
     parts = {table: dataclasses.replace(getattr(design, table), **values) for table, values in tables.items()}
     return dataclasses.replace(design, **parts)
 

@@ -8,6 +8,7 @@ from matplotlib.colors import ListedColormap
 from matplotlib.figure import Figure
 from matplotlib.patches import Patch
 
+from analytic.fields import axis_label
 from analytic.sweep.analyses import OK, GridMap, Sensitivity, Spread
 
 #: One colour per failure, none of them in the output's colour map (viridis).
@@ -17,8 +18,7 @@ _OUTPUT_LABELS = {"range": "range (m)", "y": "y"}
 
 
 def label(field: str, units: dict) -> str:
-    unit = units.get(field, "")
-    return f"{field} ({unit})" if unit else field
+    return axis_label(field, units.get(field, ""))
 
 
 def _figure(size) -> Figure:
