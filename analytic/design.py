@@ -327,8 +327,9 @@ class Losses:
 
     @property
     def ideal(self) -> bool:
-        """No friction anywhere: every coefficient zero (a joint's radius alone adds none)."""
-        return all(getattr(self, f.name) == 0.0 for f in fields(self) if not f.name.endswith("_radius"))
+        """No friction anywhere: every coefficient zero, kinetic and static (a joint's radius alone adds none)."""
+        return all(getattr(self, f"{name}_friction") == 0.0 and self.static(name) == 0.0
+                   for name in ("axle", "hinge", "base"))
 
 
 @dataclass(frozen=True)
