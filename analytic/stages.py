@@ -169,7 +169,7 @@ def first_event(t_a, k_a, t_b, k_b):
     The earlier root, unless the two are one instant to the root finder: Brent's method
     stops with a root within ``ROOT_TIME_TOLERANCE + ROOT_RELATIVE_TOLERANCE |t|`` of
     the sign change, so two roots of one sign change (``arm_stalls`` and
-    ``slide_reverses`` both vanish with theta', ``docs/derivation.md`` 10.9) may lie
+    ``slide_reverses`` both vanish with theta', ``docs/derivation.md`` 10.4) may lie
     up to twice that apart, either way round, and differently on the two paths.
     Within that the event listed first in ``EVENT_NAMES`` wins: a stage's end
     before a friction mode's switch.
