@@ -25,7 +25,7 @@ from analytic import aero, compiled, eom, fast, geometry, kernel, stages
 from analytic.aero import DRAG_TABLE
 from analytic.design import Base
 from analytic.cli import build_parser
-from crosscheck.benchmark import ROLLING_FRAME, TYPICAL_LOSSES, bench_designs
+from crosscheck.benchmark import MISMATCH_KEYS, ROLLING_FRAME, TYPICAL_LOSSES, bench_designs
 from crosscheck.benchmark import main as bench_main
 from analytic.parameters import N_PARAMS, params
 from analytic.reference import simulate
@@ -398,6 +398,17 @@ def test_bench_json_has_the_figures_and_the_paths_agree(capsys):
     assert ratios[0] == 1.0 and all(r > 0.0 for r in ratios)
     fast_entry = next(m for m in figures["models"] if m["label"] == "analytic fast path")
     assert fast_entry["ratio"] < 1.0   # compiled beats the reference (measured: about 1/700)
+
+
+@pytest.mark.parametrize("key", MISMATCH_KEYS)
+def test_bench_exits_1_when_the_paths_end_differently_on_any_set_of_designs(key, monkeypatch, capsys):
+    figures = {**{k: [] for k in MISMATCH_KEYS}, key: ["bench-0-000: reference ok, fast no_landing"],
+               "per_design": {}}
+    monkeypatch.setattr("crosscheck.benchmark.run", lambda *args, **kwargs: dict(figures))
+    assert bench_main(["--json", "--quiet", "--sweep-shots", "0"]) == 1
+    assert json.loads(capsys.readouterr().out)[key] == figures[key]
+    figures[key] = []
+    assert bench_main(["--json", "--quiet", "--sweep-shots", "0"]) == 0
 
 
 def test_compile_progress_counts_names_the_last_step_and_clears_itself(capsys):
