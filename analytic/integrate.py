@@ -45,7 +45,9 @@ class Event:
     direction : +1 counts rising crossings only, -1 falling only, 0 both.
     armed : optional ``armed(t, y) -> bool`` evaluated at the root; a root
         where it is false is ignored and integration continues.
-    terminal : stop at the first counted root (otherwise just record it).
+    terminal : stop at the first counted root (otherwise just record it); of two
+        within the root finder's tolerance of each other, at the one listed first
+        in ``events`` (``analytic.stages.first_event``).
     """
 
     name: str
