@@ -18,7 +18,8 @@ import numpy as np
 from scipy.integrate import DOP853, OdeSolution
 from scipy.optimize import brentq
 
-from analytic.stages import ROOT_NUDGE_ULPS, ROOT_TIME_TOLERANCE, ZERO_START_PROBES
+from analytic.stages import (ROOT_NUDGE_ULPS, ROOT_RELATIVE_TOLERANCE, ROOT_TIME_TOLERANCE, ZERO_START_PROBES,
+                             first_event)
 
 
 class IntegrationError(RuntimeError):
@@ -44,7 +45,9 @@ class Event:
     direction : +1 counts rising crossings only, -1 falling only, 0 both.
     armed : optional ``armed(t, y) -> bool`` evaluated at the root; a root
         where it is false is ignored and integration continues.
-    terminal : stop at the first counted root (otherwise just record it).
+    terminal : stop at the first counted root (otherwise just record it); of two
+        within the root finder's tolerance of each other, at the one listed first
+        in ``events`` (``analytic.stages.first_event``).
     """
 
     name: str
@@ -162,18 +165,18 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
             interpolants.append(dense)
         current = [event.value(solver.t, solver.y) for event in events]
 
-        hit: tuple[float, Event] | None = None
-        for event, before, after in zip(events, previous, current, strict=True):
+        hit_t, hit_k = np.inf, -1   # the terminal root that ends the step, and its event's index
+        for k, (event, before, after) in enumerate(zip(events, previous, current, strict=True)):
             for t_root in _crossings(event, before, after, dense, solver.t_old, solver.t):
                 y_root = dense(t_root)
                 if event.armed is not None and not event.armed(t_root, y_root):
                     continue
                 if event.terminal:
-                    if hit is None or t_root < hit[0]:
-                        hit = (t_root, event)
+                    hit_t, hit_k = first_event(t_root, k, hit_t, hit_k)
                     break
                 roots[event.name].append((t_root, y_root))
         previous = current
+        hit = None if hit_k < 0 else (hit_t, events[hit_k])
 
         t_stop = solver.t if hit is None else hit[0]
         step_t.append(t_stop)
@@ -262,7 +265,7 @@ def _crossings(event: Event, before: float, after: float, dense, t_old: float, t
         if not ((rising and event.direction >= 0) or (falling and event.direction <= 0)):
             return
         t_root = end if v_end == 0.0 else brentq(value, start, end, xtol=ROOT_TIME_TOLERANCE,
-                                                 rtol=4 * np.finfo(float).eps)
+                                                 rtol=ROOT_RELATIVE_TOLERANCE)
         yield t_root
         # Rejected: look for a later root in the same step, past this one (``ROOT_NUDGE_ULPS``).
         nudge = max(ROOT_TIME_TOLERANCE * 10, (t_new - t_root) * 1e-9,

@@ -38,7 +38,7 @@ from analytic.limits import STAGE_STEP_LIMITS
 from analytic.outcome import LiftoffFailure, Status
 from analytic.parameters import N_PARAMS, Params
 from analytic.stages import (ARM_STALLS, EVENT_NAMES, FIRST_SWITCH, FLIGHT, LOAD_NAMES, MODE_SWITCH_LIMIT,
-                             ROOT_NUDGE_ULPS, ROOT_TIME_TOLERANCE, SLIDE, SWING,
+                             ROOT_NUDGE_ULPS, ROOT_RELATIVE_TOLERANCE, ROOT_TIME_TOLERANCE, SLIDE, SWING,
                              ZERO_START_PROBES)
 
 stages_, limits_, peaks_ = kernel_twins["stages"], kernel_twins["limits"], kernel_twins["peaks"]
@@ -49,6 +49,7 @@ event_direction = stages_.event_direction
 event_terminal = stages_.event_terminal
 event_armed = stages_.event_armed
 event_count = stages_.event_count
+first_event = stages_.first_event
 fires = stages_.fires
 swing_start = stages_.swing_start
 slide_start = stages_.slide_start
@@ -82,7 +83,6 @@ OK, NEVER_FIRES, NEVER_LIFTS_OFF, HITS_BASE, NEVER_RELEASES, NO_LANDING, STEP_FA
 UNDER_TIP, ARM_BACK, TIME_LIMIT, STALLED = (int(LiftoffFailure.UNDER_TIP), int(LiftoffFailure.ARM_BACK),
                                             int(LiftoffFailure.TIME_LIMIT), int(LiftoffFailure.STALLED))
 
-_EPS = np.finfo(np.float64).eps
 
 # DOP853 step-size control (Hairer, Norsett & Wanner, "Solving Ordinary
 # Differential Equations I", 2nd ed., II.4 and II.10; the values scipy uses).
@@ -236,7 +236,7 @@ def _brent(stage, k, xa, xb, fa, fb, t_old, h, y_old, F, tmp, p):
     Stops when the bracket is within ``ROOT_TIME_TOLERANCE + 4 eps |t|``,
     as ``scipy.optimize.brentq`` with the reference path's tolerances.
     """
-    xtol, rtol = ROOT_TIME_TOLERANCE, 4.0 * _EPS
+    xtol, rtol = ROOT_TIME_TOLERANCE, ROOT_RELATIVE_TOLERANCE
     xpre, xcur, fpre, fcur = xa, xb, fa, fb
     if fpre == 0.0:
         return xpre
@@ -551,8 +551,7 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
                 _dense_eval(t_root, t_old, h, y, F, y_root)
                 if event_armed(stage, k, y_root, p):
                     if event_terminal(stage, k):
-                        if t_root < hit_t:
-                            hit_t, hit_k = t_root, k
+                        hit_t, hit_k = first_event(t_root, k, hit_t, hit_k)
                         break
                     if n_apex < 4:
                         apex_t[n_apex], apex_y[n_apex] = t_root, y_root[1]

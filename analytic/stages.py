@@ -38,7 +38,9 @@ modes); a friction event ends an integration, ``switch_mode`` writes the new
 modes into the state and the stage goes on from there. Without friction
 those events are a constant 1 and the state is as in the table.
 
-In a tie between two terminal events in one step, the earlier-listed wins.
+Two terminal events whose roots in one step lie within the root finder's
+tolerance of each other are one instant, and the earlier-listed wins
+(``first_event``: both paths decide by it).
 """
 
 from __future__ import annotations
@@ -88,6 +90,9 @@ EVENT_COUNT = tuple(len(names) for names in EVENT_NAMES)
 MODE_SWITCH_LIMIT = 2000
 #: Event roots are located to this absolute time tolerance, s (Brent's method on the dense output).
 ROOT_TIME_TOLERANCE = 1e-14
+#: Brent's method's relative tolerance on a root's time: ``ROOT_RELATIVE_TOLERANCE |t|``
+#: beside ``ROOT_TIME_TOLERANCE`` (4 float64 epsilons, scipy's ``brentq`` default).
+ROOT_RELATIVE_TOLERANCE = 4.0 * 2.0**-52
 #: A root that does not count is stepped past by at least this many units in the
 #: last place of t before the search goes on: Brent's method stops within
 #: ``ROOT_TIME_TOLERANCE + 4 eps |t|`` (up to 8 units), which past t = 64 s is more
@@ -191,6 +196,26 @@ def event_value(stage, k, y, p):
     if k == 0:
         return y[1] + p.h
     return y[3]
+
+
+def first_event(t_a, k_a, t_b, k_b):
+    """Which of two terminal events' roots in one step ends it: ``(t_a, k_a)`` (the root at
+    ``t_a`` of event ``k_a``) or ``(t_b, k_b)`` (``k_b`` -1: none yet).
+
+    The earlier root, unless the two are one instant to the root finder: Brent's method
+    stops with a root within ``ROOT_TIME_TOLERANCE + ROOT_RELATIVE_TOLERANCE |t|`` of
+    the sign change, so two roots of one sign change (``arm_stalls`` and
+    ``slide_reverses`` both vanish with theta', ``docs/derivation.md`` 10.4) may lie
+    up to twice that apart, either way round, and differently on the two paths.
+    Within that the event listed first in ``EVENT_NAMES`` wins: a stage's end
+    before a friction mode's switch.
+    """
+    if k_b < 0:
+        return t_a, k_a
+    window = 2.0 * (ROOT_TIME_TOLERANCE + ROOT_RELATIVE_TOLERANCE * max(abs(t_a), abs(t_b)))
+    if abs(t_a - t_b) <= window:
+        return (t_a, k_a) if k_a < k_b else (t_b, k_b)
+    return (t_a, k_a) if t_a < t_b else (t_b, k_b)
 
 
 def event_direction(stage, k):

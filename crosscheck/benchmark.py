@@ -18,6 +18,8 @@
 * **friction**: the same designs with typical losses (``TYPICAL_LOSSES``) on
   both paths: the time per shot and the evaluations as ratios to the ideal
   machine's in the same run, and the paths' agreement with friction.
+* **rolling**: the same designs on a rolling frame (``ROLLING_FRAME``), without
+  and with the typical losses: the paths' agreement (outcomes and range), untimed.
 * **models**: one design through every way the project can shoot it, each as
   a multiple of one reference shot of it (the baseline): the reference at a
   tighter tolerance and without histories, the fast path, the engine at its
@@ -60,6 +62,24 @@ def _typical_losses():
 
 TYPICAL_LOSSES = _typical_losses()
 
+
+#: The frame the benchmark's designs roll on: the cross-check's frame for sampled designs
+#: (``crosscheck.cases.ROLLING_SAMPLE_FRAME_MASS``, 10 kg, about the 6.5 kg counterweight
+#: every benchmark design carries): a wooden frame and wheels a machine of this size stands
+#: on, light enough that the frame moves by centimetres during the shot.
+def _rolling_frame():
+    from analytic.design import Base
+    from crosscheck.cases import ROLLING_SAMPLE_FRAME_MASS
+
+    return Base("rolling", ROLLING_SAMPLE_FRAME_MASS)
+
+
+ROLLING_FRAME = _rolling_frame()
+
+#: The lists of designs on which the two paths end differently: ideal, typical losses, a rolling
+#: frame, both (``--json`` keys; ``bench`` exits 1 unless all are empty).
+MISMATCH_KEYS = ("status_mismatches", "friction_status_mismatches", "rolling_status_mismatches",
+                 "lossy_rolling_status_mismatches")
 #: Keys every ``--json`` report has (more follow them).
 BENCH_KEYS = ("reference_median_shot_s", "fast_median_shot_s", "speedup", "batch_shots_per_s",
               "max_range_rel_diff", "compile_s", "cache_load_s", "models")
@@ -126,6 +146,32 @@ def agreement(designs: list, reference: list, fast_shots: list) -> dict:
             "status_mismatches": mismatches, "thrown": thrown, "range_rel_diffs": range_diffs}
 
 
+def both_paths(designs: list, progress: bool, label: str) -> dict:
+    """Both analytic paths on ``designs``, one shot each, untimed: their ``agreement``."""
+    from tqdm import tqdm
+
+    from analytic.fast import simulate_fast
+    from analytic.reference import simulate
+
+    reference = [simulate(design, histories=False)
+                 for design in tqdm(designs, desc=f"reference, {label}", unit="design", disable=not progress,
+                                    leave=False, file=sys.stderr)]
+    return agreement(designs, reference, [simulate_fast(design) for design in designs])
+
+
+def rolling(designs: list, progress: bool) -> dict:
+    """The outcomes of ``designs`` on ``ROLLING_FRAME``, ideal and with ``TYPICAL_LOSSES``, on both paths."""
+    figures = {"rolling_frame_mass": ROLLING_FRAME.mass}
+    for prefix, losses in (("rolling", None), ("lossy_rolling", TYPICAL_LOSSES)):
+        varied = [dataclasses.replace(design, base=ROLLING_FRAME, **({} if losses is None else {"losses": losses}))
+                  for design in designs]
+        agree = both_paths(varied, progress, prefix.replace("_", " "))
+        figures.update({f"{prefix}_status_mismatches": agree["status_mismatches"],
+                        f"{prefix}_max_range_rel_diff": agree["max_range_rel_diff"],
+                        f"{prefix}_designs_thrown": agree["thrown"]})
+    return figures
+
+
 def paths(count: int, seed: int, repeat: int, batch_repeat: int, progress: bool) -> dict:
     """The two analytic paths on the same designs: times, speed-up, batch throughput, agreement."""
     from tqdm import tqdm
@@ -177,6 +223,7 @@ def paths(count: int, seed: int, repeat: int, batch_repeat: int, progress: bool)
     }
     return {
         **friction,
+        **rolling(designs, progress),
         "reference_median_shot_s": reference_median,
         "fast_median_shot_s": fast_median,
         "speedup": reference_median / fast_median,
@@ -503,6 +550,10 @@ def format_bench(figures: dict) -> str:
         f" x{f['friction_evaluation_ratio']:.2f} evaluations (medians, against the ideal machine);"
         f" agreement {f['friction_max_range_rel_diff']:.2e} in range,"
         f" {len(f['friction_status_mismatches'])} different outcomes, {f['friction_designs_thrown']} throw",
+        f"  rolling frame of {f['rolling_frame_mass']:g} kg, same designs:",
+        *(f"    {label}: agreement {f[f'{prefix}_max_range_rel_diff']:.2e} in range,"
+          f" {len(f[f'{prefix}_status_mismatches'])} different outcomes, {f[f'{prefix}_designs_thrown']} throw"
+          for label, prefix in (("ideal", "rolling"), ("with the friction above", "lossy_rolling"))),
         f"  scipy DOP853, stage 2 only: Python model {f['scipy_swing_python_rhs_s'] * 1e3:.3f} ms,"
         f" compiled model {f['scipy_swing_compiled_rhs_s'] * 1e3:.3f} ms;"
         f" fast path, all three stages {f['fast_whole_shot_s'] * 1e3:.3f} ms",
@@ -668,7 +719,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def main(args: argparse.Namespace | list[str] | None = None) -> int:
-    """Run the benchmark (``args``: parsed arguments or an argv list); 0, or 1 if the paths disagree on an outcome."""
+    """Run the benchmark (``args``: parsed arguments or an argv list); 0, or 1 if the paths disagree on an
+    outcome (``MISMATCH_KEYS``) or the sweep's two tables differ."""
     if not isinstance(args, argparse.Namespace):
         parser = argparse.ArgumentParser(prog="python -m crosscheck.benchmark", description=__doc__,
                                          formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -730,8 +782,8 @@ def main(args: argparse.Namespace | list[str] | None = None) -> int:
     print(json.dumps(figures, indent=2) if args.json else format_bench(figures))
     if plot is not None and not args.json:
         print(f"plot written to {plot}")
-    return 0 if (not figures["status_mismatches"] and not figures["friction_status_mismatches"]
-                 and figures.get("sweep_tables_identical", True)) else 1
+    agree = not any(figures[key] for key in MISMATCH_KEYS)
+    return 0 if agree and figures.get("sweep_tables_identical", True) else 1
 
 
 if __name__ == "__main__":

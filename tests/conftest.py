@@ -5,9 +5,11 @@ test each worker takes next."""
 from __future__ import annotations
 
 import importlib
+import os
 import pkgutil
 
 import pytest
+from hypothesis import Phase, settings
 
 import analytic
 import crosscheck
@@ -31,6 +33,20 @@ def _import_every_project_module() -> None:
 
 
 _import_every_project_module()
+
+#: Hypothesis profiles, by name: ``HYPOTHESIS_PROFILE=thorough`` selects the second (``quick``
+#: otherwise). A profile gives only what a test's own ``settings`` leave to it: the tests that
+#: set no count of examples take the profile's (the two paths' property test in
+#: ``test_analytic_fast.py``). ``quick``: the suite's, about a minute on one core,
+#: derandomized (every run draws the same designs); ``thorough``: thousands, drawn afresh
+#: each run, not shrunk (a shrink step is a shot on both paths; the failing example and the blob
+#: that reproduces it are printed as found).
+PROFILES = {"quick": dict(max_examples=200, derandomize=True),
+            "thorough": dict(max_examples=3000, derandomize=False, print_blob=True,
+                             phases=(Phase.explicit, Phase.reuse, Phase.generate))}
+for _name, _values in PROFILES.items():
+    settings.register_profile(_name, **_values)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "quick"))
 
 #: Test files run whole on one pytest-xdist worker, in file order: one Dask cluster serves the
 #: whole module (its start costs 5 to 20 s, and its last test kills one of its workers); the

@@ -18,7 +18,7 @@ import numpy as np
 from hypothesis import strategies as st
 
 import analytic
-from analytic.design import BeamArm, Design
+from analytic.design import Base, BeamArm, Design, Losses
 from analytic.design_file import beam_arm_from_dict, default_design, load_design
 from analytic.optimise.problem import VARIABLE_NAMES, default_problem, design_at, from_unit, variables_of
 from analytic.result import Status
@@ -161,6 +161,52 @@ def paper_designs(draw) -> Design:
     rule = draw(st.sampled_from(["velocity", "sling"]))
     vector = np.array([values[name] for name in VARIABLE_NAMES])
     return design_at(dataclasses.replace(problem, arm=arm, release_rule=rule), vector, name="sampled")
+
+
+#: Each friction coefficient of ``[losses]`` that the designs below draw: 0 in about one draw of
+#: ``NO_LOSS_ODDS``, else uniform over the range a real machine of this size may have (Coulomb
+#: coefficients as handbooks list them: a greased metal pin in a wooden or bronze bearing
+#: 0.05-0.2, a dry one up to 0.5; a leather pouch or a wooden sled on a wooden base 0.2-0.6).
+LOSS_COEFFICIENTS = {"axle_friction": (0.03, 0.5), "hinge_friction": (0.03, 0.5), "base_friction": (0.1, 0.7)}
+#: The pin radius each joint's coefficient needs, m, drawn with it (0 with a zero coefficient:
+#: ``Losses`` refuses a radius alone): 2-20 mm, from a 4 mm pin to a 40 mm axle (the default
+#: design's axle has a 6.4 mm radius, its hinge pin 5 mm).
+LOSS_RADII = {"axle_friction": ("axle_radius", 0.002, 0.02), "hinge_friction": ("hinge_radius", 0.002, 0.02)}
+#: Static coefficients as a kinetic one's multiple: ``name: (kinetic coefficient, low, high)``, one
+#: line each (``"axle_static_friction": ("axle_friction", 1.0, 1.6)``) once ``Losses`` takes them.
+STATIC_COEFFICIENTS: dict[str, tuple[str, float, float]] = {}
+NO_LOSS_ODDS = 4
+#: Frame masses a design rolls on, kg: README's table of the paper's design on wheels spans
+#: 0.5 to 100 kg (a frame that light jumps most); 200 is 30 times the whole machine.
+FRAME_MASSES = (0.5, 200.0)
+
+
+@st.composite
+def losses(draw) -> Losses:
+    """``[losses]`` with each coefficient 0 or drawn (``LOSS_COEFFICIENTS``), a drawn radius with
+    each joint's coefficient, and each static coefficient at or above its kinetic one."""
+    values = {}
+    for name, (low, high) in LOSS_COEFFICIENTS.items():
+        values[name] = 0.0 if draw(st.integers(0, NO_LOSS_ODDS - 1)) == 0 else draw(st.floats(low, high))
+        if name in LOSS_RADII:
+            radius, low, high = LOSS_RADII[name]
+            values[radius] = draw(st.floats(low, high)) if values[name] > 0.0 else 0.0
+    for name, (kinetic, low, high) in STATIC_COEFFICIENTS.items():
+        values[name] = values[kinetic] * draw(st.floats(low, high))
+    return Losses(**values)
+
+
+def bases() -> st.SearchStrategy[Base]:
+    """A fixed frame, or a rolling one of a mass drawn log-uniformly over ``FRAME_MASSES``."""
+    low, high = FRAME_MASSES
+    masses = st.floats(math.log(low), math.log(high)).map(lambda x: min(max(math.exp(x), low), high))
+    return st.one_of(st.just(Base()), masses.map(lambda mass: Base("rolling", mass)))
+
+
+@st.composite
+def lossy_designs(draw) -> Design:
+    """``paper_designs`` with drawn ``losses`` on a drawn frame (``bases``)."""
+    return dataclasses.replace(draw(paper_designs()), losses=draw(losses()), base=draw(bases()))
 
 
 #: ``TREBUCHET_FULL_SAMPLES=1`` runs the sampled tests that ``sample_count`` sizes at their full counts.
