@@ -168,13 +168,15 @@ def paper_designs(draw) -> Design:
 #: coefficients as handbooks list them: a greased metal pin in a wooden or bronze bearing
 #: 0.05-0.2, a dry one up to 0.5; a leather pouch or a wooden sled on a wooden base 0.2-0.6).
 LOSS_COEFFICIENTS = {"axle_friction": (0.03, 0.5), "hinge_friction": (0.03, 0.5), "base_friction": (0.1, 0.7)}
-#: The pin radius each joint's coefficient needs, m, drawn with it (0 with a zero coefficient:
-#: ``Losses`` refuses a radius alone): 2-20 mm, from a 4 mm pin to a 40 mm axle (the default
-#: design's axle has a 6.4 mm radius, its hinge pin 5 mm).
+#: The pin radius of each joint, m, drawn with it (with a zero coefficient too: a frictionless
+#: bearing): 2-20 mm, from a 4 mm pin to a 40 mm axle (the default design's axle has a 6.4 mm
+#: radius, its hinge pin 5 mm).
 LOSS_RADII = {"axle_friction": ("axle_radius", 0.002, 0.02), "hinge_friction": ("hinge_radius", 0.002, 0.02)}
-#: Static coefficients as a kinetic one's multiple: ``name: (kinetic coefficient, low, high)``, one
-#: line each (``"axle_static_friction": ("axle_friction", 1.0, 1.6)``) once ``Losses`` takes them.
-STATIC_COEFFICIENTS: dict[str, tuple[str, float, float]] = {}
+#: Static coefficients as a multiple of their kinetic one: ``name: (kinetic coefficient, low, high)``
+#: (dry wood, greased steel: 1-1.5x; up to 2x to reach the sticking regime often).
+STATIC_COEFFICIENTS: dict[str, tuple[str, float, float]] = {
+    "axle_static_friction": ("axle_friction", 1.0, 2.0), "hinge_static_friction": ("hinge_friction", 1.0, 2.0),
+    "base_static_friction": ("base_friction", 1.0, 2.0)}
 NO_LOSS_ODDS = 4
 #: Frame masses a design rolls on, kg: README's table of the paper's design on wheels spans
 #: 0.5 to 100 kg (a frame that light jumps most); 200 is 30 times the whole machine.
@@ -183,14 +185,14 @@ FRAME_MASSES = (0.5, 200.0)
 
 @st.composite
 def losses(draw) -> Losses:
-    """``[losses]`` with each coefficient 0 or drawn (``LOSS_COEFFICIENTS``), a drawn radius with
-    each joint's coefficient, and each static coefficient at or above its kinetic one."""
+    """``[losses]`` with each coefficient 0 or drawn (``LOSS_COEFFICIENTS``), each joint's radius
+    drawn, and each static coefficient at or above its kinetic one (``STATIC_COEFFICIENTS``)."""
     values = {}
     for name, (low, high) in LOSS_COEFFICIENTS.items():
         values[name] = 0.0 if draw(st.integers(0, NO_LOSS_ODDS - 1)) == 0 else draw(st.floats(low, high))
         if name in LOSS_RADII:
             radius, low, high = LOSS_RADII[name]
-            values[radius] = draw(st.floats(low, high)) if values[name] > 0.0 else 0.0
+            values[radius] = draw(st.floats(low, high))   # with a zero coefficient: a frictionless bearing
     for name, (kinetic, low, high) in STATIC_COEFFICIENTS.items():
         values[name] = values[kinetic] * draw(st.floats(low, high))
     return Losses(**values)
