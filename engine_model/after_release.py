@@ -111,11 +111,13 @@ def run_after_release(design: Design, release_time: float, release_state: np.nda
         place(body, release_state, part, 0.5 * dt if part != kin.PROJECTILE else 0.0)
     friction = fr.attach(rig, design, on_base=False)
     impulses = []
+    modes = []   # each step's joints' modes (``friction.steady``)
     if friction is not None:
         # A joint turning at release slips (kinetic limit); one at rest holds (static).
         qdot = kin.coordinates(release_state[None, :], design, np.zeros(3))[1]
         slips = tuple(bool(rate > 0.0) for rate in fr.rates(release_state[None, :], qdot, design)[0])
         fr.set_limits(friction, fr.static_loads(design), slips)
+        modes.append(slips)
         fr.aim(friction, rig, 0.5 * dt)
     rig.space.iterations = max(startup_iterations, iterations)
     rig.space.step(0.5 * dt)
@@ -136,7 +138,8 @@ def run_after_release(design: Design, release_time: float, release_state: np.nda
             # The first whole step's readings are off (``friction.renew``): the half step's stand in.
             measured = _loads(friction, rig, raw[-2], raw[-1], design, dt) if i > 1 else opening_loads
             earlier, loads = loads, measured
-            fr.set_limits(friction, fr.predicted_loads(loads, earlier), slips)
+            fr.set_limits(friction, fr.predicted_loads(loads, earlier, fr.steady(modes, slips)), slips)
+            modes.append(slips)
             fr.aim(friction, rig, dt)
         step(dt)
         raw.append(read())

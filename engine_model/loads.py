@@ -74,25 +74,38 @@ def load_histories(raw: np.ndarray, tension: np.ndarray, design: Design, dt: flo
 SETTLING_STEPS = 20
 
 
-def peaks(loads: np.ndarray, times: np.ndarray) -> list[tuple[float, float]]:
+def peaks(loads: np.ndarray, times: np.ndarray, joined: np.ndarray | None = None) -> list[tuple[float, float]]:
     """Each column's largest value and its time (``peak``), on (n, k) ``loads`` at (n,) ``times``: over
-    the rest state and the rows from ``SETTLING_STEPS`` on (all rows of a shot that short)."""
+    the rest state and the rows from ``SETTLING_STEPS`` on (all rows of a shot that short).
+
+    ``joined``: (n - 1,) whether rows i and i + 1 lie on one smooth stretch of the loads (None: all
+    do); a friction joint that sticks or breaks free makes them jump between two (``friction.smooth``).
+    """
+    joined = np.ones(max(len(times) - 1, 0), dtype=bool) if joined is None else joined
     found = []
     for values in loads.T:
         if len(values) <= SETTLING_STEPS:
-            found.append(peak(values, times))
+            found.append(peak(values, times, joined))
             continue
-        later = peak(values[SETTLING_STEPS:], times[SETTLING_STEPS:])
+        later = peak(values[SETTLING_STEPS:], times[SETTLING_STEPS:], joined[SETTLING_STEPS:])
         found.append(later if later[0] >= values[0] else (float(values[0]), float(times[0])))
     return found
 
 
-def peak(values: np.ndarray, times: np.ndarray) -> tuple[float, float]:
+def peak(values: np.ndarray, times: np.ndarray, joined: np.ndarray | None = None) -> tuple[float, float]:
     """The largest value of a sampled load and its time, s: the vertex of the parabola through the
-    largest sample and its neighbours on the regular grid (the last sample, the release instant off
-    the grid, is taken as is), or the sample itself where that is not a maximum."""
+    largest sample and its neighbours on the regular grid, where all three lie on one smooth stretch
+    (``joined``, (n - 1,): rows i and i + 1 do; None: all do); at the end of a stretch that a jump
+    ends, its line carried on to the jump (``stretch_end``); otherwise the sample itself, as where it
+    is not a maximum or is the last sample (the release instant, off the grid).
+
+    A parabola through a jump has its vertex far above both sides: a load falling by ``J`` between
+    two samples after a flat top gives one ``J / 8`` over the top, a peak no machine has.
+    """
     i = int(np.argmax(values))
-    if not 0 < i < len(values) - 2:
+    if joined is not None and 0 < i < len(values) - 2 and joined[i - 1] and not joined[i]:
+        return stretch_end(values[i - 1:i + 3], times[i], times[i + 1] - times[i])
+    if not (0 < i < len(values) - 2 and (joined is None or (joined[i - 1] and joined[i]))):
         return float(values[i]), float(times[i])
     before, at, after = values[i - 1], values[i], values[i + 1]
     curvature = before - 2.0 * at + after
@@ -101,3 +114,19 @@ def peak(values: np.ndarray, times: np.ndarray) -> tuple[float, float]:
     shift = 0.5 * (before - after) / curvature
     step = times[i + 1] - times[i]
     return float(at + 0.25 * (after - before) * shift), float(times[i] + shift * step)
+
+
+def stretch_end(values: np.ndarray, time: float, step: float) -> tuple[float, float]:
+    """A load's value and time where its stretch ends in a jump, from the (4,) samples: the stretch's
+    last two (the second at ``time``), the step in which it jumps, and the next stretch's first.
+
+    The jump's step holds the load over the step (a momentum change): the old stretch's up to the
+    jump, the new one's after it. With the old stretch's line ``A`` at that step and the new one's
+    first sample ``B``, the sample is ``f A + (1 - f) B``, ``f`` the step's fraction before the jump.
+    The stretch's last sample alone misses the value at the jump by up to 1.5 steps of its slope.
+    """
+    before, at, mixed, new = values
+    old = 2.0 * at - before
+    fraction = float(np.clip((mixed - new) / (old - new), 0.0, 1.0)) if old != new else 0.0
+    reach = 0.5 + fraction   # steps from ``time``: the jump's step starts half a step after it
+    return float(at + (at - before) * reach), float(time + reach * step)

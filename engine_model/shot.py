@@ -191,6 +191,7 @@ class _Run:
     friction_impulse: list = field(default_factory=list)
     friction_limit: list = field(default_factory=list)
     friction_load: list = field(default_factory=list)
+    friction_slips: list = field(default_factory=list)
     liftoff_time: float | None = None
     status: Status | None = None
     message: str = ""
@@ -344,7 +345,8 @@ def _peaks(loads: np.ndarray, times: np.ndarray, run: _Run) -> dict[str, float]:
     if run.status is Status.NEVER_FIRES:
         return {}
     fields = {}
-    for name, (value, time) in zip(PEAK_NAMES, engine_loads.peaks(loads, times), strict=True):
+    joined = fr.smooth(run.friction_slips, len(times))
+    for name, (value, time) in zip(PEAK_NAMES, engine_loads.peaks(loads, times, joined), strict=True):
         fields[name], fields[f"{name}_time"] = value, time
     return fields
 
@@ -507,6 +509,7 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str, limit: 
         loads = _loads(friction, rig, _mirrored(row), row, design, (base_force, normal if on_base else 0.0),
                        dt, 0.5 * dt)
         run.friction_limit.append(fr.limits(design, opening_loads, slips))
+        run.friction_slips.append(slips)
         run.friction_load.append(loads)
         rates = fr.joint_rates(row, design)
         slips = fr.slipping(friction, 0.5 * dt, rates, fr.AT_REST)
@@ -529,7 +532,9 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str, limit: 
     k = 0
     while True:
         if friction is not None:
-            run.friction_limit.append(fr.set_limits(friction, fr.predicted_loads(loads, earlier_loads), slips))
+            predicted = fr.predicted_loads(loads, earlier_loads, fr.steady(run.friction_slips, slips))
+            run.friction_limit.append(fr.set_limits(friction, predicted, slips))
+            run.friction_slips.append(slips)
             fr.aim(friction, rig, dt)
         if k >= limit:
             more = None if at_limit is None else at_limit(k)
