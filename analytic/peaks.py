@@ -94,10 +94,6 @@ def search_next(s):
         e = d
         if abs(p) < abs(0.5 * q * r) and p > q * (s.a - s.x) and p < q * (s.b - s.x):
             d = p / q
-            if abs(d) < tol1:
-                # The parabola through the best three points peaks within the tolerance of the
-                # best: x is the peak's time to that tolerance, and its value to round-off.
-                return True, s.x, s
             u = s.x + d
             if (u - s.a) < tol2 or (s.b - u) < tol2:
                 d = tol1 if xm >= s.x else -tol1

@@ -99,7 +99,7 @@ def test_a_coefficient_varied_from_zero_draws_its_first_point_as_the_ideal_machi
     assert cli.main(["chart", str(path), "--vary", "losses.axle_friction=0:0.2:5", "--out", str(tmp_path / "c")]) == 0
     rows = _rows(tmp_path / "c" / "chart.csv")
     assert [row["status"] for row in rows] == ["ok"] * 5
-    ideal = fast.shoot([table3])
+    ideal = fast.shoot([table3], loads=True)
     assert float(rows[0]["range [m]"]) == ideal.range[0]
     assert float(rows[0]["peak_axle_load [N]"]) == ideal.peak_axle_load[0]
     ranges = [float(row["range [m]"]) for row in rows]
