@@ -460,9 +460,11 @@ def baseline_source(rev: str, folder: Path) -> str:
     """Write commit ``rev``'s tree into ``folder`` (``git archive``); returns the full commit id."""
     here = Path(__file__).resolve().parent
     try:
-        commit = subprocess.run(["git", "rev-parse", "--verify", f"{rev}^{{commit}}"], cwd=here,
+        top = subprocess.run(["git", "rev-parse", "--show-toplevel"], cwd=here, capture_output=True, text=True,
+                             check=True).stdout.strip()
+        commit = subprocess.run(["git", "rev-parse", "--verify", f"{rev}^{{commit}}"], cwd=top,
                                 capture_output=True, text=True, check=True).stdout.strip()
-        archive = subprocess.run(["git", "archive", commit], cwd=here, capture_output=True, check=True).stdout
+        archive = subprocess.run(["git", "archive", commit], cwd=top, capture_output=True, check=True).stdout
     except FileNotFoundError as error:
         raise BaselineError(f"--baseline {rev}: git is not installed ({error})") from error
     except subprocess.CalledProcessError as error:
@@ -470,6 +472,8 @@ def baseline_source(rev: str, folder: Path) -> str:
                             f"({error.stderr.strip() if isinstance(error.stderr, str) else error.stderr.decode().strip()})"
                             ) from error
     subprocess.run(["tar", "-x", "-C", str(folder)], input=archive, check=True)
+    if not (Path(folder) / "analytic" / "__init__.py").is_file():   # else this checkout's would be imported
+        raise BaselineError(f"--baseline {rev}: commit {commit[:7]} has no analytic package")
     return commit
 
 

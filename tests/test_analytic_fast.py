@@ -496,3 +496,15 @@ def test_bench_measures_a_baseline_before_and_after_and_writes_the_page_from_its
     assert f"at commit `{figures['commit']}`, on {figures['cpu_count']} processors" in text
     assert f"| `batch_shots_per_s` | {figures['batch_shots_per_s']:,.4g} shots/s |" in text
     assert f"{figures['date']}" in text
+
+
+def test_a_baselines_sources_are_the_whole_commit_and_its_bench_is_its_own(tmp_path):
+    # The pre-friction commit: its own analytic package, whose bench had no loads to leave out.
+    from crosscheck.benchmark import baseline_source
+
+    commit = baseline_source("bfde05d", tmp_path)
+    assert commit.startswith("bfde05d")
+    assert (tmp_path / "analytic" / "bench.py").is_file() and not (tmp_path / "analytic" / "peaks.py").exists()
+    done = subprocess.run([sys.executable, "-c", "import analytic; print(analytic.__file__)"], cwd=tmp_path,
+                          env=dict(os.environ, PYTHONPATH=str(tmp_path)), capture_output=True, text=True, check=True)
+    assert done.stdout.strip() == str(tmp_path / "analytic" / "__init__.py")
