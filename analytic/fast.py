@@ -210,32 +210,29 @@ def simulate_fast(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = D
 
 def to_shot(design: Design, out: np.ndarray) -> Shot:
     """The ``Shot`` (no histories) of a kernel result row ``out`` (N_RESULT,)."""
-    status = Status.from_code(int(out[kernel.STATUS]))
-    m = design.machine
-    t_limit = swing_time_limit(m, design.environment.gravity)
-
-    def maybe(i: int) -> float | None:
-        return None if math.isnan(out[i]) else float(out[i])
-
-    fields = dict(liftoff_time=maybe(kernel.LIFTOFF_T))
+    row = out.tolist()   # Python floats: one conversion, not one a field
+    status = Status.from_code(int(row[kernel.STATUS]))
+    fields = {}
+    if not math.isnan(row[kernel.LIFTOFF_T]):
+        fields["liftoff_time"] = row[kernel.LIFTOFF_T]
     for k, name in enumerate(PEAK_NAMES):
-        if math.isfinite(out[kernel.PEAKS + 2 * k]):
-            fields[name] = float(out[kernel.PEAKS + 2 * k])
-            fields[f"{name}_time"] = float(out[kernel.PEAKS + 2 * k + 1])
-    if not math.isnan(out[kernel.RELEASE_T]):
-        fields.update(release_time=float(out[kernel.RELEASE_T]),
-                      release_position=out[[kernel.RELEASE_X, kernel.RELEASE_Y]].copy(),
-                      release_velocity=out[[kernel.RELEASE_VX, kernel.RELEASE_VY]].copy(),
-                      frame_release_displacement=float(out[kernel.FRAME_X]),
-                      frame_release_velocity=float(out[kernel.FRAME_V]))
+        if math.isfinite(row[kernel.PEAKS + 2 * k]):
+            fields[name] = row[kernel.PEAKS + 2 * k]
+            fields[f"{name}_time"] = row[kernel.PEAKS + 2 * k + 1]
+    if not math.isnan(row[kernel.RELEASE_T]):
+        fields.update(release_time=row[kernel.RELEASE_T],
+                      release_position=out[kernel.RELEASE_X:kernel.RELEASE_Y + 1].copy(),
+                      release_velocity=out[kernel.RELEASE_VX:kernel.RELEASE_VY + 1].copy(),
+                      frame_release_displacement=row[kernel.FRAME_X], frame_release_velocity=row[kernel.FRAME_V])
     if status is Status.OK:
-        message = outcome.thrown_message(out[kernel.LANDING_X])
-        fields.update(landing_time=float(out[kernel.LANDING_T]),
-                      landing_position=np.array([out[kernel.LANDING_X], -m.pivot_height]),
-                      apex_height=float(out[kernel.APEX]))
+        message = outcome.thrown_message(row[kernel.LANDING_X])
+        fields.update(landing_time=row[kernel.LANDING_T],
+                      landing_position=np.array([row[kernel.LANDING_X], -design.machine.pivot_height]),
+                      apex_height=row[kernel.APEX])
     else:
-        message = failure_message(design, status, out[kernel.DETAIL], out[kernel.VALUE],
-                                  out[kernel.END_T], out[kernel.RELEASE_T], t_limit)
+        t_limit = swing_time_limit(design.machine, design.environment.gravity)
+        message = failure_message(design, status, row[kernel.DETAIL], row[kernel.VALUE], row[kernel.END_T],
+                                  row[kernel.RELEASE_T], t_limit)
     return Shot(design, status, message, **fields)
 
 
