@@ -655,10 +655,11 @@ def performance_page(figures: dict, command: str) -> str:
             "|---|---|---|---|",
         ]
         for key, entry in baseline["figures"].items():
-            scale, unit = (1.0, " shots/s") if key.endswith("per_s") else (1e3, " ms")
-            b0, b1 = (v * scale for v in entry["baseline"])
+            form, unit = ("{:,.0f}", " shots/s") if key.endswith("per_s") else ("{:.3f}", " ms")
+            scale = 1.0 if key.endswith("per_s") else 1e3
+            b0, b1 = (form.format(v * scale) for v in entry["baseline"])
             named = "" if entry["baseline_key"] == key else f" (its `{entry['baseline_key']}`)"
-            lines.append(f"| `{key}` | {f[key] * scale:,.4g}{unit} | {b0:,.4g}, {b1:,.4g}{unit}{named} | "
+            lines.append(f"| `{key}` | {form.format(f[key] * scale)}{unit} | {b0}, {b1}{unit}{named} | "
                          f"{entry['ratio']:.2f} |")
     lines += ["", "## Every model on one design", "",
               f"{f['models_design']}, each as a multiple of one reference shot (the first row), in the same run:", "",
