@@ -59,7 +59,8 @@ flight_start = stages_.flight_start
 frame_state = stages_.frame_state
 loads_at = stages_.loads_at
 loads_after_step = stages_.loads_after_step
-search_start, search_next, search_update = peaks_.search_start, peaks_.search_next, peaks_.search_update
+search_golden, search_from, search_next, search_update = (peaks_.search_golden, peaks_.search_from,
+                                                          peaks_.search_next, peaks_.search_update)
 flight_time_limit = limits_.flight_time_limit
 
 
@@ -378,23 +379,29 @@ def _finish_peaks(stage, samples, sides, K2, live_y, live_t, pool_k, pool_y, poo
                 _dense_prepare(stage, t_start, h, y_old, y_end, K[_N_STAGES], coef, K, F[ref], tmp, p, table)
                 counts[1] += 3
                 built[ref] = True
-        before = ends[0] > starts[0]
-        after = ends[1] > starts[1]
-        search = search_start(starts[0] if before else math.nan, samples[k, 1], samples[k, 2], samples[k, 3],
-                              ends[1] if after else math.nan, samples[k, 5])
-        while True:
-            done, u, search = search_next(search)
-            if done:
-                break
-            ref = sides[k, 0] if u <= samples[k, 2] else sides[k, 1]
+        t_peak, value = samples[k, 2], samples[k, 3]
+        for side in range(2):   # each step beside the sample on its own, as scipy's bounded search
+            ref = sides[k, side]
+            if not ends[side] > starts[side]:
+                continue
             live = ref >= LIVE
-            t_start = live_t[ref - LIVE, 0] if live else pool_t[ref, 0]
             h = live_t[ref - LIVE, 1] if live else pool_t[ref, 1]
-            _dense_eval(u, t_start, h, live_y[ref - LIVE, 0] if live else pool_y[ref, 0], F[ref], tmp)
+            y_old = live_y[ref - LIVE, 0] if live else pool_y[ref, 0]
+            u = search_golden(starts[side], ends[side])
+            _dense_eval(u, starts[side], h, y_old, F[ref], tmp)
+            search = search_from(starts[side], ends[side], u, -loads_at(stage, tmp, p)[k])
             counts[1] += 1   # each load is one evaluation of the accelerations
-            search = search_update(search, u, -loads_at(stage, tmp, p)[k])
-        if -search.fx > peaks[k, 0]:
-            peaks[k, 0], peaks[k, 1] = -search.fx, search.x
+            while True:
+                done, u, search = search_next(search)
+                if done:
+                    break
+                _dense_eval(u, starts[side], h, y_old, F[ref], tmp)
+                counts[1] += 1
+                search = search_update(search, u, -loads_at(stage, tmp, p)[k])
+            if -search.fx > value:
+                t_peak, value = search.x, -search.fx
+        if value > peaks[k, 0]:
+            peaks[k, 0], peaks[k, 1] = value, t_peak
 
 
 # integrate()'s outcome codes besides an event index.

@@ -1,19 +1,18 @@
-"""Where a load peaks between two samples: Brent's bounded search, written once for both paths.
+"""Where a load peaks within a step: Brent's bounded search, written once for both paths.
 
 Both analytic paths sample each load (``stages.loads_at``) at every accepted
-step's end, then locate the largest on the integrator's dense output over
-the steps on either side of the largest sample. The search is Brent's
-bounded minimiser (Brent 1973, ch. 5; the algorithm of scipy's
-``minimize_scalar(method="bounded")``) on minus the load, started from the
-three samples themselves: its first trial is the vertex of the parabola
-through them, so it needs a handful of evaluations where a search from the
-golden section of the bracket needs two dozen on each side.
+step's end, then locate the largest on the integrator's dense output of each
+of the two steps beside the largest sample. The search is Brent's bounded
+minimiser (Brent 1973, ch. 5) on minus the load, step for step the algorithm
+of scipy's ``minimize_scalar(method="bounded")``: from the golden section of
+the step, to ``PEAK_TIME_TOLERANCE`` plus sqrt(eps) |t|.
 
 It is written in reverse communication, as plain arithmetic on floats that
-the compiled path compiles too: ``search_start`` makes the search's state
-from the samples, ``search_next`` gives the next time to evaluate (or says
-the search is done), and ``search_update`` takes the value found there. The
-caller evaluates the load, on its own dense output.
+the compiled path compiles too: ``search_golden`` gives the first time to
+evaluate, ``search_from`` makes the search's state from the value there,
+``search_next`` gives the next time (or says the search is done) and
+``search_update`` takes the value found there. The caller evaluates the load,
+on its own dense output.
 
 The state is a ``Search``: the bracket ``[a, b]``; the best three points so
 far ``x, w, v`` (times) with minus the load there ``fx, fw, fv``; the last
@@ -49,27 +48,16 @@ class Search(NamedTuple):
     calls: float
 
 
-def search_start(t_before, before, t_peak, peak, t_after, after):
-    """The search for the largest load around the sample ``(t_peak, peak)``, with its neighbours.
+def search_golden(a, b):
+    """Where a search of ``[a, b]`` from nothing but the bracket starts: its golden section point
+    (scipy's ``minimize_scalar(method="bounded")`` starts there)."""
+    return a + _GOLDEN * (b - a)
 
-    ``(t_before, before)`` and ``(t_after, after)`` are the samples on either
-    side (a time of NaN: none on that side, the bracket ends at ``t_peak``).
-    With both neighbours the first trial is the vertex of the parabola through
-    the three samples; with one, the search starts with a golden-section step.
-    """
-    a = t_peak if math.isnan(t_before) else t_before
-    b = t_peak if math.isnan(t_after) else t_after
-    if math.isnan(t_before) or math.isnan(t_after):
-        t_other = b if math.isnan(t_before) else a
-        f_other = -(after if math.isnan(t_before) else before)
-        return Search(a, b, t_peak, t_other, t_other, -peak, f_other, f_other, 0.0, 0.0, 0.0)
-    # The better neighbour is the second-best point w, the other v (Brent's order).
-    if after >= before:
-        w, fw, v, fv = t_after, -after, t_before, -before
-    else:
-        w, fw, v, fv = t_before, -before, t_after, -after
-    span = b - a
-    return Search(a, b, t_peak, w, v, -peak, fw, fv, span, span, 0.0)
+
+def search_from(a, b, x, fx):
+    """The search of ``[a, b]`` after its first evaluation, ``fx`` at ``x = search_golden(a, b)``:
+    step for step scipy's bounded minimiser."""
+    return Search(a, b, x, x, x, fx, fx, fx, 0.0, 0.0, 1.0)
 
 
 def search_next(s):

@@ -454,18 +454,22 @@ def _stage_peaks(stage: Stage, segment: Segment, p: Params, loads: bool, rtol: f
     peaks = np.empty((values.shape[1], 2))
     for k in range(values.shape[1]):
         i = int(np.argmax(values[:, k]))
-        before = i > 0 and times[i] > times[i - 1]
-        after = i + 1 < len(times) and times[i + 1] > times[i]
-        search = peak_search.search_start(times[i - 1] if before else math.nan, values[i - 1, k] if before else 0.0,
-                                          times[i], values[i, k], times[i + 1] if after else math.nan,
-                                          values[i + 1, k] if after else 0.0)
-        while True:
-            done, u, search = peak_search.search_next(search)
-            if done:
-                break
-            state = interpolant(i - 1 if u <= times[i] else i)(u)
-            search = peak_search.search_update(search, u, -stages.loads_at(int(stage), state, p)[k])
-        peaks[k] = -search.fx, search.x
+        peaks[k] = values[i, k], times[i]
+        for j in (i - 1, i):   # each step beside the sample on its own, as the compiled path does
+            if j < 0 or j + 1 >= len(times) or not times[j + 1] > times[j]:
+                continue
+            def load(u):
+                return -stages.loads_at(int(stage), interpolant(j)(u), p)[k]
+
+            u = peak_search.search_golden(times[j], times[j + 1])
+            search = peak_search.search_from(times[j], times[j + 1], u, load(u))
+            while True:
+                done, u, search = peak_search.search_next(search)
+                if done:
+                    break
+                search = peak_search.search_update(search, u, load(u))
+            if -search.fx > peaks[k, 0]:
+                peaks[k] = -search.fx, search.x
     return peaks
 
 
