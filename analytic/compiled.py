@@ -12,9 +12,8 @@ Python and no cache of their own), and ``callable_twins`` (``compiled.eom_``,
 Importing it imports numba; ``import analytic`` and the reference path never do.
 
 Only ``kernel.shots`` is cached on disk, with the machine code of everything
-it calls; a cold compile of it takes about 25 s of CPU on 2 cores (it took
-140 s when every function had its own wrappers, cache and per-constant copies,
-and 40 s while numba still emitted each callee as machine code of its own).
+it calls; a cold compile of it takes tens of seconds of CPU (``python -m
+benchmarks --cold`` measures it).
 
 numba caches machine code on disk keyed on each function's own source file,
 not on the files it calls into: after an edit to ``eom.py`` the cached

@@ -27,7 +27,7 @@ from analytic.result import LOSS_NAMES, PEAK_NAMES, EnergyBudget, Shot
 
 #: Default integrator tolerances: a 100x tighter run changes the range by
 #: 1.5e-10 relative on the paper's design and by at most 6.5e-9 where a
-#: golf ball slows through its drag table's end (``analytic.bench``).
+#: golf ball slows through its drag table's end (over ``benchmarks.designs``).
 DEFAULT_RTOL = 1e-10
 DEFAULT_ATOL = 1e-10
 #: Sample spacing of the returned histories (stages 1-2, flight), s.
