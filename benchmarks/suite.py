@@ -12,13 +12,12 @@ from benchmarks.paths import paths
 from benchmarks.sweep import throughput
 
 #: The lists of designs on which the two paths end differently: ideal, typical losses, a rolling
-#: frame, both (``--json`` keys; ``bench`` exits 1 unless all are empty).
+#: frame, both (``--json`` keys; the command exits 1 unless all are empty).
 MISMATCH_KEYS = ("status_mismatches", "friction_status_mismatches", "rolling_status_mismatches",
                  "lossy_rolling_status_mismatches")
 #: Keys every ``--json`` report has (more follow them).
 BENCH_KEYS = ("reference_median_shot_s", "fast_median_shot_s", "speedup", "batch_shots_per_s",
               "max_range_rel_diff", "compile_s", "cache_load_s", "models")
-
 
 
 def run(design=None, count: int = 200, seed: int = 0, repeat: int = 5, batch_repeat: int = 20,
