@@ -20,6 +20,9 @@ hand-overs are listed apart and each one out of ``analytic`` is declared in
 from __future__ import annotations
 
 import ast
+import json
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -203,6 +206,18 @@ def test_analytic_imports_neither_crosscheck_nor_engine_model_nor_benchmarks():
     reached = {(name, target) for name, targets in GRAPH.items() if name.split(".")[0] == "analytic"
                for target in targets if target.split(".")[0] in ("crosscheck", "engine_model", "benchmarks")}
     assert not reached
+
+
+def test_importing_every_analytic_module_loads_none_of_the_packages_above_it():
+    # The same rule at run time, in a fresh process: every module of analytic and its command
+    # line's parser (which imports each subcommand's).
+    names = sorted(name for name in GRAPH if name.split(".")[0] == "analytic" and name != "analytic.__main__")
+    code = ("import importlib, json, sys\n"
+            f"for name in {names!r}: importlib.import_module(name)\n"
+            "importlib.import_module('analytic.cli').build_parser()\n"
+            f"print(json.dumps(sorted(m for m in sys.modules if m.split('.')[0] in {PACKAGES[1:]!r})))")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, check=True)
+    assert json.loads(done.stdout) == []
 
 
 def test_analytic_starts_other_commands_only_where_declared():
