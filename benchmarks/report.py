@@ -24,7 +24,8 @@ def format_bench(figures: dict) -> str:
         f" (scaling {f['batch_scaling']:.2f} x)",
         f"  agreement: range {f['max_range_rel_diff']:.2e} relative, events {f['max_event_time_diff_s']:.2e} s,"
         f" {len(f['status_mismatches'])} different outcomes",
-        f"  friction ({', '.join(f'{k} {v:g}' for k, v in f['friction_losses'].items())}), same designs:",
+        f"  friction ({', '.join(f'{k} {v:g}' for k, v in f['friction_losses'].items() if v is not None)}),"
+        " same designs:",
         f"    time per shot x{f['friction_reference_time_ratio']:.2f} on the reference path,"
         f" x{f['friction_fast_time_ratio']:.2f} on the fast path,"
         f" x{f['friction_evaluation_ratio']:.2f} evaluations (medians, against the ideal machine);"

@@ -27,6 +27,7 @@ from analytic.aero import DRAG_TABLE
 from analytic.design import Base
 from benchmarks.cli import main as bench_main
 from benchmarks.designs import ROLLING_FRAME, TYPICAL_LOSSES, bench_designs
+from benchmarks.report import format_bench
 from benchmarks.suite import MISMATCH_KEYS
 from analytic.parameters import N_PARAMS, params
 from analytic.reference import DEFAULT_ATOL, DEFAULT_RTOL, simulate
@@ -423,6 +424,9 @@ def test_bench_json_has_the_figures_and_the_paths_agree(capsys):
     assert ratios[0] == 1.0 and all(r > 0.0 for r in ratios)
     fast_entry = next(m for m in figures["models"] if m["label"] == "analytic fast path")
     assert fast_entry["ratio"] < 1.0   # compiled beats the reference (measured: about 1/700)
+    # The same figures as the text report (the losses' unset static coefficients left out).
+    text = format_bench(figures)
+    assert f"axle_friction {TYPICAL_LOSSES.axle_friction:g}" in text and "static" not in text
 
 
 @pytest.mark.parametrize("key", MISMATCH_KEYS)
