@@ -49,9 +49,13 @@ numpydoc_xref_param_type = False
 html_theme = "pydata_sphinx_theme"
 html_title = "trebuchet-sim"
 html_static_path: list[str] = []
+# Pages without children of their own get no (empty) section navigation on the left.
+html_sidebars = {page: [] for page in ("index", "builders", "derivation", "performance",
+                                        "contributing", "dependencies")}
 html_theme_options = {
     "navigation_with_keys": False,
     "show_toc_level": 2,
+    "header_links_before_dropdown": 7,
 }
 
 # Every cross-reference must resolve (a broken one fails the build), except the
