@@ -190,7 +190,7 @@ class StepStudy:
     Attributes
     ----------
     dt : (k,) steps, s.
-    speed_error, range_error : (k,) |engine - analytic| / analytic.
+    speed_error, range_error : (k,) ``|engine - analytic| / analytic``.
     speed_order, range_order : fitted slope of log(error) against log(dt).
     """
 
