@@ -14,7 +14,7 @@ Six parts, each in its own module:
   without the peak loads (what finding them costs, in time and in
   evaluations); the speed-up as the ratio of medians; the batch's throughput
   on every thread and on one; and the agreement of the two paths
-  (``crosscheck.compare.compare_shots``, the cross-check's own comparer).
+  (``crosscheck.comparison.compare_shots``, the cross-check's own comparer).
   Also, in ``scipy_route``, scipy with the model compiled as its right-hand
   side, the cheaper route not taken.
 * **friction** (``paths``): the same designs with typical losses

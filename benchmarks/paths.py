@@ -17,7 +17,7 @@ from analytic.reference import simulate
 from benchmarks.designs import ROLLING_FRAME, TYPICAL_LOSSES, bench_designs
 from benchmarks.measure import best_time
 from benchmarks.scipy_route import scipy_with_compiled_model
-from crosscheck.compare import compare_shots
+from crosscheck.comparison import compare_shots
 
 
 def agreement(designs: list, reference: list, fast_shots: list) -> dict:

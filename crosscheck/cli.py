@@ -11,7 +11,7 @@ from analytic.cli_shared import (EXIT_FAILED, EXIT_INVALID, EXIT_OK, OutputPathE
                                  output_folder, positive_float, positive_int)
 from analytic.design import DesignError
 from crosscheck.cases import QUICK_CASES, default_suite, file_cases, quick_suite, sample_cases
-from crosscheck.compare import DEFAULT_DT, step_study
+from crosscheck.comparison import DEFAULT_DT, step_study
 from crosscheck.report import format_summary, format_table, write_report
 from crosscheck.runner import run
 

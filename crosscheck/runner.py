@@ -13,7 +13,7 @@ from tqdm import tqdm
 from analytic import fast
 from analytic.result import Shot
 from crosscheck.cases import Case, default_suite
-from crosscheck.compare import DEFAULT_DT, Comparison, compare
+from crosscheck.comparison import DEFAULT_DT, Comparison, compare
 
 
 @dataclass(frozen=True)
