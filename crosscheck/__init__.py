@@ -1,6 +1,6 @@
 """The cross-check: the analytic model and the pymunk engine on the same designs, held to named tolerances.
 
-The public names, each loaded on first use (as ``analytic``'s)::
+The public names::
 
     from crosscheck import run, compare, Case, Report
 
@@ -22,26 +22,9 @@ the command line is ``python -m crosscheck``.
 
 from __future__ import annotations
 
-import importlib
+from crosscheck.cases import Case, default_suite, file_cases, quick_suite, sample_cases
+from crosscheck.comparison import Comparison, Row, compare
+from crosscheck.runner import Report, run
 
-#: Public name -> the module that defines it.
-_EXPORTS = {
-    "run": "crosscheck.runner", "Report": "crosscheck.runner",
-    "compare": "crosscheck.comparison", "Comparison": "crosscheck.comparison", "Row": "crosscheck.comparison",
-    "Case": "crosscheck.cases", "default_suite": "crosscheck.cases", "quick_suite": "crosscheck.cases",
-    "sample_cases": "crosscheck.cases", "file_cases": "crosscheck.cases",
-}
-
-__all__ = sorted(_EXPORTS)
-
-
-def __getattr__(name: str):
-    if name not in _EXPORTS:
-        raise AttributeError(f"module 'crosscheck' has no attribute {name!r}")
-    value = getattr(importlib.import_module(_EXPORTS[name]), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_EXPORTS))
+__all__ = ["Case", "Comparison", "Report", "Row", "compare", "default_suite", "file_cases", "quick_suite", "run",
+           "sample_cases"]
