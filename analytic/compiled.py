@@ -1,6 +1,7 @@
 """The model's functions compiled with numba: the fast path's copy of the one source.
 
-The model (``analytic.geometry``, ``limits``, ``aero``, ``eom``, ``friction``, ``stages``) is
+The model (``analytic.geometry``, ``limits``, ``aero``, ``eom``, ``friction``, ``stages``,
+``sequence``) is
 written as plain Python on floats, which the reference path runs as it is.
 This module gives the compiled path the same functions, compiled: for each
 model module a namespace whose functions are numba dispatchers of the very
@@ -39,10 +40,10 @@ from numba.core.registry import CPUDispatcher
 from llvmlite import binding as llvm
 from llvmlite import ir as llvmir
 
-from analytic import aero, eom, friction, geometry, limits, outcome, parameters, peaks, stages
+from analytic import aero, eom, friction, geometry, limits, outcome, parameters, peaks, sequence, stages
 
 #: The modules whose functions are compiled, each calling only those before it.
-MODEL_MODULES = (geometry, limits, peaks, aero, eom, friction, stages)
+MODEL_MODULES = (geometry, limits, peaks, aero, eom, friction, stages, sequence)
 #: Options of every compiled function. ``error_model="numpy"``: a division by
 #: zero gives inf/NaN (a rejected step) instead of raising, as in Python's
 #: float arithmetic on the reference path; no fastmath, so IEEE arithmetic is
@@ -271,5 +272,6 @@ aero_ = callable_twins["aero"]
 eom_ = callable_twins["eom"]
 friction_ = callable_twins["friction"]
 stages_ = callable_twins["stages"]
+sequence_ = callable_twins["sequence"]
 peaks_ = callable_twins["peaks"]
 drop_stale_cache(cache_directory(eom_.terms), SOURCES)
