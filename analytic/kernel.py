@@ -33,7 +33,8 @@ import numba
 import numpy as np
 from numba.np.unsafe.ndarray import to_fixed_tuple
 
-from analytic.compiled import CALLABLE, internal, kernel_twins
+from analytic import limits, peaks, sequence, stages
+from analytic.compiled import CALLABLE, internal
 from analytic.limits import STAGE_STEP_LIMITS
 from analytic.parameters import N_PARAMS, Params
 from analytic.sequence import (FAILED, FINISHED, NEVER_FIRES, NEVER_LIFTS_OFF, NEXT_STAGE, OK, OUT_OF_STEPS,
@@ -41,9 +42,8 @@ from analytic.sequence import (FAILED, FINISHED, NEVER_FIRES, NEVER_LIFTS_OFF, N
 from analytic.stages import (FLIGHT, LOAD_NAMES, ROOT_RELATIVE_TOLERANCE, ROOT_TIME_TOLERANCE, SLIDE, SWING,
                              ZERO_START_PROBES)
 
-stages_, limits_, peaks_, sequence_ = (kernel_twins["stages"], kernel_twins["limits"], kernel_twins["peaks"],
-                                       kernel_twins["sequence"])
-# The model's functions, compiled (``analytic.compiled``).
+stages_, limits_, peaks_, sequence_ = stages, limits, peaks, sequence
+# The model's functions (compiled where the kernel calls them: ``analytic.compiled.register_model``).
 derivative = stages_.derivative
 event_value = stages_.event_value
 event_direction = stages_.event_direction
