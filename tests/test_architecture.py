@@ -36,7 +36,7 @@ ANALYTIC_LAYERS = {
     "model": {"analytic.design", "analytic.design_file", "analytic.design_space", "analytic.units",
               "analytic.fields", "analytic.aero", "analytic.eom", "analytic.friction", "analytic.geometry",
               "analytic.limits", "analytic.outcome", "analytic.parameters", "analytic.peaks",
-              "analytic.plausibility", "analytic.stages", "analytic.result", "analytic.data",
+              "analytic.plausibility", "analytic.stages", "analytic.sequence", "analytic.result", "analytic.data",
               # the exit codes and checks every command line shares: it imports nothing
               "analytic.cli_shared"},
     "paths": {"analytic.reference", "analytic.integrate", "analytic.compiled", "analytic.kernel", "analytic.fast",
