@@ -85,6 +85,14 @@ def pytest_xdist_make_scheduler(config, log):
 
 
 @pytest.fixture(scope="session")
+def lagrangian():
+    """The machine's sympy Lagrangian (``tests/sympy_model.py``), derived once per process."""
+    from sympy_model import machine
+
+    return machine()
+
+
+@pytest.fixture(scope="session")
 def table3() -> Design:
     """The paper's Table III optimum with the documented arm assumption (golf-ball drag)."""
     return default_design()
