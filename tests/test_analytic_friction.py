@@ -604,7 +604,8 @@ def test_base_friction_alone_can_hold_the_machine(paper):
 # The compiled path
 # --------------------------------------------------------------------------- #
 
-#: Fast against reference, relative in range: what the issue asks of friction designs. Both run
+#: Fast against reference, relative in range: the fast path's specification (``test_analytic_fast.RANGE_REL``),
+#: held on friction designs too. Both run
 #: the same stage functions and the same DOP853 steps, so they agree to round-off unless a
 #: rounding sends the step control another way (measured: 1.7e-10 at worst here, on "all").
 FAST_TOL = 1e-7
