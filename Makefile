@@ -6,7 +6,7 @@ PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed-stamp
 OUT    ?= out
 
-.PHONY: run test install compile clean crosscheck run-shot run-crosscheck run-frames
+.PHONY: run test install compile clean crosscheck run-shot run-crosscheck run-frames docs
 
 # uv (from PyPI, into the environment) installs the dependencies in parallel:
 # 26 s from an empty cache where pip took 52-115 s on the same machine. It
@@ -18,13 +18,13 @@ $(STAMP): pyproject.toml
 	@echo "installing into $(VENV)/ (about 30-50 s on a fresh machine)"
 	@$(PYTHON) -m venv $(VENV)
 	@$(PY) -m pip install -qq uv
-	@$(PY) -m uv pip install --quiet --compile-bytecode --python $(PY) -e '.[test]'
+	@$(PY) -m uv pip install --quiet --compile-bytecode --python $(PY) -e '.[test,docs]'
 	@touch $(STAMP)
 
 install: $(STAMP)
 
 # The fast path's machine code is compiled once per checkout and cached on
-# disk (about 20 s, with a progress count), so that no later command
+# disk (tens of seconds, with a progress count), so that no later command
 # stalls on it and no test's time limit includes it; again only when a source
 # of the analytic model changed (numba's cache is stamped with them, and
 # ``analytic compile`` then compiles; otherwise it only loads, in 4-5 s).
@@ -56,9 +56,20 @@ crosscheck: compile
 
 # On every core (pytest-xdist): each worker takes the next test as it finishes one, the
 # slow ones first, and a Dask-cluster module whole on one worker (tests/conftest.py).
-# `$(PY) -m pytest` alone still runs the whole suite in one process.
+# `$(PY) -m pytest` alone still runs the whole suite in one process. Then the
+# documentation site, so that a broken link or reference fails the tests too.
 test: compile
 	$(PY) -m pytest -n auto
+	@$(MAKE) --no-print-directory docs
+
+# The documentation site into docs/_build/html, every warning an error
+# (--keep-going lists them all first). It imports the package for the API
+# reference and renders the notebook as stored, without running it. -E reads
+# every page afresh: an incremental build would not repeat an unchanged page's
+# warnings, and would pass the second time.
+docs: $(STAMP)
+	@$(PY) -m sphinx -b html -E -W --keep-going -q docs docs/_build/html
+	@echo "docs: docs/_build/html/index.html"
 
 clean:
-	rm -rf $(VENV) $(OUT) .pytest_cache .hypothesis build *.egg-info
+	rm -rf $(VENV) $(OUT) .pytest_cache .hypothesis build *.egg-info docs/_build

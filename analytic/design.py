@@ -34,9 +34,9 @@ from analytic.aero import DRAG_MODELS
 from analytic.geometry import RELEASE_RULES
 
 
-#: Largest |release angle| for the ``velocity`` rule: the velocity must point forward.
+#: Largest ``|release angle|`` for the ``velocity`` rule: the velocity must point forward.
 MAX_VELOCITY_RELEASE_ANGLE = math.radians(90.0)
-#: Largest |release angle| for the ``sling`` rule (sling-to-arm angle).
+#: Largest ``|release angle|`` for the ``sling`` rule (sling-to-arm angle).
 MAX_SLING_RELEASE_ANGLE = math.radians(180.0)
 #: Largest magnitude of any number in a design, SI units. Far beyond any machine
 #: this models (a 20 t counterweight, a 20 m arm), and it keeps the squares and

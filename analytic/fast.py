@@ -45,9 +45,9 @@ from analytic import kernel, outcome, stages
 from analytic.aero import DRAG_TABLE
 from analytic.design import Design, swing_time_limit
 from analytic.friction import rest_balance
+from analytic.limits import DEFAULT_ATOL, DEFAULT_RTOL
 from analytic.parameters import N_PARAMS, params
 from analytic.result import PEAK_NAMES, Shot, Shots, Status
-from analytic.reference import DEFAULT_ATOL, DEFAULT_RTOL
 
 #: Designs a thread takes at a time in ``shoot``.
 BATCH_CHUNK = 4
@@ -122,7 +122,7 @@ def _compile_progress(enabled: bool):
 
         def on_start(self, ev):
             if self.bar is None:
-                print("compiling the fast path once (about 20 s); "
+                print("compiling the fast path once (tens of seconds); "
                       "later runs load it from the cache in about 0.3 s", file=sys.stderr, flush=True)
                 self.bar = tqdm(desc="compiling", unit=" functions", file=sys.stderr, mininterval=0.5,
                                 leave=False)   # gone when done: `analytic compile` then prints the time
@@ -163,7 +163,7 @@ def compile(*, progress: bool = False) -> float:
     """Load the kernel's machine code from the disk cache, or compile and cache it; seconds taken.
 
     Called by the first shot; later calls return the first call's time. In
-    a fresh checkout this compiles once (about 20 s; ``make``
+    a fresh checkout this compiles once (tens of seconds; ``make``
     does it when it installs); afterwards it loads (about 0.3 s).
 
     Parameters

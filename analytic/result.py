@@ -105,7 +105,7 @@ class Shot:
         time (the machine swings on after release, its joints' friction with it): 0 for a
         fixed frame, None if not landed or not computed (the fast path; the reference path's
         summary unless asked, ``analytic.reference.simulate``'s ``after_release``).
-    max_frame_speed : largest |X'| from firing to landing, m/s (None where not computed).
+    max_frame_speed : largest ``|X'|`` from firing to landing, m/s (None where not computed).
     frame_x : (n,) the frame's X on ``t``, m (empty for a fixed frame or a summary).
     peak_axle_load, peak_hinge_load : largest force of the frame on the arm at the axle and
         between the arm and the counterweight at the hinge, N, through stages 1-2

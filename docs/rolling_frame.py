@@ -1,7 +1,7 @@
 """Range of the paper's design against the mass of a rolling frame: ``python docs/rolling_frame.py [OUT.png]``.
 
-Writes the figure of the README's worked answer (default ``docs/rolling-frame.png``)
-and prints the numbers behind it.
+Writes the figure of the worked answer in ``docs/guide/rolling-frame.md`` (default
+``docs/rolling-frame.png``) and prints the numbers behind it.
 """
 
 from __future__ import annotations
