@@ -46,6 +46,7 @@ tolerance of each other are one instant, and the earlier-listed wins
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 from analytic.aero import force_factor
 from analytic.eom import (frame_coupling, frame_displacement, frame_velocity, horizontal_moment, loads,
@@ -68,6 +69,8 @@ STATE_SIZE = (0, 4, 6, 4, 4)
 #: of the axle, the hinge and the base (constant between events: +1/-1 slipping
 #: with that sign of the rate, 0 stuck; the base's is the slide's sign, 0 off it).
 FRICTION_STATE = 6
+#: Where the friction's parts start within it: the work (axle, hinge, base), then the modes.
+FRICTION_WORK, FRICTION_MODES = 0, 3
 #: Events of each stage, in their index order (indexed by stage number). The
 #: friction's (from ``arm_stalls`` and ``axle_stops`` on) are inert (a constant
 #: 1) for a design without that friction.
@@ -317,21 +320,66 @@ def swing_start(y, p, out):
 # Friction's modes: stick and slip [10.4]
 # --------------------------------------------------------------------------- #
 
+class FrictionSolution(NamedTuple):
+    """The motion and the friction at a state of a design with friction (``friction_solution``).
+
+    Accelerations in rad/s^2; the normal force ``normal`` and the base's friction
+    force ``base_force`` in N, 0 off the base; the friction torques in N m and the
+    joints' load magnitudes ``|A|``, ``|H|`` in N; ``slide_ratio`` dx_P/dtheta, m/rad
+    (0 off the base).
+    """
+
+    ddtheta: float
+    ddphi: float
+    ddpsi: float
+    normal: float
+    axle_torque: float
+    hinge_torque: float
+    base_force: float
+    axle_load: float
+    hinge_load: float
+    slide_ratio: float
+
+
 def friction_solution(stage, y, p):
-    """The friction at the stage-1, stage-2 or stage-4 state ``y`` of a design with friction:
-    ``(theta'', phi'', psi'', N, ta, th, F, |A|, |H|, dx_P/dtheta)`` (N, F and dx_P/dtheta 0 in stages
-    2 and 4, psi'' 0 in stage 4)."""
+    """The ``FrictionSolution`` at the stage-1, stage-2 or stage-4 state ``y`` of a design with
+    friction (psi'' 0 in stage 4)."""
     if stage == SLIDE:
         ddtheta, ddphi, normal, ta, th, fb, axle, hinge, dx = slide_friction(y[0], y[1], y[2], y[3], y[7],
                                                                             y[8], y[9], p)
         _, _, s, c, _ = slide_constraint(y[0], y[2], p)
-        return ddtheta, ddphi, s * ddtheta + c, normal, ta, th, fb, axle, hinge, dx
+        return FrictionSolution(ddtheta, ddphi, s * ddtheta + c, normal, ta, th, fb, axle, hinge, dx)
     if stage == MACHINE:
         ddtheta, ddphi, ta, th, axle, hinge = machine_friction(y[0], y[1], y[2], y[3], y[7], y[8], p)
-        return ddtheta, ddphi, 0.0, 0.0, ta, th, 0.0, axle, hinge, 0.0
+        return FrictionSolution(ddtheta, ddphi, 0.0, 0.0, ta, th, 0.0, axle, hinge, 0.0)
     ddtheta, ddphi, ddpsi, ta, th, axle, hinge = swing_friction(y[0], y[1], y[2], y[3], y[4], y[5], y[9],
                                                                 y[10], p)
-    return ddtheta, ddphi, ddpsi, 0.0, ta, th, 0.0, axle, hinge, 0.0
+    return FrictionSolution(ddtheta, ddphi, ddpsi, 0.0, ta, th, 0.0, axle, hinge, 0.0)
+
+
+def joint_torque(solution, joint):
+    """The friction-free torque holding ``joint`` (0 the axle, 1 the hinge) in ``solution``, N m."""
+    return solution.axle_torque if joint == 0 else solution.hinge_torque
+
+
+def joint_load(solution, joint):
+    """The load magnitude on ``joint``'s bearing in ``solution``, N."""
+    return solution.axle_load if joint == 0 else solution.hinge_load
+
+
+def joint_acceleration(solution, joint):
+    """The angular acceleration of ``joint``'s rate (the arm's, or the counterweight's) in ``solution``."""
+    return solution.ddtheta if joint == 0 else solution.ddphi
+
+
+def mode_slot(stage, joint):
+    """Where ``joint``'s friction mode (0 the axle, 1 the hinge, 2 the base) is in ``stage``'s state."""
+    return STATE_SIZE[stage] + FRICTION_MODES + joint
+
+
+def rate_slot(stage, joint):
+    """Where ``joint``'s rate (0 theta', 1 phi') is in ``stage``'s state: the rates follow the angles."""
+    return STATE_SIZE[stage] // 2 + joint
 
 
 def friction_event(stage, k, y, p):
@@ -349,7 +397,6 @@ def friction_event(stage, k, y, p):
     """
     if not lossy(p):
         return 1.0
-    core = STATE_SIZE[stage]
     if stage == SLIDE and k == ARM_STALLS:
         return -y[2] if (p.mua_s > 0.0 or p.mub_s > 0.0) else 1.0
     if stage == SLIDE and k == 6:
@@ -363,16 +410,13 @@ def friction_event(stage, k, y, p):
     joint = switched_joint(stage, k)
     slips = (k - FIRST_SWITCH[stage]) % 2 == 1
     friction = static_arm(joint, p)
-    mode = y[core + 3 + joint]
+    mode = y[mode_slot(stage, joint)]
     if friction == 0.0 or (mode == 0.0) != slips:
         return 1.0
-    rate = y[core // 2 + joint]
     if not slips:
-        return mode * rate
+        return mode * y[rate_slot(stage, joint)]
     solution = friction_solution(stage, y, p)
-    if joint == 0:
-        return friction * solution[7] - abs(solution[4])
-    return friction * solution[8] - abs(solution[5])
+    return friction * joint_load(solution, joint) - abs(joint_torque(solution, joint))
 
 
 def switched_joint(stage, k):
@@ -392,7 +436,7 @@ def _at_rest(stage, joint, y, p):
     rate is exactly 0 (stuck, or just stopped): its mode is to be chosen."""
     if static_arm(joint, p) == 0.0 or (stage == SLIDE and joint == 0):
         return False
-    return y[STATE_SIZE[stage] // 2 + joint] == 0.0
+    return y[rate_slot(stage, joint)] == 0.0
 
 
 def consistent(stage, y, p, free_axle, free_hinge, must_slip):
@@ -403,23 +447,21 @@ def consistent(stage, y, p, free_axle, free_hinge, must_slip):
     (its hold just failed: with equal coefficients its acceleration slipping is 0
     to round-off) must slip the way its holding torque pushes it instead, the sign of ``-t``."""
     solution = friction_solution(stage, y, p)
-    core = STATE_SIZE[stage]
     for joint in range(2):
         if not (free_axle if joint == 0 else free_hinge):
             continue
-        mode = y[core + 3 + joint]
+        slot = mode_slot(stage, joint)
+        mode = y[slot]
         if mode == 0.0:
-            torque = solution[4] if joint == 0 else solution[5]
-            load = solution[7] if joint == 0 else solution[8]
-            if not abs(torque) < static_arm(joint, p) * load:
+            if not abs(joint_torque(solution, joint)) < static_arm(joint, p) * joint_load(solution, joint):
                 return False
         elif joint == must_slip:
-            y[core + 3 + joint] = 0.0
+            y[slot] = 0.0
             held = friction_solution(stage, y, p)
-            y[core + 3 + joint] = mode
-            if (held[4] if joint == 0 else held[5]) * mode > 0.0:
+            y[slot] = mode
+            if joint_torque(held, joint) * mode > 0.0:
                 return False
-        elif (solution[0] if joint == 0 else solution[1]) * mode < 0.0:
+        elif joint_acceleration(solution, joint) * mode < 0.0:
             return False
     return True
 
@@ -437,11 +479,11 @@ def decide_modes(stage, y, p, must_slip):
     tests), each joint at rest is tried alone, in order, as if the other's
     mode were final.
     """
-    core = STATE_SIZE[stage]
     free_axle, free_hinge = _at_rest(stage, 0, y, p), _at_rest(stage, 1, y, p)
     if not (free_axle or free_hinge):
         return
-    kept_axle, kept_hinge = y[core + 3], y[core + 4]
+    axle_slot, hinge_slot = mode_slot(stage, 0), mode_slot(stage, 1)
+    kept_axle, kept_hinge = y[axle_slot], y[hinge_slot]
     for slipping in range(3):
         for i in range(3 if free_axle else 1):
             for j in range(3 if free_hinge else 1):
@@ -450,18 +492,18 @@ def decide_modes(stage, y, p, must_slip):
                 count = (1 if (free_axle and axle != 0.0) else 0) + (1 if (free_hinge and hinge != 0.0) else 0)
                 if count != slipping or (must_slip == 0 and axle == 0.0) or (must_slip == 1 and hinge == 0.0):
                     continue
-                y[core + 3], y[core + 4] = axle, hinge
+                y[axle_slot], y[hinge_slot] = axle, hinge
                 if consistent(stage, y, p, free_axle, free_hinge, must_slip):
                     return
     for joint in range(2):
         if not (free_axle if joint == 0 else free_hinge):
             continue
-        y[core + 3 + joint] = 0.0
+        slot = mode_slot(stage, joint)
+        y[slot] = 0.0
         solution = friction_solution(stage, y, p)
-        torque = solution[4] if joint == 0 else solution[5]
-        load = solution[7] if joint == 0 else solution[8]
-        if joint == must_slip or not abs(torque) < static_arm(joint, p) * load:
-            y[core + 3 + joint] = -1.0 if torque > 0.0 else 1.0
+        torque = joint_torque(solution, joint)
+        if joint == must_slip or not abs(torque) < static_arm(joint, p) * joint_load(solution, joint):
+            y[slot] = -1.0 if torque > 0.0 else 1.0
 
 
 def settle(stage, y, p):
