@@ -39,6 +39,12 @@ _STATUSES = tuple(Status)
 _CODES = {status: i for i, status in enumerate(_STATUSES)}
 
 
+#: The losses a shot accounts for (``Shot.energy_dissipated``'s keys), J: the
+#: main axle's friction, the counterweight hinge's, the base's (stage 1) and
+#: the air's drag in flight.
+LOSS_NAMES = ("axle", "hinge", "base", "drag")
+
+
 class Stage(enum.IntEnum):
     """The three stages of a shot (``docs/derivation.md``)."""
 

@@ -25,7 +25,7 @@ from analytic.design import Design, Machine, initial_angles
 from analytic.geometry import RELEASE_RULES, release_value
 from analytic.limits import SLING_VERTICAL_LIMIT, swing_time_limit
 from analytic.outcome import LiftoffFailure
-from analytic.result import PEAK_NAMES, EnergyBudget, Shot, Stage, Status
+from analytic.result import PEAK_NAMES, EnergyBudget, History, Shot, Stage, Status
 from engine_model import friction as fr
 from engine_model import kinematics as kin
 from engine_model import loads as engine_loads
@@ -146,7 +146,7 @@ class EngineDiagnostics:
         counterweight can give up.
     dissipated_history : (n, 3) the work the axle's, the hinge's and the
         base's friction (``engine_model.friction.JOINTS``) had taken by each
-        sample of ``shot.t``, J; zeros for an ideal design. ``energy_error``
+        sample of ``shot.history.t``, J; zeros for an ideal design. ``energy_error``
         counts it: mechanical energy plus dissipated work is what is conserved.
     friction_steps : with friction only (None for an ideal design), on the
         steps of stages 1-2 (``machine_steps`` rows, each (n, 3) for the
@@ -226,11 +226,11 @@ def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAU
     Returns
     -------
     Shot
-        As the analytic model's, with histories: ``t`` (n,), ``q`` and ``qdot``
+        As the analytic model's, with its ``history``: ``t`` (n,), ``q`` and ``qdot``
         (n, 3), ``path`` (n, 2), ``sling_tension`` (n,), ``frame_x`` (n,) and
         ``energy`` on the steps of stages 1-2 (the last sample is the release
         instant, if any); ``flight_t`` (k,) and ``flight_path`` (k, 2) on the
-        flight's steps. Positions are over the ground from the pivot's rest
+        flight's steps; no load histories (``axle_load`` ... None). Positions are over the ground from the pivot's rest
         position. ``shot.diagnostics`` is the run's ``EngineDiagnostics``.
 
     Raises
@@ -734,10 +734,10 @@ def _assemble(design: Design, run: _Run, times: np.ndarray, sync: np.ndarray,
     if "release_time" in fields:
         potential = kin.potential_energies(sync[[0, -1]], design)[0]
         released = float(potential[0] - potential[1])
-    return Shot(design, status, message, t=times, stage=stage.astype(int), q=q, qdot=qdot,
-                path=kin.position(sync, kin.PROJECTILE).copy(), sling_tension=tension, energy=energy,
-                counterweight_energy_released=released, frame_x=kin.column(sync, kin.FRAME, kin.X).copy(),
-                **fields)
+    history = History(t=times, stage=stage.astype(int), q=q, qdot=qdot, path=kin.position(sync, kin.PROJECTILE).copy(),
+                      sling_tension=tension, energy=energy, frame_x=kin.column(sync, kin.FRAME, kin.X).copy(),
+                      flight_t=fields.pop("flight_t", np.empty(0)), flight_path=fields.pop("flight_path", np.empty((0, 2))))
+    return Shot(design, status, message, history=history, counterweight_energy_released=released, **fields)
 
 
 def smallest_sample(values: np.ndarray) -> float:
@@ -773,7 +773,8 @@ def _diagnose(design: Design, dt: float, iterations: int, sling: str, machine_st
     _require_converged(design, largest_miss, advice)
     # A rope that snaps taut loses energy, as a real one would; it must never gain any.
     # Friction's work is energy the machine lost, not an error: it is added back.
-    kept = shot.energy.total if design.losses.ideal else shot.energy.total + dissipated.sum(axis=1)
+    total = shot.history.energy.total
+    kept = total if design.losses.ideal else total + dissipated.sum(axis=1)
     change = _relative_energy(kept, design)
     energy_error = float(np.abs(change).max())
     _require_energy_kept(energy_error if sling == "rigid" else float(change.max()), energy_error, advice)

@@ -172,7 +172,7 @@ def test_paper_optimum_agrees_to_round_off(table3):
 def test_reference_summary_is_the_full_simulation_without_histories(table3):
     """``simulate(histories=False)``, the reference the fast path is held to, changes no number."""
     full, summary = simulate(table3), simulate(table3, histories=False)
-    assert summary.t.size == 0 and summary.energy is None
+    assert summary.history is None and full.history is not None
     for name in ("range", "release_time", "liftoff_time", "landing_time", "apex_height", "release_speed"):
         assert getattr(summary, name) == getattr(full, name)
 

@@ -19,4 +19,4 @@ def test_simulate_returns_a_shot_with_the_engine_diagnostics():
     assert isinstance(shot, Shot) and shot.status is Status.OK
     assert isinstance(shot.diagnostics, EngineDiagnostics)
     assert (shot.diagnostics.dt, shot.diagnostics.sling) == (4e-4, "rigid")
-    assert shot.diagnostics.machine_steps == len(shot.t) and shot.diagnostics.flight_steps > 0
+    assert shot.diagnostics.machine_steps == len(shot.history.t) and shot.diagnostics.flight_steps > 0

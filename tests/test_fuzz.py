@@ -195,8 +195,10 @@ def _check_shot(shot: Shot) -> None:
     elif shot.status is not Status.STEP_FAILED:
         assert shot.release_time is None
     assert (shot.landing_time is not None) == shot.ok and (shot.apex_height is not None) == shot.ok
-    for history in (shot.t, shot.q, shot.qdot, shot.path, shot.flight_t, shot.flight_path):
-        assert np.all(np.isfinite(history))
+    if shot.history is not None:
+        h = shot.history
+        for values in (h.t, h.q, h.qdot, h.path, h.flight_t, h.flight_path):
+            assert np.all(np.isfinite(values))
     json.dumps(shot.to_json(), allow_nan=False)
 
 
