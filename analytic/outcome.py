@@ -14,8 +14,12 @@ import math
 from analytic.limits import STAGE_STEP_LIMITS
 
 
-class Status(str, enum.Enum):
-    """How a shot ended. Only ``OK`` is a throw; the rest are named failures of a valid design."""
+class Status(enum.StrEnum):
+    """How a shot ended. Only ``OK`` is a throw; the rest are named failures of a valid design.
+
+    A ``str`` whose text is its value (``str(Status.OK) == "ok"``), so that numpy compares an
+    array of them (``Shots.status == Status.OK``) and writes them as their values.
+    """
 
     OK = "ok"
     NEVER_FIRES = "never_fires"                            # the counterweight cannot lift the arm

@@ -209,10 +209,10 @@ BATCH = 50
 def _check_batch(designs) -> None:
     shots = shoot(designs)
     singles = simulate_fast_many(designs)
-    assert list(shots.status) == [s.status.value for s in singles]
+    assert list(shots.status) == [s.status for s in singles]
     for shot in singles:
         _check_shot(shot)
-    released = np.isin(shots.status, [s.value for s in _RELEASED])
+    released = np.array([status in _RELEASED for status in shots.status])
     assert np.all(np.isfinite(shots.release_velocity[released])) and np.all(np.isfinite(shots.end_time))
     assert np.all(np.isfinite(shots.range[shots.ok])) and np.all(np.isnan(shots.range[~shots.ok]))
 
