@@ -43,8 +43,9 @@ from scipy.integrate import DOP853
 
 from analytic import kernel, outcome, stages
 from analytic.aero import DRAG_TABLE
-from analytic.design import Design, swing_time_limit
+from analytic.design import Design, largest_length
 from analytic.friction import rest_balance
+from analytic.limits import swing_time_limit
 from analytic.parameters import N_PARAMS, params
 from analytic.result import PEAK_NAMES, Shot, Shots, Status
 from analytic.reference import DEFAULT_ATOL, DEFAULT_RTOL
@@ -230,7 +231,7 @@ def to_shot(design: Design, out: np.ndarray) -> Shot:
                       landing_position=np.array([row[kernel.LANDING_X], -design.machine.pivot_height]),
                       apex_height=row[kernel.APEX])
     else:
-        t_limit = swing_time_limit(design.machine, design.environment.gravity)
+        t_limit = swing_time_limit(largest_length(design.machine), design.environment.gravity)
         message = failure_message(design, status, row[kernel.DETAIL], row[kernel.VALUE], row[kernel.END_T],
                                   row[kernel.RELEASE_T], t_limit)
     return Shot(design, status, message, **fields)

@@ -51,13 +51,12 @@ from typing import Callable
 
 import numpy as np
 
-#: The losses whose cost the benchmark measures (the README's typical values: a steel axle and
+#: The losses whose cost the benchmark measures: the cross-check's realistic ones (a steel axle and
 #: hinge pin in plain bearings, a sled on a wooden base).
 def _typical_losses():
-    from analytic.design import Losses
+    from crosscheck.cases import REALISTIC_LOSSES
 
-    return Losses(axle_friction=0.15, axle_radius=0.0064, hinge_friction=0.15, hinge_radius=0.005,
-                  base_friction=0.3)
+    return REALISTIC_LOSSES
 
 
 TYPICAL_LOSSES = _typical_losses()
@@ -100,15 +99,9 @@ def best_time(run: Callable[[], object], repeat: int) -> tuple[float, object]:
 def bench_designs(count: int, seed: int):
     """The paper's optimum and ``count`` designs drawn uniformly over the paper's problem box."""
     from analytic.design_file import default_design
-    from analytic.optimise.problem import default_problem, design_at, from_unit
+    from analytic.optimise.problem import default_problem, sample_designs
 
-    problem = default_problem()
-    rng = np.random.default_rng(seed)
-    designs = [default_design()]
-    for i in range(count):
-        unit = rng.uniform(0.0, 1.0, size=len(problem.free))
-        designs.append(design_at(problem, from_unit(problem, unit), name=f"bench-{seed}-{i:03d}"))
-    return designs
+    return [default_design(), *sample_designs(default_problem(), count, seed, lambda i: f"bench-{seed}-{i:03d}")]
 
 
 def cold_compile_seconds() -> tuple[float, float]:

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from analytic import outcome
-from analytic.design import Design, Machine, initial_angles
+from analytic.design import Design, Machine, initial_angles, largest_length
 from analytic.geometry import RELEASE_RULES, release_value
 from analytic.limits import SLING_VERTICAL_LIMIT, swing_time_limit
 from analytic.outcome import LiftoffFailure
@@ -30,7 +30,7 @@ from engine_model import friction as fr
 from engine_model import kinematics as kin
 from engine_model import loads as engine_loads
 from engine_model.after_release import MACHINE_JOINTS, AfterRelease, after_release_steps, run_after_release
-from engine_model.build import DEFAULT_ITERATIONS, EngineError, Rig, build, machine_length
+from engine_model.build import DEFAULT_ITERATIONS, EngineError, Rig, build
 from engine_model.events import crossing_fraction, interpolate
 from engine_model.flight import FLIGHT_STEP_LIMIT, FLIGHT_STEP_MULTIPLE, fly
 from engine_model.readout import rig_row, row_reader, stepper
@@ -428,7 +428,7 @@ def flight_step_base(design: Design, position: np.ndarray, velocity: np.ndarray)
 def coarse_step(design: Design) -> float:
     """The step of a run at the default step that outlasted ``MACHINE_FINE_STEPS``, s: the swing's
     time bound over ``MACHINE_COARSE_STEPS``."""
-    return swing_time_limit(machine_length(design), design.environment.gravity) / MACHINE_COARSE_STEPS
+    return swing_time_limit(largest_length(design.machine), design.environment.gravity) / MACHINE_COARSE_STEPS
 
 
 def _run_machine(design: Design, dt: float, iterations: int, sling: str, limit: int = MACHINE_STEP_LIMIT,
@@ -438,7 +438,7 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str, limit: 
     give a new one, and the run goes on as if that had been its limit all along."""
     m = design.machine
     h, g = m.pivot_height, design.environment.gravity
-    t_limit = swing_time_limit(machine_length(design), g)
+    t_limit = swing_time_limit(largest_length(design.machine), g)
     rule = RELEASE_RULES.index(m.release_rule)
     run = _Run()
 
@@ -457,8 +457,8 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str, limit: 
             run.tension.append(0.0)
             run.friction_impulse.append(fr.impulses(friction, True))
             run.status = Status.NEVER_FIRES
-            run.message = (balance.message(design) if friction.axle is not None and balance.holds
-                           else fr.held_message(design, arm_acceleration, balance, sling))
+            run.message = outcome.never_fires_message(arm_acceleration, -balance.gravity_torque,
+                                                      balance.holding_torque)
             return run, rig
     if not arm_acceleration < 0.0:
         run.raw.append(row)
@@ -669,13 +669,8 @@ def _opening_step(rig: Rig, dt: float, iterations: int) -> tuple[float, ...]:
 
 def step_limit_message(part: str, steps: int, dt: float, time_bound: float, limit: int = MACHINE_STEP_LIMIT,
                        ahead: bool = False) -> str:
-    """Why a run ended ``STEP_FAILED``: ``part`` took (or, ``ahead``, would take) ``steps`` steps of
-    ``dt``, ``limit`` the most it may."""
-    took = "would need" if ahead else "took"
-    return (f"the engine stopped: {part} {took} {steps} steps of {dt:g} s ({steps * dt:.4g} s of motion, "
-            f"against a time bound of {time_bound:.4g} s), and the engine's limit is {limit} steps; "
-            f"the design is far outside anything buildable (a machine this slow: check gravity and the "
-            f"masses), or use a larger --dt")
+    """``analytic.outcome.step_budget_message``, the machine's ``MACHINE_STEP_LIMIT`` by default."""
+    return outcome.step_budget_message(part, steps, dt, time_bound, limit, ahead)
 
 
 def _fail(run: _Run, rig: Rig, status: Status, message: str) -> tuple[_Run, Rig]:
@@ -824,7 +819,7 @@ def _require_converged(design: Design, largest_miss: dict[str, float], advice: s
     """Raise ``EngineError`` if a joint's largest miss of its target velocity is over ``RESIDUAL_LIMIT``,
     naming the light bodies that make pymunk's iterative solver converge slowly."""
     joint = max(largest_miss, key=largest_miss.get)
-    limit = RESIDUAL_LIMIT * math.sqrt(design.environment.gravity * machine_length(design))
+    limit = RESIDUAL_LIMIT * math.sqrt(design.environment.gravity * largest_length(design.machine))
     if largest_miss[joint] <= limit:
         return
     m = design.machine
@@ -847,7 +842,7 @@ def _require_energy_kept(change: float, energy_error: float, advice: str) -> Non
 def _require_together(design: Design, largest_drift: dict[str, float], advice: str) -> None:
     """Raise ``EngineError`` if a joint came apart by more than ``DRIFT_LIMIT`` of the machine's length."""
     joint = max(largest_drift, key=largest_drift.get)
-    limit = DRIFT_LIMIT * machine_length(design)
+    limit = DRIFT_LIMIT * largest_length(design.machine)
     if not largest_drift[joint] <= limit:
         raise EngineError(f"the {joint} joint came apart by {largest_drift[joint]:.3g} m (limit {limit:.3g} m) "
                           f"{advice}")
