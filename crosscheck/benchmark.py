@@ -15,7 +15,7 @@
   and the agreement of the two paths (``crosscheck.compare.compare_shots``,
   the cross-check's own comparer). Also scipy with the model compiled as its
   right-hand side, the cheaper route not taken.
-* **friction**: the same designs with typical losses (``TYPICAL_LOSSES``) on
+* **friction**: the same designs with typical losses (``crosscheck.cases.REALISTIC_LOSSES``) on
   both paths: the time per shot and the evaluations as ratios to the ideal
   machine's in the same run, and the paths' agreement with friction.
 * **rolling**: the same designs on a rolling frame (``ROLLING_FRAME``), without
@@ -51,16 +51,7 @@ from typing import Callable
 
 import numpy as np
 
-#: The losses whose cost the benchmark measures: the cross-check's realistic ones (a steel axle and
-#: hinge pin in plain bearings, a sled on a wooden base).
-def _typical_losses():
-    from crosscheck.cases import REALISTIC_LOSSES
-
-    return REALISTIC_LOSSES
-
-
-TYPICAL_LOSSES = _typical_losses()
-
+from crosscheck.cases import REALISTIC_LOSSES
 
 #: The frame the benchmark's designs roll on: the cross-check's frame for sampled designs
 #: (``crosscheck.cases.ROLLING_SAMPLE_FRAME_MASS``, 10 kg, about the 6.5 kg counterweight
@@ -153,9 +144,9 @@ def both_paths(designs: list, progress: bool, label: str) -> dict:
 
 
 def rolling(designs: list, progress: bool) -> dict:
-    """The outcomes of ``designs`` on ``ROLLING_FRAME``, ideal and with ``TYPICAL_LOSSES``, on both paths."""
+    """The outcomes of ``designs`` on ``ROLLING_FRAME``, ideal and with ``REALISTIC_LOSSES``, on both paths."""
     figures = {"rolling_frame_mass": ROLLING_FRAME.mass}
-    for prefix, losses in (("rolling", None), ("lossy_rolling", TYPICAL_LOSSES)):
+    for prefix, losses in (("rolling", None), ("lossy_rolling", REALISTIC_LOSSES)):
         varied = [dataclasses.replace(design, base=ROLLING_FRAME, **({} if losses is None else {"losses": losses}))
                   for design in designs]
         agree = both_paths(varied, progress, prefix.replace("_", " "))
@@ -197,9 +188,9 @@ def paths(count: int, seed: int, repeat: int, batch_repeat: int, progress: bool)
     batch_one_s, _ = best_time(lambda: fast.shoot(rows, threads=1), 3)
     reference_median, fast_median = float(np.median(reference_s)), float(np.median(fast_s))
 
-    # The cost of friction: the same designs with TYPICAL_LOSSES, on both paths, against the
+    # The cost of friction: the same designs with REALISTIC_LOSSES, on both paths, against the
     # ideal machine's times above (the same run).
-    lossy = [dataclasses.replace(design, losses=TYPICAL_LOSSES) for design in designs]
+    lossy = [dataclasses.replace(design, losses=REALISTIC_LOSSES) for design in designs]
     lossy_reference, lossy_reference_s = each("reference, friction", lambda d: simulate(d, histories=False), 1,
                                               lossy)
     lossy_fast, lossy_fast_s = each("fast, friction", fast.simulate_fast, repeat, lossy)
@@ -212,7 +203,7 @@ def paths(count: int, seed: int, repeat: int, batch_repeat: int, progress: bool)
         "friction_max_range_rel_diff": lossy_agree["max_range_rel_diff"],
         "friction_status_mismatches": lossy_agree["status_mismatches"],
         "friction_designs_thrown": lossy_agree["thrown"],
-        "friction_losses": dataclasses.asdict(TYPICAL_LOSSES),
+        "friction_losses": dataclasses.asdict(REALISTIC_LOSSES),
     }
     return {
         **friction,

@@ -26,7 +26,8 @@ from analytic import aero, compiled, eom, fast, geometry, kernel, stages
 from analytic.aero import DRAG_TABLE
 from analytic.design import Base
 from analytic.cli import build_parser
-from crosscheck.benchmark import MISMATCH_KEYS, ROLLING_FRAME, TYPICAL_LOSSES, bench_designs
+from crosscheck.benchmark import MISMATCH_KEYS, ROLLING_FRAME, bench_designs
+from crosscheck.cases import REALISTIC_LOSSES
 from crosscheck.benchmark import main as bench_main
 from analytic.parameters import N_PARAMS, params
 from analytic.reference import DEFAULT_ATOL, DEFAULT_RTOL, simulate
@@ -268,7 +269,7 @@ def test_an_arm_stopped_on_the_base_by_friction_ends_the_shot_on_both_paths():
     On the benchmark's design 139 with its typical losses the compiled path locates
     ``slide_reverses`` a unit in the last place before ``arm_stalls`` (measured), and
     reversing the base's friction there would drive the arm on to lift off."""
-    design = dataclasses.replace(bench_designs(200, seed=0)[140], losses=TYPICAL_LOSSES)
+    design = dataclasses.replace(bench_designs(200, seed=0)[140], losses=REALISTIC_LOSSES)
     assert design.name == "bench-0-139"
     reference, _ = _assert_agree(design)
     assert reference.status is Status.NEVER_LIFTS_OFF and "friction stopped the arm" in reference.message

@@ -294,7 +294,7 @@ ZERO_LOSSES = {"zero-coefficients": dict(axle_friction=0.0, hinge_friction=0.0, 
 #: What two shots of the same arithmetic share, sample for sample.
 SHOT_NUMBERS = ("liftoff_time", "release_time", "landing_time", "range", "apex_height", "min_sling_tension",
                 "peak_axle_load", "peak_hinge_load", "peak_sling_tension", "peak_projectile_acceleration")
-SHOT_HISTORIES = ("t", "q", "qdot", "path", "sling_tension", "flight_path", "axle_load")
+SHOT_HISTORIES = ("t", "q", "qdot", "path", "sling_tension", "flight_path", "axle_load")   # ``History`` fields
 
 
 def on_frame(design, frame):
@@ -306,7 +306,7 @@ def assert_same_shot(got, expected):
     for name in SHOT_NUMBERS:
         assert getattr(got, name) == getattr(expected, name), name
     for name in SHOT_HISTORIES:
-        assert np.array_equal(getattr(got, name), getattr(expected, name)), name
+        assert np.array_equal(getattr(got.history, name), getattr(expected.history, name)), name
 
 
 def test_losses_are_ideal_exactly_when_every_coefficient_is_zero():

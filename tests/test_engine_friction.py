@@ -129,7 +129,7 @@ def test_while_slipping_each_friction_is_mu_r_times_its_load(all_losses):
     steps = all_losses.diagnostics.friction_steps
     limit, applied, load = steps["limit"], steps["applied"], steps["load"]
     mu_r = np.array([0.15 * 0.0064, 0.15 * 0.005, 0.3])   # crosscheck.cases.REALISTIC_LOSSES
-    on_base = all_losses.stage[: len(limit)] == 1
+    on_base = all_losses.history.stage[: len(limit)] == 1
     for j, joint in enumerate(fr.JOINTS):
         # From the first step whose line runs through two whole steps' loads (the first
         # whole step's reading is not taken, engine_model.friction.renew).
