@@ -24,7 +24,7 @@ $(STAMP): pyproject.toml
 install: $(STAMP)
 
 # The fast path's machine code is compiled once per checkout and cached on
-# disk (about 20 s, with a progress count), so that no later command
+# disk (tens of seconds, with a progress count), so that no later command
 # stalls on it and no test's time limit includes it; again only when a source
 # of the analytic model changed (numba's cache is stamped with them, and
 # ``analytic compile`` then compiles; otherwise it only loads, in 4-5 s).

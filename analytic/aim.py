@@ -23,7 +23,7 @@ from scipy.optimize import brentq, minimize_scalar
 from analytic.design import Design, DesignError
 from analytic.fields import Field, field
 
-#: The reference path's range must land this close to the target, m (the issue's 1 mm).
+#: The reference path's range must land this close to the target, m.
 AIM_TOLERANCE = 1e-3
 #: Settings scanned over the bounds before the crossings are located: enough that a low and a
 #: high throw 1/80 of the span apart are told apart.

@@ -4,16 +4,15 @@ from __future__ import annotations
 
 import argparse
 import json
+import subprocess
 import sys
 
-from analytic.command_line import OutputPathError, negative_numbers_as_values, output_file, output_folder
+from analytic.cli_shared import (EXIT_INVALID, EXIT_NO_THROW, EXIT_OK, OutputPathError, negative_numbers_as_values,
+                                 output_file, output_folder)
 from analytic.design import Design, DesignError
 from analytic.design_file import default_design, load_design
 from analytic.report import format_shot
 from analytic.units import LENGTH, SYSTEMS
-
-#: Exit codes: a throw, an unbuildable design, a valid design that does not throw.
-EXIT_OK, EXIT_INVALID, EXIT_NO_THROW = 0, 2, 3
 
 
 def load_or_default(path: str | None) -> Design:
@@ -148,6 +147,16 @@ def _compile(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _bench(arguments: list[str]) -> int:
+    """``python -m analytic bench ...``: ``python -m benchmarks ...`` in a child process.
+
+    The benchmarks measure this package from above (they import the engine and
+    the cross-check too), so this package does not import them: the older name
+    hands over to the command, as a shell alias would, and returns its exit code.
+    """
+    return subprocess.run([sys.executable, "-m", "benchmarks", *arguments]).returncode
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="python -m analytic",
                                      description="Hand-derived Lagrange model of the hinged-counterweight trebuchet.")
@@ -187,14 +196,10 @@ def build_parser() -> argparse.ArgumentParser:
     comp = commands.add_parser("compile", help="compile the fast path into its disk cache now "
                                                "(make does it on install; later runs load it)")
     comp.set_defaults(func=_compile)
-    # The benchmark times both models, so it lives with the cross-check; the
-    # command line, the top layer, may reach it.
-    from crosscheck import benchmark
-
-    ben = commands.add_parser("bench", help="time both analytic paths (and the engine) on the same designs, "
-                                            "as ratios in one run (python -m crosscheck.benchmark)")
-    benchmark.add_arguments(ben)
-    ben.set_defaults(func=benchmark.main)
+    ben = commands.add_parser("bench", add_help=False,
+                              help="time both analytic paths (and the engine) on the same designs, as ratios in "
+                                   "one run: python -m benchmarks, under its older name")
+    ben.set_defaults(func=lambda args: _bench([]))   # main hands its options over unparsed
     from analytic.optimise import cli as optimise_cli
 
     opt = commands.add_parser("optimise", help="maximise range over the paper's design variables")
@@ -210,5 +215,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(negative_numbers_as_values(sys.argv[1:] if argv is None else argv))
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv[:1] == ["bench"]:   # every option after it is python -m benchmarks's
+        return _bench(argv[1:])
+    args = build_parser().parse_args(negative_numbers_as_values(argv))
     return args.func(args)

@@ -123,7 +123,7 @@ def _compile_progress(enabled: bool):
 
         def on_start(self, ev):
             if self.bar is None:
-                print("compiling the fast path once (about 20 s); "
+                print("compiling the fast path once (tens of seconds); "
                       "later runs load it from the cache in about 0.3 s", file=sys.stderr, flush=True)
                 self.bar = tqdm(desc="compiling", unit=" functions", file=sys.stderr, mininterval=0.5,
                                 leave=False)   # gone when done: `analytic compile` then prints the time
@@ -164,7 +164,7 @@ def compile(*, progress: bool = False) -> float:
     """Load the kernel's machine code from the disk cache, or compile and cache it; seconds taken.
 
     Called by the first shot; later calls return the first call's time. In
-    a fresh checkout this compiles once (about 20 s; ``make``
+    a fresh checkout this compiles once (tens of seconds; ``make``
     does it when it installs); afterwards it loads (about 0.3 s).
 
     Parameters

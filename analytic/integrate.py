@@ -11,6 +11,7 @@ plus an ``armed`` predicate checked at the root.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Callable
 
@@ -18,8 +19,8 @@ import numpy as np
 from scipy.integrate import DOP853, OdeSolution
 from scipy.optimize import brentq
 
-from analytic.stages import (ROOT_NUDGE_ULPS, ROOT_RELATIVE_TOLERANCE, ROOT_TIME_TOLERANCE, ZERO_START_PROBES,
-                             first_event)
+from analytic.sequence import counted_crossing, leaves_zero, past_root, probe_bracket, probe_time, probe_update
+from analytic.stages import ROOT_RELATIVE_TOLERANCE, ROOT_TIME_TOLERANCE, ZERO_START_PROBES, first_event
 
 
 class IntegrationError(RuntimeError):
@@ -242,36 +243,22 @@ def _crossings(event: Event, before: float, after: float, dense, t_old: float, t
     def value(t: float) -> float:
         return event.value(t, dense(t))
 
-    start, v_start = t_old, before
-    end, v_end = t_new, after
-    if before == 0.0 and after != 0.0:
+    start, v_start, end, v_end = t_old, before, t_new, after
+    if leaves_zero(before, after):
         # Left zero at the step's start (a rate a friction switch set to 0): it may have come
         # back within the step. Probe the dense output for the other side, and bracket there.
-        for i in range(1, ZERO_START_PROBES):
-            t_probe = t_old + (t_new - t_old) * i / ZERO_START_PROBES
-            v_probe = value(t_probe)
-            if v_probe != 0.0 and (v_probe > 0.0) != (after > 0.0):
-                start, v_start = t_probe, v_probe
-                for j in range(i + 1, ZERO_START_PROBES):
-                    t_next = t_old + (t_new - t_old) * j / ZERO_START_PROBES
-                    v_next = value(t_next)
-                    if (v_next > 0.0) != (v_start > 0.0) or v_next == 0.0:
-                        end, v_end = t_next, v_next
-                        break
-                break
-    while True:
-        rising = v_start < 0.0 <= v_end
-        falling = v_start > 0.0 >= v_end
-        if not ((rising and event.direction >= 0) or (falling and event.direction <= 0)):
-            return
+        i, low, v_low, high, v_high = 1, -1, math.nan, -1, math.nan
+        while i < ZERO_START_PROBES:
+            i, low, v_low, high, v_high = probe_update(i, value(probe_time(t_old, t_new, i)), after,
+                                                       low, v_low, high, v_high)
+        start, v_start, end, v_end = probe_bracket(t_old, t_new, before, after, low, v_low, high, v_high)
+    while counted_crossing(v_start, v_end, event.direction):
         t_root = end if v_end == 0.0 else brentq(value, start, end, xtol=ROOT_TIME_TOLERANCE,
                                                  rtol=ROOT_RELATIVE_TOLERANCE)
         yield t_root
-        # Rejected: look for a later root in the same step, past this one (``ROOT_NUDGE_ULPS``).
-        nudge = max(ROOT_TIME_TOLERANCE * 10, (t_new - t_root) * 1e-9,
-                    ROOT_NUDGE_ULPS * (np.nextafter(abs(t_root), np.inf) - abs(t_root)))
-        if t_root + nudge >= t_new:
+        # Rejected: look for a later root in the same step, past this one.
+        start = past_root(t_root, t_new)
+        if start >= t_new:
             return
-        start = t_root + nudge
         v_start = value(start)
         end, v_end = t_new, after

@@ -33,16 +33,17 @@ import numba
 import numpy as np
 from numba.np.unsafe.ndarray import to_fixed_tuple
 
-from analytic.compiled import CALLABLE, internal, kernel_twins
+from analytic import limits, peaks, sequence, stages
+from analytic.compiled import CALLABLE, internal
 from analytic.limits import STAGE_STEP_LIMITS
-from analytic.outcome import LiftoffFailure, Status
 from analytic.parameters import N_PARAMS, Params
-from analytic.stages import (ARM_STALLS, EVENT_NAMES, FIRST_SWITCH, FLIGHT, LOAD_NAMES, MODE_SWITCH_LIMIT,
-                             ROOT_NUDGE_ULPS, ROOT_RELATIVE_TOLERANCE, ROOT_TIME_TOLERANCE, SLIDE, SWING,
+from analytic.sequence import (FAILED, FINISHED, NEVER_FIRES, NEVER_LIFTS_OFF, NEXT_STAGE, OK, OUT_OF_STEPS,
+                               REACHED_END, STEP_FAILED, SWITCH_MODE)
+from analytic.stages import (FLIGHT, LOAD_NAMES, ROOT_RELATIVE_TOLERANCE, ROOT_TIME_TOLERANCE, SLIDE, SWING,
                              ZERO_START_PROBES)
 
-stages_, limits_, peaks_ = kernel_twins["stages"], kernel_twins["limits"], kernel_twins["peaks"]
-# The model's functions, compiled (``analytic.compiled``).
+stages_, limits_, peaks_, sequence_ = stages, limits, peaks, sequence
+# The model's functions (compiled where the kernel calls them: ``analytic.compiled.register_model``).
 derivative = stages_.derivative
 event_value = stages_.event_value
 event_direction = stages_.event_direction
@@ -62,6 +63,9 @@ loads_after_step = stages_.loads_after_step
 search_golden, search_from, search_next, search_update = (peaks_.search_golden, peaks_.search_from,
                                                           peaks_.search_next, peaks_.search_update)
 flight_time_limit = limits_.flight_time_limit
+stretch_end, counted_crossing, past_root = sequence_.stretch_end, sequence_.counted_crossing, sequence_.past_root
+leaves_zero, probe_time, probe_update, probe_bracket = (sequence_.leaves_zero, sequence_.probe_time,
+                                                        sequence_.probe_update, sequence_.probe_bracket)
 
 
 # Layout of a result row.
@@ -77,12 +81,6 @@ N_RESULT = PEAKS + 2 * N_LOADS
 # FRAME_X, FRAME_V the frame's displacement and velocity at release (0 when fixed);
 # PEAKS + 2 i and PEAKS + 2 i + 1 the largest load i over stages 1-2 and its time
 # (NaN for a machine that never fires, or a step failure).
-OK, NEVER_FIRES, NEVER_LIFTS_OFF, HITS_BASE, NEVER_RELEASES, NO_LANDING, STEP_FAILED = (
-    Status.OK.code, Status.NEVER_FIRES.code, Status.NEVER_LIFTS_OFF.code,
-    Status.HITS_BASE_BEFORE_RELEASE.code, Status.NEVER_RELEASES.code, Status.NO_LANDING.code,
-    Status.STEP_FAILED.code)
-UNDER_TIP, ARM_BACK, TIME_LIMIT, STALLED = (int(LiftoffFailure.UNDER_TIP), int(LiftoffFailure.ARM_BACK),
-                                            int(LiftoffFailure.TIME_LIMIT), int(LiftoffFailure.STALLED))
 
 
 # DOP853 step-size control (Hairer, Norsett & Wanner, "Solving Ordinary
@@ -404,10 +402,6 @@ def _finish_peaks(stage, samples, sides, K2, live_y, live_t, pool_k, pool_y, poo
             peaks[k, 0], peaks[k, 1] = value, t_peak
 
 
-# integrate()'s outcome codes besides an event index.
-_REACHED_END, _FAILED, _OUT_OF_STEPS = -1, -2, -3
-
-
 @internal
 def _keep_step(buffer, t_start, h, t_end, y, y_new, live_y, live_t):
     """Record the step just taken (its stages are in ``K2[buffer]``): its ends and times."""
@@ -421,8 +415,8 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
     """Integrate ``stage`` from (t0, y0) until a terminal event or ``t_bound``.
 
     Returns ``(code, t_end, y_end, apex)``: code is the index of the terminal
-    event that ended it, ``_REACHED_END``, ``_FAILED`` (step size underflow
-    or a non-finite state) or ``_OUT_OF_STEPS`` (the stage's ``STAGE_STEP_LIMITS``
+    event that ended it, ``REACHED_END``, ``FAILED`` (step size underflow
+    or a non-finite state) or ``OUT_OF_STEPS`` (the stage's ``STAGE_STEP_LIMITS``
     accepted steps without reaching ``t_bound``); apex is the largest y[1] at a counted apex root
     (flight only; -inf if none). ``counts`` accumulates [steps, evaluations].
     In stages 1 and 2 with ``track_loads``, ``peaks`` (N_LOADS, 2) gets the
@@ -449,7 +443,7 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
     counts[1] += 2
     if not math.isfinite(h_abs):
         # A non-finite start or derivative: a NaN step would be shrunk forever.
-        return _FAILED, t, y, -math.inf
+        return FAILED, t, y, -math.inf
     apex = -math.inf
     apex_t, apex_y = np.empty(4), np.empty(4)   # counted apex roots within one step
     track = track_loads and stage != FLIGHT
@@ -475,7 +469,7 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
     steps = 0
     while t < t_bound:
         if steps == STAGE_STEP_LIMITS[stage]:
-            return _OUT_OF_STEPS, t, y, apex
+            return OUT_OF_STEPS, t, y, apex
         buffer = steps % 2
         K = K2[buffer]
         min_step = 10.0 * abs(np.nextafter(t, math.inf) - t)
@@ -484,7 +478,7 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
         rejected = False
         while True:
             if h_abs < min_step:
-                return _FAILED, t, y, apex
+                return FAILED, t, y, apex
             t_new = t + h_abs
             if t_new > t_bound:
                 t_new = t_bound
@@ -508,7 +502,7 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
         steps += 1
         for j in range(n):
             if not math.isfinite(y_new[j]):
-                return _FAILED, t_new, y_new, apex
+                return FAILED, t_new, y_new, apex
         t_old = t
 
         # Events on the accepted step [t_old, t_new].
@@ -518,35 +512,22 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
         for k in range(ne):
             after = event_value(stage, k, y_new, p)
             direction = event_direction(stage, k)
-            start, v_start = t_old, previous[k]
-            end, v_end = t_new, after
+            before = previous[k]
             previous[k] = after
-            if v_start == 0.0 and after != 0.0:
+            start, v_start, end, v_end = t_old, before, t_new, after
+            if leaves_zero(before, after):
                 # Left zero at the step's start: did it come back within the step?
-                # (``stages.ZERO_START_PROBES``, as ``analytic.integrate`` does.)
                 if not dense_ready:
                     _dense_prepare(stage, t_old, h, y, y_new, f_new, coef, K, F, tmp, p, table)
                     counts[1] += 3
                     dense_ready = True
-                for i in range(1, ZERO_START_PROBES):
-                    t_probe = t_old + (t_new - t_old) * i / ZERO_START_PROBES
-                    v_probe = _event_at(t_probe, stage, k, t_old, h, y, F, tmp, p)
+                i, low, v_low, high, v_high = 1, -1, math.nan, -1, math.nan
+                while i < ZERO_START_PROBES:
+                    v_probe = _event_at(probe_time(t_old, t_new, i), stage, k, t_old, h, y, F, tmp, p)
                     counts[1] += 1
-                    if v_probe != 0.0 and (v_probe > 0.0) != (after > 0.0):
-                        start, v_start = t_probe, v_probe
-                        for j in range(i + 1, ZERO_START_PROBES):
-                            t_next = t_old + (t_new - t_old) * j / ZERO_START_PROBES
-                            v_next = _event_at(t_next, stage, k, t_old, h, y, F, tmp, p)
-                            counts[1] += 1
-                            if (v_next > 0.0) != (v_start > 0.0) or v_next == 0.0:
-                                end, v_end = t_next, v_next
-                                break
-                        break
-            while True:
-                rising = v_start < 0.0 <= v_end
-                falling = v_start > 0.0 >= v_end
-                if not ((rising and direction >= 0) or (falling and direction <= 0)):
-                    break
+                    i, low, v_low, high, v_high = probe_update(i, v_probe, after, low, v_low, high, v_high)
+                start, v_start, end, v_end = probe_bracket(t_old, t_new, before, after, low, v_low, high, v_high)
+            while counted_crossing(v_start, v_end, direction):
                 if not dense_ready:
                     _dense_prepare(stage, t_old, h, y, y_new, f_new, coef, K, F, tmp, p, table)
                     counts[1] += 3
@@ -564,11 +545,9 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
                         apex_t[n_apex], apex_y[n_apex] = t_root, y_root[1]
                         n_apex += 1
                 # Not counted: look for a later root in the same step, past this one.
-                nudge = max(ROOT_TIME_TOLERANCE * 10.0, (t_new - t_root) * 1e-9,
-                            ROOT_NUDGE_ULPS * (np.nextafter(abs(t_root), math.inf) - abs(t_root)))
-                if t_root + nudge >= t_new:
+                start = past_root(t_root, t_new)
+                if start >= t_new:
                     break
-                start = t_root + nudge
                 v_start = _event_at(start, stage, k, t_old, h, y, F, tmp, p)
                 end, v_end = t_new, after
         for i in range(n_apex):
@@ -597,7 +576,7 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
     if track:
         _finish_peaks(stage, samples, sides, K2, live_y, live_t, pool_k, pool_y, pool_t, peaks, coef, p, table,
                       counts)
-    return _REACHED_END, t, y, apex
+    return REACHED_END, t, y, apex
 
 
 # --------------------------------------------------------------------------- #
@@ -612,9 +591,30 @@ def params(P):
 
 @internal
 def _step_failed(out, code, stage):
-    """Record a stage whose integration failed (``code``: ``_FAILED`` or ``_OUT_OF_STEPS``)."""
+    """Record a stage whose integration failed (``code``: ``FAILED`` or ``OUT_OF_STEPS``)."""
     out[STATUS], out[DETAIL] = STEP_FAILED, stage
-    out[VALUE] = 1.0 if code == _OUT_OF_STEPS else 0.0
+    out[VALUE] = 1.0 if code == OUT_OF_STEPS else 0.0
+
+
+@internal
+def _run_stage(stage, t, y, switches, coef, rtol, atol, p, table, counts, peaks, track_loads, out):
+    """Integrate ``stage`` from (t, y) in stretches, switching the friction modes between them,
+    until ``analytic.sequence.stretch_end`` says the stage is over.
+
+    Returns ``(action, status, detail, switches, t, y)`` at its end (``out[END_T]``); a step
+    failure is recorded in ``out`` (``_step_failed``).
+    """
+    while True:
+        code, t, y, _ = integrate(stage, t, y, p.t_limit, coef, rtol, atol, p, table, counts, peaks, track_loads)
+        action, status, detail = stretch_end(stage, code, switches)
+        if action != SWITCH_MODE:
+            break
+        switches += 1
+        switch_mode(stage, code, y, p)
+    out[END_T] = t
+    if status == STEP_FAILED:
+        _step_failed(out, code, stage)
+    return action, status, detail, switches, t, y
 
 
 @internal(inline="always")
@@ -638,72 +638,41 @@ def shot(P, table, coef, rtol, atol, track_loads, out):
     if not (math.isfinite(ddtheta0) and math.isfinite(normal0)):
         # The equations cannot be evaluated even at rest (``analytic.reference.simulate``).
         out[END_T], out[STEPS], out[EVALS] = 0.0, 0.0, 1.0
-        _step_failed(out, _FAILED, SLIDE)
+        _step_failed(out, FAILED, SLIDE)
         return
     if not ddtheta0 < 0.0:
         out[STATUS], out[VALUE], out[END_T] = NEVER_FIRES, ddtheta0, 0.0
         out[STEPS], out[EVALS] = 0.0, 1.0
         return
 
-    # Stage 1: slide on the base until the normal force vanishes. A friction
-    # mode's switch (an event from FIRST_SWITCH on) goes on from its root in the
-    # new mode, as ``analytic.reference`` does.
+    # Stage 1: slide on the base until the normal force vanishes; stage 2: free swing until
+    # release (``analytic.sequence``: what each stretch's end means, for both paths).
     peaks = np.empty((N_LOADS, 2))
     for k in range(N_LOADS):
         peaks[k, 0], peaks[k, 1] = -math.inf, -math.inf
     y1 = np.empty(state_size(SLIDE, p))
     slide_start(p, y1)
-    switches = 0
-    code, t1 = 1, 0.0
-    if normal0 > 0.0:
-        while True:
-            code, t1, y1, _ = integrate(SLIDE, t1, y1, p.t_limit, coef, rtol, atol, p, table, counts, peaks,
-                                        track_loads)
-            if code < FIRST_SWITCH[SLIDE]:
-                break
-            switches += 1
-            if switches > MODE_SWITCH_LIMIT:
-                code = _FAILED
-                break
-            switch_mode(SLIDE, code, y1, p)
+    switches, action, status, detail, t1, t2, y2 = 0, NEXT_STAGE, 0, 0, 0.0, 0.0, y1
+    if normal0 > 0.0:   # else the sling already pulls harder than the projectile's weight
+        action, status, detail, switches, t1, y1 = _run_stage(SLIDE, 0.0, y1, switches, coef, rtol, atol, p, table,
+                                                              counts, peaks, track_loads, out)
+    if action == NEXT_STAGE:
+        out[LIFTOFF_T] = t1
+        y2 = np.empty(state_size(SWING, p))
+        swing_start(y1, p, y2)
+        action, status, detail, switches, t2, y2 = _run_stage(SWING, t1, y2, switches, coef, rtol, atol, p, table,
+                                                              counts, peaks, track_loads, out)
     out[STEPS], out[EVALS] = counts[0], counts[1]
-    if code != 1:
-        out[END_T] = t1
-        if code == _FAILED or code == _OUT_OF_STEPS:
-            _step_failed(out, code, SLIDE)
-            return
-        _write_peaks(peaks, out)
-        out[STATUS] = NEVER_LIFTS_OFF
-        out[DETAIL] = UNDER_TIP if code == 0 else (
-            ARM_BACK if code == 2 else (STALLED if code == ARM_STALLS else TIME_LIMIT))
-        return
-    out[LIFTOFF_T] = t1
-
-    # Stage 2: free swing until release.
-    y2 = np.empty(state_size(SWING, p))
-    swing_start(y1, p, y2)
-    t2 = t1
-    while True:
-        code, t2, y2, _ = integrate(SWING, t2, y2, p.t_limit, coef, rtol, atol, p, table, counts, peaks,
-                                    track_loads)
-        if code < FIRST_SWITCH[SWING]:
-            break
-        switches += 1
-        if switches > MODE_SWITCH_LIMIT:
-            code = _FAILED
-            break
-        switch_mode(SWING, code, y2, p)
-    out[STEPS], out[EVALS], out[END_T] = counts[0], counts[1], t2
-    if code != 0:
-        if code == _FAILED or code == _OUT_OF_STEPS:
-            _step_failed(out, code, SWING)
-        else:
+    if action == FINISHED:
+        if status != STEP_FAILED:   # (a step failure is recorded by _run_stage)
+            out[STATUS] = status
+            if status == NEVER_LIFTS_OFF:
+                out[DETAIL] = detail
             _write_peaks(peaks, out)
-            out[STATUS] = HITS_BASE if code == 1 else NEVER_RELEASES
         return
     x, y, vx, vy = flight_start(y2, p)
     if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(vx) and math.isfinite(vy)):
-        _step_failed(out, _FAILED, FLIGHT)
+        _step_failed(out, FAILED, FLIGHT)
         return
     out[RELEASE_T], out[RELEASE_X], out[RELEASE_Y], out[RELEASE_VX], out[RELEASE_VY] = t2, x, y, vx, vy
     out[FRAME_X], out[FRAME_V] = frame_state(y2, p)
@@ -716,13 +685,13 @@ def shot(P, table, coef, rtol, atol, track_loads, out):
     code, t3, y3, apex = integrate(FLIGHT, t2, y_release, t_max, coef, rtol, atol,
                                    p, table, counts, peaks, False)
     out[STEPS], out[EVALS], out[END_T] = counts[0], counts[1], t3
-    if code != 0:
-        if code == _FAILED or code == _OUT_OF_STEPS:
-            _step_failed(out, code, FLIGHT)
-        else:
-            out[STATUS] = NO_LANDING
+    _, status, _ = stretch_end(FLIGHT, code, switches)
+    if status == STEP_FAILED:
+        _step_failed(out, code, FLIGHT)
         return
-    out[STATUS] = OK
+    out[STATUS] = status
+    if status != OK:
+        return
     out[LANDING_T], out[LANDING_X], out[APEX] = t3, y3[0], max(y, apex) + p.h
 
 

@@ -14,7 +14,7 @@ import numpy as np
 from scipy.integrate import OdeSolution
 from scipy.optimize import minimize_scalar
 
-from analytic import eom, friction, outcome, stages
+from analytic import eom, friction, outcome, sequence, stages
 from analytic import peaks as peak_search
 from analytic.aero import DRAG_TABLE
 from analytic.design import Design
@@ -27,7 +27,7 @@ from analytic.result import LOSS_NAMES, PEAK_NAMES, EnergyBudget, History, Shot
 
 #: Default integrator tolerances: a 100x tighter run changes the range by
 #: 1.5e-10 relative on the paper's design and by at most 6.5e-9 where a
-#: golf ball slows through its drag table's end (``analytic.bench``).
+#: golf ball slows through its drag table's end (over ``benchmarks.designs``).
 DEFAULT_RTOL = 1e-10
 DEFAULT_ATOL = 1e-10
 #: Sample spacing of the returned histories (stages 1-2, flight), s.
@@ -43,10 +43,6 @@ HISTORY_SAMPLE_LIMIT = 200_000
 #: Peak loads before any is found: (N_LOADS, 2) of -inf (value, time).
 _NO_PEAKS = np.full((len(stages.LOAD_NAMES), 2), -np.inf)
 _NO_PEAKS.flags.writeable = False
-
-_LIFTOFF_FAILURES = {"under_tip": LiftoffFailure.UNDER_TIP, "arm_back": LiftoffFailure.ARM_BACK,
-                     "arm_stalls": LiftoffFailure.STALLED, None: LiftoffFailure.TIME_LIMIT}
-
 
 # A trial step of a stiff or extreme design may overflow or divide by zero: the
 # integrator rejects such a step (or ends the shot as step_failed), as the
@@ -111,19 +107,19 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
     try:
         # Stage 1: slide on the base until the normal force vanishes.
         if normal0 > 0.0:
-            pieces = _run_modes(stage, p, 0.0, y1, p.t_limit, rtol, atol, output_step, False, switches)
+            pieces, action, _, detail = _run_modes(stage, p, 0.0, y1, p.t_limit, rtol, atol, output_step, False,
+                                                   switches)
             peaks = _pieces_peaks(stage, pieces, p, loads, _NO_PEAKS, rtol, atol)
             slide = _merge(pieces)
         else:  # the sling already pulls harder than the projectile's weight
             slide = Segment(np.zeros(1), y1[None, :], "liftoff", 0.0, y1, {})
-            peaks = _NO_PEAKS
+            peaks, action = _NO_PEAKS, sequence.NEXT_STAGE
         if histories:
             history.append(_history(Stage.SLIDE, slide, p))
         segments.append((Stage.SLIDE, slide))
-        if slide.event != "liftoff":
+        if action == sequence.FINISHED:
             return _finish(design, p, history, segments, Status.NEVER_LIFTS_OFF,
-                           outcome.never_lifts_off_message(_LIFTOFF_FAILURES[slide.event], p.t_limit),
-                           **_peak_fields(peaks))
+                           outcome.never_lifts_off_message(LiftoffFailure(detail), p.t_limit), **_peak_fields(peaks))
 
         # Stage 2: free swing until release.
         stage = Stage.SWING
@@ -133,17 +129,18 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
             stages.swing_start(slide.y_end, p, y2)
         except FLOAT_ERRORS:
             y2[:] = math.nan   # the integrator ends the stage as step_failed
-        pieces = _run_modes(stage, p, slide.t_end, y2, p.t_limit, rtol, atol, output_step, False, switches)
+        pieces, action, status, _ = _run_modes(stage, p, slide.t_end, y2, p.t_limit, rtol, atol, output_step, False,
+                                               switches)
         peaks = _pieces_peaks(stage, pieces, p, loads, peaks, rtol, atol)
         swing = _merge(pieces)
         reached.update(_peak_fields(peaks))
         if histories:
             history.append(_history(Stage.SWING, swing, p)[1:])   # the first is lift-off, already recorded
         segments.append((Stage.SWING, swing))
-        if swing.event == "hits_base":
+        if status == sequence.HITS_BASE:
             return _finish(design, p, history, segments, Status.HITS_BASE_BEFORE_RELEASE,
                            outcome.hits_base_message(swing.t_end), **reached)
-        if swing.event is None:
+        if action == sequence.FINISHED:
             return _finish(design, p, history, segments, Status.NEVER_RELEASES,
                            outcome.never_releases_message(machine.release_rule, machine.release_angle,
                                                           p.t_limit), **reached)
@@ -172,7 +169,8 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
         return _finish(design, p, history, segments, Status.STEP_FAILED,
                        outcome.step_failed_message(error.time, stage, error.step_limit), **reached)
     reached["drag_work"] = drag_work(flight, p)
-    if flight.event != "landing":
+    _, status, _ = sequence.stretch_end(Stage.FLIGHT, _code(Stage.FLIGHT, flight), switches[0])
+    if status == sequence.NO_LANDING:
         return _finish(design, p, history, segments, Status.NO_LANDING,
                        outcome.no_landing_message(t_max - release_time), **reached)
     apex = max([position[1]] + [y[1] for _, y in flight.roots["apex"]])
@@ -202,8 +200,8 @@ def _frame_after_release(p: Params, release_state: np.ndarray, release_time: flo
     start = np.empty(stages.state_size(stages.MACHINE, m))
     try:
         stages.machine_start(release_state, m, start)
-        pieces = _run_modes(stages.MACHINE, m, release_time, start, landing_time, rtol, atol, output_step, False,
-                            [0])
+        pieces, _, _, _ = _run_modes(stages.MACHINE, m, release_time, start, landing_time, rtol, atol, output_step,
+                                     False, [0])
     except (IntegrationError, *FLOAT_ERRORS) as error:
         return {"after_release_warning": after_release_warning(str(error))}
     machine = _merge(pieces)
@@ -261,30 +259,36 @@ def _run(stage: Stage, p: Params, t0: float, y0: np.ndarray, t_end: float, rtol:
                      output_step=output_step, continuous=continuous, max_steps=STAGE_STEP_LIMITS[stage])
 
 
+def _code(stage: Stage, piece: Segment) -> int:
+    """How a stretch ended, as ``analytic.sequence`` numbers it: its event's index or ``REACHED_END``."""
+    return sequence.REACHED_END if piece.event is None else stages.EVENT_NAMES[stage].index(piece.event)
+
+
 def _run_modes(stage: Stage, p: Params, t0: float, y0: np.ndarray, t_end: float, rtol: float, atol: float,
-               output_step: float | None, continuous: bool, switches: list[int]) -> list[Segment]:
-    """``_run`` until an event that is not a friction mode's switch, switching modes on the way.
+               output_step: float | None, continuous: bool, switches: list[int]) -> tuple[list[Segment], int, int, int]:
+    """``_run`` in stretches, switching the friction modes between them, until
+    ``analytic.sequence.stretch_end`` says the stage is over.
 
     Returns the pieces integrated, one per mode (one for a design without
-    friction). ``switches`` ([count]) counts the switches of the whole shot;
-    past ``stages.MODE_SWITCH_LIMIT`` the shot fails.
+    friction), and ``stretch_end``'s ``(action, status, detail)`` at the last.
+    ``switches`` ([count]) counts the switches of the whole shot; past
+    ``stages.MODE_SWITCH_LIMIT`` the shot fails (``IntegrationError``).
     """
     pieces = []
     t, y = t0, y0
     while True:
         piece = _run(stage, p, t, y, t_end, rtol, atol, output_step, continuous)
         pieces.append(piece)
-        if piece.event is None:
-            return pieces
-        k = stages.EVENT_NAMES[stage].index(piece.event)
-        if k < stages.FIRST_SWITCH[stage]:
-            return pieces
-        switches[0] += 1
-        if switches[0] > stages.MODE_SWITCH_LIMIT:
+        code = _code(stage, piece)
+        action, status, detail = sequence.stretch_end(int(stage), code, switches[0])
+        if status == sequence.STEP_FAILED:
             raise IntegrationError(f"friction switched modes more than {stages.MODE_SWITCH_LIMIT} times",
                                    piece.t_end)
+        if action != sequence.SWITCH_MODE:
+            return pieces, action, status, detail
+        switches[0] += 1
         t, y = piece.t_end, piece.y_end.copy()
-        stages.switch_mode(int(stage), k, y, p)
+        stages.switch_mode(int(stage), code, y, p)
 
 
 def _merge(pieces: list[Segment]) -> Segment:

@@ -12,7 +12,7 @@ from pathlib import Path
 import analytic
 from analytic.design import Base, BeamArm, Design, Losses
 from analytic.design_file import default_design, load_design
-from analytic.optimise.problem import default_problem, sample_designs
+from analytic.design_space import default_problem, sample_designs
 
 
 @dataclass(frozen=True)
@@ -85,7 +85,7 @@ def failure_cases() -> list[Case]:
 
 
 def sample_cases(count: int, seed: int) -> list[Case]:
-    """``count`` designs drawn uniformly over the paper's Table II bounds (``analytic.optimise.problem``),
+    """``count`` designs drawn uniformly over the paper's Table II bounds (``analytic.design_space``),
     alternating the wooden and the light arm; kept whether they throw or fail."""
     problem = default_problem()
     designs = sample_designs(problem, count, seed, lambda i: f"sample-{seed}-{i:03d}-{('wooden', 'light')[i % 2]}",
@@ -113,7 +113,7 @@ def rolling_cases(sample: int = 4, seed: int = 0) -> list[Case]:
     return [Case(design.name, design, "rolling") for design in designs]
 
 
-#: Realistic losses (issue 11): a 12.8 mm steel axle in a greased wooden bearing
+#: Realistic losses: a 12.8 mm steel axle in a greased wooden bearing
 #: (Coulomb 0.15), a 10 mm hinge pin (0.15), the projectile's pouch on a wooden base (0.3).
 REALISTIC_LOSSES = Losses(axle_friction=0.15, axle_radius=0.0064, hinge_friction=0.15, hinge_radius=0.005,
                           base_friction=0.3)

@@ -1,4 +1,4 @@
-"""Command line: ``python -m crosscheck [DESIGN.toml ...]`` (a thin layer over compare and report)."""
+"""Command line: ``python -m crosscheck [DESIGN.toml ...]`` (a thin layer over the runner and the report)."""
 
 from __future__ import annotations
 
@@ -6,51 +6,17 @@ import argparse
 import json
 import os
 import sys
-from concurrent.futures import ProcessPoolExecutor
-from functools import partial
 
-from tqdm import tqdm
-
-from analytic import fast
-from analytic.command_line import (OutputPathError, negative_numbers_as_values, output_folder,
-                                   positive_float, positive_int)
+from analytic.cli_shared import (EXIT_FAILED, EXIT_INVALID, EXIT_OK, OutputPathError, negative_numbers_as_values,
+                                 output_folder, positive_float, positive_int)
 from analytic.design import DesignError
-from analytic.result import Shot
-from crosscheck.cases import QUICK_CASES, Case, default_suite, file_cases, quick_suite, sample_cases
-from crosscheck.compare import DEFAULT_DT, Comparison, compare, step_study
+from crosscheck.cases import QUICK_CASES, default_suite, file_cases, quick_suite, sample_cases
+from crosscheck.comparison import DEFAULT_DT, step_study
 from crosscheck.report import format_summary, format_table, write_report
+from crosscheck.runner import run
 
-EXIT_AGREE, EXIT_DISAGREE, EXIT_INVALID = 0, 1, 2
-
-
-def run_cases(cases: list[Case], dt: float, workers: int, progress: bool = True) -> list[Comparison]:
-    """Compare every case, on ``workers`` processes, in the order given.
-
-    The analytic side of every case is shot first, in one fast-path batch
-    (``analytic.fast.simulate_fast_many``, all cores, well under a second);
-    the engine runs then take the processes.
-    """
-    task = partial(compare, dt=dt)
-    fast.compile(progress=progress)
-    analytic = fast.simulate_fast_many([case.design for case in cases])
-    bar = tqdm(total=len(cases), desc="cross-check", unit="design", disable=not progress, file=sys.stderr)
-    if workers <= 1:
-        results = []
-        for case, shot in zip(cases, analytic, strict=True):
-            results.append(task(case, analytic_shot=shot))
-            bar.update()
-    else:
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            results = []
-            for result in pool.map(partial(_compare_shot, dt=dt), cases, analytic):
-                results.append(result)
-                bar.update()
-    bar.close()
-    return results
-
-
-def _compare_shot(case: Case, shot: Shot, dt: float) -> Comparison:
-    return compare(case, dt=dt, analytic_shot=shot)
+#: The exit codes under the names of what they mean here.
+EXIT_AGREE, EXIT_DISAGREE = EXIT_OK, EXIT_FAILED
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -94,15 +60,15 @@ def main(argv: list[str] | None = None) -> int:
         print(f"invalid design: {error}", file=sys.stderr)
         return EXIT_INVALID
 
-    comparisons = run_cases(cases, args.dt, args.workers, progress=not args.no_progress)
+    report = run(cases, dt=args.dt, workers=args.workers, progress=not args.no_progress)
+    comparisons = list(report.comparisons)
     study = None
     if args.report:
         reference = next((c.design for c in cases if c.name == "table3"), cases[0].design)
         study = step_study(reference)
         paths = write_report(args.report, comparisons, study)
     if args.json:
-        print(json.dumps({"agree": all(c.agree for c in comparisons),
-                          "comparisons": [c.to_json() for c in comparisons]}, indent=2))
+        print(json.dumps(report.to_json(), indent=2))
     else:
         if args.table:
             print(format_table(comparisons))
@@ -114,4 +80,4 @@ def main(argv: list[str] | None = None) -> int:
                              engine_detail=not (args.quick and not args.table)))
         if args.report:
             print(f"report in {args.report}: " + ", ".join(p.name for p in paths))
-    return EXIT_AGREE if all(c.agree for c in comparisons) else EXIT_DISAGREE
+    return EXIT_AGREE if report.agree else EXIT_DISAGREE

@@ -10,7 +10,7 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from crosscheck.compare import Comparison, StepStudy
+from crosscheck.comparison import Comparison, StepStudy
 
 
 def _display(value, unit: str) -> tuple[str, str]:

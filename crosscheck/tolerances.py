@@ -66,7 +66,7 @@ RELEASE_POSITION = 1e-3
 FRAME_LANDING_DISPLACEMENT = 1e-4
 
 # --------------------------------------------------------------------------- #
-# Friction (issue 11): the ``friction`` group of ``crosscheck.cases``
+# Friction: the ``friction`` group of ``crosscheck.cases``
 # --------------------------------------------------------------------------- #
 # The friction cases are held to the same limits as every other case: the
 # engine needs no looser one. Its friction limits are set from loads

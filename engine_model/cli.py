@@ -6,8 +6,8 @@ import argparse
 import json
 import sys
 
-from analytic.command_line import (OutputPathError, negative_numbers_as_values, output_folder,
-                                   positive_float, positive_int)
+from analytic.cli_shared import (EXIT_FAILED, EXIT_INVALID, EXIT_NO_THROW, EXIT_OK, OutputPathError,
+                                 negative_numbers_as_values, output_folder, positive_float, positive_int)
 from analytic.design import Design, DesignError
 from analytic.design_file import default_design, load_design
 from analytic.result import Shot
@@ -15,9 +15,8 @@ from engine_model import DEFAULT_DT, EngineError, simulate
 from engine_model.build import DEFAULT_ITERATIONS, SLINGS
 from engine_model.render import DEFAULT_FPS, SWING_SLOW_MOTION
 
-#: Exit codes: a throw; an engine run that could not be trusted (unstable, joints
-#: apart); an invalid design; a valid design that does not throw.
-EXIT_OK, EXIT_ENGINE_ERROR, EXIT_INVALID, EXIT_NO_THROW = 0, 1, 2, 3
+#: The exit code of an engine run that could not be trusted (unstable, joints apart).
+EXIT_ENGINE_ERROR = EXIT_FAILED
 
 
 def _design(path: str | None) -> Design:

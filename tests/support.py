@@ -20,7 +20,7 @@ from hypothesis import strategies as st
 import analytic
 from analytic.design import Base, BeamArm, Design, Losses
 from analytic.design_file import beam_arm_from_dict, default_design, load_design
-from analytic.optimise.problem import VARIABLE_NAMES, default_problem, design_at, from_unit, sample_designs, variables_of
+from analytic.design_space import VARIABLE_NAMES, default_problem, design_at, from_unit, sample_designs, variables_of
 from crosscheck.cases import LIGHT_ARM
 from analytic.result import Status
 

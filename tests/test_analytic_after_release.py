@@ -159,8 +159,8 @@ def _after_release(design):
     m = stages.machine_params(p)
     start = np.empty(stages.state_size(stages.MACHINE, m))
     stages.machine_start(swing[-1].y_end, m, start)
-    pieces = reference._run_modes(stages.MACHINE, m, shot.release_time, start, shot.landing_time,
-                                  reference.DEFAULT_RTOL, reference.DEFAULT_ATOL, 1e-3, False, [0])
+    pieces, _, _, _ = reference._run_modes(stages.MACHINE, m, shot.release_time, start, shot.landing_time,
+                                           reference.DEFAULT_RTOL, reference.DEFAULT_ATOL, 1e-3, False, [0])
     return m, reference._merge(pieces), pieces
 
 

@@ -8,8 +8,9 @@ from pathlib import Path
 import pytest
 
 from analytic.cli import main as analytic_main
-from analytic.command_line import (OutputPathError, negative_numbers_as_values, output_file, output_folder,
-                                   positive_float, positive_int)
+from analytic.cli_shared import (OutputPathError, negative_numbers_as_values, output_file, output_folder,
+                                 positive_float, positive_int)
+from benchmarks.cli import main as bench_main
 from crosscheck.cli import main as crosscheck_main
 from engine_model.cli import main as engine_main
 
@@ -32,7 +33,7 @@ def _bad_outputs(a_file: Path) -> dict[str, str]:
 COMMANDS = {
     "analytic simulate --plot": (analytic_main, ["simulate", "--plot"], "{}/x.png"),
     "analytic optimise --out": (analytic_main, ["optimise", "--quiet", "--out"], "{}"),
-    "analytic bench --plot": (analytic_main, ["bench", "--quiet", "--designs", "0", "--plot"], "{}/x.png"),
+    "benchmarks --plot": (bench_main, ["--quiet", "--designs", "0", "--plot"], "{}/x.png"),
     "engine_model render --out": (engine_main, ["render", "--quiet", "--out"], "{}"),
     "crosscheck --report": (crosscheck_main, ["--no-progress", "--report"], "{}"),
 }
@@ -58,7 +59,7 @@ def test_an_unwritable_output_is_exit_2_with_one_line_before_any_work(command, k
     assert captured.out == ""                 # nothing was simulated first
 
 
-@pytest.mark.parametrize("command", ["analytic simulate --plot", "analytic bench --plot"])
+@pytest.mark.parametrize("command", ["analytic simulate --plot", "benchmarks --plot"])
 def test_an_unsupported_plot_format_is_exit_2(command, tmp_path, capsys):
     main, argv, _ = COMMANDS[command]
     assert main([*argv, str(tmp_path / "x.txt")]) == 2

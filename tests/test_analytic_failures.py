@@ -56,7 +56,7 @@ def test_landing_behind_the_pivot_is_a_flagged_result(table3):
 def test_a_sling_shorter_than_one_steps_rise_of_the_tip_still_ends_cleanly():
     """A 2.2 cm sling: the tip can rise past the sling's reach within one trial
     step of the integrator (found by hypothesis and by the optimiser's search)."""
-    from analytic.optimise.problem import default_problem, design_at
+    from analytic.design_space import default_problem, design_at
 
     design = design_at(default_problem(), [0.2685888, 0.2815835, 0.2368245, 0.0219153, 0.5273128, 0.7839298])
     shot = simulate(design)  # before the fix: ValueError "out of the sling's reach"

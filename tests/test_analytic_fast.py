@@ -4,7 +4,7 @@ Three layers: the compiled model is the model's own code and evaluates
 exactly what the Python model does at random states; whole shots agree with
 ``simulate`` (1e-7 relative in range, 1e-6 s in event times, the same
 outcome and message); the batch gives what single shots give. Timings are
-the benchmark's business (``python -m crosscheck.benchmark``), not these tests'.
+the benchmark's business (``python -m benchmarks``), not these tests'.
 """
 
 from __future__ import annotations
@@ -25,10 +25,10 @@ from hypothesis import HealthCheck, event, given, settings
 from analytic import aero, compiled, eom, fast, geometry, kernel, stages
 from analytic.aero import DRAG_TABLE
 from analytic.design import Base
-from analytic.cli import build_parser
-from crosscheck.benchmark import MISMATCH_KEYS, ROLLING_FRAME, bench_designs
-from crosscheck.cases import REALISTIC_LOSSES
-from crosscheck.benchmark import main as bench_main
+from benchmarks.cli import main as bench_main
+from benchmarks.designs import ROLLING_FRAME, TYPICAL_LOSSES, bench_designs
+from benchmarks.report import format_bench
+from benchmarks.suite import MISMATCH_KEYS
 from analytic.parameters import N_PARAMS, params
 from analytic.reference import DEFAULT_ATOL, DEFAULT_RTOL, simulate
 from analytic.result import Status
@@ -201,7 +201,7 @@ NEVER_LIFTS_OFF_VALUES = (0.0351, 0.3524, 0.3947, 0.5592, 0.7219, -1.0685)
 @pytest.mark.parametrize("mass, reason", [(0.0456, "dragged under the arm tip"),
                                           (0.5, "still on the base after the time limit")])
 def test_both_kinds_of_never_lifting_off_agree(mass, reason):
-    from analytic.optimise.problem import default_problem, design_at
+    from analytic.design_space import default_problem, design_at
 
     design = with_projectile(design_at(default_problem(), np.array(NEVER_LIFTS_OFF_VALUES)), mass=mass)
     reference, _ = _assert_agree(design)
@@ -269,7 +269,7 @@ def test_an_arm_stopped_on_the_base_by_friction_ends_the_shot_on_both_paths():
     On the benchmark's design 139 with its typical losses the compiled path locates
     ``slide_reverses`` a unit in the last place before ``arm_stalls`` (measured), and
     reversing the base's friction there would drive the arm on to lift off."""
-    design = dataclasses.replace(bench_designs(200, seed=0)[140], losses=REALISTIC_LOSSES)
+    design = dataclasses.replace(bench_designs(200, seed=0)[140], losses=TYPICAL_LOSSES)
     assert design.name == "bench-0-139"
     reference, _ = _assert_agree(design)
     assert reference.status is Status.NEVER_LIFTS_OFF and "friction stopped the arm" in reference.message
@@ -401,9 +401,7 @@ def test_a_new_process_loads_the_machine_code_from_the_disk_cache():
 
 
 def test_bench_json_has_the_figures_and_the_paths_agree(capsys):
-    args = build_parser().parse_args(["bench", "--json", "--designs", "4", "--repeat", "1", "--quiet",
-                                      "--sweep-shots", "0"])
-    assert bench_main(args) == 0
+    assert bench_main(["--json", "--designs", "4", "--repeat", "1", "--quiet", "--sweep-shots", "0"]) == 0
     figures = json.loads(capsys.readouterr().out)
     for key in ("reference_median_shot_s", "fast_median_shot_s", "speedup", "batch_shots_per_s",
                 "max_range_rel_diff", "compile_s", "cache_load_s"):
@@ -427,13 +425,16 @@ def test_bench_json_has_the_figures_and_the_paths_agree(capsys):
     assert ratios[0] == 1.0 and all(r > 0.0 for r in ratios)
     fast_entry = next(m for m in figures["models"] if m["label"] == "analytic fast path")
     assert fast_entry["ratio"] < 1.0   # compiled beats the reference (measured: about 1/700)
+    # The same figures as the text report (the losses' unset static coefficients left out).
+    text = format_bench(figures)
+    assert f"axle_friction {TYPICAL_LOSSES.axle_friction:g}" in text and "static" not in text
 
 
 @pytest.mark.parametrize("key", MISMATCH_KEYS)
 def test_bench_exits_1_when_the_paths_end_differently_on_any_set_of_designs(key, monkeypatch, capsys):
     figures = {**{k: [] for k in MISMATCH_KEYS}, key: ["bench-0-000: reference ok, fast no_landing"],
                "per_design": {}}
-    monkeypatch.setattr("crosscheck.benchmark.run", lambda *args, **kwargs: dict(figures))
+    monkeypatch.setattr("benchmarks.suite.run", lambda *args, **kwargs: dict(figures))
     assert bench_main(["--json", "--quiet", "--sweep-shots", "0"]) == 1
     assert json.loads(capsys.readouterr().out)[key] == figures[key]
     figures[key] = []
@@ -441,10 +442,10 @@ def test_bench_exits_1_when_the_paths_end_differently_on_any_set_of_designs(key,
 
 
 def test_compile_progress_counts_names_the_last_step_and_clears_itself(capsys):
-    # Issue 15: a cold compile says what it is doing, counts the functions, names the last
+    # A cold compile says what it is doing, counts the functions, names the last
     # seconds (the entry point's machine code) and leaves no bar behind for the caller's
     # "ready" line. A throwaway function named as the kernel's entry point stands in for it
-    # (compiled in milliseconds, not 20 s).
+    # (compiled in milliseconds, not tens of seconds).
     import numba
 
     def shots(x):
@@ -454,7 +455,7 @@ def test_compile_progress_counts_names_the_last_step_and_clears_itself(capsys):
     with fast._compile_progress(True):
         assert numba.njit(shots)(1.0) == 2.0
     err = capsys.readouterr().err
-    assert err.startswith("compiling the fast path once (about 20 s)")
+    assert err.startswith("compiling the fast path once")
     assert "\rcompiling: " in err and "the whole kernel's machine code" in err
     assert err.rsplit("\r", 1)[-1].strip() == ""    # the bar is gone (tqdm leave=False)
 
@@ -470,9 +471,8 @@ def test_a_batch_finds_the_peak_loads_only_when_asked():
 
 
 def test_bench_refuses_a_baseline_that_is_not_a_commit(capsys):
-    args = build_parser().parse_args(["bench", "--designs", "1", "--repeat", "1", "--quiet", "--sweep-shots", "0",
-                                      "--baseline", "no-such-revision-here"])
-    assert bench_main(args) == 2
+    assert bench_main(["--designs", "1", "--repeat", "1", "--quiet", "--sweep-shots", "0",
+                       "--baseline", "no-such-revision-here"]) == 2
     err = capsys.readouterr().err
     assert "--baseline no-such-revision-here" in err and "not a commit" in err
 
@@ -482,9 +482,8 @@ def test_bench_measures_a_baseline_before_and_after_and_writes_the_page_from_its
     # This very commit as the baseline: its sources copied out and benchmarked by their own bench
     # (a cold compile of its fast path in the temporary folder), before and after this checkout's run.
     page = tmp_path / "performance.md"
-    args = build_parser().parse_args(["bench", "--json", "--designs", "2", "--repeat", "1", "--quiet",
-                                      "--sweep-shots", "0", "--baseline", "HEAD", "--markdown", str(page)])
-    assert bench_main(args) == 0
+    assert bench_main(["--json", "--designs", "2", "--repeat", "1", "--quiet", "--sweep-shots", "0",
+                       "--baseline", "HEAD", "--markdown", str(page)]) == 0
     figures = json.loads(capsys.readouterr().out)
     baseline = figures["baseline"]
     assert baseline["rev"] == "HEAD" and len(baseline["commit"]) == 40
@@ -502,7 +501,7 @@ def test_bench_measures_a_baseline_before_and_after_and_writes_the_page_from_its
 
 def test_a_baselines_sources_are_the_whole_commit_and_its_bench_is_its_own(tmp_path):
     # The pre-friction commit: its own analytic package, whose bench had no loads to leave out.
-    from crosscheck.benchmark import baseline_source
+    from benchmarks.baseline import baseline_source
 
     commit = baseline_source("bfde05d", tmp_path)
     assert commit.startswith("bfde05d")

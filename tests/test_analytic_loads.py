@@ -333,7 +333,7 @@ def test_both_paths_report_the_same_peaks_on_a_rolling_frame(mass):
 
 
 def test_both_paths_report_the_same_peaks_over_the_benchmarks_designs():
-    from crosscheck.benchmark import bench_designs
+    from benchmarks.designs import bench_designs
 
     for design in bench_designs(200, seed=0)[::4]:
         _assert_peaks_agree(design)

@@ -10,7 +10,7 @@ import tomli_w
 from analytic.design_file import default_design, load_design
 from analytic.optimise import cli
 from analytic.optimise.constraints import feasible
-from analytic.optimise.problem import load_problem, variables_of
+from analytic.design_space import load_problem, variables_of
 from analytic.reference import simulate
 
 from support import ANGLE_TOLERANCE_DEG, RANGE_TOLERANCE, release_angle_problem_dict, with_machine

@@ -10,7 +10,7 @@ import pytest
 from analytic import fast
 from analytic.optimise import optimise
 from analytic.optimise.evaluate import DESIGN_ERROR, Evaluator, FAILURE_RANGE, FAST, REFERENCE
-from analytic.optimise.problem import default_problem, from_unit, variables_of
+from analytic.design_space import default_problem, from_unit, variables_of
 from analytic.optimise.report import display
 from analytic.optimise.robust import release_scatter
 from analytic.optimise.search import Settings, maximise

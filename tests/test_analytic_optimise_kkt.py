@@ -8,7 +8,7 @@ import pytest
 from analytic.optimise.evaluate import NO_SCATTER
 from analytic.optimise.kkt import (constraint_jacobian, first_order, range_gradient,
                                    unit_constraints)
-from analytic.optimise.problem import default_problem, from_unit, to_unit, variables_of
+from analytic.design_space import default_problem, from_unit, to_unit, variables_of
 
 
 class QuadraticScore:

@@ -11,7 +11,7 @@ from scipy.optimize import minimize_scalar
 
 from analytic.design_file import default_design
 from analytic.optimise.evaluate import Evaluator
-from analytic.optimise.problem import design_at, problem_from_dict, variables_of
+from analytic.design_space import design_at, problem_from_dict, variables_of
 from analytic.optimise.robust import release_scatter
 from analytic.optimise.search import Settings, maximise
 from analytic.geometry import projectile_state

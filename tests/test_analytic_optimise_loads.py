@@ -11,7 +11,7 @@ from analytic import fast
 from analytic.design import DesignError
 from analytic.optimise import cli, optimise
 from analytic.optimise.evaluate import Evaluator
-from analytic.optimise.problem import default_problem, design_at, problem_from_dict
+from analytic.design_space import default_problem, design_at, problem_from_dict
 from analytic.optimise.search import OUTCOME_FEASIBILITY, Settings, maximise
 from test_analytic_optimise_problem import problem_dict
 

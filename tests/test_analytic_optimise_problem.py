@@ -13,7 +13,7 @@ from analytic.design import DesignError
 from analytic.optimise import cli
 from analytic.optimise.constraints import (CONSTRAINT_NAMES, axle_distance, constraint_values,
                                            feasible, footprint, rest_points)
-from analytic.optimise.problem import (VARIABLE_NAMES, default_problem, design_at, from_unit,
+from analytic.design_space import (VARIABLE_NAMES, default_problem, design_at, from_unit,
                                        problem_from_dict, to_unit, variables_of)
 from analytic.optimise.report import PAPER_RATIOS, ratios
 from support import NOT_NUMBERS, problem_dict, table3_beam

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from analytic.optimise.evaluate import Evaluator
-from analytic.optimise.problem import default_problem, variables_of
+from analytic.design_space import default_problem, variables_of
 from analytic.optimise.robust import DEFAULT_NODES, expected, release_scatter, spread
 from analytic.reference import DEFAULT_RTOL
 

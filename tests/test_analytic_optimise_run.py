@@ -9,7 +9,7 @@ import pytest
 
 from analytic.optimise.constraints import feasible
 from analytic.optimise.evaluate import Evaluator, throw
-from analytic.optimise.problem import default_problem, design_at, variables_of
+from analytic.design_space import default_problem, design_at, variables_of
 from analytic.optimise.report import display
 from analytic.optimise.search import Settings, maximise
 from analytic.reference import DEFAULT_RTOL

@@ -303,7 +303,7 @@ def _problem_text(base: str) -> str:
 
 
 def test_a_problem_with_a_free_frame_mass_makes_it_the_seventh_variable(tmp_path):
-    from analytic.optimise.problem import FRAME_MASS, design_at, load_problem, variables_of
+    from analytic.design_space import FRAME_MASS, design_at, load_problem, variables_of
 
     path = tmp_path / "rolling.toml"
     path.write_text(_problem_text('mobility = "rolling"\nmass = { lower = 2.0, upper = 50.0 }'))
@@ -316,7 +316,7 @@ def test_a_problem_with_a_free_frame_mass_makes_it_the_seventh_variable(tmp_path
 
 
 def test_a_problem_with_a_fixed_frame_mass_keeps_six_variables(tmp_path):
-    from analytic.optimise.problem import design_at, load_problem, variables_of
+    from analytic.design_space import design_at, load_problem, variables_of
 
     path = tmp_path / "rolling.toml"
     path.write_text(_problem_text('mobility = "rolling"\nmass = 20.0'))
@@ -334,7 +334,7 @@ def test_a_problem_with_a_fixed_frame_mass_keeps_six_variables(tmp_path):
 ], ids=["bounds-on-a-fixed-frame", "inverted", "negative", "missing", "unknown-mobility"])
 def test_bad_frame_in_a_problem_names_the_field(tmp_path, base, field):
     from analytic.design import DesignError
-    from analytic.optimise.problem import load_problem
+    from analytic.design_space import load_problem
 
     path = tmp_path / "bad.toml"
     path.write_text(_problem_text(base))

@@ -64,7 +64,7 @@ def test_the_cluster_writes_the_same_table_bit_for_bit(cluster, tmp_path, data):
 
 
 def test_the_benchmark_s_throughput_part_compares_the_executors_on_one_sweep(cluster):
-    from crosscheck.benchmark import throughput
+    from benchmarks.sweep import throughput
 
     figures = throughput(shots=600, chunk_size=100, repeat=1, cluster=cluster)
     assert figures["sweep_tables_identical"] and figures["sweep_chunks"] == 6

@@ -22,7 +22,7 @@ import tomli_w
 from analytic import cli
 from analytic.design import DesignError
 from analytic.design_file import design_from_dict, design_to_dict, load_design, save_design
-from analytic.optimise.problem import problem_from_dict
+from analytic.design_space import problem_from_dict
 from analytic.units import FIELD_KINDS, LENGTH, display, parse
 from test_analytic_optimise_problem import problem_dict
 

@@ -17,7 +17,7 @@ from crosscheck import tolerances as tol
 from crosscheck.cases import (LOSS_VARIANTS, QUICK_CASES, REALISTIC_LOSSES, default_suite, exercise_cases, failure_cases,
                               friction_cases, paper_cases, quick_suite, sample_cases, stage1_event_cases)
 from crosscheck.cli import EXIT_AGREE, EXIT_DISAGREE, main
-from crosscheck.compare import compare, compare_shots, engine_simulate, step_study, with_dissipated_work
+from crosscheck.comparison import compare, compare_shots, engine_simulate, step_study, with_dissipated_work
 from crosscheck.report import brief
 from engine_model import DEFAULT_DT, EngineError
 from support import failure_designs, with_machine

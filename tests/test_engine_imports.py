@@ -6,7 +6,7 @@ carry, which the file reader converts), ``analytic.aero`` (drag tables, which th
 needs), ``analytic.result`` (the shared result types), ``analytic.outcome``
 (statuses and outcome messages), ``analytic.limits`` (the bounds that end a
 stage or a shot), ``analytic.geometry`` (part positions from coordinates
-and the release rule), ``analytic.command_line`` (the command lines' checks
+and the release rule), ``analytic.cli_shared`` (the command lines' exit codes and checks
 of output paths and options) and ``analytic.plausibility`` (warnings on
 implausible inputs, which every shot carries). None of them holds any dynamics: no equations of
 motion, no integrator, no event loop. Everything else of ``analytic``
@@ -25,7 +25,7 @@ from pathlib import Path
 import pytest
 
 ALLOWED = {"analytic", "analytic.design", "analytic.design_file", "analytic.units", "analytic.aero",
-           "analytic.result", "analytic.outcome", "analytic.limits", "analytic.geometry", "analytic.command_line",
+           "analytic.result", "analytic.outcome", "analytic.limits", "analytic.geometry", "analytic.cli_shared",
            "analytic.plausibility"}
 PACKAGE = Path(__file__).resolve().parents[1] / "engine_model"
 MODULES = sorted(p.stem for p in PACKAGE.glob("*.py") if p.stem != "__main__")

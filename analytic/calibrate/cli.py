@@ -16,11 +16,8 @@ import argparse
 import json
 import sys
 
-from analytic.command_line import OutputPathError, output_folder
+from analytic.cli_shared import EXIT_INVALID, EXIT_NO_THROW, EXIT_OK, OutputPathError, output_folder
 from analytic.design import DesignError
-
-#: Exit codes as ``python -m analytic simulate``: done, invalid input, a shot that does not throw.
-EXIT_OK, EXIT_INVALID, EXIT_NO_THROW = 0, 2, 3
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

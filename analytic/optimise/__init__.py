@@ -1,7 +1,8 @@
 """The design optimiser: maximise range over the paper's design variables within its size limits.
 
-One entry point, ``optimise(problem)``, returns an ``Optimisation``. Inside:
-``problem`` (what may vary, the limits, the problem file), ``constraints``
+One entry point, ``optimise(problem)``, returns an ``Optimisation``; the
+problem (what may vary, the limits, the problem file) is
+``analytic.design_space``'s, shared with the sweeps. Inside: ``constraints``
 (the limits, on the machine at rest), ``evaluate`` (shooting candidates on
 either path), ``search`` (differential evolution, then SLSQP), ``kkt`` (the
 first-order check), ``robust`` (release-angle scatter), ``sensitivity``
@@ -19,7 +20,7 @@ import numpy as np
 
 from analytic.design_file import default_design
 from analytic.optimise.evaluate import FAILURE_RANGE, FAST, Evaluator
-from analytic.optimise.problem import Problem, default_problem, load_problem, variables_of
+from analytic.design_space import Problem, default_problem, load_problem, variables_of
 from analytic.optimise.report import PAPER_LABEL
 from analytic.optimise.robust import DEFAULT_NODES, Scatter, release_scatter
 from analytic.optimise.search import Optimum, Settings, maximise

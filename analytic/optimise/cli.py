@@ -15,17 +15,15 @@ import math
 import sys
 from pathlib import Path
 
-from analytic.command_line import OutputPathError, negative_numbers_as_values, output_folder
+from analytic.cli_shared import EXIT_INVALID, EXIT_OK, OutputPathError, negative_numbers_as_values, output_folder
 from analytic.design import DesignError
 from analytic.design_file import save_design
 from analytic.optimise import Optimisation, optimise
 from analytic.optimise.evaluate import DEFAULT_PROCESSES, PATHS
-from analytic.optimise.problem import default_problem, design_at, load_problem
+from analytic.design_space import default_problem, design_at, load_problem
 from analytic.optimise.report import format_report
 from analytic.optimise.robust import DEFAULT_NODES
 
-#: Exit codes as ``python -m analytic simulate``: done, invalid input.
-EXIT_OK, EXIT_INVALID = 0, 2
 #: Release-angle standard deviation of ``--robust`` given without a value, deg.
 DEFAULT_ROBUST_SIGMA_DEG = 2.0
 

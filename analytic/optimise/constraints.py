@@ -33,7 +33,7 @@ import math
 import numpy as np
 
 from analytic.design import Machine
-from analytic.optimise.problem import Problem
+from analytic.design_space import Problem
 
 #: Components of ``constraint_values``. The long-arm tip is always the rearmost
 #: point at rest (every other point is at or ahead of the pivot, or, for the

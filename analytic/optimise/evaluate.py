@@ -26,7 +26,7 @@ import numpy as np
 
 from analytic import fast
 from analytic.design import DesignError
-from analytic.optimise.problem import LOADS, Problem, design_at
+from analytic.design_space import LOADS, Problem, design_at
 from analytic.optimise.robust import Scatter, expected, release_scatter
 from analytic.result import PEAK_NAMES, Status
 from analytic.reference import simulate

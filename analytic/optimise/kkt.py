@@ -23,7 +23,7 @@ from scipy.optimize import nnls
 
 from analytic.optimise.constraints import CONSTRAINT_NAMES, constraint_values
 from analytic.optimise.evaluate import Evaluator
-from analytic.optimise.problem import Problem, design_at, from_unit
+from analytic.design_space import Problem, design_at, from_unit
 from analytic.optimise.robust import Scatter
 
 #: Finite-difference step of the range, in unit (bound-width) coordinates. The

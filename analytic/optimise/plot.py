@@ -10,7 +10,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from analytic.optimise.constraints import CONSTRAINT_NAMES, FEASIBILITY_TOLERANCE
-from analytic.optimise.problem import Problem
+from analytic.design_space import Problem
 from analytic.optimise.report import display
 from analytic.optimise.search import Optimum
 from analytic.optimise.sensitivity import Sensitivity

@@ -10,7 +10,7 @@ import numpy as np
 from analytic.design import FRICTIONS
 from analytic.optimise.constraints import (CONSTRAINT_NAMES, axle_distance, constraint_values,
                                            footprint)
-from analytic.optimise.problem import ANGLE_VARIABLES, FRAME_MASS, LOADS, Problem, design_at
+from analytic.design_space import ANGLE_VARIABLES, FRAME_MASS, LOADS, Problem, design_at
 from analytic.optimise.robust import Scatter, expected, spread
 from analytic.optimise.search import Optimum
 

@@ -34,7 +34,7 @@ from analytic.optimise.constraints import FEASIBILITY_TOLERANCE
 from analytic.optimise.evaluate import NO_SCATTER, Evaluator
 from analytic.optimise.kkt import (FirstOrder, constraint_jacobian, first_order, outcome_gradient,
                                    range_gradient, unit_constraints)
-from analytic.optimise.problem import Problem, from_unit, to_unit
+from analytic.design_space import Problem, from_unit, to_unit
 from analytic.optimise.robust import Scatter
 from analytic.reference import DEFAULT_RTOL
 

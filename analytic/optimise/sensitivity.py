@@ -9,7 +9,7 @@ import numpy as np
 
 from analytic.optimise.constraints import FEASIBILITY_TOLERANCE, constraint_values
 from analytic.optimise.evaluate import NO_SCATTER, Evaluator
-from analytic.optimise.problem import Problem, design_at
+from analytic.design_space import Problem, design_at
 from analytic.optimise.robust import Scatter, expected
 
 #: Grid points per variable across its bounds (plus the optimum itself).

@@ -17,9 +17,8 @@ import math
 import sys
 from pathlib import Path
 
+from analytic.cli_shared import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_INVALID, EXIT_OK
 from analytic.design import DesignError
-
-EXIT_OK, EXIT_FAILED, EXIT_INVALID, EXIT_INTERRUPTED = 0, 1, 2, 130
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

@@ -86,7 +86,7 @@ class OnDask:
             # every process checks its event loop every 20 ms and its resources
             # every 0.1 to 0.5 s. On two busy cores, measured, these cost the
             # cluster a fifth of its speed; at these settings it matches this
-            # process's (python -m analytic bench).
+            # process's (python -m benchmarks).
             with dask.config.set({"distributed.worker.multiprocessing-method": "spawn",
                                   "distributed.worker.profile.enabled": False,
                                   "distributed.admin.tick.interval": "1s",

@@ -59,7 +59,7 @@ TEST_FUNCTIONS = {"ishigami": ("x1", "x2", "x3")}
 METHODS = ("random", "sobol")
 #: Designs per chunk unless the file says otherwise: large enough that a
 #: cluster's per-task cost (scheduling, moving the results, writing a file)
-#: stays a few per cent of the shooting (``python -m analytic bench``).
+#: stays a few per cent of the shooting (``python -m benchmarks``).
 DEFAULT_CHUNK_SIZE = 4096
 #: Every corner of the box the varied fields span is built before the sweep
 #: starts (2^n designs): beyond this many fields that check alone takes minutes.
@@ -286,7 +286,7 @@ def _base(data: dict, directory: Path | None) -> Base:
                 if field in FIELD_UNITS and number is not None and field not in values:
                     values[field] = math.degrees(number) if field in ANGLE_FIELDS else number
         return Base("design", design.name, file_data, values, {})
-    from analytic.optimise.problem import ANGLE_VARIABLES, load_problem
+    from analytic.design_space import ANGLE_VARIABLES, load_problem
 
     problem = load_problem(path)
     machine = {"counterweight_mass": problem.counterweight_mass,

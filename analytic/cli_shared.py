@@ -1,6 +1,8 @@
-"""Checks every command line makes before any work: where its output goes, and its numeric options.
+"""What every command line shares: its exit codes, and the checks it makes before any work.
 
-Every command that writes files takes its paths through here (``--out``,
+The command lines themselves are ``analytic/cli.py`` (``python -m analytic``)
+and each package's ``cli.py``; they all import this module, which imports
+nothing of theirs. Every command that writes files takes its paths through here (``--out``,
 ``--report``, ``--plot``), so that a path that cannot be written is refused
 at once, as a one-line message and exit code 2, rather than as a traceback
 after minutes of simulation; and so that the path a command prints is the
@@ -13,6 +15,19 @@ import argparse
 import os
 import re
 from pathlib import Path
+
+#: Exit codes of every command line (``python -m analytic``, ``engine_model``, ``crosscheck``,
+#: ``benchmarks``): it did its work (a throw; the models agree; every chunk shot) ...
+EXIT_OK = 0
+#: ... it ran but its result fails the command's check (the models or paths disagree, a sweep's
+#: chunks failed, the engine raised) ...
+EXIT_FAILED = 1
+#: ... an input was refused before any work (a design, an option, an output path) ...
+EXIT_INVALID = 2
+#: ... the design is valid but does not throw ...
+EXIT_NO_THROW = 3
+#: ... or the user interrupted it (Ctrl-C: 128 + SIGINT, the shell's convention).
+EXIT_INTERRUPTED = 130
 
 #: Figure formats the Agg canvas writes without any other program.
 PLOT_FORMATS = (".png", ".pdf", ".svg")

@@ -1,6 +1,7 @@
-"""The optimisation problem: design variables and bounds, fixed values, constraint limits, the problem file.
+"""The design space: design variables and their bounds, fixed values, size limits, the problem file.
 
-A problem says what may vary (the paper's six design variables, section II.A
+The optimiser searches it, and the sweeps, the cross-check and the
+benchmarks draw designs from it. A problem says what may vary (the paper's six design variables, section II.A
 and Table II), what is fixed (counterweight, projectile, arm material, air,
 release rule) and how large the machine may be (``analytic.optimise.constraints``).
 The built-in default is the paper's (``data/paper_problem.toml``).
@@ -329,7 +330,7 @@ def load_problem(path: str | Path) -> Problem:
 
 def default_problem() -> Problem:
     """The built-in default: the paper's problem (``analytic/data/paper_problem.toml``)."""
-    return load_problem(Path(__file__).parents[1] / "data" / "paper_problem.toml")
+    return load_problem(Path(__file__).with_name("data") / "paper_problem.toml")
 
 
 def _base(entry: Any) -> tuple[Base, tuple[Variable, ...]]:

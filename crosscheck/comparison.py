@@ -143,7 +143,7 @@ def compare(case: Case, dt: float = DEFAULT_DT, engine: Callable[[Design, float]
     The analytic side is the compiled fast path by default (the same numbers as
     ``analytic.reference.simulate`` to round-off or the integrator's own error,
     ``tests/test_analytic_fast.py``); pass ``analytic=simulate`` for the scipy
-    reference, or ``analytic_shot``, already simulated (``run_cases`` shoots
+    reference, or ``analytic_shot``, already simulated (``crosscheck.run`` shoots
     all cases in one batch). Either way a valid design gives a ``Shot``, whose
     status names any failure. A thrown shot without the work each loss took
     (the fast path's) gets it from the reference summary (``with_dissipated_work``,

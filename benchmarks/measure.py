@@ -1,0 +1,61 @@
+"""How a figure is measured: the best of repeated runs, a cold compile in a fresh process, and where it ran."""
+
+from __future__ import annotations
+
+import datetime
+import math
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Callable
+
+import numba
+import scipy
+
+
+def best_time(run: Callable[[], object], repeat: int) -> tuple[float, object]:
+    """Best wall-clock seconds of ``repeat`` calls of ``run``, and the first call's result."""
+    best, first = math.inf, None
+    for i in range(repeat):
+        began = time.perf_counter()
+        result = run()
+        best = min(best, time.perf_counter() - began)
+        if i == 0:
+            first = result
+    return best, first
+
+
+def cold_compile_seconds() -> tuple[float, float]:
+    """(compile, import) seconds of the fast path in a fresh process with an empty numba cache."""
+    code = ("import time; t = time.perf_counter(); from analytic import fast; "
+            "i = time.perf_counter() - t; print(fast.compile(), i)")
+    with tempfile.TemporaryDirectory(prefix="numba-cold-") as cache:
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+        done = subprocess.run([sys.executable, "-c", code], env=env, check=True, capture_output=True, text=True)
+    compile_s, import_s = (float(v) for v in done.stdout.split())
+    return compile_s, import_s
+
+
+def machine_facts() -> dict:
+    """When and where the figures were measured: date (UTC), processors, CPU model, versions, commit."""
+    model = None
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                model = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    try:
+        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=Path(__file__).parent,
+                                capture_output=True, text=True, check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        commit = None
+    return {"date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+            "cpu_count": os.cpu_count(), "cpu_model": model, "python": platform.python_version(),
+            "numba": numba.__version__, "scipy": scipy.__version__, "commit": commit}
+
