@@ -70,8 +70,8 @@ INLINE = {"eom": ("terms", "slide_constraint", "slide_system", "slide_accelerati
 _HERE = Path(__file__).parent
 #: Every source whose change must invalidate the compiled cache: the model,
 #: the modules whose constants it reads at import, this module and the kernel.
-SOURCES = tuple(Path(module.__file__) for module in (*MODEL_MODULES, outcome, parameters)) + (
-    _HERE / "compiled.py", _HERE / "kernel.py")
+SOURCES = tuple(Path(module.__file__) for module in (*MODEL_MODULES, outcome, parameters)) + tuple(
+    _HERE / name for name in ("compiled.py", "dop853.py", "kernel_loads.py", "kernel.py"))
 #: Name of the stamp file beside the cached machine code.
 STAMP_NAME = "analytic-model-sources.sha256"
 

@@ -397,7 +397,11 @@ class BeamArm:
         """
         length = arm_long + arm_short
         mass = self.density * self.width * self.depth * length
-        return mass, (arm_long - arm_short) / 2.0, mass * (length**2 + self.depth**2) / 12.0
+        inertia = mass * (length * length + self.depth * self.depth) / 12.0
+        if not math.isfinite(inertia):
+            raise DesignError("machine.arm_beam", f"{self.width:g} x {self.depth:g} m, {self.density:g} kg/m^3",
+                              f"a beam {length:g} m long has a mass or inertia past the float range")
+        return mass, (arm_long - arm_short) / 2.0, inertia
 
 
 # --------------------------------------------------------------------------- #

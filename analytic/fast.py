@@ -45,10 +45,9 @@ from analytic import kernel, outcome, stages
 from analytic.aero import DRAG_TABLE
 from analytic.design import Design, largest_length
 from analytic.friction import rest_balance
-from analytic.limits import swing_time_limit
+from analytic.limits import DEFAULT_ATOL, DEFAULT_RTOL, swing_time_limit
 from analytic.parameters import N_PARAMS, params
 from analytic.result import PEAK_NAMES, Shot, Shots, Status
-from analytic.reference import DEFAULT_ATOL, DEFAULT_RTOL
 
 #: Designs a thread takes at a time in ``shoot``.
 BATCH_CHUNK = 4

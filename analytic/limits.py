@@ -9,6 +9,12 @@ from __future__ import annotations
 
 import math
 
+#: Default integrator tolerances of both analytic paths: a 100x tighter run changes the
+#: range by 1.5e-10 relative on the paper's design and by at most 6.5e-9 where a golf
+#: ball slows through its drag table's end (over ``benchmarks.designs``).
+DEFAULT_RTOL = 1e-10
+DEFAULT_ATOL = 1e-10
+
 #: Stage 1 ends as never_lifts_off once the sling is this close to vertical
 #: (|sin beta|, within about 0.57 deg): the projectile is being dragged under
 #: the arm tip, and the reduced stage-1 equations become singular there.

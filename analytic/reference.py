@@ -20,16 +20,11 @@ from analytic.aero import DRAG_TABLE
 from analytic.design import Design
 from analytic.geometry import projectile_state
 from analytic.integrate import Event, IntegrationError, Segment, integrate, step_interpolant
-from analytic.limits import STAGE_STEP_LIMITS, flight_time_limit
+from analytic.limits import DEFAULT_ATOL, DEFAULT_RTOL, STAGE_STEP_LIMITS, flight_time_limit
 from analytic.outcome import LiftoffFailure, Stage, Status
 from analytic.parameters import Params, params
 from analytic.result import LOSS_NAMES, PEAK_NAMES, EnergyBudget, History, Shot
 
-#: Default integrator tolerances: a 100x tighter run changes the range by
-#: 1.5e-10 relative on the paper's design and by at most 6.5e-9 where a
-#: golf ball slows through its drag table's end (over ``benchmarks.designs``).
-DEFAULT_RTOL = 1e-10
-DEFAULT_ATOL = 1e-10
 #: Sample spacing of the returned histories (stages 1-2, flight), s.
 SWING_OUTPUT_STEP = 5e-4
 FLIGHT_OUTPUT_STEP = 5e-3

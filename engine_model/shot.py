@@ -389,6 +389,9 @@ def _run_within_budget(design: Design, iterations: int, sling: str) -> tuple[flo
     result replaces the coarse one unless it runs out of steps first.
     """
     coarse = coarse_step(design)
+    if not math.isfinite(coarse):   # gravity so weak the swing has no time scale a float holds
+        raise EngineError(f"gravity = {design.environment.gravity:g} m/s^2 gives the swing no finite time bound "
+                          "to choose the engine's step from")
     found: dict = {}
 
     def probe(steps: int) -> int | None:

@@ -35,12 +35,14 @@ def _import_every_project_module() -> None:
 _import_every_project_module()
 
 #: Hypothesis profiles, by name: ``HYPOTHESIS_PROFILE=thorough`` selects the second (``quick``
-#: otherwise). A profile gives only what a test's own ``settings`` leave to it: the tests that
-#: set no count of examples take the profile's (the two paths' property test in
-#: ``test_analytic_fast.py``). ``quick``: the suite's, about a minute on one core,
-#: derandomized (every run draws the same designs); ``thorough``: thousands, drawn afresh
-#: each run, not shrunk (a shrink step is a shot on both paths; the failing example and the blob
-#: that reproduces it are printed as found).
+#: otherwise: the suite's, ``make test`` and CI). A test that sets no count of examples takes the
+#: profile's (the two paths' property test in ``test_analytic_fast.py``: about a minute on one
+#: core under ``quick``); a test that needs its own count (a shot of an extreme design costs
+#: seconds, a design file's read microseconds) gives the suite's through ``support.examples``,
+#: which scales it as the profile's count is to quick's. ``quick``: derandomized (every run
+#: draws the same designs); ``thorough``: 15 times as many, drawn afresh each run, not shrunk (a
+#: shrink step is a shot on both paths; the failing example and the blob that reproduces it are
+#: printed as found).
 PROFILES = {"quick": dict(max_examples=200, derandomize=True),
             "thorough": dict(max_examples=3000, derandomize=False, print_blob=True,
                              phases=(Phase.explicit, Phase.reuse, Phase.generate))}
@@ -82,6 +84,14 @@ def pytest_xdist_make_scheduler(config, log):
             return path if path in ONE_WORKER_FILES else nodeid
 
     return OneWorkerFilesScheduling(config, log)
+
+
+@pytest.fixture(scope="session")
+def lagrangian():
+    """The machine's sympy Lagrangian (``tests/sympy_model.py``), derived once per process."""
+    from sympy_model import machine
+
+    return machine()
 
 
 @pytest.fixture(scope="session")

@@ -10,11 +10,11 @@ from __future__ import annotations
 import dataclasses
 import datetime
 import math
-import os
 import tomllib
 from pathlib import Path
 
 import numpy as np
+from hypothesis import settings
 from hypothesis import strategies as st
 
 import analytic
@@ -205,15 +205,13 @@ def lossy_designs(draw) -> Design:
     return dataclasses.replace(draw(paper_designs()), losses=draw(losses()), base=draw(bases()))
 
 
-#: ``TREBUCHET_FULL_SAMPLES=1`` runs the sampled tests that ``sample_count`` sizes at their full counts.
-FULL_SAMPLES = os.environ.get("TREBUCHET_FULL_SAMPLES") == "1"
-
-
-def sample_count(suite: int, full: int) -> int:
-    """Examples a sampled slow test draws: ``suite`` in the suite (each such test says why that
-    many still cover its property), ``full`` with ``TREBUCHET_FULL_SAMPLES=1`` (the count it had
-    before the suite was fitted to its time: worth a run after changing what the test covers)."""
-    return full if FULL_SAMPLES else suite
+def examples(suite: int) -> int:
+    """How many examples a hypothesis test with its own count draws under the loaded profile
+    (``HYPOTHESIS_PROFILE``, ``tests/conftest.py``): ``suite`` under ``quick``, the suite's (each
+    such test says why that many cover its property), and as many times more under another
+    profile as its ``max_examples`` is to quick's (15 times under ``thorough``)."""
+    scale = settings.default.max_examples / settings.get_profile("quick").max_examples
+    return max(1, round(suite * scale))
 
 
 # --------------------------------------------------------------------------- #

@@ -1,5 +1,5 @@
 """The machine after release (``docs/derivation.md`` section 10.9): its equations with the joints'
-friction against the sympy model of ``test_analytic_friction`` with the projectile gone, its
+friction against the sympy Lagrangian (``tests/sympy_model.py``) with the projectile gone, its
 stick and slip and energy over a whole run, and the frame's place at landing that it gives.
 
 The sympy model has the frame's X as a coordinate, so the momentum the
@@ -25,8 +25,7 @@ from analytic.reference import simulate
 from analytic.result import Status
 from crosscheck.tolerances import FRAME_LANDING_DISPLACEMENT
 from engine_model.cli import main as engine_main
-from test_analytic_friction import (IMPLICIT_TOL, REL_TOL, SEED, FrictionModel, _check_equations,
-                                    random_params)
+from test_analytic_friction import IMPLICIT_TOL, REL_TOL, SEED, _check_equations, random_params
 
 #: Energy audit of the machine after release, as a fraction of its kinetic energy at
 #: release: the same budget as the shot's audit in ``test_analytic_friction``
@@ -38,11 +37,6 @@ AUDIT_TOL = 1e-8
 #: at every turn.
 LOSSES = Losses(axle_friction=0.15, axle_radius=0.0064, hinge_friction=0.15, hinge_radius=0.005,
                 base_friction=0.3)
-
-
-@pytest.fixture(scope="module")
-def model() -> FrictionModel:
-    return FrictionModel()
 
 
 def _samples(n=10):
@@ -72,17 +66,16 @@ def _sympy_state(m, angles, rates, momentum, ddtheta, ddphi, spare):
 
 
 @pytest.mark.parametrize("sample", SAMPLES, ids=[f"machine{i}" for i in range(len(SAMPLES))])
-def test_machine_friction_satisfies_the_sympy_equations_at_any_momentum(model, sample):
+def test_machine_friction_satisfies_the_sympy_equations_at_any_momentum(lagrangian, sample):
     m, angles, rates, momentum, (sa, sh), spare = sample
     rates = rates * np.array([sa != 0.0, sh != 0.0])   # a stuck joint's rate is 0
     ddtheta, ddphi, ta, th, axle, hinge = friction.machine_friction(*angles, *rates, sa, sh, m)
     q, qd, qdd = _sympy_state(m, angles, rates, momentum, ddtheta, ddphi, spare)
-    _check_equations(model, m, q, qd, qdd, ta, th, 0.0, 0.0)
-    numbers = model.numbers(m)
+    _check_equations(lagrangian, m, q, qd, qdd, ta, th, 0.0, 0.0)
     if m.rolling:   # the momentum dT/dX' at machine_frame's X' is the one kept
-        kept = (np.asarray(model.mass(q, qd, numbers), dtype=float) @ qd)[3]
+        kept = lagrangian.momentum(m, q, qd)
         assert kept == pytest.approx(momentum, rel=REL_TOL, abs=REL_TOL * m.Mf * abs(qd[3]))
-    axle_f, hinge_f = (np.asarray(v, dtype=float).ravel() for v in model.forces(q, qd, qdd, 0.0, 0.0, numbers))
+    axle_f, hinge_f, _ = lagrangian.joint_forces(m, q, qd, qdd)
     assert axle == pytest.approx(np.linalg.norm(axle_f), rel=REL_TOL)
     assert hinge == pytest.approx(np.linalg.norm(hinge_f), rel=REL_TOL)
     if sa != 0.0:
@@ -96,13 +89,13 @@ def test_machine_friction_satisfies_the_sympy_equations_at_any_momentum(model, s
 
 
 @pytest.mark.parametrize("sample", SAMPLES[:4], ids=[f"machine{i}" for i in range(4)])
-def test_the_machine_without_friction_satisfies_the_sympy_equations(model, sample):
+def test_the_machine_without_friction_satisfies_the_sympy_equations(lagrangian, sample):
     m, angles, rates, momentum, _, spare = sample
     ideal = m._replace(mua=0.0, muh=0.0, mub=0.0, mua_s=0.0, muh_s=0.0, mub_s=0.0)
     y, out = np.array([*angles, *rates]), np.empty(4)
     stages.derivative(stages.MACHINE, y, ideal, None, out)
     q, qd, qdd = _sympy_state(ideal, angles, rates, momentum, out[2], out[3], spare)
-    _check_equations(model, ideal, q, qd, qdd, 0.0, 0.0, 0.0, 0.0)
+    _check_equations(lagrangian, ideal, q, qd, qdd, 0.0, 0.0, 0.0, 0.0)
 
 
 def test_compiled_machine_after_release_is_bit_identical_to_the_python_one():
@@ -164,14 +157,14 @@ def _after_release(design):
     return m, reference._merge(pieces), pieces
 
 
-def _machine_energy(model, m, y, dx):
+def _machine_energy(lagrangian, m, y, dx):
     """``(T, V)`` on the ground of the arm, counterweight and frame, T from the sympy model's mass matrix."""
     q, qd = np.array([y[0], y[1], 0.0, 0.0]), np.array([y[2], y[3], 0.0, dx])
-    kinetic = 0.5 * qd @ np.asarray(model.mass(q, qd, model.numbers(m)), dtype=float) @ qd
+    kinetic = 0.5 * qd @ lagrangian.mass(m, q, qd) @ qd
     return kinetic, eom.potential_energy(y[0], y[1], 0.0, m)[0]
 
 
-def test_after_release_the_joints_stick_and_slip_and_the_energy_audit_closes(model):
+def test_after_release_the_joints_stick_and_slip_and_the_energy_audit_closes(lagrangian):
     """The machine's energy at release less its energy at each sample is the work its friction did
     since; the axle and the hinge stop and turn back many times on the way."""
     design = dataclasses.replace(_rolling(default_design()), losses=LOSSES)
@@ -181,7 +174,7 @@ def test_after_release_the_joints_stick_and_slip_and_the_energy_audit_closes(mod
     assert len(pieces) > 10 and {"axle_stops", "hinge_stops"} <= events
     momentum = -params(design).mP * shot.release_velocity[0]
     y0 = machine.y[0]
-    kinetic, potential = np.array([_machine_energy(model, m, y, stages.machine_frame(y, m, momentum, 0.0, y0, 0.0,
+    kinetic, potential = np.array([_machine_energy(lagrangian, m, y, stages.machine_frame(y, m, momentum, 0.0, y0, 0.0,
                                                                                       0.0)[1])
                                    for y in machine.y]).T
     energies, scale = kinetic + potential, kinetic[0]

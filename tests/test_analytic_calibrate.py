@@ -46,20 +46,6 @@ RANGE_SD, ANGLE_SD, TIME_SD = 0.3, 1.0, 0.005
 SEEDS = range(6)
 
 
-def _friction_refused() -> bool:
-    """True while the design contract refuses non-ideal losses (until friction lands in both models)."""
-    design = load_design(PROTOTYPE_FILE)
-    try:
-        dataclasses.replace(design, losses=Losses(axle_friction=0.1, axle_radius=0.0064))
-    except DesignError:
-        return True
-    return False
-
-
-requires_friction = pytest.mark.skipif(_friction_refused(), reason="friction is not modelled yet: the design "
-                                       "contract refuses [losses] (issue 11); these run once it accepts them")
-
-
 def _toml_value(value) -> str:
     if isinstance(value, str):
         return json.dumps(value)
@@ -185,10 +171,9 @@ def test_one_shot_one_parameter_uncertainty_is_the_measurements_through_the_slop
     assert result.degrees_of_freedom == 0 and result.reduced_chi_square is None
 
 
-@requires_friction
 @pytest.mark.slow
 def test_axle_friction_is_recovered_within_its_stated_uncertainty(tmp_path):
-    """Axle friction 0.2 on a 6.4 mm axle (the issue's example radius), shots at three release
+    """Axle friction 0.2 on a 6.4 mm axle (the radius the prototype's calibration file assumes), shots at three release
     angles with noisy ranges, six seeds: within 3 sd each, distances inside chi-square(6)'s 99.9 %."""
     true_friction, radius = 0.2, 0.0064
     base = load_design(PROTOTYPE_FILE)
@@ -211,7 +196,6 @@ def test_axle_friction_is_recovered_within_its_stated_uncertainty(tmp_path):
     assert low < sum(distances) < high, distances
 
 
-@requires_friction
 def test_the_prototype_calibration_meets_its_measured_range():
     """One shot, one parameter: the fitted axle friction reproduces 26.8 m (to the fit's tolerance)
     with a positive coefficient, since the ideal machine throws farther (29.39 m)."""
@@ -223,7 +207,6 @@ def test_the_prototype_calibration_meets_its_measured_range():
     assert result.values[0] > 0.0 and 0.0 < result.uncertainties[0] < result.values[0]
 
 
-@requires_friction
 def test_the_prototype_calibration_with_its_release_angle_meets_both_measurements():
     """Two measurements, two parameters: the range and the 61 deg met, and the friction's
     uncertainty wider than with the angle taken as exact (it now carries the angle's 1.8 deg)."""
@@ -236,14 +219,11 @@ def test_the_prototype_calibration_with_its_release_angle_meets_both_measurement
     assert result.uncertainties[0] > alone.uncertainties[0]
 
 
-def test_the_prototype_calibration_reads_its_friction_parameter(monkeypatch):
-    """What can be checked of the friction calibration while the contract refuses losses: with
-    that one refusal lifted (Design's own check, nothing the model reads), the file gives a
-    coefficient that starts at DEFAULT_LOSS_START (0.1) above a bound of 0, and the shot's
-    design gets the coefficient and the given radius together."""
+def test_the_prototype_calibration_reads_its_friction_parameter():
+    """The file gives a coefficient that starts at DEFAULT_LOSS_START (0.1) above a bound of 0,
+    and the shot's design gets the coefficient and the given radius together."""
     from analytic.calibrate.spec import DEFAULT_LOSS_START
 
-    monkeypatch.setattr(Design, "__post_init__", lambda self: None)
     spec = load_calibration(PROTOTYPE_CALIBRATION)
     (parameter,) = spec.parameters
     assert (parameter.start, parameter.lower, parameter.scale) == (DEFAULT_LOSS_START, 0.0, 0.1)
@@ -274,10 +254,8 @@ def test_the_prototype_calibration_file_names_the_prototype_and_its_range():
     assert (PROTOTYPE_CALIBRATION.parent / shot["design"]).resolve() == PROTOTYPE_FILE.resolve()
     assert shot["range"] == PROTOTYPE_RANGE and shot["range_uncertainty"] > 0
     ideal = simulate(load_design(PROTOTYPE_FILE), histories=False, loads=False).range
-    assert ideal == pytest.approx(29.39, abs=0.01)   # the issue's 29.4 m
-    if _friction_refused():   # until then, a clear refusal naming the losses
-        with pytest.raises(DesignError, match="friction is not modelled yet"):
-            load_calibration(PROTOTYPE_CALIBRATION)
+    # 29.39 m: the ideal machine's range as data/designs/prototype-61.toml records it.
+    assert ideal == pytest.approx(29.39, abs=0.01)
 
 
 # --------------------------------------------------------------------------- #

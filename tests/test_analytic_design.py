@@ -318,3 +318,13 @@ def test_every_command_refuses_a_bad_angle_with_exit_2(tmp_path, capsys, command
     assert command(path) == 2
     err = capsys.readouterr().err
     assert f"invalid design: machine.{key} = " in err and reason in err
+
+
+def test_a_beam_arm_past_the_float_range_is_refused_by_name():
+    """Found by the fuzz test: a starting angle of 2e-246 deg makes the paper's arm 1.5e247 m long,
+    whose beam inertia overflowed with an OverflowError instead of a DesignError."""
+    with pytest.raises(DesignError, match=r"machine\.arm_beam .*past the float range"):
+        BeamArm(0.05, 0.1, 700.0).properties(1.5e247, 0.3)
+    mass, cg, inertia = BeamArm(0.05, 0.1, 700.0).properties(1.0, 0.3)
+    assert (mass, cg) == (700.0 * 0.05 * 0.1 * 1.3, 0.35)   # the beam's own formulas (docstring)
+    assert inertia == pytest.approx(mass * (1.3**2 + 0.1**2) / 12.0, rel=1e-15)

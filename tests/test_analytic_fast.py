@@ -20,11 +20,12 @@ import sys
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, event, given, settings
+from hypothesis import HealthCheck, event, example, given, settings
 
 from analytic import aero, compiled, eom, fast, geometry, kernel, stages
 from analytic.aero import DRAG_TABLE
 from analytic.design import Base
+from analytic.design_file import default_design
 from benchmarks.cli import main as bench_main
 from benchmarks.designs import ROLLING_FRAME, TYPICAL_LOSSES, bench_designs
 from benchmarks.report import format_bench
@@ -32,7 +33,7 @@ from benchmarks.suite import MISMATCH_KEYS
 from analytic.parameters import N_PARAMS, params
 from analytic.reference import DEFAULT_ATOL, DEFAULT_RTOL, simulate
 from analytic.result import Status
-from support import (failure_designs, lossy_designs, paper_designs, sample_count, table3_variants,
+from support import (examples, failure_designs, lossy_designs, paper_designs, table3_variants,
                      table_ii_sample, with_environment, with_machine, with_projectile)
 
 #: The agreement targets between the two paths (the fast path's specification).
@@ -136,9 +137,10 @@ def test_compiled_drag_is_bit_identical_from_creeping_flow_to_past_the_crisis(ta
 # Whole shots against the reference
 # --------------------------------------------------------------------------- #
 
-def _assert_agree(design):
-    """The fast path and ``simulate`` on one design: same outcome, numbers within the targets."""
-    reference, got = simulate(design, histories=False), fast.simulate_fast(design)
+def _assert_agree(design, shots=None):
+    """The fast path and ``simulate`` on one design (or their ``shots``, reference first): same
+    outcome, numbers within the targets."""
+    reference, got = shots or (simulate(design, histories=False), fast.simulate_fast(design))
     assert got.status is reference.status, design.name
     assert got.message == reference.message
     for name in ("liftoff_time", "release_time", "landing_time"):
@@ -219,21 +221,44 @@ def test_bench_sample_agrees_design_by_design():
         _assert_agree(design)
 
 
-@settings(max_examples=60, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
-@given(paper_designs())
-def test_random_designs_over_table_ii_agree(design):
-    _assert_agree(design)
+def _assert_within_conditioning(design, reference, got):
+    """For a design whose two paths differ by more than RANGE_REL in range: the difference is within
+    the design's own conditioning, what a 10x tighter reference run moves the range by (see the
+    property test of random losses below)."""
+    difference = abs(got.range / reference.range - 1.0)
+    tight = simulate(design, histories=False, loads=False, rtol=DEFAULT_RTOL / 10, atol=DEFAULT_ATOL / 10)
+    conditioning = abs(tight.range / reference.range - 1.0) if tight.ok else math.inf
+    event("ill-conditioned: held to its own tolerance sensitivity")
+    assert difference <= conditioning, (reference.range, got.range, tight.range)
 
 
-# 250 designs (500 with TREBUCHET_FULL_SAMPLES=1): with the 60 above, the 201 of the benchmark's
-# sample and the 16 seeded ones, over 500 designs a run are held to the targets on both paths,
-# both arms and both release rules among them.
+#: A design within Table II's bounds (``paper_designs`` drew it) that throws 1.4 cm and is
+#: ill-conditioned: a 10x tighter reference run moves its range by 2.7e-3, while the two paths
+#: differ by 2.2e-6 (measured), more than RANGE_REL.
+ILL_CONDITIONED = with_machine(default_design(), pivot_height=0.9940350466844425, arm_long=1.060003427118582,
+                               arm_short=0.2557221165939496, arm_mass=0.003289313859281329,
+                               arm_cg=0.40214065526231624, arm_inertia=0.0004745270271252916,
+                               counterweight_link=0.3852766377270108, counterweight_inertia=0.009346195228721923,
+                               sling_length=0.32317158345579394, release_angle=-0.7504915783575618,
+                               release_rule="velocity")
+
+
+# 310 designs in the suite (``examples``: more under HYPOTHESIS_PROFILE=thorough): with the 201
+# of the benchmark's sample and the 16 seeded ones, over 500 designs a run are held to the
+# targets on both paths, both arms and both release rules among them. Every design is held to
+# them but an ill-conditioned one, held to its own conditioning as in the property test of
+# random losses below (Table II's bounds hold such designs too: ILL_CONDITIONED).
 @pytest.mark.slow
-@settings(max_examples=sample_count(250, 500), deadline=None, derandomize=True,
-          suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=examples(310), deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(paper_designs())
-def test_many_random_designs_over_table_ii_agree(design):
-    _assert_agree(design)
+@example(ILL_CONDITIONED)
+def test_random_designs_over_table_ii_agree(design):
+    reference, got = simulate(design, histories=False), fast.simulate_fast(design)
+    if reference.ok and got.ok and abs(got.range / reference.range - 1.0) > RANGE_REL:
+        assert got.status is reference.status and got.message == reference.message
+        _assert_within_conditioning(design, reference, got)
+    else:
+        _assert_agree(design, (reference, got))
 
 
 def test_headwind_strong_enough_to_blow_the_ball_back_agrees(table3):
@@ -300,13 +325,8 @@ def test_random_losses_and_rolling_frames_end_alike_on_both_paths(design):
     reference, got = simulate(design, histories=False), fast.simulate_fast(design)
     assert got.status is reference.status, (reference.message, got.message)
     assert _words(got.message) == _words(reference.message)
-    if reference.ok:
-        difference = abs(got.range / reference.range - 1.0)
-        if difference > RANGE_REL:
-            tight = simulate(design, histories=False, loads=False, rtol=DEFAULT_RTOL / 10, atol=DEFAULT_ATOL / 10)
-            conditioning = abs(tight.range / reference.range - 1.0) if tight.ok else math.inf
-            event("ill-conditioned: held to its own tolerance sensitivity")
-            assert difference <= conditioning, (reference.range, got.range, tight.range)
+    if reference.ok and abs(got.range / reference.range - 1.0) > RANGE_REL:
+        _assert_within_conditioning(design, reference, got)
     event(f"{reference.status.value} on a {design.base.mobility} frame")   # --hypothesis-show-statistics
 
 
@@ -409,7 +429,7 @@ def test_bench_json_has_the_figures_and_the_paths_agree(capsys):
     assert figures["designs"] == 5 and figures["status_mismatches"] == []
     assert figures["max_range_rel_diff"] <= RANGE_REL
     assert figures["max_event_time_diff_s"] <= EVENT_TIME
-    # The cost of friction, as ratios to the ideal machine in the same run (issue 11).
+    # The cost of friction, as ratios to the ideal machine in the same run.
     assert figures["friction_status_mismatches"] == [] and figures["friction_max_range_rel_diff"] <= RANGE_REL
     # The outcomes on the benchmark's rolling frame, without and with those losses.
     assert figures["rolling_frame_mass"] == ROLLING_FRAME.mass

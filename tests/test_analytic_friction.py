@@ -1,11 +1,11 @@
-"""Friction in the analytic model (issue 11; ``docs/derivation.md`` section 10): the equations against
-an independent sympy model, the implicit solve, stick and slip, never firing, the ideal machine
-unchanged, the range against each coefficient, and the energy audit.
+"""Friction in the analytic model (``docs/derivation.md`` section 10): the equations against the
+sympy Lagrangian, the implicit solve, stick and slip, never firing, the ideal machine unchanged, the
+range against each coefficient, and the energy audit.
 
-The sympy model is built here from the geometry alone, with the frame's
-displacement X as a fourth coordinate (so a rolling frame is covered):
-positions -> T, V -> Lagrange's equations; the friction's generalised forces
-come from the virtual power of the torques and the force at their joints,
+The reference is ``tests/sympy_model.py`` (built from the geometry alone, with
+the frame's displacement X as a fourth coordinate, so a rolling frame is
+covered): Lagrange's equations; the friction's generalised forces from the
+virtual power of the torques and the force at their joints,
 ``P = ta (w_arm - w_frame) + th (w_link - w_arm) + F (x_P' - X')``,
 ``Q = dP/dq'``; the joint forces from Newton's law for each body with
 accelerations that sympy differentiates. Nothing of ``analytic.eom`` is used
@@ -20,7 +20,6 @@ from functools import partial
 
 import numpy as np
 import pytest
-import sympy as sp
 
 from analytic import eom, friction, stages
 from analytic.design import Base, Losses
@@ -55,71 +54,6 @@ ALL = {**AXLE, **HINGE, **BASE}
 
 def with_losses(design, **losses):
     return dataclasses.replace(design, losses=Losses(**losses))
-
-
-# --------------------------------------------------------------------------- #
-# The sympy model
-# --------------------------------------------------------------------------- #
-
-class FrictionModel:
-    """Lambdified: mass matrix, forcing, the friction's generalised forces, the base's Jacobian and
-    the joint forces, on q = (theta, phi, psi, X)."""
-
-    def __init__(self) -> None:
-        q = sp.symbols("theta phi psi X", real=True)
-        qd = sp.symbols("dtheta dphi dpsi dX", real=True)
-        qdd = sp.symbols("ddtheta ddphi ddpsi ddX", real=True)
-        ta, th, fb, normal = sp.symbols("ta th F N", real=True)
-        La, Lb, d, mA, IA, mW, Lw, IW, Ls, mP, h, g, Mf = prm = sp.symbols(
-            "La Lb d mA IA mW Lw IW Ls mP h g Mf", real=True)
-        theta, phi, psi, x = q
-        qv, qdv, qddv = sp.Matrix(q), sp.Matrix(qd), sp.Matrix(qdd)
-        frame = sp.Matrix([x, 0])
-        along = sp.Matrix([-sp.sin(theta), sp.cos(theta)])
-        arm_cm = frame + d * along
-        weight = frame - Lb * along + Lw * sp.Matrix([sp.sin(theta + phi), -sp.cos(theta + phi)])
-        projectile = frame + La * along + Ls * sp.Matrix([-sp.sin(theta + psi), sp.cos(theta + psi)])
-
-        def velocity(r):
-            return r.jacobian(qv) * qdv
-
-        def acceleration(r):
-            v = velocity(r)
-            return v.jacobian(qdv) * qddv + v.jacobian(qv) * qdv
-
-        w_arm, w_link, w_frame = qd[0], qd[0] + qd[1], 0
-        kinetic = (Mf * qd[3] ** 2 / 2 + mA * velocity(arm_cm).dot(velocity(arm_cm)) / 2 + IA * w_arm ** 2 / 2
-                   + mW * velocity(weight).dot(velocity(weight)) / 2 + IW * w_link ** 2 / 2
-                   + mP * velocity(projectile).dot(velocity(projectile)) / 2)
-        potential = g * (mA * arm_cm[1] + mW * weight[1] + mP * projectile[1])
-        momentum = sp.Matrix([kinetic]).jacobian(qdv).T
-        mass = momentum.jacobian(qdv)
-        forcing = (-momentum.jacobian(qv) * qdv + sp.Matrix([kinetic]).jacobian(qv).T
-                   - sp.Matrix([potential]).jacobian(qv).T)
-        power = (ta * (w_arm - w_frame) + th * (w_link - w_arm)
-                 + fb * (velocity(projectile)[0] - qd[3]))
-        generalised = sp.Matrix([power]).jacobian(qdv).T
-        jacobian = sp.Matrix([projectile[1]]).jacobian(qv)
-        gravity = sp.Matrix([0, g])
-        hinge = mW * (acceleration(weight) + gravity)
-        sling = mP * (acceleration(projectile) + gravity) - sp.Matrix([fb, normal])
-        axle = mA * (acceleration(arm_cm) + gravity) + hinge + sling
-        args = (q, qd, prm)
-        self.mass = sp.lambdify(args, mass, "numpy", cse=True)
-        self.forcing = sp.lambdify(args, forcing, "numpy", cse=True)
-        self.generalised = sp.lambdify((q, qd, ta, th, fb, prm), generalised, "numpy", cse=True)
-        self.jacobian = sp.lambdify(args, jacobian, "numpy", cse=True)
-        self.forces = sp.lambdify((q, qd, qdd, fb, normal, prm), [axle, hinge], "numpy", cse=True)
-
-    @staticmethod
-    def numbers(p: Params) -> tuple:
-        return (p.La, p.Lb, p.d, p.mA, p.IA, p.mW, p.Lw, p.IW, p.Ls, p.mP, p.h, p.g,
-                p.Mf if p.rolling else 1e300)
-
-
-@pytest.fixture(scope="module")
-def model() -> FrictionModel:
-    return FrictionModel()
 
 
 def random_params(rng: np.random.Generator, rolling: bool) -> Params:
@@ -176,13 +110,11 @@ def _full_rates(p, q3, qd3, qdd3):
     return np.array([*q3, x]), np.array([*qd3, dx]), np.array([*qdd3, ddx])
 
 
-def _check_equations(model, p, q, qd, qdd, ta, th, fb, normal):
+def _check_equations(lagrangian, p, q, qd, qdd, ta, th, fb, normal):
     """The residual of the sympy model's M q'' - f - Q - J^T N (X row only on a rolling frame)."""
-    numbers = model.numbers(p)
-    m = np.asarray(model.mass(q, qd, numbers), dtype=float)
-    f = np.asarray(model.forcing(q, qd, numbers), dtype=float).ravel()
-    generalised = np.asarray(model.generalised(q, qd, ta, th, fb, numbers), dtype=float).ravel()
-    jac = np.asarray(model.jacobian(q, qd, numbers), dtype=float).ravel()
+    m, f = lagrangian.mass(p, q, qd), lagrangian.forcing(p, q, qd)
+    generalised = lagrangian.generalised(p, q, qd, ta, th, fb)
+    jac = lagrangian.base_jacobian(p, q)
     rows = 4 if p.rolling else 3
     residual = (m @ qdd - f - generalised - jac * normal)[:rows]
     scale = max(np.max(np.abs(f[:rows])), np.max(np.abs((m @ qdd)[:rows])))
@@ -190,7 +122,7 @@ def _check_equations(model, p, q, qd, qdd, ta, th, fb, normal):
 
 
 @pytest.mark.parametrize("sample", SWING, ids=[f"swing{i}" for i in range(len(SWING))])
-def test_swing_friction_satisfies_the_sympy_equations_and_coulombs_law(model, sample):
+def test_swing_friction_satisfies_the_sympy_equations_and_coulombs_law(lagrangian, sample):
     p, q3, qd3, (sa, sh) = sample
     if sa == 0.0:
         qd3 = qd3 * np.array([0.0, 1.0, 1.0])
@@ -198,9 +130,8 @@ def test_swing_friction_satisfies_the_sympy_equations_and_coulombs_law(model, sa
         qd3 = qd3 * np.array([1.0, 0.0, 1.0])
     ddtheta, ddphi, ddpsi, ta, th, axle, hinge = friction.swing_friction(*q3, *qd3, sa, sh, p)
     q, qd, qdd = _full_rates(p, q3, qd3, (ddtheta, ddphi, ddpsi))
-    _check_equations(model, p, q, qd, qdd, ta, th, 0.0, 0.0)
-    (axle_f, hinge_f) = (np.asarray(v, dtype=float).ravel() for v in model.forces(q, qd, qdd, 0.0, 0.0,
-                                                                                   model.numbers(p)))
+    _check_equations(lagrangian, p, q, qd, qdd, ta, th, 0.0, 0.0)
+    axle_f, hinge_f, _ = lagrangian.joint_forces(p, q, qd, qdd)
     assert axle == pytest.approx(np.linalg.norm(axle_f), rel=REL_TOL)
     assert hinge == pytest.approx(np.linalg.norm(hinge_f), rel=REL_TOL)
     if sa != 0.0:
@@ -214,7 +145,7 @@ def test_swing_friction_satisfies_the_sympy_equations_and_coulombs_law(model, sa
 
 
 @pytest.mark.parametrize("sample", SLIDE, ids=[f"slide{i}" for i in range(len(SLIDE))])
-def test_slide_friction_satisfies_the_sympy_equations_and_coulombs_law(model, sample):
+def test_slide_friction_satisfies_the_sympy_equations_and_coulombs_law(lagrangian, sample):
     p, theta, phi, dtheta, dphi, (sa, sh, sb) = sample
     if sh == 0.0:
         dphi = 0.0
@@ -222,9 +153,8 @@ def test_slide_friction_satisfies_the_sympy_equations_and_coulombs_law(model, sa
                                                                              sb, p)
     psi, dpsi, s, c, _ = eom.slide_constraint(theta, dtheta, p)
     q, qd, qdd = _full_rates(p, (theta, phi, psi), (dtheta, dphi, dpsi), (ddtheta, ddphi, s * ddtheta + c))
-    _check_equations(model, p, q, qd, qdd, ta, th, fb, normal)
-    axle_f, hinge_f = (np.asarray(v, dtype=float).ravel() for v in model.forces(q, qd, qdd, fb, normal,
-                                                                                 model.numbers(p)))
+    _check_equations(lagrangian, p, q, qd, qdd, ta, th, fb, normal)
+    axle_f, hinge_f, _ = lagrangian.joint_forces(p, q, qd, qdd, fb, normal)
     assert axle == pytest.approx(np.linalg.norm(axle_f), rel=REL_TOL)
     assert hinge == pytest.approx(np.linalg.norm(hinge_f), rel=REL_TOL)
     assert abs(ta + p.mua * p.ra * sa * axle) <= IMPLICIT_TOL * abs(ta)
@@ -234,20 +164,18 @@ def test_slide_friction_satisfies_the_sympy_equations_and_coulombs_law(model, sa
     else:
         assert ddphi == 0.0
     # The projectile's slide over the base is dx_P/dtheta theta' (sympy's x_P' - X').
-    numbers = model.numbers(p)
-    slide_velocity = float(np.asarray(model.generalised(q, qd, 0.0, 0.0, 1.0, numbers), dtype=float).ravel() @ qd)
+    slide_velocity = float(lagrangian.generalised(p, q, qd, 0.0, 0.0, 1.0) @ qd)
     assert dx * dtheta == pytest.approx(slide_velocity, rel=REL_TOL, abs=REL_TOL * abs(p.La * dtheta))
 
 
 @pytest.mark.parametrize("sample", SWING[:4], ids=[f"swing{i}" for i in range(4)])
-def test_generalised_forces_by_virtual_work_are_the_torques_on_theta_and_phi(model, sample):
+def test_generalised_forces_by_virtual_work_are_the_torques_on_theta_and_phi(lagrangian, sample):
     """Derivation 10.1: the axle's torque acts on theta alone, the hinge's on phi alone, the base's force
     through the projectile's x (and never on X: its reaction pushes the frame back)."""
     p, q3, qd3, _ = sample
     q, qd = np.array([*q3, 0.0]), np.array([*qd3, 0.0])
-    numbers = model.numbers(p)
     ta, th, fb = 1.7, -0.6, 2.3
-    got = np.asarray(model.generalised(q, qd, ta, th, fb, numbers), dtype=float).ravel()
+    got = lagrangian.generalised(p, q, qd, ta, th, fb)
     beta = q3[0] + q3[2]
     expected = [ta + fb * (-p.La * math.cos(q3[0]) - p.Ls * math.cos(beta)), th, fb * (-p.Ls * math.cos(beta)), 0.0]
     np.testing.assert_allclose(got, expected, rtol=1e-12, atol=1e-12)
@@ -676,7 +604,8 @@ def test_base_friction_alone_can_hold_the_machine(paper):
 # The compiled path
 # --------------------------------------------------------------------------- #
 
-#: Fast against reference, relative in range: what the issue asks of friction designs. Both run
+#: Fast against reference, relative in range: the fast path's specification (``test_analytic_fast.RANGE_REL``),
+#: held on friction designs too. Both run
 #: the same stage functions and the same DOP853 steps, so they agree to round-off unless a
 #: rounding sends the step control another way (measured: 1.7e-10 at worst here, on "all").
 FAST_TOL = 1e-7

@@ -12,7 +12,7 @@ from hypothesis import HealthCheck, given, settings
 from analytic.design import Design
 from analytic.result import Status
 from analytic.reference import simulate
-from support import paper_designs, sample_count
+from support import examples, paper_designs
 
 #: A hang guard, not a speed claim: a typical shot takes ~0.05 s, the slowest
 #: seen in a 1500-design scan under 1 s; 30 s means something looped.
@@ -35,18 +35,12 @@ def _check_outcome(design: Design) -> None:
         assert shot.range is None and shot.release_time is None
 
 
-@settings(max_examples=25, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
+# 175 reference shots with histories in the suite (``examples``: more under
+# HYPOTHESIS_PROFILE=thorough): the same strategy also feeds test_analytic_fast.py's property
+# test, whose 310 designs each end in the same outcome and message on the reference path, so
+# nearly 500 designs a run sample Table II's bounds.
+@pytest.mark.slow
+@settings(max_examples=examples(175), deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(paper_designs())
 def test_sampled_designs_end_in_a_result_or_a_named_failure(design):
-    _check_outcome(design)
-
-
-# 150 reference shots with histories (300 with TREBUCHET_FULL_SAMPLES=1): the same strategy
-# also feeds test_analytic_fast.py's slow test, whose 250 designs each end in the same outcome
-# and message on the reference path, so 400 designs a run sample Table II's bounds.
-@pytest.mark.slow
-@settings(max_examples=sample_count(150, 300), deadline=None, derandomize=True,
-          suppress_health_check=[HealthCheck.too_slow])
-@given(paper_designs())
-def test_many_sampled_designs_end_in_a_result_or_a_named_failure(design):
     _check_outcome(design)

@@ -1,13 +1,12 @@
 """The joint forces (``analytic.eom.joint_forces``, ``loads``) against independent derivations, and their peaks.
 
-The independent model here is sympy's in maximal coordinates: every body has
-its own place (arm and counterweight x, y and angle; the projectile x, y; a
-rolling frame its X), and the pivot, the hinge, the sling and the base are
-constraints. Solving Newton's equations with the constraints gives the
-accelerations and the Lagrange multipliers, and the multipliers ARE the joint
-forces: nothing of ``analytic.eom`` is used to build it. Besides, the issue's
-own check: the axle carries what the whole machine's momentum needs, total
-mass times the centre of mass's acceleration, less gravity and the base's push.
+The reference is the sympy Lagrangian of ``tests/sympy_model.py`` (the frame's
+X a coordinate, so a rolling frame is covered): it gives the accelerations on
+its own (the free swing, or the base's constraint with its multiplier N), and
+the joint forces from Newton's law for each body with the accelerations sympy
+differentiates: nothing of ``analytic.eom`` is used to build it. Besides, the
+axle carries what the whole machine's momentum needs, total mass times the
+centre of mass's acceleration, less gravity and the base's push.
 """
 
 from __future__ import annotations
@@ -17,7 +16,6 @@ import math
 
 import numpy as np
 import pytest
-import sympy as sp
 
 from analytic import eom, stages
 from analytic.design import Base
@@ -26,94 +24,16 @@ from analytic.parameters import Params, params
 
 #: Agreement with the sympy model at one state, relative to the largest force
 #: compared: both sides evaluate closed forms in a few dozen double operations
-#: (round-off ~1e-14); solving the 9x9 constrained system and the eliminations
+#: (round-off ~1e-14); solving the constrained 5x5 system and the eliminations
 #: in ``eom`` leave room up to 1e-10, while any wrong term is O(1).
 REL_TOL = 1e-10
 SEED = 13_013
 
 
-class MaximalModel:
-    """Newton's equations of free bodies joined by constraints, lambdified.
-
-    Coordinates z = (xA, yA, tA, xW, yW, tW, xP, yP, X): the arm's centre and
-    angle (theta), the counterweight's centre and angle (theta + phi), the
-    projectile, the frame's displacement. Constraints (each g(z) = 0):
-    pivot (2, the arm's axle at the frame's (X, 0)), hinge (2, the
-    counterweight's hinge point on the short-arm tip), sling (1, the
-    projectile Ls from the long-arm tip), and in stage 1 the base (1,
-    yP = -h). With ``M z'' = F + J^T lambda`` the force of each constraint on
-    a body is its multiplier: the axle's on the arm is (lambda1, lambda2),
-    the hinge's on the counterweight (lambda3, lambda4), the sling's on the
-    projectile lambda5 (rP - tip), the base's lambda6.
-    """
-
-    def __init__(self) -> None:
-        z = sp.symbols("xA yA tA xW yW tW xP yP X", real=True)
-        xA, yA, tA, xW, yW, tW, xP, yP, X = z
-        zd = sp.symbols("dxA dyA dtA dxW dyW dtW dxP dyP dX", real=True)
-        names = ("La", "Lb", "d", "Lw", "Ls", "h")
-        La, Lb, d, Lw, Ls, h = prm = sp.symbols(names, real=True)
-        along = sp.Matrix([-sp.sin(tA), sp.cos(tA)])          # pivot -> long tip
-        centre = sp.Matrix([xA, yA])
-        pivot = centre - d * along
-        short_tip = pivot - Lb * along
-        long_tip = pivot + La * along
-        hinge_point = sp.Matrix([xW, yW]) - Lw * sp.Matrix([sp.sin(tW), -sp.cos(tW)])
-        rP = sp.Matrix([xP, yP])
-        sling = rP - long_tip
-        constraints = [pivot[0] - X, pivot[1], hinge_point[0] - short_tip[0], hinge_point[1] - short_tip[1],
-                       (sling.dot(sling) - Ls**2) / 2, yP + h]
-        g = sp.Matrix(constraints)
-        zv, zdv = sp.Matrix(z), sp.Matrix(zd)
-        jac = g.jacobian(zv)
-        jdot_zd = (jac * zdv).jacobian(zv) * zdv
-        args = (z, zd, prm)
-        self.jac = sp.lambdify(args, jac, "numpy", cse=True)
-        self.jdot_zd = sp.lambdify(args, jdot_zd, "numpy", cse=True)
-        self.sling = sp.lambdify(args, sling, "numpy", cse=True)
-
-    def solve(self, p: Params, q, qd, on_base: bool):
-        """Accelerations (9,) and joint forces: (axle (2,), hinge (2,), sling (2,), normal)."""
-        z, zd = self.state(p, q, qd)
-        prm = (p.La, p.Lb, p.d, p.Lw, p.Ls, p.h)
-        rows = 6 if on_base else 5
-        jac = np.asarray(self.jac(z, zd, prm), dtype=float)[:rows]
-        jdot = np.asarray(self.jdot_zd(z, zd, prm), dtype=float).ravel()[:rows]
-        mass = np.diag([p.mA, p.mA, p.IA, p.mW, p.mW, p.IW, p.mP, p.mP, p.Mf])
-        force = np.array([0.0, -p.mA * p.g, 0.0, 0.0, -p.mW * p.g, 0.0, 0.0, -p.mP * p.g, 0.0])
-        if not p.rolling:   # the frame is the ground: drop X and its row
-            mass, force, jac = mass[:8, :8], force[:8], jac[:, :8]
-        n = len(force)
-        system = np.block([[mass, -jac.T], [jac, np.zeros((rows, rows))]])
-        solution = np.linalg.solve(system, np.concatenate([force, -jdot]))
-        acc, lam = solution[:n], solution[n:]
-        sling_force = lam[4] * np.asarray(self.sling(z, zd, prm), dtype=float).ravel()
-        return acc, (lam[0:2], lam[2:4], sling_force, lam[5] if on_base else 0.0)
-
-    @staticmethod
-    def state(p: Params, q, qd):
-        """Maximal coordinates and rates of the generalised state (the frame at X = 0)."""
-        theta, phi, psi = q
-        dtheta, dphi, dpsi = qd
-        u = np.array([-math.sin(theta), math.cos(theta)])
-        du = dtheta * np.array([-math.cos(theta), -math.sin(theta)])
-        w, dw = theta + phi, dtheta + dphi
-        link = np.array([math.sin(w), -math.cos(w)])
-        dlink = dw * np.array([math.cos(w), math.sin(w)])
-        b, db = theta + psi, dtheta + dpsi
-        s = np.array([-math.sin(b), math.cos(b)])
-        ds = db * np.array([-math.cos(b), -math.sin(b)])
-        rA, vA = p.d * u, p.d * du
-        rW, vW = -p.Lb * u + p.Lw * link, -p.Lb * du + p.Lw * dlink
-        rP, vP = p.La * u + p.Ls * s, p.La * du + p.Ls * ds
-        z = [*rA, theta, *rW, w, *rP, 0.0]
-        zd = [*vA, dtheta, *vW, dw, *vP, 0.0]   # X' does not enter the accelerations (no velocity forces)
-        return z, zd
-
-
-@pytest.fixture(scope="module")
-def model() -> MaximalModel:
-    return MaximalModel()
+def _four(p: Params, q, qd, lagrangian):
+    """q and q' with the frame's X (0) and X' (zero horizontal momentum on a rolling frame; 0 on a fixed one)."""
+    dx = lagrangian.zero_momentum_rate(p, (*q, 0.0), qd) if p.rolling else 0.0
+    return (*q, 0.0), (*qd, dx)
 
 
 def _design(frame_mass):
@@ -165,29 +85,32 @@ def _force_scale(p: Params, forces) -> float:
 
 
 @pytest.mark.parametrize("sample", SWING, ids=_ids(SWING))
-def test_joint_forces_in_the_swing_are_the_maximal_models_multipliers(model, sample):
+def test_joint_forces_in_the_swing_are_newtons_law_on_each_body(lagrangian, sample):
     p, q, qd = sample
     qdd = eom.swing_accelerations(*q, *qd, p)
-    acc, (axle, hinge, sling, _) = model.solve(p, q, qd, on_base=False)
-    # The two models move alike (theta'' and the counterweight's angle), then the forces.
-    _assert_close([qdd[0], qdd[0] + qdd[1]], [acc[2], acc[5]], "theta'', (theta + phi)''",
-                  float(np.max(np.abs(acc))))
+    q4, qd4 = _four(p, q, qd, lagrangian)
+    acc = lagrangian.accelerations(p, q4, qd4)
+    axle, hinge, sling = lagrangian.joint_forces(p, q4, qd4, acc)
+    # The two models move alike (theta'', phi'', psi'' and the frame's X''), then the forces.
+    _assert_close(qdd, acc[:3], "theta'', phi'', psi''", float(np.max(np.abs(acc))))
     got = eom.joint_forces(*q, *qd, *qdd, 0.0, p)
     scale = _force_scale(p, (axle, hinge, sling))
     _assert_close(got[0:2], axle, "axle force on the arm", scale)
     _assert_close(got[2:4], hinge, "hinge force on the counterweight", scale)
     _assert_close(got[4:6], sling, "sling force on the projectile", scale)
     if p.rolling:
-        _assert_close(eom.frame_acceleration(*q, *qd, *qdd, p), acc[8], "X''", float(np.max(np.abs(acc))))
+        _assert_close(eom.frame_acceleration(*q, *qd, *qdd, p), acc[3], "X''", float(np.max(np.abs(acc))))
 
 
 @pytest.mark.parametrize("sample", SLIDE, ids=_ids(SLIDE))
-def test_joint_forces_on_the_base_are_the_maximal_models_multipliers(model, sample):
+def test_joint_forces_on_the_base_are_newtons_law_on_each_body(lagrangian, sample):
     p, theta, phi, dtheta, dphi = sample
     ddtheta, ddphi, normal = eom.slide_accelerations(theta, phi, dtheta, dphi, p)
     psi, dpsi, s, c, _ = eom.slide_constraint(theta, dtheta, p)
     q, qd, qdd = (theta, phi, psi), (dtheta, dphi, dpsi), (ddtheta, ddphi, s * ddtheta + c)
-    _, (axle, hinge, sling, normal_ref) = model.solve(p, q, qd, on_base=True)
+    q4, qd4 = _four(p, q, qd, lagrangian)
+    acc, normal_ref = lagrangian.on_base(p, q4, qd4)
+    axle, hinge, sling = lagrangian.joint_forces(p, q4, qd4, acc, 0.0, normal_ref)
     got = eom.joint_forces(*q, *qd, *qdd, normal, p)
     scale = _force_scale(p, (axle, hinge, sling, [normal_ref]))
     _assert_close(normal, normal_ref, "base push", scale)
@@ -200,36 +123,8 @@ def test_joint_forces_on_the_base_are_the_maximal_models_multipliers(model, samp
 # The axle carries the whole machine's momentum change
 # --------------------------------------------------------------------------- #
 
-class CentreOfMass:
-    """The moving parts' mass-weighted position about the pivot, and its second derivative, from sympy."""
-
-    def __init__(self) -> None:
-        q = sp.symbols("theta phi psi", real=True)
-        qd = sp.symbols("dtheta dphi dpsi", real=True)
-        qdd = sp.symbols("ddtheta ddphi ddpsi", real=True)
-        La, Lb, d, Lw, Ls, mA, mW, mP = prm = sp.symbols("La Lb d Lw Ls mA mW mP", real=True)
-        theta, phi, psi = q
-        along = sp.Matrix([-sp.sin(theta), sp.cos(theta)])
-        moment = (mA * d * along + mW * (-Lb * along + Lw * sp.Matrix([sp.sin(theta + phi), -sp.cos(theta + phi)]))
-                  + mP * (La * along + Ls * sp.Matrix([-sp.sin(theta + psi), sp.cos(theta + psi)])))
-        qv, qdv, qddv = sp.Matrix(q), sp.Matrix(qd), sp.Matrix(qdd)
-        rate = moment.jacobian(qv) * qdv
-        second = rate.jacobian(qv) * qdv + moment.jacobian(qv) * qddv
-        self.second = sp.lambdify((q, qd, qdd, prm), second, "numpy", cse=True)
-
-    def acceleration_sum(self, p: Params, q, qd, qdd) -> np.ndarray:
-        """sum m a over arm, counterweight and projectile on the ground, (2,): relative, plus
-        the frame's X'' from the zero horizontal momentum (``Mf X'' + sum m a_x = 0``)."""
-        relative = np.asarray(self.second(q, qd, qdd, (p.La, p.Lb, p.d, p.Lw, p.Ls, p.mA, p.mW, p.mP)),
-                              dtype=float).ravel()
-        moving = p.mA + p.mW + p.mP
-        ddx = -relative[0] / (p.Mf + moving) if p.rolling else 0.0
-        return relative + moving * np.array([ddx, 0.0])
-
-
 @pytest.mark.parametrize("stage", ["swing", "slide"])
-def test_axle_load_is_total_mass_times_centre_of_mass_acceleration_less_gravity_and_base(stage):
-    centre = CentreOfMass()
+def test_axle_load_is_total_mass_times_centre_of_mass_acceleration_less_gravity_and_base(lagrangian, stage):
     for p, *state in (SWING if stage == "swing" else SLIDE):
         if stage == "swing":
             q, qd = state
@@ -239,7 +134,9 @@ def test_axle_load_is_total_mass_times_centre_of_mass_acceleration_less_gravity_
             ddtheta, ddphi, normal = eom.slide_accelerations(theta, phi, dtheta, dphi, p)
             psi, dpsi, s, c, _ = eom.slide_constraint(theta, dtheta, p)
             q, qd, qdd = (theta, phi, psi), (dtheta, dphi, dpsi), (ddtheta, ddphi, s * ddtheta + c)
-        momentum_rate = centre.acceleration_sum(p, q, qd, qdd)      # total mass x a_cm
+        q4, qd4 = _four(p, q, qd, lagrangian)
+        ddx = lagrangian.frame_acceleration(p, q4, qd4, qdd) if p.rolling else 0.0
+        momentum_rate = lagrangian.momentum_rate(p, q4, qd4, (*qdd, ddx))      # total mass x a_cm
         gravity = np.array([0.0, -(p.mA + p.mW + p.mP) * p.g])
         expected = momentum_rate - gravity - np.array([0.0, normal])
         got = eom.joint_forces(*q, *qd, *qdd, normal, p)[0:2]

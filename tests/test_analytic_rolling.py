@@ -1,12 +1,12 @@
-"""The rolling frame (section 8 of ``docs/derivation.md``) against an independent sympy Lagrangian with X.
+"""The rolling frame (section 8 of ``docs/derivation.md``) against the sympy Lagrangian with X.
 
-The reference here keeps the frame's displacement X as a fourth coordinate
-(``analytic.eom`` eliminates it through the zero horizontal momentum), builds
-the Lagrangian from the parts' ground positions, and derives everything from
-it: the mass matrix and forcing, the base's reaction as the multiplier of the
-stage-1 constraint, the momentum and the energy. It also integrates a whole
-shot on its own (scipy, stage 1 as a constrained system, vacuum flight in
-closed form), which must give the model's range and release speed to 1e-6.
+The reference (``tests/sympy_model.py``) keeps the frame's displacement X as a
+fourth coordinate (``analytic.eom`` eliminates it through the zero horizontal
+momentum), and gives the mass matrix and forcing, the base's reaction as the
+multiplier of the stage-1 constraint, the momentum and the energy. A whole
+shot is also integrated from it here (scipy, stage 1 as a constrained system,
+vacuum flight in closed form), which must give the model's range and release
+speed to 1e-6.
 """
 
 from __future__ import annotations
@@ -16,14 +16,13 @@ import math
 
 import numpy as np
 import pytest
-import sympy as sp
 from scipy.integrate import solve_ivp
 
 from analytic import eom, stages
 from analytic.aero import DRAG_TABLE
 from analytic.design import Base
 from analytic.design_file import default_design
-from analytic.parameters import Params, params
+from analytic.parameters import params
 from analytic.reference import simulate
 
 #: Agreement of the model's equations with the sympy reference at one state,
@@ -31,88 +30,11 @@ from analytic.reference import simulate
 #: dozen double operations (round-off ~1e-14); the cancellations of solving the
 #: constrained 5x5 system leave room up to 1e-10, and any wrong term is O(1).
 REL_TOL = 1e-10
-#: Whole shots: the issue's bound for agreement with an independent derivation.
+#: Whole shots: the model (DOP853 at rtol = atol = 1e-10) against the independent integration below
+#: (1e-12) agree to 1.5e-11 in range and 8e-12 in release speed (measured 2026-11-26, frames of 2,
+#: 20 and 200 kg): the bound leaves the integrators' errors room, and a wrong term moves the range more.
 SHOT_REL = 1e-6
 SEED = 61_820
-
-
-class RollingReference:
-    """Lambdified sympy model with q = (theta, phi, psi, X)."""
-
-    def __init__(self) -> None:
-        theta, phi, psi, x = q = sp.symbols("theta phi psi X", real=True)
-        qd = sp.symbols("dtheta dphi dpsi dX", real=True)
-        names = ("La", "Lb", "d", "mA", "IA", "mW", "Lw", "IW", "Ls", "mP", "h", "g", "Mf")
-        La, Lb, d, mA, IA, mW, Lw, IW, Ls, mP, h, g, Mf = prm = sp.symbols(names, real=True)
-        pivot = sp.Matrix([x, 0])
-        along = sp.Matrix([-sp.sin(theta), sp.cos(theta)])
-        arm = pivot + d * along
-        weight = pivot - Lb * along + Lw * sp.Matrix([sp.sin(theta + phi), -sp.cos(theta + phi)])
-        projectile = pivot + La * along + Ls * sp.Matrix([-sp.sin(theta + psi), sp.cos(theta + psi)])
-        qv, qdv = sp.Matrix(q), sp.Matrix(qd)
-
-        def velocity(r):
-            return r.jacobian(qv) * qdv
-
-        def kinetic(m, r):
-            v = velocity(r)
-            return m * (v[0] ** 2 + v[1] ** 2) / 2
-
-        t_kin = (Mf * qd[3] ** 2 / 2 + kinetic(mA, arm) + IA * qd[0] ** 2 / 2 + kinetic(mW, weight)
-                 + IW * (qd[0] + qd[1]) ** 2 / 2 + kinetic(mP, projectile))
-        potential = g * (mA * arm[1] + mW * weight[1] + mP * projectile[1])
-        lagrangian = t_kin - potential
-        mass = sp.hessian(t_kin, qd)
-        dl_dqd = sp.Matrix([sp.diff(lagrangian, v) for v in qd])
-        forcing = sp.Matrix([sp.diff(lagrangian, c) for c in q]) - dl_dqd.jacobian(qv) * qdv
-        constraint = sp.Matrix([projectile[1] + h])          # the projectile on the base
-        jac = constraint.jacobian(qv)
-        jdot_qd = (jac * qdv).jacobian(qv) * qdv
-        args = (q, qd, prm)
-        self.mass = sp.lambdify(args, mass, "numpy", cse=True)
-        self.forcing = sp.lambdify(args, forcing, "numpy", cse=True)
-        self.jac = sp.lambdify(args, jac, "numpy", cse=True)
-        self.jdot_qd = sp.lambdify(args, jdot_qd, "numpy", cse=True)
-        self.momentum = sp.lambdify(args, sp.diff(lagrangian, qd[3]), "numpy", cse=True)
-        self.energy = sp.lambdify(args, t_kin + potential, "numpy", cse=True)
-        self.kinetic = sp.lambdify(args, t_kin, "numpy", cse=True)
-        self.projectile = sp.lambdify(args, [projectile, velocity(projectile)], "numpy", cse=True)
-        self.moment = sp.lambdify(args, mA * (arm[0] - x) + mW * (weight[0] - x) + mP * (projectile[0] - x),
-                                  "numpy", cse=True)
-
-    @staticmethod
-    def numbers(p: Params) -> tuple:
-        return (p.La, p.Lb, p.d, p.mA, p.IA, p.mW, p.Lw, p.IW, p.Ls, p.mP, p.h, p.g, p.Mf)
-
-    def swing(self, y4, p):
-        """q'' (4,) in the free swing, from the full 4x4 system."""
-        q, qd = y4[:4], y4[4:]
-        m = np.asarray(self.mass(q, qd, self.numbers(p)), dtype=float)
-        f = np.asarray(self.forcing(q, qd, self.numbers(p)), dtype=float).ravel()
-        return np.linalg.solve(m, f)
-
-    def slide(self, y4, p):
-        """q'' (4,) and the base's push N (the constraint's multiplier) on the base."""
-        q, qd, prm = y4[:4], y4[4:], self.numbers(p)
-        m = np.asarray(self.mass(q, qd, prm), dtype=float)
-        f = np.asarray(self.forcing(q, qd, prm), dtype=float).ravel()
-        j = np.asarray(self.jac(q, qd, prm), dtype=float).reshape(1, 4)
-        system = np.block([[m, -j.T], [j, np.zeros((1, 1))]])
-        rhs = np.concatenate([f, -np.asarray(self.jdot_qd(q, qd, prm), dtype=float).ravel()])
-        solution = np.linalg.solve(system, rhs)
-        return solution[:4], solution[4]
-
-    def zero_momentum_dx(self, q, qd3, p):
-        """X' that makes the horizontal momentum zero, given (theta', phi', psi')."""
-        prm = self.numbers(p)
-        at0 = self.momentum(q, (*qd3, 0.0), prm)
-        per_unit = self.momentum(q, (*qd3, 1.0), prm) - at0
-        return -at0 / per_unit
-
-
-@pytest.fixture(scope="module")
-def ref() -> RollingReference:
-    return RollingReference()
 
 
 def _rolling(frame_mass: float, design=None):
@@ -139,27 +61,27 @@ def _close(a, b, what, scale=None):
 
 
 @pytest.mark.parametrize("i", range(len(STATES)))
-def test_swing_accelerations_equal_the_four_coordinate_lagrangian(ref, i):
+def test_swing_accelerations_equal_the_four_coordinate_lagrangian(lagrangian, i):
     p, q, qd = STATES[i]
-    dx = ref.zero_momentum_dx((*q, 0.0), qd, p)
-    expected = ref.swing(np.array([*q, 0.0, *qd, dx]), p)
+    dx = lagrangian.zero_momentum_rate(p, (*q, 0.0), qd)
+    expected = lagrangian.accelerations(p, (*q, 0.0), (*qd, dx))
     _close(eom.swing_accelerations(*q, *qd, p), expected[:3], "q''")
 
 
 @pytest.mark.parametrize("i", range(len(STATES)))
-def test_frame_velocity_makes_the_momentum_zero_and_the_moment_is_the_lagrangians(ref, i):
+def test_frame_velocity_makes_the_momentum_zero_and_the_moment_is_the_lagrangians(lagrangian, i):
     p, q, qd = STATES[i]
     dx = eom.frame_velocity(*q, *qd, p)
     scale = eom.total_mass(p) * (abs(dx) + float(np.max(np.abs(qd))))
-    assert abs(ref.momentum((*q, 0.3), (*qd, dx), ref.numbers(p))) <= REL_TOL * scale
-    _close(eom.horizontal_moment(*q, p), ref.moment((*q, 0.3), (*qd, dx), ref.numbers(p)), "S")
+    assert abs(lagrangian.momentum(p, (*q, 0.3), (*qd, dx))) <= REL_TOL * scale
+    _close(eom.horizontal_moment(*q, p), lagrangian.moment(p, (*q, 0.3)), "S")
 
 
 @pytest.mark.parametrize("i", range(len(STATES)))
-def test_kinetic_energy_on_the_ground_is_the_lagrangians(ref, i):
+def test_kinetic_energy_on_the_ground_is_the_lagrangians(lagrangian, i):
     p, q, qd = STATES[i]
     dx = eom.frame_velocity(*q, *qd, p)
-    _close(sum(eom.kinetic_energy(*q, *qd, p)), ref.kinetic((*q, 0.0), (*qd, dx), ref.numbers(p)), "T")
+    _close(sum(eom.kinetic_energy(*q, *qd, p)), sum(lagrangian.energies(p, (*q, 0.0), (*qd, dx))[:2]), "T")
 
 
 def _on_base_states(n: int):
@@ -175,10 +97,10 @@ def _on_base_states(n: int):
 
 
 @pytest.mark.parametrize("state", _on_base_states(8), ids=lambda s: f"theta={s[1]:.3f}")
-def test_slide_accelerations_and_normal_force_equal_the_constrained_lagrangian(ref, state):
+def test_slide_accelerations_and_normal_force_equal_the_constrained_lagrangian(lagrangian, state):
     p, theta, phi, dtheta, dphi, psi, dpsi = state
-    dx = ref.zero_momentum_dx((theta, phi, psi, 0.0), (dtheta, dphi, dpsi), p)
-    qdd, normal = ref.slide(np.array([theta, phi, psi, 0.0, dtheta, dphi, dpsi, dx]), p)
+    dx = lagrangian.zero_momentum_rate(p, (theta, phi, psi, 0.0), (dtheta, dphi, dpsi))
+    qdd, normal = lagrangian.on_base(p, (theta, phi, psi, 0.0), (dtheta, dphi, dpsi, dx))
     got = eom.slide_accelerations(theta, phi, dtheta, dphi, p)
     _close(got[:2], qdd[:2], "theta'', phi''")
     scale = max(abs(normal), p.mP * p.g, p.mP * p.La * max(dtheta ** 2, float(np.max(np.abs(qdd)))))
@@ -214,7 +136,7 @@ def test_momentum_and_energy_are_conserved_through_the_shot(mass):
 # A whole shot, integrated independently
 # --------------------------------------------------------------------------- #
 
-def _independent_shot(ref: RollingReference, design) -> tuple[float, float]:
+def _independent_shot(lagrangian, design) -> tuple[float, float]:
     """Range and release speed of ``design`` (no drag, velocity rule) from the four-coordinate model."""
     p = params(design)
     psi0 = -0.5 * math.pi - p.theta0
@@ -222,38 +144,37 @@ def _independent_shot(ref: RollingReference, design) -> tuple[float, float]:
     tight = dict(method="DOP853", rtol=1e-12, atol=1e-12, dense_output=False)
 
     def slide(t, y):
-        return np.concatenate([y[4:], ref.slide(y, p)[0]])
+        return np.concatenate([y[4:], lagrangian.on_base(p, y[:4], y[4:])[0]])
 
     def liftoff(t, y):
-        return ref.slide(y, p)[1]
+        return lagrangian.on_base(p, y[:4], y[4:])[1]
     liftoff.terminal, liftoff.direction = True, -1
 
     first = solve_ivp(slide, (0.0, p.t_limit), y, events=liftoff, **tight)
     assert first.status == 1, "no lift-off"
 
     def swing(t, y):
-        return np.concatenate([y[4:], ref.swing(y, p)])
+        return np.concatenate([y[4:], lagrangian.accelerations(p, y[:4], y[4:])])
 
     def release(t, y):
-        _, velocity = ref.projectile(y[:4], y[4:], ref.numbers(p))
-        vx, vy = np.ravel(velocity)
+        vx, vy = lagrangian.projectile(p, y[:4], y[4:])[1]
         return math.sin(p.alpha) * vx - math.cos(p.alpha) * vy
     release.terminal, release.direction = True, 1
 
     second = solve_ivp(swing, (first.t[-1], p.t_limit), first.y[:, -1], events=release, **tight)
     assert second.status == 1, "no release"
     end = second.y[:, -1]
-    position, velocity = (np.ravel(v) for v in ref.projectile(end[:4], end[4:], ref.numbers(p)))
+    position, velocity = lagrangian.projectile(p, end[:4], end[4:])
     vx, vy = velocity
     flight = (vy + math.sqrt(vy * vy + 2.0 * p.g * (position[1] + p.h))) / p.g
     return position[0] + vx * flight, math.hypot(vx, vy)
 
 
 @pytest.mark.parametrize("mass", [2.0, 20.0, 200.0], ids=lambda m: f"{m:g}kg")
-def test_whole_shot_equals_an_independent_integration_of_the_lagrangian(ref, mass):
+def test_whole_shot_equals_an_independent_integration_of_the_lagrangian(lagrangian, mass):
     design = _rolling(mass, dataclasses.replace(default_design(), projectile=dataclasses.replace(
         default_design().projectile, drag="none")))
-    expected_range, expected_speed = _independent_shot(ref, design)
+    expected_range, expected_speed = _independent_shot(lagrangian, design)
     shot = simulate(design, histories=False)
     assert shot.ok
     assert abs(shot.range / expected_range - 1.0) < SHOT_REL

@@ -39,7 +39,7 @@ def every_row(sweep: spec.Sweep) -> tuple[np.ndarray, dict]:
 # Reading
 # --------------------------------------------------------------------------- #
 
-def test_the_issue_example_reads_as_a_grid_in_c_order(tmp_path):
+def test_the_readme_example_reads_as_a_grid_in_c_order(tmp_path):
     path = tmp_path / "sweep.toml"
     path.write_text('design = "paper_table3.toml"\n[grid]\n'
                     '"machine.sling_length" = {from = 0.40, to = 0.61, steps = 50}\n'

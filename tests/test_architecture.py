@@ -40,6 +40,7 @@ ANALYTIC_LAYERS = {
               # the exit codes and checks every command line shares: it imports nothing
               "analytic.cli_shared"},
     "paths": {"analytic.reference", "analytic.integrate", "analytic.compiled", "analytic.kernel", "analytic.fast",
+              "analytic.dop853", "analytic.kernel_loads",
               # the public names, loaded on first use from the model and the paths
               "analytic"},
     "tools": {"analytic.aim", "analytic.chart", "analytic.plot", "analytic.report", "analytic.calibrate*",

@@ -213,7 +213,7 @@ def test_the_full_table_is_printed_only_when_asked(tmp_path, capsys, table3):
 
 
 # --------------------------------------------------------------------------- #
-# Friction (issue 11)
+# Friction
 # --------------------------------------------------------------------------- #
 
 #: The friction cases cheap enough for every run: the paper's design with each loss and all.
@@ -317,7 +317,7 @@ def test_cli_quick_runs_the_quick_suite_and_agrees(capsys):
 
 
 def test_cli_quick_prints_the_verdict_and_the_worst_case_per_quantity_only(tmp_path, capsys):
-    # ``make run``'s check (issue 15: the whole report under 40 lines): a titled verdict and a line
+    # ``make run``'s check (the whole report under 40 lines): a titled verdict and a line
     # per quantity; the engine's step, drift and convergence only in the report folder.
     assert main(["--quick", "--workers", "1", "--no-progress", "--report", str(tmp_path)]) == 0
     printed = capsys.readouterr().out.splitlines()

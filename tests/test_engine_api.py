@@ -20,3 +20,16 @@ def test_simulate_returns_a_shot_with_the_engine_diagnostics():
     assert isinstance(shot.diagnostics, EngineDiagnostics)
     assert (shot.diagnostics.dt, shot.diagnostics.sling) == (4e-4, "rigid")
     assert shot.diagnostics.machine_steps == len(shot.history.t) and shot.diagnostics.flight_steps > 0
+
+
+def test_gravity_too_weak_for_a_time_scale_is_an_engine_error_not_a_warning():
+    """Found by the fuzz test: 5e-324 m/s^2 made the step budget infinite and the history's
+    times NaN (a numpy warning); the analytic model reports the design as never firing."""
+    import dataclasses
+
+    import pytest
+
+    design = default_design()
+    design = dataclasses.replace(design, environment=dataclasses.replace(design.environment, gravity=5e-324))
+    with pytest.raises(EngineError, match="gravity = .* no finite time bound"):
+        simulate(design)

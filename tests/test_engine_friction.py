@@ -1,4 +1,4 @@
-"""The engine's friction (issue 11): Coulomb limits, stick and slip, never fires, the energy audit, convergence."""
+"""The engine's friction: Coulomb limits, stick and slip, never fires, the energy audit, convergence."""
 
 from __future__ import annotations
 

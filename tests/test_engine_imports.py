@@ -32,7 +32,7 @@ MODULES = sorted(p.stem for p in PACKAGE.glob("*.py") if p.stem != "__main__")
 
 
 def test_every_module_is_scanned():
-    # The package's own layout (STYLE.md): guard against the glob silently matching nothing.
+    # The package's own layout: guard against the glob silently matching nothing.
     assert {"build", "shot", "flight", "render", "cli"} <= set(MODULES)
 
 

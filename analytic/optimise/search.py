@@ -36,7 +36,7 @@ from analytic.optimise.kkt import (FirstOrder, constraint_jacobian, first_order,
                                    range_gradient, unit_constraints)
 from analytic.design_space import Problem, from_unit, to_unit
 from analytic.optimise.robust import Scatter
-from analytic.reference import DEFAULT_RTOL
+from analytic.limits import DEFAULT_RTOL
 
 #: SLSQP stops once a step changes the objective (range / its starting value) by
 #: less than this: 1e-10 of ~50 m is 5 nm, just above the range's noise at the

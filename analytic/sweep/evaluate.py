@@ -57,7 +57,7 @@ def model_identity(sweep: Sweep) -> dict:
 
         return {"function": sweep.base.name, "salib": version("SALib")}
     from analytic import compiled
-    from analytic.reference import DEFAULT_ATOL, DEFAULT_RTOL
+    from analytic.limits import DEFAULT_ATOL, DEFAULT_RTOL
 
     return {"sources_sha256": compiled.source_fingerprint(compiled.SOURCES), "rtol": DEFAULT_RTOL,
             "atol": DEFAULT_ATOL}

@@ -1,0 +1,262 @@
+"""The machine as a sympy Lagrangian: the one independent reference that every symbolic test holds
+``analytic.eom``, ``analytic.friction`` and ``analytic.stages`` to (test helper, not a model).
+
+Built from nothing but the geometry in ``analytic.design``'s module docstring; no function of
+``analytic`` is used to build it. Coordinates ``q = (theta, phi, psi, X)``: the arm, the
+counterweight's link relative to the arm, the sling relative to the arm, and the frame's
+displacement X (the pivot is at ``(X, 0)``, the base at ``y = -h``). On a fixed frame X is held
+at 0 and only the first three coordinates move; on a rolling one the frame of mass ``Mf`` is a
+fourth body. From the parts' positions:
+
+* velocities and accelerations by differentiation, ``T`` and ``V``, and Lagrange's equations in
+  mass-matrix form ``M(q) q'' = f(q, q')`` with ``f = -(dM/dt) q' + dT/dq - dV/dq``;
+* the base constraint ``y_P + h = 0`` (stage 1) as ``J q'' = -J' q'`` with its multiplier, the
+  base's push N on the projectile (positive up): ``M q'' = f + Q + J^T N``;
+* the friction's generalised forces ``Q = dP/dq'`` from the virtual power of the axle's and the
+  hinge's torques and the base's force on the projectile,
+  ``P = ta (w_arm - w_frame) + th (w_link - w_arm) + F (x_P' - X')`` (``docs/derivation.md`` 10.1);
+* the joint forces from Newton's law for each body, with the accelerations sympy differentiates:
+  the hinge's on the counterweight ``mW (a_W + g)``, the sling's on the projectile
+  ``mP (a_P + g) - (F, N)``, the axle's on the arm ``mA (a_A + g)`` plus those two.
+
+The derivation runs once per process (``machine()``, cached: about two seconds); every numerical
+function then takes a ``Params`` (only the machine's numbers and ``rolling`` are read) and a state
+of three coordinates (a fixed frame's: X = X' = 0 is added) or four.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+
+import numpy as np
+import sympy as sp
+
+from analytic.parameters import Params
+
+#: The numbers the Lagrangian reads, in ``Params``' names and the order its functions take them.
+NUMBERS = ("La", "Lb", "d", "mA", "IA", "mW", "Lw", "IW", "Ls", "mP", "h", "g", "Mf")
+
+
+def numbers(p: Params) -> tuple[float, ...]:
+    """The Lagrangian's numbers of ``p`` (a fixed frame's mass is never read: 0)."""
+    return tuple(getattr(p, name) if name != "Mf" or p.rolling else 0.0 for name in NUMBERS)
+
+
+def _four(values) -> np.ndarray:
+    """A state's coordinates (or rates) with X: a fixed frame's three get X = 0."""
+    values = np.asarray(values, dtype=float)
+    return values if values.size == 4 else np.append(values, 0.0)
+
+
+class Symbols:
+    """The symbols of the derivation, and the expressions derived from them."""
+
+    def __init__(self) -> None:
+        self.q = sp.symbols("theta phi psi X", real=True)
+        self.qd = sp.symbols("dtheta dphi dpsi dX", real=True)
+        self.qdd = sp.symbols("ddtheta ddphi ddpsi ddX", real=True)
+        self.prm = sp.symbols(NUMBERS, real=True)
+        self.torques = sp.symbols("ta th F", real=True)   # axle, hinge, base's friction force
+        self.normal = sp.Symbol("N", real=True)
+        La, Lb, d, mA, IA, mW, Lw, IW, Ls, mP, h, g, Mf = self.prm
+        theta, phi, psi, x = self.q
+        qv, qdv, qddv = sp.Matrix(self.q), sp.Matrix(self.qd), sp.Matrix(self.qdd)
+
+        pivot = sp.Matrix([x, 0])
+        along_arm = sp.Matrix([-sp.sin(theta), sp.cos(theta)])
+        self.arm = pivot + d * along_arm
+        self.weight = pivot - Lb * along_arm + Lw * sp.Matrix([sp.sin(theta + phi), -sp.cos(theta + phi)])
+        self.sling_unit = sp.Matrix([-sp.sin(theta + psi), sp.cos(theta + psi)])   # tip -> projectile
+        self.projectile = pivot + La * along_arm + Ls * self.sling_unit
+
+        def velocity(r):
+            return r.jacobian(qv) * qdv
+
+        def acceleration(r):
+            v = velocity(r)
+            return v.jacobian(qdv) * qddv + v.jacobian(qv) * qdv
+
+        def half_m_v2(m, r):
+            v = velocity(r)
+            return m * v.dot(v) / 2
+
+        w_arm, w_link, dx = self.qd[0], self.qd[0] + self.qd[1], self.qd[3]
+        self.kinetic_machine = (Mf * dx**2 / 2 + half_m_v2(mA, self.arm) + IA * w_arm**2 / 2
+                                + half_m_v2(mW, self.weight) + IW * w_link**2 / 2)
+        self.kinetic_projectile = half_m_v2(mP, self.projectile)
+        self.potential_machine = g * (mA * self.arm[1] + mW * self.weight[1])
+        self.potential_projectile = g * mP * self.projectile[1]
+        kinetic = self.kinetic_machine + self.kinetic_projectile
+        potential = self.potential_machine + self.potential_projectile
+
+        momentum = sp.Matrix([kinetic]).jacobian(qdv).T                 # dT/dq'
+        self.mass = momentum.jacobian(qdv)
+        self.forcing = (-momentum.jacobian(qv) * qdv + sp.Matrix([kinetic]).jacobian(qv).T
+                        - sp.Matrix([potential]).jacobian(qv).T)
+        self.horizontal_momentum = momentum[3]
+        self.horizontal_moment = mA * (self.arm[0] - x) + mW * (self.weight[0] - x) + mP * (self.projectile[0] - x)
+        energy = kinetic + potential
+        self.power = (sp.Matrix([energy]).jacobian(qv) * qdv + sp.Matrix([energy]).jacobian(qdv) * qddv)[0]
+
+        y_p = self.projectile[1]
+        self.base_jacobian = sp.Matrix([y_p]).jacobian(qv)
+        self.base_jdot_qd = (qdv.T * sp.hessian(y_p, self.q) * qdv)[0]
+
+        ta, th, fb = self.torques   # the frame does not turn: the axle's torque acts on w_arm alone
+        virtual_power = ta * w_arm + th * (w_link - w_arm) + fb * (velocity(self.projectile)[0] - dx)
+        self.generalised = sp.Matrix([virtual_power]).jacobian(qdv).T
+
+        up = sp.Matrix([0, g])
+        self.hinge = mW * (acceleration(self.weight) + up)
+        self.sling = mP * (acceleration(self.projectile) + up) - sp.Matrix([fb, self.normal])
+        self.axle = mA * (acceleration(self.arm) + up) + self.hinge + self.sling
+        self.momentum_rate = (mA * acceleration(self.arm) + mW * acceleration(self.weight)
+                              + mP * acceleration(self.projectile))
+
+
+class Machine:
+    """The Lagrangian's functions, lambdified, and the systems solved from them.
+
+    Every method takes ``p`` (``Params``) and states of three coordinates or four (see the module
+    docstring); arrays are float, of shape ``(4,)`` for a state's coordinates unless said.
+    """
+
+    def __init__(self) -> None:
+        s = self.symbols = Symbols()
+        state = (s.q, s.qd, s.prm)
+        with_accelerations = (s.q, s.qd, s.qdd, s.prm)
+
+        def compiled(args, expression):
+            return sp.lambdify(args, expression, "numpy", cse=True)
+
+        self._mass = compiled(state, s.mass)
+        self._forcing = compiled(state, s.forcing)
+        self._energies = compiled(state, [s.kinetic_machine, s.kinetic_projectile,
+                                          s.potential_machine, s.potential_projectile])
+        self._projectile = compiled(state, [s.projectile, s.projectile.jacobian(s.q) * sp.Matrix(s.qd)])
+        self._momentum = compiled(state, s.horizontal_momentum)
+        self._moment = compiled(state, s.horizontal_moment)
+        self._jacobian = compiled(state, s.base_jacobian)
+        self._jdot_qd = compiled(state, s.base_jdot_qd)
+        self._power = compiled(with_accelerations, s.power)
+        self._momentum_rate = compiled(with_accelerations, s.momentum_rate)
+        self._generalised = compiled((s.q, s.qd, s.torques, s.prm), s.generalised)
+        self._forces = compiled((s.q, s.qd, s.qdd, s.torques[2], s.normal, s.prm), [s.axle, s.hinge, s.sling])
+
+    # -- the Lagrangian's terms ------------------------------------------------ #
+    def mass(self, p, q, qd=(0.0, 0.0, 0.0)) -> np.ndarray:
+        """M(q), (4, 4)."""
+        return np.asarray(self._mass(_four(q), _four(qd), numbers(p)), dtype=float)
+
+    def forcing(self, p, q, qd) -> np.ndarray:
+        """f(q, q')."""
+        return np.asarray(self._forcing(_four(q), _four(qd), numbers(p)), dtype=float).ravel()
+
+    def energies(self, p, q, qd) -> np.ndarray:
+        """(T of the machine with its frame, T of the projectile, V of the machine, V of the projectile), (4,)."""
+        return np.array(self._energies(_four(q), _four(qd), numbers(p)), dtype=float)
+
+    def projectile(self, p, q, qd) -> tuple[np.ndarray, np.ndarray]:
+        """The projectile's position and velocity on the ground, (2,) each."""
+        position, velocity = self._projectile(_four(q), _four(qd), numbers(p))
+        return np.asarray(position, dtype=float).ravel(), np.asarray(velocity, dtype=float).ravel()
+
+    def power(self, p, q, qd, qdd) -> float:
+        """dE/dt of the whole machine's energy T + V."""
+        return float(self._power(_four(q), _four(qd), _four(qdd), numbers(p)))
+
+    def momentum(self, p, q, qd) -> float:
+        """The horizontal momentum dT/dX'."""
+        return float(self._momentum(_four(q), _four(qd), numbers(p)))
+
+    def moment(self, p, q) -> float:
+        """sum m (x - X) over the arm, the counterweight and the projectile."""
+        return float(self._moment(_four(q), np.zeros(4), numbers(p)))
+
+    def momentum_rate(self, p, q, qd, qdd) -> np.ndarray:
+        """sum m a over the arm, the counterweight and the projectile (the frame's X'' included), (2,)."""
+        return np.asarray(self._momentum_rate(_four(q), _four(qd), _four(qdd), numbers(p)), dtype=float).ravel()
+
+    def base_jacobian(self, p, q) -> np.ndarray:
+        """J = d y_P / dq."""
+        return np.asarray(self._jacobian(_four(q), np.zeros(4), numbers(p)), dtype=float).ravel()
+
+    def generalised(self, p, q, qd, axle_torque, hinge_torque, base_force) -> np.ndarray:
+        """Q, the friction's generalised forces."""
+        return np.asarray(self._generalised(_four(q), _four(qd), (axle_torque, hinge_torque, base_force),
+                                            numbers(p)), dtype=float).ravel()
+
+    def joint_forces(self, p, q, qd, qdd, base_force=0.0, normal=0.0):
+        """Newton's law for each body: the axle's force on the arm, the hinge's on the counterweight,
+        the sling's on the projectile, (2,) each."""
+        forces = self._forces(_four(q), _four(qd), _four(qdd), base_force, normal, numbers(p))
+        return tuple(np.asarray(f, dtype=float).ravel() for f in forces)
+
+    def sling(self, p, q, qd, qdd, normal=0.0) -> tuple[float, float]:
+        """The sling's tension (its pull on the projectile towards the tip) and the sling force's
+        component across the sling (zero for the massless sling the Lagrangian assumes)."""
+        force = self.joint_forces(p, q, qd, qdd, 0.0, normal)[2]
+        beta = q[0] + q[2]
+        along, across = np.array([-math.sin(beta), math.cos(beta)]), np.array([-math.cos(beta), -math.sin(beta)])
+        return -float(force @ along), float(force @ across)
+
+    # -- the systems ----------------------------------------------------------- #
+    def accelerations(self, p, q, qd) -> np.ndarray:
+        """q'' of the free swing (stage 2): ``M q'' = f`` (on a fixed frame, its first three rows, X'' = 0)."""
+        rows = 4 if p.rolling else 3
+        m, f = self.mass(p, q, qd)[:rows, :rows], self.forcing(p, q, qd)[:rows]
+        return _four(np.linalg.solve(m, f))
+
+    def on_base(self, p, q, qd) -> tuple[np.ndarray, float]:
+        """q'' and the base's push N with the projectile held on the base (stage 1):
+        ``[[M, -J^T], [J, 0]] [q'', N] = [f, -J' q']``."""
+        rows = 4 if p.rolling else 3
+        q, qd, prm = _four(q), _four(qd), numbers(p)
+        m, f = self.mass(p, q, qd)[:rows, :rows], self.forcing(p, q, qd)[:rows]
+        jac = self.base_jacobian(p, q)[:rows]
+        system = np.block([[m, -jac[:, None]], [jac[None, :], np.zeros((1, 1))]])
+        solution = np.linalg.solve(system, np.append(f, -float(self._jdot_qd(q, qd, prm))))
+        return _four(solution[:rows]), float(solution[rows])
+
+    def zero_momentum_rate(self, p, q, qd3) -> float:
+        """The X' that makes the horizontal momentum zero, given (theta', phi', psi')."""
+        at_rest = self.momentum(p, q, (*qd3, 0.0))
+        return -at_rest / (self.momentum(p, q, (*qd3, 1.0)) - at_rest)
+
+    def frame_acceleration(self, p, q, qd, qdd3) -> float:
+        """X'' from the Lagrangian's X row, given (theta'', phi'', psi'')."""
+        m, f = self.mass(p, q, qd), self.forcing(p, q, qd)
+        return float((f[3] - m[3, :3] @ np.asarray(qdd3, dtype=float)) / m[3, 3])
+
+    @staticmethod
+    def base_angle(p, theta: float) -> float:
+        """psi with the projectile on the base, branch sin(theta + psi) < 0, by atan2 (not arccos)."""
+        cos_beta = -(p.h + p.La * math.cos(theta)) / p.Ls
+        return math.atan2(-math.sqrt(1.0 - cos_beta**2), cos_beta) - theta
+
+    def base_reduction(self, p, theta, phi, dtheta, dphi, solve=True) -> dict:
+        """Stage 1 on a fixed frame as the paper's eq. (7) reduces it, with psi(theta) substituted:
+        ``psi' = s theta'``, ``psi'' = s theta'' + c``, ``B = [[1, 0], [0, 1], [s, 0]]``,
+        ``M_r = B^T M B``, ``r = B^T (f - M [0, 0, c])``. A dict of q, qd, s, c, jac, m, f, m_r, r
+        (three coordinates) and, with ``solve``, q'' (3,) and N from ``on_base`` (not from M_r)."""
+        psi = self.base_angle(p, theta)
+        q = np.array([theta, phi, psi])
+        jac = self.base_jacobian(p, q)[:3]
+        s = -jac[0] / jac[2]                 # J B = 0 (J[1] = 0)
+        qd = np.array([dtheta, dphi, s * dtheta])
+        m, f = self.mass(p, q, qd)[:3, :3], self.forcing(p, q, qd)[:3]
+        c = -float(self._jdot_qd(_four(q), _four(qd), numbers(p))) / jac[2]   # J (B [theta'', phi''] + [0, 0, c]) = -J' q'
+        b = np.array([[1.0, 0.0], [0.0, 1.0], [s, 0.0]])
+        out = {"q": q, "qd": qd, "s": s, "c": c, "jac": jac, "m": m, "f": f,
+               "m_r": b.T @ m @ b, "r": b.T @ (f - m @ np.array([0.0, 0.0, c]))}
+        if solve:
+            qdd, out["normal"] = self.on_base(p, q, qd)
+            out["qdd"] = qdd[:3]
+        return out
+
+
+@lru_cache(maxsize=1)
+def machine() -> Machine:
+    """The Lagrangian, derived and lambdified once per process."""
+    return Machine()
