@@ -5,7 +5,7 @@ quick and numba is imported only when the fast path is first used)::
 
     from analytic import Design, load_design, default_design, simulate, shoot, Shot, Shots, Status
 
-* ``simulate(design) -> Shot``: the reference path (scipy), with histories for plots;
+* ``simulate(design) -> Shot``: the reference path (scipy), with its ``History`` for plots;
 * ``simulate_fast(design) -> Shot``: the same summary, compiled;
 * ``shoot(designs) -> Shots``: many designs at once on every core, as arrays.
 """
@@ -23,7 +23,7 @@ _EXPORTS = {
     "default_design": "analytic.design_file",
     "simulate": "analytic.reference",
     "simulate_fast": "analytic.fast", "shoot": "analytic.fast",
-    "Shot": "analytic.result", "Shots": "analytic.result", "Status": "analytic.outcome",
+    "Shot": "analytic.result", "Shots": "analytic.result", "History": "analytic.result", "Status": "analytic.outcome",
     "Stage": "analytic.outcome",
 }
 

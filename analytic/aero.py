@@ -154,6 +154,20 @@ def force_factor(model, speed, diameter, air_density, air_viscosity, constant, t
     return smooth_sphere_cd_above(re, table) * speed
 
 
+def drag_rate(model, vx_rel, vy, diameter, air_density, air_viscosity, constant, area, mass, table):
+    """``k`` in the projectile's drag acceleration ``-k v_rel``, 1/s: ``rho A Cd(Re) |v_rel| / (2 m)``.
+
+    ``(vx_rel, vy)`` is the velocity relative to the air, m/s; ``area`` the drag area
+    (m^2) and ``mass`` the projectile's (kg); the rest as ``force_factor``. ``1 / k`` is
+    the time in which drag alone would stop the projectile. Both models' flights use it.
+    """
+    # Not math.hypot: CPython's own algorithm and the C library's (which
+    # compiled code calls) may differ in the last bit; sqrt is correctly rounded in both.
+    speed = math.sqrt(vx_rel * vx_rel + vy * vy)
+    return air_density * area / (2.0 * mass) * force_factor(model, speed, diameter, air_density, air_viscosity,
+                                                            constant, table)
+
+
 # --------------------------------------------------------------------------- #
 # The table of constants
 # --------------------------------------------------------------------------- #

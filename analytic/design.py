@@ -29,7 +29,6 @@ from typing import Any
 
 import numpy as np
 
-from analytic import limits
 from analytic.aero import DRAG_MODELS
 from analytic.geometry import RELEASE_RULES
 
@@ -425,11 +424,6 @@ def largest_length(machine: Machine) -> float:
     length, which sets its time and speed scales."""
     m = machine
     return m.arm_long + m.sling_length + m.arm_short + m.counterweight_link
-
-
-def swing_time_limit(machine: Machine, gravity: float) -> float:
-    """Longest time allowed from firing to release, s (``analytic.limits.swing_time_limit``)."""
-    return limits.swing_time_limit(largest_length(machine), gravity)
 
 
 # --------------------------------------------------------------------------- #

@@ -19,7 +19,7 @@ import dataclasses
 import math
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable, Sequence
 
 import numpy as np
 
@@ -224,6 +224,22 @@ def design_at(problem: Problem, values: np.ndarray, name: str = "optimum") -> De
                       counterweight_inertia=problem.counterweight_inertia, sling_length=sling,
                       release_angle=release_angle, release_rule=problem.release_rule)
     return Design(machine, problem.projectile, problem.environment, name=name, base=base, losses=problem.losses)
+
+
+def sample_designs(problem: Problem, count: int, seed: int, name: Callable[[int], str],
+                   arms: Sequence[BeamArm] = ()) -> list[Design]:
+    """``count`` designs drawn uniformly over the problem's box of free variables (``from_unit``).
+
+    Seeded: ``numpy.random.default_rng(seed)`` draws one row of ``len(problem.free)``
+    unit values a design, so the first k designs of any count are the same. Design i is
+    built on ``arms[i % len(arms)]`` (default: the problem's own arm) and named ``name(i)``.
+    Designs that cannot be built raise ``DesignError`` (none over the paper's box).
+    """
+    arms = tuple(arms) or (problem.arm,)
+    problems = [problem if arm is problem.arm else dataclasses.replace(problem, arm=arm) for arm in arms]
+    units = np.random.default_rng(seed).uniform(0.0, 1.0, size=(count, len(problem.free)))
+    return [design_at(problems[i % len(problems)], from_unit(problem, unit), name=name(i))
+            for i, unit in enumerate(units)]
 
 
 def variables_of(machine: Machine) -> np.ndarray:

@@ -43,9 +43,9 @@ from scipy.integrate import DOP853
 
 from analytic import kernel, outcome, stages
 from analytic.aero import DRAG_TABLE
-from analytic.design import Design, swing_time_limit
+from analytic.design import Design, largest_length
 from analytic.friction import rest_balance
-from analytic.limits import DEFAULT_ATOL, DEFAULT_RTOL
+from analytic.limits import DEFAULT_ATOL, DEFAULT_RTOL, swing_time_limit
 from analytic.parameters import N_PARAMS, params
 from analytic.result import PEAK_NAMES, Shot, Shots, Status
 
@@ -230,7 +230,7 @@ def to_shot(design: Design, out: np.ndarray) -> Shot:
                       landing_position=np.array([row[kernel.LANDING_X], -design.machine.pivot_height]),
                       apex_height=row[kernel.APEX])
     else:
-        t_limit = swing_time_limit(design.machine, design.environment.gravity)
+        t_limit = swing_time_limit(largest_length(design.machine), design.environment.gravity)
         message = failure_message(design, status, row[kernel.DETAIL], row[kernel.VALUE], row[kernel.END_T],
                                   row[kernel.RELEASE_T], t_limit)
     return Shot(design, status, message, **fields)
@@ -312,9 +312,6 @@ def simulate_fast_many(designs: Sequence[Design], *, rtol: float = DEFAULT_RTOL,
     return [to_shot(design, row) for design, row in zip(designs, out, strict=True)]
 
 
-_STATUS_NAMES = np.array([status.value for status in Status])
-
-
 def shoot(designs: Sequence[Design] | np.ndarray, *, rtol: float = DEFAULT_RTOL,
           atol: float = DEFAULT_ATOL, threads: int | None = None, loads: bool = False) -> Shots:
     """Simulate many designs on several threads at once (all this process's processors by default).
@@ -336,11 +333,15 @@ def shoot(designs: Sequence[Design] | np.ndarray, *, rtol: float = DEFAULT_RTOL,
     -------
     Shots
         Arrays of length S; a failed design has its status and NaN where it did not reach.
+        Shots of ``Design`` objects index as ``shots[i]``: design i's ``Shot``, the same
+        ``to_shot`` builds for ``simulate_fast``.
     """
-    rows = designs if isinstance(designs, np.ndarray) else pack_many(designs)
+    packed = isinstance(designs, np.ndarray)
+    rows = designs if packed else pack_many(designs)
     out = _shoot_rows(rows, rtol, atol, threads, loads)
     landed = out[:, kernel.STATUS] == kernel.OK
-    return Shots(status=_STATUS_NAMES[out[:, kernel.STATUS].astype(int)],
+    known = None if packed else tuple(designs)
+    return Shots(status=Shots.statuses(out[:, kernel.STATUS]),
                  liftoff_time=out[:, kernel.LIFTOFF_T],
                  release_time=out[:, kernel.RELEASE_T],
                  landing_time=np.where(landed, out[:, kernel.LANDING_T], np.nan),
@@ -351,7 +352,8 @@ def shoot(designs: Sequence[Design] | np.ndarray, *, rtol: float = DEFAULT_RTOL,
                  end_time=out[:, kernel.END_T],
                  steps=out[:, kernel.STEPS].astype(int),
                  evaluations=out[:, kernel.EVALS].astype(int),
-                 **_peaks(out))
+                 **_peaks(out), designs=known,
+                 shot_at=None if packed else lambda i: to_shot(known[i], out[i]))
 
 
 def _peaks(out: np.ndarray) -> dict[str, np.ndarray]:

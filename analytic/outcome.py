@@ -14,8 +14,12 @@ import math
 from analytic.limits import STAGE_STEP_LIMITS
 
 
-class Status(str, enum.Enum):
-    """How a shot ended. Only ``OK`` is a throw; the rest are named failures of a valid design."""
+class Status(enum.StrEnum):
+    """How a shot ended. Only ``OK`` is a throw; the rest are named failures of a valid design.
+
+    A ``str`` whose text is its value (``str(Status.OK) == "ok"``), so that numpy compares an
+    array of them (``Shots.status == Status.OK``) and writes them as their values.
+    """
 
     OK = "ok"
     NEVER_FIRES = "never_fires"                            # the counterweight cannot lift the arm
@@ -37,6 +41,12 @@ class Status(str, enum.Enum):
 
 _STATUSES = tuple(Status)
 _CODES = {status: i for i, status in enumerate(_STATUSES)}
+
+
+#: The losses a shot accounts for (``Shot.energy_dissipated``'s keys), J: the
+#: main axle's friction, the counterweight hinge's, the base's (stage 1) and
+#: the air's drag in flight.
+LOSS_NAMES = ("axle", "hinge", "base", "drag")
 
 
 class Stage(enum.IntEnum):
@@ -64,13 +74,25 @@ def never_fires_message(arm_acceleration: float, drive: float | None = None, axl
                         base_hold: float | None = None) -> str:
     """``arm_acceleration``: the arm's angular acceleration at rest, rad/s^2 (clockwise is negative).
 
-    With friction (``analytic.friction.rest_balance``), the torque balance at rest, N m:
-    ``drive`` gravity's torque turning the arm clockwise, ``axle_hold`` and
-    ``base_hold`` the most the axle's and the base's friction can hold against it.
+    With friction, the torque balance at rest, N m (``analytic.friction.rest_balance``;
+    the engine's ``engine_model.friction.static_balance``): ``drive`` gravity's torque
+    turning the arm clockwise, ``axle_hold`` and ``base_hold`` the most the axle's and
+    the base's friction can hold against it. ``base_hold`` None: the model weighs the
+    axle's alone (the engine), and the base holds, through the sling, what the axle does not.
     """
     if drive is None:
         return (f"the counterweight cannot lift the arm: at rest the arm's angular "
                 f"acceleration is {arm_acceleration:+.4g} rad/s^2, not clockwise (negative)")
+    axle = (f"gravity turns the arm clockwise with {drive:.4g} N m against at most {axle_hold:.4g} N m "
+            f"of the axle's static friction")
+    if 0.0 < drive <= axle_hold:   # the same words from either model
+        return f"the counterweight cannot lift the arm: the axle's friction holds it at rest ({axle})"
+    if base_hold is None:
+        if drive <= 0.0:
+            return f"the counterweight cannot lift the arm: {axle}"
+        return (f"the counterweight cannot lift the arm: friction holds the machine at rest ({axle}; the "
+                f"base's friction holds the projectile, and the sling holds the arm by it: at rest the arm's "
+                f"angular acceleration is {arm_acceleration:+.3g} rad/s^2)")
     balance = (f"gravity turns the arm clockwise with {drive:.4g} N m against friction that can hold "
                f"{axle_hold + base_hold:.4g} N m (axle {axle_hold:.4g} N m, base {base_hold:.4g} N m)")
     if drive <= 0.0:
@@ -113,6 +135,17 @@ def step_failed_message(time: float, stage: Stage, step_limit: bool = False) -> 
            "the step size fell below the resolution of t or the state became non-finite")
     return (f"the integrator could not continue at t = {time:.6g} s in stage {int(stage)} "
             f"({Stage(stage).name.lower()}): {why}; the design is probably far outside anything buildable")
+
+
+def step_budget_message(part: str, steps: int, dt: float, time_bound: float, limit: int,
+                        ahead: bool = False) -> str:
+    """Why a fixed-step model's run (the engine's) ended ``STEP_FAILED``: ``part`` took (or, ``ahead``,
+    would take) ``steps`` steps of ``dt`` s, ``limit`` the most it may; ``time_bound`` s, the time it had."""
+    took = "would need" if ahead else "took"
+    return (f"the engine stopped: {part} {took} {steps} steps of {dt:g} s ({steps * dt:.4g} s of motion, "
+            f"against a time bound of {time_bound:.4g} s), and the engine's limit is {limit} steps; "
+            f"the design is far outside anything buildable (a machine this slow: check gravity and the "
+            f"masses), or use a larger --dt")
 
 
 def thrown_message(range_: float) -> str:

@@ -45,7 +45,8 @@ import math
 from typing import NamedTuple
 
 from analytic.aero import DRAG_MODELS
-from analytic.design import initial_angles, swing_time_limit
+from analytic.design import initial_angles, largest_length
+from analytic.limits import swing_time_limit
 from analytic.geometry import RELEASE_RULES
 
 
@@ -106,7 +107,7 @@ def params(design) -> Params:
         diameter=proj.diameter, area=proj.drag_area,
         rho=env.air_density, mu=env.air_viscosity, wind=env.wind_speed,
         rolling=float(design.base.rolling), Mf=design.base.mass if design.base.rolling else 0.0,
-        t_limit=swing_time_limit(m, env.gravity), theta0=theta0, phi0=phi0,
+        t_limit=swing_time_limit(largest_length(m), env.gravity), theta0=theta0, phi0=phi0,
         mua=losses.axle_friction, ra=losses.axle_radius, muh=losses.hinge_friction, rh=losses.hinge_radius,
         mub=losses.base_friction, mua_s=losses.static("axle"), muh_s=losses.static("hinge"),
         mub_s=losses.static("base"))

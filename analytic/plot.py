@@ -1,4 +1,8 @@
-"""Plots of a shot: trajectory, the machine at release, the energy budget and the loads (Agg, no pyplot)."""
+"""Plots of a shot: trajectory, the machine at release, the energy budget and the loads (Agg, no pyplot).
+
+Each function takes a ``analytic.result.Shot`` that has a ``history``; this
+module does not import ``analytic.result`` (``Shot.plot`` calls it).
+"""
 
 from __future__ import annotations
 
@@ -11,18 +15,19 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Circle
 
 from analytic.geometry import machine_points
-from analytic.result import LOSS_NAMES, Shot, Stage
+from analytic.outcome import LOSS_NAMES, Stage
 
 
-def draw_machine(ax, shot: Shot, index: int, alpha: float = 1.0) -> None:
-    """Draw frame, arm, counterweight link and mass, sling and projectile at sample ``index``.
+def draw_machine(ax, shot, index: int, alpha: float = 1.0) -> None:
+    """Draw frame, arm, counterweight link and mass, sling and projectile at sample ``index`` of ``shot.history``.
 
     On the ground: a rolling frame is drawn where it has rolled to, on wheels.
     """
     h = shot.design.machine.pivot_height
-    x = float(shot.frame_x[index]) if len(shot.frame_x) else 0.0
+    history = shot.history
+    x = float(history.frame_x[index]) if len(history.frame_x) else 0.0
     pts = {name: point + np.array([x, 0.0]) for name, point in
-           machine_points(shot.q[index], shot.design.machine).items()}
+           machine_points(history.q[index], shot.design.machine).items()}
     pts["weight"] = pts["counterweight"]
     ax.plot([x - 0.3 * h, x, x + 0.3 * h], [-h, 0.0, -h], color="0.4", lw=2, alpha=alpha)
     if shot.design.base.rolling:
@@ -38,9 +43,11 @@ def draw_machine(ax, shot: Shot, index: int, alpha: float = 1.0) -> None:
     ax.plot(x, 0.0, "o", color="k", ms=4, alpha=alpha)
 
 
-def shot_figure(shot: Shot) -> Figure:
-    """Four panels: the flight, the machine at release (or at the end), the energy and the loads over time."""
-    if len(shot.t) == 0:
+def shot_figure(shot) -> Figure:
+    """Four panels of a ``Shot`` with a history: the flight, the machine at release (or at the end), the
+    energy and the loads over time."""
+    history = shot.history
+    if history is None:
         raise ValueError(f"shot of {shot.design.name!r} has no histories to plot (a summary from the "
                          f"fast path or simulate(histories=False)): simulate it with histories")
     fig = Figure(figsize=(17, 4.4), layout="constrained")
@@ -52,69 +59,75 @@ def shot_figure(shot: Shot) -> Figure:
     fig.suptitle(title)
 
     ax_flight.axhline(0.0, color="0.5", lw=1)
-    ax_flight.plot(shot.path[:, 0], shot.path[:, 1] + h, color="tab:blue", lw=1, label="in the sling")
-    if len(shot.flight_path):
-        ax_flight.plot(shot.flight_path[:, 0], shot.flight_path[:, 1] + h, color="tab:red", label="flight")
+    ax_flight.plot(history.path[:, 0], history.path[:, 1] + h, color="tab:blue", lw=1, label="in the sling")
+    if len(history.flight_path):
+        ax_flight.plot(history.flight_path[:, 0], history.flight_path[:, 1] + h, color="tab:red", label="flight")
     ax_flight.plot(0.0, h, "k^", label="pivot")
     ax_flight.set(xlabel="x from pivot (m)", ylabel="height above base (m)", title="trajectory")
     ax_flight.set_aspect("equal", adjustable="box")
-    top = max(float(np.max(shot.path[:, 1])), float(np.max(shot.flight_path[:, 1], initial=-h))) + h
+    top = max(float(np.max(history.path[:, 1])), float(np.max(history.flight_path[:, 1], initial=-h))) + h
     ax_flight.set_ylim(-0.05 * top - 0.1, 1.1 * top + 0.1)
     ax_flight.legend(loc="upper right", fontsize=8)
 
     ax_machine.axhline(-h, color="0.5", lw=1)
-    ax_machine.plot(shot.path[:, 0], shot.path[:, 1], color="tab:blue", lw=0.8, ls=":")
+    ax_machine.plot(history.path[:, 0], history.path[:, 1], color="tab:blue", lw=0.8, ls=":")
     draw_machine(ax_machine, shot, 0, alpha=0.25)
-    draw_machine(ax_machine, shot, len(shot.t) - 1)
+    draw_machine(ax_machine, shot, len(history.t) - 1)
     when = "release" if shot.release_time is not None else "end"
     ax_machine.set(xlabel="x (m)", ylabel="y (m)", title=f"machine at start (faint) and {when}")
     ax_machine.set_aspect("equal", adjustable="datalim")
 
-    if shot.energy is not None:
-        ax_energy.plot(shot.t, shot.energy.projectile, label="projectile")
-        ax_energy.plot(shot.t, shot.energy.machine,
-                       label="arm + counterweight" + (" + frame" if shot.design.base.rolling else ""))
-        ax_energy.plot(shot.t, shot.energy.total, "k--", label="total")
-        # Each loss as its own band, stacked from the total up: together they close the audit
-        # (the top edge is the energy at rest, 0).
-        bottom = shot.energy.total
-        for name, color in zip(LOSS_NAMES[:3], ("tab:red", "tab:olive", "tab:brown"), strict=True):
-            taken = shot.energy.dissipated.get(name)
-            if taken is None or not np.any(taken > 0.0):
-                continue
-            total_taken = shot.energy_dissipated[name] if shot.energy_dissipated else taken[-1]
-            ax_energy.fill_between(shot.t, bottom, bottom + taken, color=color, alpha=0.35, lw=0,
-                                   label=f"lost to {name} friction ({total_taken:.3g} J)")
-            bottom = bottom + taken
-        if shot.liftoff_time is not None:
-            ax_energy.axvline(shot.liftoff_time, color="0.6", lw=0.8)
-            ax_energy.text(shot.liftoff_time, ax_energy.get_ylim()[1], " lift-off", va="top", fontsize=8)
-        ax_energy.set(xlabel="time (s)", ylabel="energy relative to rest (J)",
-                      title=f"energy, stages {int(Stage.SLIDE)}-{int(Stage.SWING)}")
-        ax_energy.legend(fontsize=8)
+    draw_energy(ax_energy, shot)
     draw_loads(ax_loads, shot)
     return fig
 
 
-def draw_loads(ax, shot: Shot) -> None:
+def draw_energy(ax_energy, shot) -> None:
+    """The mechanical energies through stages 1-2 and each friction loss as its own band (J)."""
+    history = shot.history
+    ax_energy.plot(history.t, history.energy.projectile, label="projectile")
+    ax_energy.plot(history.t, history.energy.machine,
+                   label="arm + counterweight" + (" + frame" if shot.design.base.rolling else ""))
+    ax_energy.plot(history.t, history.energy.total, "k--", label="total")
+    # Each loss as its own band, stacked from the total up: together they close the audit
+    # (the top edge is the energy at rest, 0).
+    bottom = history.energy.total
+    for name, color in zip(LOSS_NAMES[:3], ("tab:red", "tab:olive", "tab:brown"), strict=True):
+        taken = history.energy.dissipated.get(name)
+        if taken is None or not np.any(taken > 0.0):
+            continue
+        total_taken = shot.energy_dissipated[name] if shot.energy_dissipated else taken[-1]
+        ax_energy.fill_between(history.t, bottom, bottom + taken, color=color, alpha=0.35, lw=0,
+                               label=f"lost to {name} friction ({total_taken:.3g} J)")
+        bottom = bottom + taken
+    if shot.liftoff_time is not None:
+        ax_energy.axvline(shot.liftoff_time, color="0.6", lw=0.8)
+        ax_energy.text(shot.liftoff_time, ax_energy.get_ylim()[1], " lift-off", va="top", fontsize=8)
+    ax_energy.set(xlabel="time (s)", ylabel="energy relative to rest (J)",
+                  title=f"energy, stages {int(Stage.SLIDE)}-{int(Stage.SWING)}")
+    ax_energy.legend(fontsize=8)
+
+
+def draw_loads(ax, shot) -> None:
     """The joint loads through stages 1-2 (N, left) and the projectile's felt acceleration (g,
-    right), each peak marked."""
-    if len(shot.axle_load) == 0:
+    right), each peak marked; the panel hidden where the history holds no loads."""
+    history = shot.history
+    if history.axle_load is None:
         ax.set_visible(False)
         return
     g = shot.design.environment.gravity
-    curves = [(shot.axle_load, shot.peak_axle_load, shot.peak_axle_load_time, "axle", "tab:blue"),
-              (shot.hinge_load, shot.peak_hinge_load, shot.peak_hinge_load_time, "hinge", "tab:green"),
-              (shot.sling_tension, shot.peak_sling_tension, shot.peak_sling_tension_time, "sling tension",
+    curves = [(history.axle_load, shot.peak_axle_load, shot.peak_axle_load_time, "axle", "tab:blue"),
+              (history.hinge_load, shot.peak_hinge_load, shot.peak_hinge_load_time, "hinge", "tab:green"),
+              (history.sling_tension, shot.peak_sling_tension, shot.peak_sling_tension_time, "sling tension",
                "tab:purple")]
     for values, peak, when, label, color in curves:
-        ax.plot(shot.t, values, color=color, lw=1, label=label)
+        ax.plot(history.t, values, color=color, lw=1, label=label)
         if peak is not None:
             ax.plot(when, peak, "o", color=color, ms=4)
     ax.axhline(0.0, color="0.6", lw=0.6)
     ax.set(xlabel="time (s)", ylabel="force (N)", title="loads (dots: peaks)")
     ax_g = ax.twinx()
-    ax_g.plot(shot.t, shot.projectile_acceleration / g, color="tab:orange", lw=1, ls="--",
+    ax_g.plot(history.t, history.projectile_acceleration / g, color="tab:orange", lw=1, ls="--",
               label="projectile acceleration")
     if shot.peak_projectile_acceleration is not None:
         ax_g.plot(shot.peak_projectile_acceleration_time, shot.peak_projectile_acceleration / g, "o",

@@ -23,7 +23,7 @@ from analytic.integrate import Event, IntegrationError, Segment, integrate, step
 from analytic.limits import DEFAULT_ATOL, DEFAULT_RTOL, STAGE_STEP_LIMITS, flight_time_limit
 from analytic.outcome import LiftoffFailure, Stage, Status
 from analytic.parameters import Params, params
-from analytic.result import LOSS_NAMES, PEAK_NAMES, EnergyBudget, Shot
+from analytic.result import LOSS_NAMES, PEAK_NAMES, EnergyBudget, History, Shot
 
 #: Sample spacing of the returned histories (stages 1-2, flight), s.
 SWING_OUTPUT_STEP = 5e-4
@@ -529,7 +529,6 @@ def _finish(design: Design, p: Params, history, segments, status: Status, messag
                        for k, state, y in zip(stage, states, raw, strict=True)])
     fields["min_ground_force"] = float(ground.min())
     loads = np.array([stages.loads_at(int(k), y, p) for k, y in zip(stage, raw, strict=True)])   # (n, N_LOADS)
-    fields.update(axle_load=loads[:, 0], hinge_load=loads[:, 1], projectile_acceleration=loads[:, 3])
     if p.rolling and ground.min() < 0.0:
         warnings = (jump_warning(float(ground.min()), float(t[int(np.argmin(ground))]), p.g), *warnings)
     fields["warnings"] = warnings
@@ -539,9 +538,11 @@ def _finish(design: Design, p: Params, history, segments, status: Status, messag
     released = None
     if fields.get("release_time") is not None:
         released = v_machine0 - eom.potential_energy(*states[-1, :3], p)[0]
-    return Shot(design, status, message, t=t, stage=stage, q=states[:, :3], qdot=states[:, 3:], path=path,
-                frame_x=frame_x if p.rolling else np.empty(0),
-                sling_tension=tension, energy=energy,
+    history = History(t=t, stage=stage, q=states[:, :3], qdot=states[:, 3:], path=path,
+                      sling_tension=tension, energy=energy, frame_x=frame_x if p.rolling else np.empty(0),
+                      flight_t=fields.pop("flight_t", np.empty(0)), flight_path=fields.pop("flight_path", np.empty((0, 2))),
+                      axle_load=loads[:, 0], hinge_load=loads[:, 1], projectile_acceleration=loads[:, 3])
+    return Shot(design, status, message, history=history,
                 # A machine that never moves (never fires, or its equations fail at rest) holds
                 # its projectile statically: no tension is defined.
                 min_sling_tension=None if not segments else _smallest_tension(t, stage, tension, segments, p),

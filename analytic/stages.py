@@ -48,7 +48,7 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
-from analytic.aero import force_factor
+from analytic.aero import drag_rate
 from analytic.eom import (frame_coupling, frame_displacement, frame_velocity, horizontal_moment, loads,
                           loads_sliding, machine_accelerations, slide_accelerations, slide_constraint,
                           swing_accelerations, total_mass)
@@ -149,11 +149,7 @@ def derivative(stage, y, p, table, out):
     else:
         vx_rel = y[2] - p.wind
         vy = y[3]
-        # Not math.hypot: CPython's own algorithm and the C library's (which
-        # compiled code calls) may differ in the last bit; sqrt is correctly rounded in both.
-        speed = math.sqrt(vx_rel * vx_rel + vy * vy)
-        k = p.rho * p.area / (2.0 * p.mP) * force_factor(int(p.drag), speed, p.diameter, p.rho, p.mu,
-                                                         p.cd, table)
+        k = drag_rate(int(p.drag), vx_rel, vy, p.diameter, p.rho, p.mu, p.cd, p.area, p.mP, table)
         out[0], out[1], out[2], out[3] = y[2], vy, -k * vx_rel, -p.g - k * vy
 
 

@@ -2,11 +2,9 @@
 
 from __future__ import annotations
 
-import numpy as np
-
 from analytic.design import Base
 from analytic.design_file import default_design
-from analytic.design_space import default_problem, design_at, from_unit
+from analytic.design_space import default_problem, sample_designs
 from crosscheck.cases import REALISTIC_LOSSES, ROLLING_SAMPLE_FRAME_MASS
 
 #: The losses whose cost the benchmark measures: the cross-check's realistic ones (a steel axle
@@ -22,10 +20,4 @@ ROLLING_FRAME = Base("rolling", ROLLING_SAMPLE_FRAME_MASS)
 
 def bench_designs(count: int, seed: int):
     """The paper's optimum and ``count`` designs drawn uniformly over the paper's problem box."""
-    problem = default_problem()
-    rng = np.random.default_rng(seed)
-    designs = [default_design()]
-    for i in range(count):
-        unit = rng.uniform(0.0, 1.0, size=len(problem.free))
-        designs.append(design_at(problem, from_unit(problem, unit), name=f"bench-{seed}-{i:03d}"))
-    return designs
+    return [default_design(), *sample_designs(default_problem(), count, seed, lambda i: f"bench-{seed}-{i:03d}")]

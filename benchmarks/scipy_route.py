@@ -37,9 +37,10 @@ def scipy_with_compiled_model(design, repeat: int = 3) -> dict:
         return out
 
     shot = simulate(design)
-    first = int(np.argmax(shot.stage == Stage.SWING)) - 1    # the lift-off sample
-    y0 = np.concatenate([shot.q[first], shot.qdot[first]])
-    span = (shot.t[first], shot.release_time)
+    history = shot.history
+    first = int(np.argmax(history.stage == Stage.SWING)) - 1    # the lift-off sample
+    y0 = np.concatenate([history.q[first], history.qdot[first]])
+    span = (history.t[first], shot.release_time)
     p = params(design)
     compiled_rhs(0.0, y0, p)
 

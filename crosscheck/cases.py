@@ -8,12 +8,11 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
 
 import analytic
 from analytic.design import Base, BeamArm, Design, Losses
 from analytic.design_file import default_design, load_design
-from analytic.design_space import default_problem, design_at, from_unit
+from analytic.design_space import default_problem, sample_designs
 
 
 @dataclass(frozen=True)
@@ -89,15 +88,9 @@ def sample_cases(count: int, seed: int) -> list[Case]:
     """``count`` designs drawn uniformly over the paper's Table II bounds (``analytic.design_space``),
     alternating the wooden and the light arm; kept whether they throw or fail."""
     problem = default_problem()
-    rng = np.random.default_rng(seed)
-    cases = []
-    for i in range(count):
-        arm_name, arm = (("wooden", problem.arm), ("light", LIGHT_ARM))[i % 2]
-        unit = rng.uniform(0.0, 1.0, size=len(problem.free))
-        name = f"sample-{seed}-{i:03d}-{arm_name}"
-        design = design_at(dataclasses.replace(problem, arm=arm), from_unit(problem, unit), name=name)
-        cases.append(Case(name, design, "sample"))
-    return cases
+    designs = sample_designs(problem, count, seed, lambda i: f"sample-{seed}-{i:03d}-{('wooden', 'light')[i % 2]}",
+                             arms=(problem.arm, LIGHT_ARM))
+    return [Case(design.name, design, "sample") for design in designs]
 
 
 #: Frame masses the paper's design rolls on, kg: from under a third of its

@@ -33,7 +33,7 @@ from dataclasses import dataclass
 
 import pymunk
 
-from analytic.design import Design, initial_angles
+from analytic.design import Design, initial_angles, largest_length
 from analytic.geometry import machine_points
 
 #: Default solver iterations per step. With ``error_bias = 0`` pymunk needs at
@@ -106,12 +106,6 @@ class Rig:
     def machine_parts(self) -> tuple:
         """Bodies and joints of the arm and counterweight (removed from the space at release)."""
         return (self.pivot, self.hinge, self.arm, self.counterweight)
-
-
-def machine_length(design: Design) -> float:
-    """The machine's largest length, m: both arms, the link and the sling end to end."""
-    m = design.machine
-    return m.arm_long + m.arm_short + m.counterweight_link + m.sling_length
 
 
 def start_positions(design: Design) -> dict[str, tuple[float, float]]:
@@ -225,7 +219,7 @@ def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITE
     space.damping = 1.0
     space.iterations = int(iterations)
     # No shapes collide, but keep pymunk's pixel-sized defaults out of a metre world.
-    space.collision_slop = 1e-6 * machine_length(design)
+    space.collision_slop = 1e-6 * largest_length(design.machine)
     if design.base.rolling:
         frame = pymunk.Body(frame_body_mass(design), math.inf)
         frame.position = (0.0, 0.0)
@@ -265,7 +259,7 @@ def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITE
     else:
         sling_joint = pymunk.SlideJoint(arm, projectile, (0.0, m.arm_long), (0.0, 0.0),
                                         0.0, m.sling_length)
-    reach = GROOVE_HALF_LENGTH_FACTOR * machine_length(design)
+    reach = GROOVE_HALF_LENGTH_FACTOR * largest_length(design.machine)
     groove = pymunk.GrooveJoint(frame, projectile, (-reach, -m.pivot_height),
                                 (reach, -m.pivot_height), (0.0, 0.0))
 

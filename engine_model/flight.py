@@ -10,8 +10,8 @@ import pymunk
 
 from typing import Callable
 
-from analytic.aero import (DRAG_TABLE, GOLF_BALL_DRAG_COEFFICIENT, drag_coefficient, golf_ball_cd,
-                           reynolds_number, smooth_sphere_cd)
+from analytic.aero import DRAG_MODELS, DRAG_TABLE, GOLF_BALL_DRAG_COEFFICIENT, drag_coefficient, reynolds_number
+from analytic.aero import drag_rate as aero_drag_rate
 from analytic.design import Design
 from analytic.limits import flight_time_limit
 from engine_model.build import EngineError, placeholder_moment
@@ -96,55 +96,29 @@ class Flight:
 
 
 def drag_rate(velocity: tuple[float, float], design: Design) -> float:
-    """``k`` in the drag acceleration ``-k v_rel``, 1/s: ``rho Cd A |v_rel| / (2 m)``
-    (``A`` the drag area: the frontal area times ``projectile.drag_factor``).
-
-    ``v_rel = v - (wind_speed, 0)`` is the air-relative velocity and
-    ``Cd = analytic.aero.drag_coefficient(model, Re)`` with ``Re = rho |v_rel| d / mu``;
-    ``1 / k`` is the time in which drag alone would stop the projectile.
-    """
-    env, proj = design.environment, design.projectile
-    if proj.drag == "none" or env.air_density == 0.0:
-        return 0.0
-    speed = math.hypot(velocity[0] - env.wind_speed, velocity[1])
-    if speed == 0.0:
-        return 0.0
-    reynolds = reynolds_number(speed, proj.diameter, env.air_density, env.air_viscosity)
-    cd = drag_coefficient(proj.drag, reynolds, proj.drag_coefficient)
-    return 0.5 * env.air_density * cd * proj.drag_area * speed / proj.mass
+    """``k`` in the drag acceleration ``-k v_rel``, 1/s, at ``velocity`` (m/s, over the ground):
+    ``drag_rate_function(design)`` at that velocity."""
+    return drag_rate_function(design)(*velocity)
 
 
 def drag_rate_function(design: Design) -> Callable[[float, float], float]:
-    """``drag_rate`` of ``design`` as a function of the velocity ``(vx, vy)`` alone, for every step.
+    """``k`` of ``design`` as a function of the velocity ``(vx, vy)`` over the ground alone, 1/s.
 
-    The same arithmetic in the same order as ``drag_rate`` (so the same
-    numbers, bit for bit), with the design's constants read once and the
-    arguments not checked again: the flight calls it twice a step, tens of
-    thousands of times, where ``drag_rate``'s checks took a third of the shot.
+    ``analytic.aero.drag_rate`` (the law the analytic model's flight uses) with
+    ``v_rel = v - (wind_speed, 0)``; the design's drag inputs are checked once here,
+    not at each of the flight's steps.
     """
     env, proj = design.environment, design.projectile
     if proj.drag == "none" or env.air_density == 0.0:
         return lambda vx, vy: 0.0
-    # Checked once here, as drag_rate checks them at every call.
-    reynolds_number(0.0, proj.diameter, env.air_density, env.air_viscosity)
+    reynolds_number(0.0, proj.diameter, env.air_density, env.air_viscosity)   # checks the inputs
     drag_coefficient(proj.drag, 0.0, proj.drag_coefficient)
-    wind, rho, mu, diameter = env.wind_speed, env.air_density, env.air_viscosity, proj.diameter
-    area, mass, constant = proj.drag_area, proj.mass, proj.drag_coefficient
-    if proj.drag == "golf-ball":
-        def cd_of(re):
-            return golf_ball_cd(re, DRAG_TABLE)
-    elif proj.drag == "smooth-sphere":
-        def cd_of(re):
-            return math.inf if re == 0.0 else smooth_sphere_cd(re, DRAG_TABLE)
-    else:
-        def cd_of(re):
-            return float(constant)
+    model, wind = DRAG_MODELS.index(proj.drag), env.wind_speed
+    constant = math.nan if proj.drag_coefficient is None else proj.drag_coefficient
+    inputs = (proj.diameter, env.air_density, env.air_viscosity, constant, proj.drag_area, proj.mass, DRAG_TABLE)
 
     def rate(vx: float, vy: float) -> float:
-        speed = math.hypot(vx - wind, vy)
-        if speed == 0.0:
-            return 0.0
-        return 0.5 * rho * cd_of(rho * speed * diameter / mu) * area * speed / mass
+        return aero_drag_rate(model, vx - wind, vy, *inputs)
 
     return rate
 

@@ -130,25 +130,6 @@ class StaticBalance:
         """The axle's friction keeps a machine that would fire at rest."""
         return self.gravity_torque < 0.0 and -self.gravity_torque <= self.holding_torque
 
-    def message(self, design: Design) -> str:
-        losses = design.losses
-        return (f"the counterweight cannot lift the arm: the axle's friction holds it at rest "
-                f"(gravity's torque about the pivot {-self.gravity_torque:.4g} N m against at most "
-                f"{self.holding_torque:.4g} N m of static friction = {losses.static('axle'):g} x "
-                f"{losses.axle_radius * 1e3:g} mm x {self.axle_load:.4g} N on the axle)")
-
-
-def held_message(design: Design, arm_acceleration: float, balance: StaticBalance, sling: str) -> str:
-    """Why a machine with friction that the static balance of its axle alone lets go stays at rest."""
-    text = (f"the counterweight cannot lift the arm: friction holds the machine at rest (the arm's angular "
-            f"acceleration at rest is {arm_acceleration:+.3g} rad/s^2, under the {HELD_ACCELERATION:g} "
-            f"rad/s^2 that could turn it within the swing's time limit)")
-    if balance.gravity_torque < 0.0 and design.losses.static("base") > 0.0 and sling == "rigid":
-        text += (f": gravity's torque about the pivot, {-balance.gravity_torque:.4g} N m, is more than the "
-                 f"axle's friction holds alone ({balance.holding_torque:.4g} N m), but the base's friction "
-                 f"holds the projectile, and the rigid sling holds the arm by it")
-    return text
-
 
 def static_balance(design: Design, rest: np.ndarray) -> StaticBalance:
     """The torque balance of the arm at rest (``rest``: the (24,) state row at rest, positions used)."""

@@ -87,7 +87,7 @@ class FrameState:
 
 def end_time(shot: Shot) -> float:
     """Last instant of the shot, s: the landing, or the last recorded sample of a failed shot."""
-    return shot.landing_time if shot.landing_time is not None else float(shot.t[-1])
+    return shot.landing_time if shot.landing_time is not None else float(shot.history.t[-1])
 
 
 def frame_times(shot: Shot, fps: float, swing_slow_motion: float = SWING_SLOW_MOTION,
@@ -122,29 +122,30 @@ def frame_times(shot: Shot, fps: float, swing_slow_motion: float = SWING_SLOW_MO
 
 def frame_state(shot: Shot, time: float) -> FrameState:
     """The machine and projectile at ``time`` (interpolated between recorded samples)."""
+    history = shot.history
     release = shot.release_time
     in_flight = release is not None and time > release
-    swing_time = min(time, float(shot.t[-1]))
-    q = np.array([np.interp(swing_time, shot.t, shot.q[:, i]) for i in range(3)])
+    swing_time = min(time, float(history.t[-1]))
+    q = np.array([np.interp(swing_time, history.t, history.q[:, i]) for i in range(3)])
     points = machine_points(q, shot.design.machine)
     frame_x = 0.0
-    if shot.design.base.rolling and len(shot.frame_x):
-        frame_x = float(np.interp(swing_time, shot.t, shot.frame_x))
+    if shot.design.base.rolling and len(history.frame_x):
+        frame_x = float(np.interp(swing_time, history.t, history.frame_x))
         points = {name: point + np.array([frame_x, 0.0]) for name, point in points.items()}
-    on_machine = shot.t <= swing_time
-    trace = [shot.path[on_machine]]
+    on_machine = history.t <= swing_time
+    trace = [history.path[on_machine]]
     if in_flight:
-        flying = shot.flight_t <= time
-        projectile = np.array([np.interp(time, shot.flight_t, shot.flight_path[:, i]) for i in range(2)])
-        trace.append(shot.flight_path[flying])
+        flying = history.flight_t <= time
+        projectile = np.array([np.interp(time, history.flight_t, history.flight_path[:, i]) for i in range(2)])
+        trace.append(history.flight_path[flying])
         label = _STAGE_NAMES[Stage.FLIGHT]
     else:
-        projectile = np.array([np.interp(swing_time, shot.t, shot.path[:, i]) for i in range(2)])
-        stage = Stage(int(shot.stage[max(int(np.searchsorted(shot.t, swing_time, side="right")) - 1, 0)]))
+        projectile = np.array([np.interp(swing_time, history.t, history.path[:, i]) for i in range(2)])
+        stage = Stage(int(history.stage[max(int(np.searchsorted(history.t, swing_time, side="right")) - 1, 0)]))
         label = _STAGE_NAMES[stage]
     if shot.landing_time is not None and time >= shot.landing_time:
         label = "landed"
-    elif not shot.ok and time >= float(shot.t[-1]):
+    elif not shot.ok and time >= float(history.t[-1]):
         label = f"{label} - {shot.status.value}"
     trace.append(projectile[None, :])
     return FrameState(time, label, points["long_tip"], points["short_tip"], points["counterweight"],

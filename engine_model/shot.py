@@ -21,16 +21,16 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from analytic import outcome
-from analytic.design import Design, Machine, initial_angles
+from analytic.design import Design, Machine, initial_angles, largest_length
 from analytic.geometry import RELEASE_RULES, release_value
 from analytic.limits import SLING_VERTICAL_LIMIT, swing_time_limit
 from analytic.outcome import LiftoffFailure
-from analytic.result import PEAK_NAMES, EnergyBudget, Shot, Stage, Status
+from analytic.result import PEAK_NAMES, EnergyBudget, History, Shot, Stage, Status
 from engine_model import friction as fr
 from engine_model import kinematics as kin
 from engine_model import loads as engine_loads
 from engine_model.after_release import MACHINE_JOINTS, AfterRelease, after_release_steps, run_after_release
-from engine_model.build import DEFAULT_ITERATIONS, EngineError, Rig, build, machine_length
+from engine_model.build import DEFAULT_ITERATIONS, EngineError, Rig, build
 from engine_model.events import crossing_fraction, interpolate
 from engine_model.flight import FLIGHT_STEP_LIMIT, FLIGHT_STEP_MULTIPLE, fly
 from engine_model.readout import rig_row, row_reader, stepper
@@ -146,7 +146,7 @@ class EngineDiagnostics:
         counterweight can give up.
     dissipated_history : (n, 3) the work the axle's, the hinge's and the
         base's friction (``engine_model.friction.JOINTS``) had taken by each
-        sample of ``shot.t``, J; zeros for an ideal design. ``energy_error``
+        sample of ``shot.history.t``, J; zeros for an ideal design. ``energy_error``
         counts it: mechanical energy plus dissipated work is what is conserved.
     friction_steps : with friction only (None for an ideal design), on the
         steps of stages 1-2 (``machine_steps`` rows, each (n, 3) for the
@@ -226,11 +226,11 @@ def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAU
     Returns
     -------
     Shot
-        As the analytic model's, with histories: ``t`` (n,), ``q`` and ``qdot``
+        As the analytic model's, with its ``history``: ``t`` (n,), ``q`` and ``qdot``
         (n, 3), ``path`` (n, 2), ``sling_tension`` (n,), ``frame_x`` (n,) and
         ``energy`` on the steps of stages 1-2 (the last sample is the release
         instant, if any); ``flight_t`` (k,) and ``flight_path`` (k, 2) on the
-        flight's steps. Positions are over the ground from the pivot's rest
+        flight's steps; no load histories (``axle_load`` ... None). Positions are over the ground from the pivot's rest
         position. ``shot.diagnostics`` is the run's ``EngineDiagnostics``.
 
     Raises
@@ -431,7 +431,7 @@ def flight_step_base(design: Design, position: np.ndarray, velocity: np.ndarray)
 def coarse_step(design: Design) -> float:
     """The step of a run at the default step that outlasted ``MACHINE_FINE_STEPS``, s: the swing's
     time bound over ``MACHINE_COARSE_STEPS``."""
-    return swing_time_limit(machine_length(design), design.environment.gravity) / MACHINE_COARSE_STEPS
+    return swing_time_limit(largest_length(design.machine), design.environment.gravity) / MACHINE_COARSE_STEPS
 
 
 def _run_machine(design: Design, dt: float, iterations: int, sling: str, limit: int = MACHINE_STEP_LIMIT,
@@ -441,7 +441,7 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str, limit: 
     give a new one, and the run goes on as if that had been its limit all along."""
     m = design.machine
     h, g = m.pivot_height, design.environment.gravity
-    t_limit = swing_time_limit(machine_length(design), g)
+    t_limit = swing_time_limit(largest_length(design.machine), g)
     rule = RELEASE_RULES.index(m.release_rule)
     run = _Run()
 
@@ -460,8 +460,8 @@ def _run_machine(design: Design, dt: float, iterations: int, sling: str, limit: 
             run.tension.append(0.0)
             run.friction_impulse.append(fr.impulses(friction, True))
             run.status = Status.NEVER_FIRES
-            run.message = (balance.message(design) if friction.axle is not None and balance.holds
-                           else fr.held_message(design, arm_acceleration, balance, sling))
+            run.message = outcome.never_fires_message(arm_acceleration, -balance.gravity_torque,
+                                                      balance.holding_torque)
             return run, rig
     if not arm_acceleration < 0.0:
         run.raw.append(row)
@@ -672,13 +672,8 @@ def _opening_step(rig: Rig, dt: float, iterations: int) -> tuple[float, ...]:
 
 def step_limit_message(part: str, steps: int, dt: float, time_bound: float, limit: int = MACHINE_STEP_LIMIT,
                        ahead: bool = False) -> str:
-    """Why a run ended ``STEP_FAILED``: ``part`` took (or, ``ahead``, would take) ``steps`` steps of
-    ``dt``, ``limit`` the most it may."""
-    took = "would need" if ahead else "took"
-    return (f"the engine stopped: {part} {took} {steps} steps of {dt:g} s ({steps * dt:.4g} s of motion, "
-            f"against a time bound of {time_bound:.4g} s), and the engine's limit is {limit} steps; "
-            f"the design is far outside anything buildable (a machine this slow: check gravity and the "
-            f"masses), or use a larger --dt")
+    """``analytic.outcome.step_budget_message``, the machine's ``MACHINE_STEP_LIMIT`` by default."""
+    return outcome.step_budget_message(part, steps, dt, time_bound, limit, ahead)
 
 
 def _fail(run: _Run, rig: Rig, status: Status, message: str) -> tuple[_Run, Rig]:
@@ -737,10 +732,10 @@ def _assemble(design: Design, run: _Run, times: np.ndarray, sync: np.ndarray,
     if "release_time" in fields:
         potential = kin.potential_energies(sync[[0, -1]], design)[0]
         released = float(potential[0] - potential[1])
-    return Shot(design, status, message, t=times, stage=stage.astype(int), q=q, qdot=qdot,
-                path=kin.position(sync, kin.PROJECTILE).copy(), sling_tension=tension, energy=energy,
-                counterweight_energy_released=released, frame_x=kin.column(sync, kin.FRAME, kin.X).copy(),
-                **fields)
+    history = History(t=times, stage=stage.astype(int), q=q, qdot=qdot, path=kin.position(sync, kin.PROJECTILE).copy(),
+                      sling_tension=tension, energy=energy, frame_x=kin.column(sync, kin.FRAME, kin.X).copy(),
+                      flight_t=fields.pop("flight_t", np.empty(0)), flight_path=fields.pop("flight_path", np.empty((0, 2))))
+    return Shot(design, status, message, history=history, counterweight_energy_released=released, **fields)
 
 
 def smallest_sample(values: np.ndarray) -> float:
@@ -776,7 +771,8 @@ def _diagnose(design: Design, dt: float, iterations: int, sling: str, machine_st
     _require_converged(design, largest_miss, advice)
     # A rope that snaps taut loses energy, as a real one would; it must never gain any.
     # Friction's work is energy the machine lost, not an error: it is added back.
-    kept = shot.energy.total if design.losses.ideal else shot.energy.total + dissipated.sum(axis=1)
+    total = shot.history.energy.total
+    kept = total if design.losses.ideal else total + dissipated.sum(axis=1)
     change = _relative_energy(kept, design)
     energy_error = float(np.abs(change).max())
     _require_energy_kept(energy_error if sling == "rigid" else float(change.max()), energy_error, advice)
@@ -826,7 +822,7 @@ def _require_converged(design: Design, largest_miss: dict[str, float], advice: s
     """Raise ``EngineError`` if a joint's largest miss of its target velocity is over ``RESIDUAL_LIMIT``,
     naming the light bodies that make pymunk's iterative solver converge slowly."""
     joint = max(largest_miss, key=largest_miss.get)
-    limit = RESIDUAL_LIMIT * math.sqrt(design.environment.gravity * machine_length(design))
+    limit = RESIDUAL_LIMIT * math.sqrt(design.environment.gravity * largest_length(design.machine))
     if largest_miss[joint] <= limit:
         return
     m = design.machine
@@ -849,7 +845,7 @@ def _require_energy_kept(change: float, energy_error: float, advice: str) -> Non
 def _require_together(design: Design, largest_drift: dict[str, float], advice: str) -> None:
     """Raise ``EngineError`` if a joint came apart by more than ``DRIFT_LIMIT`` of the machine's length."""
     joint = max(largest_drift, key=largest_drift.get)
-    limit = DRIFT_LIMIT * machine_length(design)
+    limit = DRIFT_LIMIT * largest_length(design.machine)
     if not largest_drift[joint] <= limit:
         raise EngineError(f"the {joint} joint came apart by {largest_drift[joint]:.3g} m (limit {limit:.3g} m) "
                           f"{advice}")

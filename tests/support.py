@@ -20,7 +20,8 @@ from hypothesis import strategies as st
 import analytic
 from analytic.design import Base, BeamArm, Design, Losses
 from analytic.design_file import beam_arm_from_dict, default_design, load_design
-from analytic.design_space import VARIABLE_NAMES, default_problem, design_at, from_unit, variables_of
+from analytic.design_space import VARIABLE_NAMES, default_problem, design_at, from_unit, sample_designs, variables_of
+from crosscheck.cases import LIGHT_ARM
 from analytic.result import Status
 
 DATA = Path(analytic.__file__).with_name("data")
@@ -130,18 +131,11 @@ PHRASES = {Status.NEVER_FIRES: "cannot lift the arm", Status.NEVER_LIFTS_OFF: "n
 # Designs over the paper's Table II bounds
 # --------------------------------------------------------------------------- #
 
-#: A few grams of arm: nearly massless, the other extreme from the default's pine beam.
-LIGHT_ARM = BeamArm(width=0.005, depth=0.005, density=100.0)
-
-
 def table_ii_sample(count: int, seed: int) -> list[Design]:
     """``count`` designs drawn uniformly over the problem file's bounds (seeded), alternating
     the problem's arm (the default design's pine beam) and ``LIGHT_ARM``."""
     problem = default_problem()
-    arms = (problem.arm, LIGHT_ARM)
-    units = np.random.default_rng(seed).uniform(0.0, 1.0, size=(count, len(problem.free)))
-    return [design_at(dataclasses.replace(problem, arm=arms[i % 2]), from_unit(problem, unit),
-                      name=f"table-ii-{seed}-{i:03d}") for i, unit in enumerate(units)]
+    return sample_designs(problem, count, seed, lambda i: f"table-ii-{seed}-{i:03d}", arms=(problem.arm, LIGHT_ARM))
 
 
 @st.composite

@@ -25,7 +25,7 @@ def test_failure_is_named(expected):
     assert shot.range is None and shot.to_json()["range"] is None and shot.landing_time is None
     # Released only if the failure came after release.
     assert (shot.release_time is not None) == (expected is Status.NO_LANDING)
-    assert np.all(np.isfinite(shot.q)) and len(shot.t) >= 1
+    assert np.all(np.isfinite(shot.history.q)) and len(shot.history.t) >= 1
 
 
 def test_every_failure_kind_has_a_design():
@@ -42,7 +42,7 @@ def test_never_fires_exactly_below_the_static_threshold(table3):
     below = simulate(with_machine(table3, counterweight_mass=0.99 * threshold))
     above = simulate(with_machine(table3, counterweight_mass=1.01 * threshold))
     assert below.status is Status.NEVER_FIRES
-    assert above.status is not Status.NEVER_FIRES and len(above.t) > 10
+    assert above.status is not Status.NEVER_FIRES and len(above.history.t) > 10
 
 
 def test_landing_behind_the_pivot_is_a_flagged_result(table3):
@@ -60,9 +60,9 @@ def test_a_sling_shorter_than_one_steps_rise_of_the_tip_still_ends_cleanly():
 
     design = design_at(default_problem(), [0.2685888, 0.2815835, 0.2368245, 0.0219153, 0.5273128, 0.7839298])
     shot = simulate(design)  # before the fix: ValueError "out of the sling's reach"
-    assert np.all(np.isfinite(shot.q)) and shot.message
+    assert np.all(np.isfinite(shot.history.q)) and shot.message
     # Every accepted stage-1 state keeps the tip within the sling's reach of the base.
     m = design.machine
-    on_base = shot.stage == 1
-    tip_height = m.arm_long * np.cos(shot.q[on_base, 0]) + m.pivot_height
+    on_base = shot.history.stage == 1
+    tip_height = m.arm_long * np.cos(shot.history.q[on_base, 0]) + m.pivot_height
     assert on_base.sum() > 5 and np.max(tip_height) <= m.sling_length * (1.0 + 1e-12)

@@ -222,7 +222,7 @@ ZERO_LOSSES = {"zero-coefficients": dict(axle_friction=0.0, hinge_friction=0.0, 
 #: What two shots of the same arithmetic share, sample for sample.
 SHOT_NUMBERS = ("liftoff_time", "release_time", "landing_time", "range", "apex_height", "min_sling_tension",
                 "peak_axle_load", "peak_hinge_load", "peak_sling_tension", "peak_projectile_acceleration")
-SHOT_HISTORIES = ("t", "q", "qdot", "path", "sling_tension", "flight_path", "axle_load")
+SHOT_HISTORIES = ("t", "q", "qdot", "path", "sling_tension", "flight_path", "axle_load")   # ``History`` fields
 
 
 def on_frame(design, frame):
@@ -234,7 +234,7 @@ def assert_same_shot(got, expected):
     for name in SHOT_NUMBERS:
         assert getattr(got, name) == getattr(expected, name), name
     for name in SHOT_HISTORIES:
-        assert np.array_equal(getattr(got, name), getattr(expected, name)), name
+        assert np.array_equal(getattr(got.history, name), getattr(expected.history, name)), name
 
 
 def test_losses_are_ideal_exactly_when_every_coefficient_is_zero():
@@ -305,7 +305,7 @@ def test_range_falls_smoothly_as_each_coefficient_grows_from_zero(paper, name, c
 
 
 def _audit(shot):
-    e = shot.energy
+    e = shot.history.energy
     scale = shot.counterweight_energy_released
     return float(np.max(np.abs(e.total + e.lost))) / scale
 
@@ -327,7 +327,7 @@ def test_energy_audit_closes_at_every_sample(paper, case):
     assert shot.status is Status.OK
     assert _audit(shot) <= AUDIT_TOL
     for name in LOSS_NAMES[:3]:
-        w = shot.energy.dissipated[name]
+        w = shot.history.energy.dissipated[name]
         assert np.all(np.diff(w) >= -1e-12), f"{name}'s work must not decrease"
         assert shot.energy_dissipated[name] == w[-1]
         assert (w[-1] > 0.0) == (AUDIT_CASES[case].get(f"{name}_friction", 0.0) > 0.0)
@@ -439,17 +439,17 @@ def test_a_hinge_that_sticks_is_held_within_its_friction_and_slips_against_its_r
     shot = simulate(design)
     p = params(design)
     assert shot.status is Status.OK
-    stuck = shot.qdot[:, 1] == 0.0
+    stuck = shot.history.qdot[:, 1] == 0.0
     assert stuck.sum() > 10 and (~stuck).sum() > 10
     kh = p.muh * p.rh
-    for i in np.flatnonzero(shot.stage == stages.SWING)[::7]:
-        y = np.concatenate([shot.q[i], shot.qdot[i], np.zeros(3), [-1.0, 0.0 if stuck[i] else np.sign(shot.qdot[i, 1]),
+    for i in np.flatnonzero(shot.history.stage == stages.SWING)[::7]:
+        y = np.concatenate([shot.history.q[i], shot.history.qdot[i], np.zeros(3), [-1.0, 0.0 if stuck[i] else np.sign(shot.history.qdot[i, 1]),
                                                                     0.0]])
         _, _, _, _, _, th, _, _, hinge, _ = stages.friction_solution(stages.SWING, y, p)
         if stuck[i]:
             assert abs(th) <= kh * hinge * (1 + 1e-12)
         else:
-            assert th == pytest.approx(-kh * hinge * np.sign(shot.qdot[i, 1]), rel=1e-12)
+            assert th == pytest.approx(-kh * hinge * np.sign(shot.history.qdot[i, 1]), rel=1e-12)
 
 
 def test_the_hinge_reverses_and_the_axle_stops_under_heavy_friction(paper, monkeypatch):

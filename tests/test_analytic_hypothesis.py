@@ -24,7 +24,7 @@ def _check_outcome(design: Design) -> None:
     shot = simulate(design)
     assert time.perf_counter() - start < HANG_GUARD_SECONDS
     assert isinstance(shot.status, Status) and shot.message
-    assert np.all(np.isfinite(shot.q)) and np.all(np.isfinite(shot.energy.total if shot.energy else 0.0))
+    assert np.all(np.isfinite(shot.history.q)) and np.all(np.isfinite(shot.history.energy.total if shot.history.energy else 0.0))
     if shot.ok:
         values = [shot.range, shot.release_speed, shot.apex_height, shot.flight_time, shot.min_sling_tension]
         assert all(math.isfinite(v) for v in values)

@@ -258,14 +258,14 @@ def test_the_tension_history_is_eq_5_2_and_the_minimum_is_unchanged(table3):
     shot = simulate(table3)
     p = params(table3)
     rows = []
-    for stage, q, qd in zip(shot.stage, shot.q, shot.qdot, strict=True):
+    for stage, q, qd in zip(shot.history.stage, shot.history.q, shot.history.qdot, strict=True):
         if stage == stages.SLIDE:
             ddtheta, _, normal = eom.slide_accelerations(q[0], q[1], qd[0], qd[1], p)
         else:
             ddtheta, normal = eom.swing_accelerations(*q, *qd, p)[0], 0.0
         rows.append(_tension_eq_5_2(q[0], q[2], qd[0], qd[2], ddtheta, normal, p))
     scale = float(np.max(np.abs(rows)))
-    assert np.max(np.abs(shot.sling_tension - np.array(rows))) <= REL_TOL * scale
+    assert np.max(np.abs(shot.history.sling_tension - np.array(rows))) <= REL_TOL * scale
     assert shot.min_sling_tension == pytest.approx(TABLE3_MIN_TENSION, rel=TABLE3_MIN_TENSION_REL)
 
 
@@ -276,14 +276,14 @@ def test_each_peak_tops_its_sampled_history_and_falls_on_it(frame):
     from analytic.reference import simulate
 
     shot = simulate(_design(frame))
-    histories = {"peak_axle_load": shot.axle_load, "peak_hinge_load": shot.hinge_load,
-                 "peak_sling_tension": shot.sling_tension, "peak_projectile_acceleration": shot.projectile_acceleration}
+    histories = {"peak_axle_load": shot.history.axle_load, "peak_hinge_load": shot.history.hinge_load,
+                 "peak_sling_tension": shot.history.sling_tension, "peak_projectile_acceleration": shot.history.projectile_acceleration}
     for name, history in histories.items():
         peak = getattr(shot, name)
         top = float(np.max(history))
         assert top <= peak * (1.0 + 1e-9), name
         assert peak <= top * 1.02, name
-        assert abs(getattr(shot, f"{name}_time") - shot.t[int(np.argmax(history))]) <= 2 * (shot.t[1] - shot.t[0])
+        assert abs(getattr(shot, f"{name}_time") - shot.history.t[int(np.argmax(history))]) <= 2 * (shot.history.t[1] - shot.history.t[0])
 
 
 def test_leaving_the_loads_out_changes_nothing_else(table3):

@@ -100,8 +100,9 @@ def test_a_failure_the_candidates_never_reach_is_counted_under_its_status(proble
     # None of the candidates above fails a step or never lands: the batch is
     # stood in for, to show that every status is counted under its own name.
     def shoot(rows, *, rtol, atol, threads, loads=True):
-        return Shots(status=np.array([status.value] * len(rows)), **{
-            name: np.full(len(rows), math.nan) for name in Shots.__dataclass_fields__ if name != "status"})
+        return Shots(status=Shots.statuses(np.full(len(rows), status.code)), **{
+            name: np.full(len(rows), math.nan) for name in Shots.__dataclass_fields__
+            if name not in ("status", "designs", "shot_at")})
 
     monkeypatch.setattr(fast, "shoot", shoot)
     evaluator = Evaluator(problem)

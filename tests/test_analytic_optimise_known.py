@@ -47,7 +47,7 @@ def vacuum_range_of_release_angle(problem) -> CubicSpline:
     shot = simulate(design)
     p, g, h = params(design), design.environment.gravity, design.machine.pivot_height
     angles, ranges = [], []
-    for stage, q, qdot in zip(shot.stage, shot.q, shot.qdot, strict=True):
+    for stage, q, qdot in zip(shot.history.stage, shot.history.q, shot.history.qdot, strict=True):
         x, y, vx, vy = projectile_state(q[0], q[2], qdot[0], qdot[2], p.La, p.Ls)
         if stage == Stage.SWING and vx > 0.0:
             angles.append(math.atan2(vy, vx))

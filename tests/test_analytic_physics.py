@@ -26,7 +26,7 @@ def test_energy_is_conserved_through_slide_and_swing(vacuum_shot):
     # Exact property of the conservative stage-1/2 dynamics (no friction, drag only in flight).
     shot = vacuum_shot
     assert shot.ok
-    drift = np.max(np.abs(shot.energy.total)) / shot.counterweight_energy_released
+    drift = np.max(np.abs(shot.history.energy.total)) / shot.counterweight_energy_released
     assert drift < 1e-8
 
 
@@ -34,26 +34,26 @@ def test_energy_is_conserved_through_slide_and_swing(vacuum_shot):
 def test_energy_conserved_for_other_release_settings(table3_vacuum, rule, angle_deg):
     shot = simulate(with_machine(table3_vacuum, release_rule=rule, release_angle=math.radians(angle_deg)))
     assert shot.ok
-    assert np.max(np.abs(shot.energy.total)) / shot.counterweight_energy_released < 1e-8
+    assert np.max(np.abs(shot.history.energy.total)) / shot.counterweight_energy_released < 1e-8
 
 
 def test_projectile_stays_on_the_base_in_stage_1(vacuum_shot, table3_vacuum):
     shot, h = vacuum_shot, table3_vacuum.machine.pivot_height
-    on_base = shot.stage == Stage.SLIDE
+    on_base = shot.history.stage == Stage.SLIDE
     assert on_base.sum() > 100
     # path is recomputed from (theta, psi) by the forward kinematics, not from the constraint.
-    assert np.max(np.abs(shot.path[on_base, 1] + h)) < 1e-9
+    assert np.max(np.abs(shot.history.path[on_base, 1] + h)) < 1e-9
 
 
 def test_normal_force_pushes_until_liftoff_and_vanishes_there(vacuum_shot, table3_vacuum):
     p = params(table3_vacuum)
-    samples = np.flatnonzero(vacuum_shot.stage == Stage.SLIDE)
-    normal = [slide_accelerations(*vacuum_shot.q[i, :2], *vacuum_shot.qdot[i, :2], p)[2] for i in samples]
+    samples = np.flatnonzero(vacuum_shot.history.stage == Stage.SLIDE)
+    normal = [slide_accelerations(*vacuum_shot.history.q[i, :2], *vacuum_shot.history.qdot[i, :2], p)[2] for i in samples]
     weight = p.mP * p.g
     assert min(normal[:-1]) > 0.0
     assert normal[0] == pytest.approx(weight, rel=1e-12)  # at rest the sling is horizontal: N = m g
     last = samples[-1]  # the lift-off instant itself is the last stage-1 sample
-    assert vacuum_shot.t[last] == vacuum_shot.liftoff_time
+    assert vacuum_shot.history.t[last] == vacuum_shot.liftoff_time
     assert abs(normal[-1]) < 1e-9 * weight
 
 
@@ -64,7 +64,7 @@ def test_velocity_rule_releases_along_the_release_angle(vacuum_shot, table3_vacu
 def test_sling_rule_releases_at_the_sling_to_arm_angle(table3_vacuum):
     alpha = math.radians(-40.0)
     shot = simulate(with_machine(table3_vacuum, release_rule="sling", release_angle=alpha))
-    q = shot.q[-1]
+    q = shot.history.q[-1]
     beta = q[0] + q[2]
     assert sling_arm_angle(-math.sin(q[0]), math.cos(q[0]), -math.sin(beta), math.cos(beta)) == pytest.approx(alpha, abs=1e-9)
 
@@ -77,8 +77,8 @@ def test_vacuum_flight_is_the_closed_form_parabola(vacuum_shot, table3_vacuum):
     assert vacuum_shot.flight_time == pytest.approx(flight_time, rel=1e-9)
     assert vacuum_shot.range == pytest.approx(x0 + vx * flight_time, rel=1e-9)
     assert vacuum_shot.apex_height == pytest.approx(y0 + h + vy * vy / (2.0 * g), rel=1e-9)
-    t = vacuum_shot.flight_t - vacuum_shot.release_time
-    np.testing.assert_allclose(vacuum_shot.flight_path[:, 1], y0 + vy * t - 0.5 * g * t * t, rtol=0, atol=1e-9)
+    t = vacuum_shot.history.flight_t - vacuum_shot.release_time
+    np.testing.assert_allclose(vacuum_shot.history.flight_path[:, 1], y0 + vy * t - 0.5 * g * t * t, rtol=0, atol=1e-9)
 
 
 def test_drag_flight_matches_an_independent_integration(table3):
@@ -131,12 +131,12 @@ def test_tolerance_is_converged(table3, drag):
 
 
 def test_result_arrays_have_documented_shapes(vacuum_shot):
-    n = len(vacuum_shot.t)
-    assert vacuum_shot.q.shape == vacuum_shot.qdot.shape == (n, 3)
-    assert vacuum_shot.path.shape == (n, 2) and vacuum_shot.stage.shape == vacuum_shot.sling_tension.shape == (n,)
-    assert vacuum_shot.energy.total.shape == (n,)
-    assert vacuum_shot.flight_path.shape == (len(vacuum_shot.flight_t), 2)
-    assert np.all(np.diff(vacuum_shot.t) > 0) and vacuum_shot.t[-1] == vacuum_shot.release_time
+    n = len(vacuum_shot.history.t)
+    assert vacuum_shot.history.q.shape == vacuum_shot.history.qdot.shape == (n, 3)
+    assert vacuum_shot.history.path.shape == (n, 2) and vacuum_shot.history.stage.shape == vacuum_shot.history.sling_tension.shape == (n,)
+    assert vacuum_shot.history.energy.total.shape == (n,)
+    assert vacuum_shot.history.flight_path.shape == (len(vacuum_shot.history.flight_t), 2)
+    assert np.all(np.diff(vacuum_shot.history.t) > 0) and vacuum_shot.history.t[-1] == vacuum_shot.release_time
     assert vacuum_shot.status is Status.OK
 
 
@@ -147,8 +147,8 @@ def test_min_sling_tension_is_refined_between_samples(table3_vacuum, vacuum_shot
 
     monkeypatch.setattr(simulate_module, "SWING_OUTPUT_STEP", simulate_module.SWING_OUTPUT_STEP / 50)
     dense = simulate_module.simulate(table3_vacuum)
-    dense_min = float(dense.sling_tension.min())
-    coarse_min = float(vacuum_shot.sling_tension.min())
+    dense_min = float(dense.history.sling_tension.min())
+    coarse_min = float(vacuum_shot.history.sling_tension.min())
     assert vacuum_shot.min_sling_tension <= dense_min + 1e-12
     assert abs(vacuum_shot.min_sling_tension - dense_min) < 1e-4 * abs(dense_min)
     assert abs(coarse_min - dense_min) > 1e-3 * abs(dense_min), "the test needs a coarse grid that misses the dip"

@@ -20,6 +20,7 @@ from analytic.cli import main
 from analytic.fast import shoot
 from analytic.sweep import analyses, read_table, run_sweep, storage, sweep_from_dict
 from analytic.sweep.designs import kernel_rows
+from analytic.sweep.evaluate import OUTCOMES
 from analytic.sweep.spec import DATA_DIR
 
 ROOT = Path(__file__).parents[1]
@@ -71,6 +72,9 @@ def test_sweep_writes_one_table_of_inputs_status_and_outcomes(tmp_path, capsys):
     columns = {f: table[f].to_numpy() for f in sweep.fields}
     direct = shoot(kernel_rows(sweep.base, columns))
     assert np.array_equal(table["range"].to_numpy(), direct.range, equal_nan=True)
+    # The same columns, of the same types, as the batch's own table (``Shots.to_arrow``).
+    names = ["status", *OUTCOMES]
+    assert table.select(names).combine_chunks().equals(direct.to_arrow(names)) and names == table.column_names[3:]
     assert table["machine.sling_length"].to_numpy()[0] == 0.40   # "40 cm", in the file's unit
 
 

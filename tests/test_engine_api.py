@@ -19,7 +19,7 @@ def test_simulate_returns_a_shot_with_the_engine_diagnostics():
     assert isinstance(shot, Shot) and shot.status is Status.OK
     assert isinstance(shot.diagnostics, EngineDiagnostics)
     assert (shot.diagnostics.dt, shot.diagnostics.sling) == (4e-4, "rigid")
-    assert shot.diagnostics.machine_steps == len(shot.t) and shot.diagnostics.flight_steps > 0
+    assert shot.diagnostics.machine_steps == len(shot.history.t) and shot.diagnostics.flight_steps > 0
 
 
 def test_gravity_too_weak_for_a_time_scale_is_an_engine_error_not_a_warning():

@@ -46,11 +46,11 @@ def analytic(vacuum):
 
 def test_energy_is_conserved_through_stages_1_and_2(engine):
     shot = engine
-    assert shot.ok and shot.energy.total.shape == shot.t.shape
-    assert np.abs(shot.energy.total).max() < ENERGY_TOLERANCE * shot.counterweight_energy_released
+    assert shot.ok and shot.history.energy.total.shape == shot.history.t.shape
+    assert np.abs(shot.history.energy.total).max() < ENERGY_TOLERANCE * shot.counterweight_energy_released
     # The budget adds up and the projectile got its share by release.
-    assert shot.energy.total == pytest.approx(shot.energy.machine + shot.energy.projectile)
-    assert shot.energy.projectile[-1] > 0.5 * shot.counterweight_energy_released
+    assert shot.history.energy.total == pytest.approx(shot.history.energy.machine + shot.history.energy.projectile)
+    assert shot.history.energy.projectile[-1] > 0.5 * shot.counterweight_energy_released
 
 
 def test_joint_drift_is_only_the_one_step_chord_error(engine, analytic):
@@ -64,9 +64,9 @@ def test_joint_drift_is_only_the_one_step_chord_error(engine, analytic):
     #   sling: dt^2 v_rel^2 / (2 L_s) + dt^2/2 theta'^2 (r_tip . e_sling)
     diagnostics = engine.diagnostics
     m, dt = analytic.design.machine, DEFAULT_DT
-    theta, phi, psi = analytic.q.T
-    arm_rate, link_rate, sling_rate = analytic.qdot[:, 0], analytic.qdot[:, 0] + analytic.qdot[:, 1], \
-        analytic.qdot[:, 0] + analytic.qdot[:, 2]
+    theta, phi, psi = analytic.history.q.T
+    arm_rate, link_rate, sling_rate = analytic.history.qdot[:, 0], analytic.history.qdot[:, 0] + analytic.history.qdot[:, 1], \
+        analytic.history.qdot[:, 0] + analytic.history.qdot[:, 2]
     along = np.column_stack([-np.sin(theta), np.cos(theta)])
     centre, short, tip = m.arm_cg * along, -m.arm_short * along, m.arm_long * along
     link = m.counterweight_link * np.column_stack([np.sin(theta + phi), -np.cos(theta + phi)])
@@ -121,18 +121,18 @@ def test_sling_tension_recovered_from_momentum_matches_pymunk_and_the_analytic_m
                                     tip, (after[p + kin.X], after[p + kin.Y]), True, shot.design, DEFAULT_DT)
     assert abs(tension) == pytest.approx(rig.sling.impulse / DEFAULT_DT, rel=1e-6)
     # Against the analytic tension history (signed): within 1e-4 of its largest value.
-    engine_tension = np.interp(analytic.t, shot.t, shot.sling_tension)
-    scale = np.abs(analytic.sling_tension).max()
-    assert np.abs(engine_tension - analytic.sling_tension).max() < 1e-3 * scale
+    engine_tension = np.interp(analytic.history.t, shot.history.t, shot.history.sling_tension)
+    scale = np.abs(analytic.history.sling_tension).max()
+    assert np.abs(engine_tension - analytic.history.sling_tension).max() < 1e-3 * scale
     assert shot.min_sling_tension < 0.0  # the rigid sling pushes before release (analytic: -3.99 N)
 
 
 def test_coordinates_follow_the_analytic_model(engine, analytic):
     shot = engine
-    q = np.column_stack([np.interp(analytic.t, shot.t, shot.q[:, i]) for i in range(3)])
-    assert np.abs(q - analytic.q).max() < 1e-4  # rad
-    assert shot.stage[0] == Stage.SLIDE and shot.stage[-1] == Stage.SWING
-    assert shot.t[shot.stage == Stage.SWING][0] >= shot.liftoff_time
+    q = np.column_stack([np.interp(analytic.history.t, shot.history.t, shot.history.q[:, i]) for i in range(3)])
+    assert np.abs(q - analytic.history.q).max() < 1e-4  # rad
+    assert shot.history.stage[0] == Stage.SLIDE and shot.history.stage[-1] == Stage.SWING
+    assert shot.history.t[shot.history.stage == Stage.SWING][0] >= shot.liftoff_time
 
 
 @pytest.mark.parametrize("expected", failure_designs(), ids=lambda s: s.value)
@@ -144,7 +144,7 @@ def test_failures_are_named_as_the_analytic_model_names_them(expected):
     assert PHRASES[expected] in shot.message
     assert shot.range is None and shot.to_json()["range"] is None
     assert (shot.release_time is not None) is (expected is Status.NO_LANDING)  # only it was released
-    assert len(shot.t) >= 1 and np.all(np.isfinite(shot.q))
+    assert len(shot.history.t) >= 1 and np.all(np.isfinite(shot.history.q))
 
 
 def test_a_flight_that_never_lands_is_a_result_with_the_bound_in_its_message():
@@ -155,7 +155,7 @@ def test_a_flight_that_never_lands_is_a_result_with_the_bound_in_its_message():
     limit = flight_time_limit(height, vertical_velocity, design.environment.gravity)
     assert shot.message == outcome.no_landing_message(limit)  # "... within 64.9 s of flight ..."
     assert shot.landing_time is None and shot.apex_height is None and shot.flight_time is None
-    assert shot.flight_path.shape == (len(shot.flight_t), 2) and shot.flight_t[0] == shot.release_time
+    assert shot.history.flight_path.shape == (len(shot.history.flight_t), 2) and shot.history.flight_t[0] == shot.release_time
     # Ended as soon as a landing in time was impossible (183 steps), not after 1.3e6.
     assert shot.diagnostics.flight_steps < 1000
 
@@ -183,17 +183,17 @@ def test_the_rope_never_pushes_and_never_gains_energy(vacuum, engine):
     rope = simulate(vacuum, sling="rope")
     assert rope.ok and rope.diagnostics.sling == "rope"
     assert rope.min_sling_tension > -1e-9  # round-off only
-    assert rope.energy.total.max() < 1e-6 * rope.counterweight_energy_released
+    assert rope.history.energy.total.max() < 1e-6 * rope.counterweight_energy_released
     # The same motion as the rigid sling until the rigid sling first pushes; the
     # rope then goes slack. (Not to round-off: pymunk's rope acts only once it is
     # stretched, so in the first step from rest, exactly at its length, it does
     # not pull; the projectile lags by 1.4e-7 m for that step.)
-    first_push = rigid.t[np.argmax(rigid.sling_tension < 0.0)]
-    before = rigid.t < first_push - 1e-3
-    rope_path = np.column_stack([np.interp(rigid.t[before], rope.t, rope.path[:, i]) for i in range(2)])
-    assert np.abs(rope_path - rigid.path[before]).max() < 1e-6
-    slack = (rope.t > first_push) & (rope.t < rope.release_time)
-    assert np.any(np.abs(rope.sling_tension[slack]) < 1e-9)  # slack: no pull but round-off
+    first_push = rigid.history.t[np.argmax(rigid.history.sling_tension < 0.0)]
+    before = rigid.history.t < first_push - 1e-3
+    rope_path = np.column_stack([np.interp(rigid.history.t[before], rope.history.t, rope.history.path[:, i]) for i in range(2)])
+    assert np.abs(rope_path - rigid.history.path[before]).max() < 1e-6
+    slack = (rope.history.t > first_push) & (rope.history.t < rope.release_time)
+    assert np.any(np.abs(rope.history.sling_tension[slack]) < 1e-9)  # slack: no pull but round-off
 
 
 def test_the_state_read_from_chipmunk_is_the_one_pymunks_properties_give(vacuum):
@@ -270,7 +270,7 @@ def test_a_machine_that_needs_more_steps_than_the_budget_stops_and_says_why(vacu
     shot = simulate(vacuum, dt=DEFAULT_DT)   # a step given: no step budget
     assert shot.status is Status.STEP_FAILED
     assert "stages 1-2 took 2000 steps of 5e-05 s" in shot.message and "gravity" in shot.message
-    assert len(shot.t) == 2_001            # the half step and 2,000 whole ones, then it stopped
+    assert len(shot.history.t) == 2_001            # the half step and 2,000 whole ones, then it stopped
 
 
 def test_a_flight_that_needs_more_steps_than_the_budget_stops_and_says_why(vacuum, monkeypatch):
@@ -310,7 +310,7 @@ def _moon(design: Design) -> Design:
 def test_a_shot_that_ends_within_the_fine_steps_is_the_one_a_given_step_gives(engine, vacuum):
     given = simulate(vacuum, dt=DEFAULT_DT)
     assert engine.diagnostics.dt == DEFAULT_DT and engine.diagnostics.discarded_steps == 0
-    assert np.array_equal(engine.t, given.t) and np.array_equal(engine.q, given.q)
+    assert np.array_equal(engine.history.t, given.history.t) and np.array_equal(engine.history.q, given.history.q)
     assert engine.range == given.range and engine.landing_time == given.landing_time
 
 
@@ -378,7 +378,7 @@ def test_a_release_between_the_fine_steps_and_the_fitted_ones_goes_on_at_the_def
     given = simulate(design, dt=DEFAULT_DT)
     assert engine_shot.MACHINE_FINE_STEPS < given.diagnostics.machine_steps < engine_shot.MACHINE_REFINED_STEPS
     assert shot.diagnostics.dt == DEFAULT_DT and 0 < shot.diagnostics.discarded_steps <= engine_shot.MACHINE_COARSE_STEPS + 2
-    assert np.array_equal(shot.q, given.q) and shot.range == given.range
+    assert np.array_equal(shot.history.q, given.history.q) and shot.range == given.range
 
 
 def test_the_budget_makes_the_engine_throw_at_any_gravity():

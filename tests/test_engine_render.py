@@ -139,12 +139,12 @@ def test_a_rolling_frame_is_drawn_on_wheels_where_it_is(shot, frame_x):
 
 def test_frames_of_a_rolling_shot_follow_its_frame(shot):
     rolling_shot = simulate(dataclasses.replace(shot.design, base=Base("rolling", 2.0)), dt=4e-4)
-    moving = int(np.argmax(np.abs(rolling_shot.frame_x)))
-    state = frame_state(rolling_shot, float(rolling_shot.t[moving]))
-    assert state.frame_x == rolling_shot.frame_x[moving] != 0.0
+    moving = int(np.argmax(np.abs(rolling_shot.history.frame_x)))
+    state = frame_state(rolling_shot, float(rolling_shot.history.t[moving]))
+    assert state.frame_x == rolling_shot.history.frame_x[moving] != 0.0
     # Every part is drawn carried along by the frame (positions relative to the pivot, plus X).
-    points = machine_points(rolling_shot.q[moving], rolling_shot.design.machine)
+    points = machine_points(rolling_shot.history.q[moving], rolling_shot.design.machine)
     for part in ("long_tip", "short_tip", "counterweight"):
         assert getattr(state, part) == pytest.approx(points[part] + [state.frame_x, 0.0], abs=1e-12), part
-    assert state.projectile == pytest.approx(rolling_shot.path[moving], abs=1e-12)   # already over the ground
+    assert state.projectile == pytest.approx(rolling_shot.history.path[moving], abs=1e-12)   # already over the ground
     assert camera(rolling_shot.design, state)[0] < state.frame_x - rolling_shot.design.machine.arm_long

@@ -109,25 +109,25 @@ def test_the_centre_of_mass_stays_put_horizontally(shot):
     # From the reported histories alone (ground positions: frame_x, q, path), so
     # the result's own coordinates are checked, not only the engine's state.
     design, m = shot.design, shot.design.machine
-    points = machine_points(shot.q, m)
-    x = shot.frame_x
+    points = machine_points(shot.history.q, m)
+    x = shot.history.frame_x
     moment = (design.base.mass * x + m.arm_mass * (x + points["arm_centre"][:, 0])
-              + m.counterweight_mass * (x + points["counterweight"][:, 0]) + design.projectile.mass * shot.path[:, 0])
+              + m.counterweight_mass * (x + points["counterweight"][:, 0]) + design.projectile.mass * shot.history.path[:, 0])
     total = design.base.mass + machine_mass(design)
     assert np.abs(moment - moment[0]).max() / total < CENTRE_OF_MASS_TOLERANCE
     assert np.abs(x).max() > 1e3 * CENTRE_OF_MASS_TOLERANCE   # the frame did move
 
 
 def test_energy_is_conserved_with_the_frames_kinetic_energy(shot):
-    assert np.abs(shot.energy.total).max() < ENERGY_TOLERANCE * shot.counterweight_energy_released
+    assert np.abs(shot.history.energy.total).max() < ENERGY_TOLERANCE * shot.counterweight_energy_released
     assert shot.diagnostics.after_release_energy_error < ENERGY_TOLERANCE
     assert shot.diagnostics.joint_drift["rail"] < 1e-12   # a straight rail has no chord error
     assert shot.diagnostics.max_joint_drift < 1e-6
 
 
 def test_the_frame_is_reported_at_release_and_landing(shot):
-    assert shot.frame_x.shape == shot.t.shape and shot.frame_x[0] == 0.0
-    assert shot.frame_release_displacement == shot.frame_x[-1]   # the last sample is the release instant
+    assert shot.history.frame_x.shape == shot.history.t.shape and shot.history.frame_x[0] == 0.0
+    assert shot.frame_release_displacement == shot.history.frame_x[-1]   # the last sample is the release instant
     assert shot.max_frame_speed >= max(abs(shot.frame_release_velocity), abs(shot.frame_landing_velocity)) > 0.0
     assert shot.frame_landing_displacement is not None and shot.diagnostics.after_release_steps > 0
     # The machine is stepped to the landing instant: one step per after-release step of flight, and the
@@ -161,12 +161,12 @@ def test_a_fixed_frame_gives_the_numbers_it_always_gave(table3, monkeypatch):
     numbers = {name: getattr(shot.diagnostics if name == "max_joint_drift" else shot, name)
                for name in FIXED_FRAME_AT_4E_4}
     assert numbers == pytest.approx(FIXED_FRAME_AT_4E_4, rel=FIXED_FRAME_REL), f"{numbers!r}"
-    assert shot.energy.total[-1] == pytest.approx(FIXED_FRAME_ENERGY_AT_4E_4, abs=FIXED_FRAME_ENERGY_ABS)
+    assert shot.history.energy.total[-1] == pytest.approx(FIXED_FRAME_ENERGY_AT_4E_4, abs=FIXED_FRAME_ENERGY_ABS)
     assert "rail" not in shot.diagnostics.joint_drift
     # Its frame fields: it did not move.
     assert (shot.frame_release_displacement, shot.frame_release_velocity) == (0.0, 0.0)
     assert (shot.frame_landing_displacement, shot.frame_landing_velocity, shot.max_frame_speed) == (0.0, 0.0, 0.0)
-    assert not shot.frame_x.any() and shot.diagnostics.after_release_steps == 0
+    assert not shot.history.frame_x.any() and shot.diagnostics.after_release_steps == 0
     # A frame mass given with a fixed frame is not read.
     heavy_but_fixed = simulate(dataclasses.replace(table3, base=Base("fixed", 50.0)), dt=4e-4)
     assert (heavy_but_fixed.release_speed, heavy_but_fixed.range) == (shot.release_speed, shot.range)

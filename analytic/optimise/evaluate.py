@@ -107,7 +107,7 @@ def fast_throws(problem: Problem, values: np.ndarray, tolerance: float,
         for j, (i, status, distance) in enumerate(zip(built, shots.status.tolist(), shots.range.tolist(),
                                                       strict=True)):
             peaks = {name: float(getattr(shots, name)[j]) for name in PEAK_NAMES} if loads else {}
-            results[i] = Throw(distance, loads=peaks) if status == Status.OK.value else Throw(None, status)
+            results[i] = Throw(distance, loads=peaks) if status is Status.OK else Throw(None, status.value)
     return results
 
 

@@ -9,14 +9,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from analytic.result import SHOT_COLUMNS, Status
 from analytic.sweep.designs import kernel_rows
 from analytic.sweep.expand import chunk_inputs
 from analytic.sweep.spec import Sweep
 
-#: The outcome columns of a trebuchet sweep, after the inputs and ``status``
-#: (``analytic.result.Shots``' arrays; release position and velocity by component).
-OUTCOMES = ("range", "liftoff_time", "release_time", "landing_time", "release_x", "release_y",
-            "release_vx", "release_vy", "apex_height", "end_time", "steps", "evaluations")
+#: The outcome columns of a trebuchet sweep, after the inputs and ``status``: the table of
+#: shots' columns (``analytic.result.SHOT_COLUMNS``) but the peak loads, which a sweep does not seek.
+OUTCOMES = tuple(name for name in SHOT_COLUMNS if name != "status" and not name.startswith("peak_"))
 
 
 def chunk_table(sweep: Sweep, chunk: int, threads: int | None = None) -> dict[str, np.ndarray]:
@@ -35,19 +35,14 @@ def chunk_table(sweep: Sweep, chunk: int, threads: int | None = None) -> dict[st
     if sweep.base.kind == "function":
         from SALib.test_functions import Ishigami
 
-        table["status"] = np.full(len(index), "ok")
+        table["status"] = np.full(len(index), Status.OK.value)
         table["y"] = Ishigami.evaluate(np.column_stack([inputs[f] for f in sweep.fields]))
         return table
     from analytic import fast
 
     # The table holds no peak loads, so the batch does not look for them.
     shots = fast.shoot(kernel_rows(sweep.base, inputs), threads=threads, loads=False)
-    table.update(status=shots.status, range=shots.range, liftoff_time=shots.liftoff_time,
-                 release_time=shots.release_time, landing_time=shots.landing_time,
-                 release_x=shots.release_position[:, 0], release_y=shots.release_position[:, 1],
-                 release_vx=shots.release_velocity[:, 0], release_vy=shots.release_velocity[:, 1],
-                 apex_height=shots.apex_height, end_time=shots.end_time, steps=shots.steps,
-                 evaluations=shots.evaluations)
+    table.update(shots.columns(("status", *OUTCOMES)))
     return table
 
 

@@ -36,25 +36,24 @@ import numpy as np
 
 from analytic.design import DesignError, MissingValueError, require_choice, require_number
 from analytic.design_file import design_from_dict, read_toml, reject_unknown_keys, require_table
+from analytic.units import ANGLE, kind_of, registry
 from analytic.sweep.distributions import MIN_WINDOW_PROBABILITY, Distribution, Normal, Uniform
 
-#: Every design-file number a sweep may vary, with its unit in files.
-FIELD_UNITS = {
-    "machine.pivot_height": "m", "machine.arm_long": "m", "machine.arm_short": "m",
-    "machine.arm_mass": "kg", "machine.arm_cg": "m", "machine.arm_inertia": "kg m^2",
-    "machine.counterweight_mass": "kg", "machine.counterweight_link": "m",
-    "machine.counterweight_inertia": "kg m^2", "machine.sling_length": "m", "machine.release_angle": "deg",
-    "machine.clearance": "m", "machine.starting_angle": "deg",
-    "machine.arm_beam.width": "m", "machine.arm_beam.depth": "m", "machine.arm_beam.density": "kg/m^3",
-    "projectile.mass": "kg", "projectile.diameter": "m", "projectile.drag_coefficient": "",
-    "projectile.drag_factor": "",
-    "environment.gravity": "m/s^2", "environment.air_density": "kg/m^3",
-    "environment.air_viscosity": "Pa s", "environment.wind_speed": "m/s",
-    "losses.axle_friction": "", "losses.axle_radius": "m", "losses.hinge_friction": "", "losses.hinge_radius": "m",
-    "losses.base_friction": "",
-}
+#: Every design-file number a sweep may vary.
+SWEEP_FIELDS = (
+    "machine.pivot_height", "machine.arm_long", "machine.arm_short", "machine.arm_mass", "machine.arm_cg",
+    "machine.arm_inertia", "machine.counterweight_mass", "machine.counterweight_link",
+    "machine.counterweight_inertia", "machine.sling_length", "machine.release_angle", "machine.clearance",
+    "machine.starting_angle", "machine.arm_beam.width", "machine.arm_beam.depth", "machine.arm_beam.density",
+    "projectile.mass", "projectile.diameter", "projectile.drag_coefficient", "projectile.drag_factor",
+    "environment.gravity", "environment.air_density", "environment.air_viscosity", "environment.wind_speed",
+    "losses.axle_friction", "losses.axle_radius", "losses.hinge_friction", "losses.hinge_radius",
+    "losses.base_friction",
+)
+#: Each one's unit in files: that of the kind its key names (``analytic.units.FIELD_KINDS``).
+FIELD_UNITS = {field: kind_of(field).file_unit for field in SWEEP_FIELDS}
 #: Fields in degrees in files (radians inside the model).
-ANGLE_FIELDS = ("machine.release_angle", "machine.starting_angle")
+ANGLE_FIELDS = tuple(field for field in SWEEP_FIELDS if kind_of(field) is ANGLE)
 #: Test functions with known sensitivity indices, and their inputs (dimensionless).
 TEST_FUNCTIONS = {"ishigami": ("x1", "x2", "x3")}
 METHODS = ("random", "sobol")
@@ -244,9 +243,8 @@ def quantity(field: str, value: Any, unit: str) -> float:
         return require_number(field, value)
     import pint
 
-    registry = _registry()
     try:
-        parsed = registry.Quantity(value)
+        parsed = registry().Quantity(value)
     except (pint.errors.PintError, ValueError, TypeError, SyntaxError, AttributeError) as error:
         raise DesignError(field, value, f"not a number with a unit that pint can read ({error})") from None
     try:
@@ -255,19 +253,6 @@ def quantity(field: str, value: Any, unit: str) -> float:
         raise DesignError(field, value, f"must be in units of {unit or 'nothing (a pure number)'}"
                                         f"{' or convertible to it' if unit else ''}") from None
     return require_number(field, magnitude)
-
-
-_pint_registry = None
-
-
-def _registry():
-    """pint's unit registry, built on first use (it takes a noticeable fraction of a second)."""
-    global _pint_registry
-    if _pint_registry is None:
-        import pint
-
-        _pint_registry = pint.UnitRegistry()
-    return _pint_registry
 
 
 def field_unit(base: Base, field: str) -> str:
