@@ -102,7 +102,7 @@ COMMANDS = {
     "engine_model": (lambda path: engine_model.cli.main(["simulate", path, "--json"]),
                      (engine_model.cli, "simulate"), {0, 1, 3}),
     "crosscheck": (lambda path: crosscheck.cli.main([path, "--json", "--workers", "1", "--no-progress"]),
-                   (crosscheck.cli, "run_cases"), {0, 1}),
+                   (crosscheck.cli, "run"), {0, 1}),
 }
 
 
