@@ -238,23 +238,15 @@ def to_shot(design: Design, out: np.ndarray) -> Shot:
 
 def failure_message(design: Design, status: Status, detail: float, value: float, end_time: float,
                     release_time: float, t_limit: float) -> str:
-    """The message of a failed shot from the kernel's record of it."""
-    if status is Status.NEVER_FIRES:
-        if design.losses.ideal:
-            return outcome.never_fires_message(value)
+    """The message of a failed shot from the kernel's record of it (``outcome.failure_message``)."""
+    fires = (value,)
+    if status is Status.NEVER_FIRES and not design.losses.ideal:
         p = params(design)
-        ddtheta, _ = stages.fires(p)
-        return outcome.never_fires_message(ddtheta, *rest_balance(p))
-    if status is Status.NEVER_LIFTS_OFF:
-        return outcome.never_lifts_off_message(outcome.LiftoffFailure(int(detail)), t_limit)
-    if status is Status.HITS_BASE_BEFORE_RELEASE:
-        return outcome.hits_base_message(end_time)
-    if status is Status.NEVER_RELEASES:
-        m = design.machine
-        return outcome.never_releases_message(m.release_rule, m.release_angle, t_limit)
-    if status is Status.NO_LANDING:
-        return outcome.no_landing_message(end_time - release_time)
-    return outcome.step_failed_message(end_time, outcome.Stage(int(detail)), step_limit=value == 1.0)
+        fires = (stages.fires(p)[0], *rest_balance(p))
+    m = design.machine
+    return outcome.failure_message(status, time=end_time - release_time if status is Status.NO_LANDING else end_time,
+                                   detail=0 if math.isnan(detail) else int(detail), time_limit=t_limit,
+                                   release=(m.release_rule, m.release_angle), fires=fires, step_limit=value == 1.0)
 
 
 # --------------------------------------------------------------------------- #

@@ -148,5 +148,33 @@ def step_budget_message(part: str, steps: int, dt: float, time_bound: float, lim
             f"masses), or use a larger --dt")
 
 
+def failure_message(status: Status, *, time: float = 0.0, detail: int = 0, time_limit: float = math.nan,
+                    release: tuple[str, float] = ("sling", math.nan), fires: tuple = (math.nan,),
+                    step_limit: bool = False) -> str:
+    """The message of a shot that ended in the failure ``status``, whichever model or path ran it.
+
+    Each failure reads what it reports: ``fires`` the arguments of
+    ``never_fires_message``; ``detail`` the ``LiftoffFailure`` (``NEVER_LIFTS_OFF``) or
+    the ``Stage`` (``STEP_FAILED``); ``time`` when the shot ended (the flight's length
+    for ``NO_LANDING``), s; ``time_limit`` the firing-to-release limit, s; ``release``
+    the machine's ``(release_rule, release_angle)``, rad; ``step_limit`` whether the
+    stage ran out of steps.
+    """
+    status = Status(status)
+    if status is Status.NEVER_FIRES:
+        return never_fires_message(*fires)
+    if status is Status.NEVER_LIFTS_OFF:
+        return never_lifts_off_message(LiftoffFailure(int(detail)), time_limit)
+    if status is Status.HITS_BASE_BEFORE_RELEASE:
+        return hits_base_message(time)
+    if status is Status.NEVER_RELEASES:
+        return never_releases_message(*release, time_limit)
+    if status is Status.NO_LANDING:
+        return no_landing_message(time)
+    if status is Status.STEP_FAILED:
+        return step_failed_message(time, Stage(int(detail)), step_limit)
+    raise ValueError(f"{status!r} is not a failure")
+
+
 def thrown_message(range_: float) -> str:
     return "thrown, but the projectile landed behind the pivot" if range_ < 0.0 else "thrown"

@@ -21,7 +21,7 @@ from analytic.design import Design
 from analytic.geometry import projectile_state
 from analytic.integrate import Event, IntegrationError, Segment, integrate, step_interpolant
 from analytic.limits import DEFAULT_ATOL, DEFAULT_RTOL, STAGE_STEP_LIMITS, flight_time_limit
-from analytic.outcome import LiftoffFailure, Stage, Status
+from analytic.outcome import Stage, Status
 from analytic.parameters import Params, params
 from analytic.result import LOSS_NAMES, PEAK_NAMES, EnergyBudget, History, Shot
 
@@ -89,13 +89,13 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
         if histories:
             history.append(_history(Stage.SLIDE, Segment(np.zeros(1), y1[None, :], None, 0.0, y1, {}), p))
         return _finish(design, p, history, segments, Status.STEP_FAILED,
-                       outcome.step_failed_message(0.0, Stage.SLIDE))
+                       outcome.failure_message(Status.STEP_FAILED, detail=Stage.SLIDE))
     if not ddtheta0 < 0.0:
         if histories:
             history.append(_history(Stage.SLIDE, Segment(np.zeros(1), y1[None, :], None, 0.0, y1, {}), p))
         balance = friction.rest_balance(p) if friction.lossy(p) else ()
         return _finish(design, p, history, segments, Status.NEVER_FIRES,
-                       outcome.never_fires_message(ddtheta0, *balance))
+                       outcome.failure_message(Status.NEVER_FIRES, fires=(ddtheta0, *balance)))
 
     stage = Stage.SLIDE
     switches = [0]   # friction's mode switches so far (stages.MODE_SWITCH_LIMIT)
@@ -114,7 +114,8 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
         segments.append((Stage.SLIDE, slide))
         if action == sequence.FINISHED:
             return _finish(design, p, history, segments, Status.NEVER_LIFTS_OFF,
-                           outcome.never_lifts_off_message(LiftoffFailure(detail), p.t_limit), **_peak_fields(peaks))
+                           outcome.failure_message(Status.NEVER_LIFTS_OFF, detail=detail, time_limit=p.t_limit),
+                           **_peak_fields(peaks))
 
         # Stage 2: free swing until release.
         stage = Stage.SWING
@@ -134,11 +135,11 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
         segments.append((Stage.SWING, swing))
         if status == sequence.HITS_BASE:
             return _finish(design, p, history, segments, Status.HITS_BASE_BEFORE_RELEASE,
-                           outcome.hits_base_message(swing.t_end), **reached)
+                           outcome.failure_message(Status.HITS_BASE_BEFORE_RELEASE, time=swing.t_end), **reached)
         if action == sequence.FINISHED:
             return _finish(design, p, history, segments, Status.NEVER_RELEASES,
-                           outcome.never_releases_message(machine.release_rule, machine.release_angle,
-                                                          p.t_limit), **reached)
+                           outcome.failure_message(Status.NEVER_RELEASES, time_limit=p.t_limit,
+                                                   release=(machine.release_rule, machine.release_angle)), **reached)
 
         # Stage 3: flight.
         stage = Stage.FLIGHT
@@ -162,12 +163,13 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
                 history.append(_history(stage, error.segment, p)[0 if stage is Stage.SLIDE else 1:])
             segments.append((stage, error.segment))
         return _finish(design, p, history, segments, Status.STEP_FAILED,
-                       outcome.step_failed_message(error.time, stage, error.step_limit), **reached)
+                       outcome.failure_message(Status.STEP_FAILED, time=error.time, detail=stage,
+                                               step_limit=error.step_limit), **reached)
     reached["drag_work"] = drag_work(flight, p)
     _, status, _ = sequence.stretch_end(Stage.FLIGHT, _code(Stage.FLIGHT, flight), switches[0])
     if status == sequence.NO_LANDING:
         return _finish(design, p, history, segments, Status.NO_LANDING,
-                       outcome.no_landing_message(t_max - release_time), **reached)
+                       outcome.failure_message(Status.NO_LANDING, time=t_max - release_time), **reached)
     apex = max([position[1]] + [y[1] for _, y in flight.roots["apex"]])
     landing = flight.y_end[:2]
     if not p.rolling:
@@ -540,7 +542,8 @@ def _finish(design: Design, p: Params, history, segments, status: Status, messag
         released = v_machine0 - eom.potential_energy(*states[-1, :3], p)[0]
     history = History(t=t, stage=stage, q=states[:, :3], qdot=states[:, 3:], path=path,
                       sling_tension=tension, energy=energy, frame_x=frame_x if p.rolling else np.empty(0),
-                      flight_t=fields.pop("flight_t", np.empty(0)), flight_path=fields.pop("flight_path", np.empty((0, 2))),
+                      flight_t=fields.pop("flight_t", np.empty(0)),
+                      flight_path=fields.pop("flight_path", np.empty((0, 2))),
                       axle_load=loads[:, 0], hinge_load=loads[:, 1], projectile_acceleration=loads[:, 3])
     return Shot(design, status, message, history=history,
                 # A machine that never moves (never fires, or its equations fail at rest) holds
