@@ -35,7 +35,7 @@ from numba.np.unsafe.ndarray import to_fixed_tuple
 from analytic.compiled import CALLABLE, internal
 from analytic.dop853 import (ERROR_ORDER, MAX_FACTOR, MIN_FACTOR, N_STAGES, SAFETY, brent, dense_eval, dense_prepare,
                              error_norm, event_at, initial_step, rk_step)
-from analytic.kernel_loads import LIVE, N_LOADS, POOL_SLOTS, finish_peaks, keep_step, sample_loads, save_step
+from analytic.kernel_loads import N_LOADS, POOL_SLOTS, finish_peaks, keep_step, sample_loads, save_step
 from analytic.limits import STAGE_STEP_LIMITS, flight_time_limit
 from analytic.parameters import N_PARAMS, Params
 from analytic.sequence import (FAILED, FINISHED, NEVER_FIRES, NEVER_LIFTS_OFF, NEXT_STAGE, OK, OUT_OF_STEPS,

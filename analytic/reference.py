@@ -12,18 +12,18 @@ import math
 
 import numpy as np
 from scipy.integrate import OdeSolution
-from scipy.optimize import minimize_scalar
 
 from analytic import eom, friction, outcome, sequence, stages
-from analytic import peaks as peak_search
 from analytic.aero import DRAG_TABLE
 from analytic.design import Design
 from analytic.geometry import projectile_state
-from analytic.integrate import Event, IntegrationError, Segment, integrate, step_interpolant
+from analytic.integrate import Event, IntegrationError, Segment, integrate
 from analytic.limits import DEFAULT_ATOL, DEFAULT_RTOL, STAGE_STEP_LIMITS, flight_time_limit
 from analytic.outcome import Stage, Status
 from analytic.parameters import Params, params
-from analytic.result import LOSS_NAMES, PEAK_NAMES, EnergyBudget, History, Shot
+from analytic.reference_loads import (FLOAT_ERRORS, NO_PEAKS, peak_fields, pieces_peaks, quietly, smallest_tension,
+                                      sling_tension_at, stage_rhs)
+from analytic.result import LOSS_NAMES, EnergyBudget, History, Shot
 
 #: Sample spacing of the returned histories (stages 1-2, flight), s.
 SWING_OUTPUT_STEP = 5e-4
@@ -36,8 +36,7 @@ FLIGHT_OUTPUT_STEP = 5e-3
 HISTORY_SAMPLE_LIMIT = 200_000
 
 #: Peak loads before any is found: (N_LOADS, 2) of -inf (value, time).
-_NO_PEAKS = np.full((len(stages.LOAD_NAMES), 2), -np.inf)
-_NO_PEAKS.flags.writeable = False
+
 
 # A trial step of a stiff or extreme design may overflow or divide by zero: the
 # integrator rejects such a step (or ends the shot as step_failed), as the
@@ -104,18 +103,18 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
         if normal0 > 0.0:
             pieces, action, _, detail = _run_modes(stage, p, 0.0, y1, p.t_limit, rtol, atol, output_step, False,
                                                    switches)
-            peaks = _pieces_peaks(stage, pieces, p, loads, _NO_PEAKS, rtol, atol)
+            peaks = pieces_peaks(stage, pieces, p, loads, NO_PEAKS, rtol, atol)
             slide = _merge(pieces)
         else:  # the sling already pulls harder than the projectile's weight
             slide = Segment(np.zeros(1), y1[None, :], "liftoff", 0.0, y1, {})
-            peaks, action = _NO_PEAKS, sequence.NEXT_STAGE
+            peaks, action = NO_PEAKS, sequence.NEXT_STAGE
         if histories:
             history.append(_history(Stage.SLIDE, slide, p))
         segments.append((Stage.SLIDE, slide))
         if action == sequence.FINISHED:
             return _finish(design, p, history, segments, Status.NEVER_LIFTS_OFF,
                            outcome.failure_message(Status.NEVER_LIFTS_OFF, detail=detail, time_limit=p.t_limit),
-                           **_peak_fields(peaks))
+                           **peak_fields(peaks))
 
         # Stage 2: free swing until release.
         stage = Stage.SWING
@@ -127,9 +126,9 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
             y2[:] = math.nan   # the integrator ends the stage as step_failed
         pieces, action, status, _ = _run_modes(stage, p, slide.t_end, y2, p.t_limit, rtol, atol, output_step, False,
                                                switches)
-        peaks = _pieces_peaks(stage, pieces, p, loads, peaks, rtol, atol)
+        peaks = pieces_peaks(stage, pieces, p, loads, peaks, rtol, atol)
         swing = _merge(pieces)
-        reached.update(_peak_fields(peaks))
+        reached.update(peak_fields(peaks))
         if histories:
             history.append(_history(Stage.SWING, swing, p)[1:])   # the first is lift-off, already recorded
         segments.append((Stage.SWING, swing))
@@ -219,40 +218,11 @@ def after_release_warning(why: str) -> str:
 # A stage under scipy
 # --------------------------------------------------------------------------- #
 
-#: What Python's float arithmetic raises where the compiled path's IEEE
-#: arithmetic (numba's ``error_model="numpy"``) quietly gives inf or NaN: a
-#: division by zero, the sine of an overflowed angle, an overflowing power. A
-#: trial stage of an extreme design can get there; the integrator then rejects
-#: the step, or the shot ends as step_failed, on both paths alike.
-FLOAT_ERRORS = (ArithmeticError, ValueError)
-
-
-def quietly(function, *args, otherwise):
-    """``function(*args)``, or ``otherwise`` where Python's floats raise one of ``FLOAT_ERRORS``."""
-    try:
-        return function(*args)
-    except FLOAT_ERRORS:
-        return otherwise
-
-
-def _rhs(stage: Stage, p: Params, size: int):
-    """The stage's right-hand side ``rhs(t, y)`` for scipy, NaN where Python's floats raise."""
-    def rhs(t, y):
-        out = np.empty(size)
-        try:
-            stages.derivative(stage, y, p, DRAG_TABLE, out)
-        except FLOAT_ERRORS:
-            out[:] = math.nan   # the compiled path's inf or NaN: a rejected step
-        return out
-
-    return rhs
-
-
 def _run(stage: Stage, p: Params, t0: float, y0: np.ndarray, t_end: float, rtol: float, atol: float,
          output_step: float | None, continuous: bool) -> Segment:
     """Integrate ``stage`` from (t0, y0) until one of its terminal events or ``t_end``; ``continuous``:
     keep the continuous solution."""
-    return integrate(_rhs(stage, p, len(y0)), t0, y0, t_end, _events(stage, p), rtol=rtol, atol=atol,
+    return integrate(stage_rhs(stage, p, len(y0)), t0, y0, t_end, _events(stage, p), rtol=rtol, atol=atol,
                      output_step=output_step, continuous=continuous, max_steps=STAGE_STEP_LIMITS[stage])
 
 
@@ -319,18 +289,6 @@ def _merge(pieces: list[Segment]) -> Segment:
                        [piece.step_y[:-1] for piece in pieces[:-1]] + [last.step_y]))
 
 
-def _pieces_peaks(stage: Stage, pieces: list[Segment], p: Params, loads: bool, peaks: np.ndarray, rtol: float,
-                  atol: float) -> np.ndarray:
-    """``peaks`` updated with each piece's (``_stage_peaks``) where it beats them, as the compiled
-    path does for each stretch it integrates."""
-    peaks = peaks.copy()
-    for piece in pieces:
-        found = _stage_peaks(stage, piece, p, loads, rtol, atol)
-        later = found[:, 0] > peaks[:, 0]
-        peaks[later] = found[later]
-    return peaks
-
-
 #: Gauss-Legendre nodes and weights on [-1, 1] for the drag's work over each flight step: the
 #: interpolant is a 7th-degree polynomial and the drag smooth, so 8 nodes integrate it to
 #: round-off of the integrand's own accuracy.
@@ -388,7 +346,8 @@ def _history(stage: Stage, segment: Segment, p: Params):
     core = stages.STATE_SIZE[stage]
     full = (lambda y: eom.slide_state(*y[:core], p)) if stage is Stage.SLIDE else (lambda y: tuple(y[:core]))
     lossy = friction.lossy(p)
-    return [(t, stage, full(y), _tension(stage, y, p), tuple(y[core:core + 3]) if lossy else (0.0, 0.0, 0.0), y)
+    return [(t, stage, full(y), sling_tension_at(stage, y, p),
+             tuple(y[core:core + 3]) if lossy else (0.0, 0.0, 0.0), y)
             for t, y in zip(segment.t, segment.y, strict=True)]
 
 
@@ -397,90 +356,6 @@ def jump_warning(force: float, time: float, gravity: float) -> str:
     return (f"the frame would jump: the ground's push on it falls to {force:.3g} N at t = {time:.3f} s, "
             f"and this model keeps it on the ground, so the result cannot be trusted for a frame "
             f"this light (roughly {-force / gravity:.2g} kg more would keep it down)")
-
-
-def _tension(stage: Stage, y: np.ndarray, p: Params) -> float:
-    """Sling tension at a stage-1 or stage-2 state (``eom.loads``), N (NaN where ``FLOAT_ERRORS``
-    say it cannot be computed)."""
-    return quietly(lambda: stages.loads_at(int(stage), y, p)[2], otherwise=math.nan)
-
-
-def _smallest_tension(t: np.ndarray, stage: np.ndarray, tension: np.ndarray, segments, p: Params) -> float:
-    """The minimum of the sling tension, refined between the output samples.
-
-    The samples are ``SWING_OUTPUT_STEP`` apart while a push of the sling can
-    last about a millisecond, so the sampled minimum is refined by a bounded
-    scalar minimisation on the integrator's continuous solution around it.
-    """
-    i = int(np.argmin(tension))
-    stage_i = Stage(stage[i])
-    if stage_i not in dict(segments):   # never fired: the rest state alone
-        return float(tension[i])
-    solution = dict(segments)[stage_i].solution
-    same = np.flatnonzero(stage == stage_i)
-    low, high = t[max(i - 1, same[0])], t[min(i + 1, same[-1])]
-    if solution is None or high <= low:
-        return float(tension[i])
-    low, high = max(low, solution.t_min), min(high, solution.t_max)
-    best = minimize_scalar(lambda s: _tension(stage_i, solution(s), p), bounds=(low, high),
-                           method="bounded", options={"xatol": 1e-9})
-    return float(min(best.fun, tension[i]))
-
-
-def _stage_peaks(stage: Stage, segment: Segment, p: Params, loads: bool, rtol: float, atol: float) -> np.ndarray:
-    """The largest of each load (``stages.LOAD_NAMES``) over a stage-1 or stage-2 segment, and when,
-    shape (N_LOADS, 2).
-
-    Sampled at the start, every accepted step's end and the end, then located
-    on the interpolants of the steps on either side of the largest sample
-    (``analytic.peaks``' search, started from the samples): the compiled path
-    does the same on the same steps. Not ``loads``: none (-inf).
-    """
-    if not loads:
-        return np.full((len(stages.LOAD_NAMES), 2), -np.inf)
-    values = np.array([stages.loads_at(int(stage), y, p) if np.isnan(f[0]) else
-                       stages.loads_after_step(int(stage), y, f, p)
-                       for y, f in zip(segment.step_y, segment.step_f, strict=True)])   # (k, N_LOADS)
-    times = segment.step_t
-    rhs = _rhs(stage, p, segment.step_y.shape[1])
-    built: dict[int, object] = {}
-
-    def interpolant(j: int):
-        """The dense output of the step from sample j to sample j + 1 (its full length)."""
-        if j not in built:
-            end = segment.last_step_end if j + 2 == len(times) else times[j + 1]
-            built[j] = step_interpolant(rhs, times[j], segment.step_y[j], end, rtol=rtol, atol=atol)
-        return built[j]
-
-    peaks = np.empty((values.shape[1], 2))
-    for k in range(values.shape[1]):
-        i = int(np.argmax(values[:, k]))
-        peaks[k] = values[i, k], times[i]
-        for j in (i - 1, i):   # each step beside the sample on its own, as the compiled path does
-            if j < 0 or j + 1 >= len(times) or not times[j + 1] > times[j]:
-                continue
-            def load(u):
-                return -stages.loads_at(int(stage), interpolant(j)(u), p)[k]
-
-            u = peak_search.search_golden(times[j], times[j + 1])
-            search = peak_search.search_from(times[j], times[j + 1], u, load(u))
-            while True:
-                done, u, search = peak_search.search_next(search)
-                if done:
-                    break
-                search = peak_search.search_update(search, u, load(u))
-            if -search.fx > peaks[k, 0]:
-                peaks[k] = -search.fx, search.x
-    return peaks
-
-
-def _peak_fields(peaks: np.ndarray) -> dict[str, float]:
-    """``Shot`` fields of the peaks (N_LOADS, 2); none that were never sampled."""
-    fields = {}
-    for (value, time), name in zip(peaks, PEAK_NAMES, strict=True):
-        if np.isfinite(value):
-            fields[name], fields[f"{name}_time"] = float(value), float(time)
-    return fields
 
 
 def _dissipated(p: Params, segments, drag: float) -> dict[str, float]:
@@ -548,5 +423,5 @@ def _finish(design: Design, p: Params, history, segments, status: Status, messag
     return Shot(design, status, message, history=history,
                 # A machine that never moves (never fires, or its equations fail at rest) holds
                 # its projectile statically: no tension is defined.
-                min_sling_tension=None if not segments else _smallest_tension(t, stage, tension, segments, p),
+                min_sling_tension=None if not segments else smallest_tension(t, stage, tension, segments, p),
                 counterweight_energy_released=released, **fields)

@@ -39,7 +39,7 @@ ANALYTIC_LAYERS = {
               "analytic.plausibility", "analytic.stages", "analytic.sequence", "analytic.result", "analytic.data",
               # the exit codes and checks every command line shares: it imports nothing
               "analytic.cli_shared"},
-    "paths": {"analytic.reference", "analytic.integrate", "analytic.compiled", "analytic.kernel", "analytic.fast",
+    "paths": {"analytic.reference", "analytic.reference_loads", "analytic.integrate", "analytic.compiled", "analytic.kernel", "analytic.fast",
               "analytic.dop853", "analytic.kernel_loads",
               # the public names, loaded on first use from the model and the paths
               "analytic"},

@@ -1,0 +1,153 @@
+"""The reference path's stage machinery beside the shot: the right-hand side it hands scipy,
+Python's float errors, and the peak loads and the sling's smallest tension.
+
+``analytic.reference`` runs the shot; this module is what it evaluates on the
+integrator's steps: each stage's derivative for scipy (``stage_rhs``), the
+largest of each load over a stage (``stage_peaks``, sampled at every step's
+end and located on the interpolants of the steps beside the largest sample,
+as the compiled path does: ``analytic.kernel_loads``) and the sling's
+smallest tension on the continuous solution (``smallest_tension``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.optimize import minimize_scalar
+
+from analytic import peaks as peak_search
+from analytic import stages
+from analytic.aero import DRAG_TABLE
+from analytic.integrate import Segment, step_interpolant
+from analytic.outcome import Stage
+from analytic.parameters import Params
+from analytic.result import PEAK_NAMES
+
+#: What Python's float arithmetic raises where the compiled path's IEEE
+#: arithmetic (numba's ``error_model="numpy"``) quietly gives inf or NaN: a
+#: division by zero, the sine of an overflowed angle, an overflowing power. A
+#: trial stage of an extreme design can get there; the integrator then rejects
+#: the step, or the shot ends as step_failed, on both paths alike.
+FLOAT_ERRORS = (ArithmeticError, ValueError)
+
+
+def quietly(function, *args, otherwise):
+    """``function(*args)``, or ``otherwise`` where Python's floats raise one of ``FLOAT_ERRORS``."""
+    try:
+        return function(*args)
+    except FLOAT_ERRORS:
+        return otherwise
+
+
+def stage_rhs(stage: Stage, p: Params, size: int):
+    """The stage's right-hand side ``rhs(t, y)`` for scipy, NaN where Python's floats raise."""
+    def rhs(t, y):
+        out = np.empty(size)
+        try:
+            stages.derivative(stage, y, p, DRAG_TABLE, out)
+        except FLOAT_ERRORS:
+            out[:] = math.nan   # the compiled path's inf or NaN: a rejected step
+        return out
+
+    return rhs
+
+
+NO_PEAKS = np.full((len(stages.LOAD_NAMES), 2), -np.inf)
+NO_PEAKS.flags.writeable = False
+
+
+def pieces_peaks(stage: Stage, pieces: list[Segment], p: Params, loads: bool, peaks: np.ndarray, rtol: float,
+                  atol: float) -> np.ndarray:
+    """``peaks`` updated with each piece's (``stage_peaks``) where it beats them, as the compiled
+    path does for each stretch it integrates."""
+    peaks = peaks.copy()
+    for piece in pieces:
+        found = stage_peaks(stage, piece, p, loads, rtol, atol)
+        later = found[:, 0] > peaks[:, 0]
+        peaks[later] = found[later]
+    return peaks
+
+
+def sling_tension_at(stage: Stage, y: np.ndarray, p: Params) -> float:
+    """Sling tension at a stage-1 or stage-2 state (``eom.loads``), N (NaN where ``FLOAT_ERRORS``
+    say it cannot be computed)."""
+    return quietly(lambda: stages.loads_at(int(stage), y, p)[2], otherwise=math.nan)
+
+
+def smallest_tension(t: np.ndarray, stage: np.ndarray, tension: np.ndarray, segments, p: Params) -> float:
+    """The minimum of the sling tension, refined between the output samples.
+
+    The samples are ``SWING_OUTPUT_STEP`` apart while a push of the sling can
+    last about a millisecond, so the sampled minimum is refined by a bounded
+    scalar minimisation on the integrator's continuous solution around it.
+    """
+    i = int(np.argmin(tension))
+    stage_i = Stage(stage[i])
+    if stage_i not in dict(segments):   # never fired: the rest state alone
+        return float(tension[i])
+    solution = dict(segments)[stage_i].solution
+    same = np.flatnonzero(stage == stage_i)
+    low, high = t[max(i - 1, same[0])], t[min(i + 1, same[-1])]
+    if solution is None or high <= low:
+        return float(tension[i])
+    low, high = max(low, solution.t_min), min(high, solution.t_max)
+    best = minimize_scalar(lambda s: sling_tension_at(stage_i, solution(s), p), bounds=(low, high),
+                           method="bounded", options={"xatol": 1e-9})
+    return float(min(best.fun, tension[i]))
+
+
+def stage_peaks(stage: Stage, segment: Segment, p: Params, loads: bool, rtol: float, atol: float) -> np.ndarray:
+    """The largest of each load (``stages.LOAD_NAMES``) over a stage-1 or stage-2 segment, and when,
+    shape (N_LOADS, 2).
+
+    Sampled at the start, every accepted step's end and the end, then located
+    on the interpolants of the steps on either side of the largest sample
+    (``analytic.peaks``' search, started from the samples): the compiled path
+    does the same on the same steps. Not ``loads``: none (-inf).
+    """
+    if not loads:
+        return np.full((len(stages.LOAD_NAMES), 2), -np.inf)
+    values = np.array([stages.loads_at(int(stage), y, p) if np.isnan(f[0]) else
+                       stages.loads_after_step(int(stage), y, f, p)
+                       for y, f in zip(segment.step_y, segment.step_f, strict=True)])   # (k, N_LOADS)
+    times = segment.step_t
+    rhs = stage_rhs(stage, p, segment.step_y.shape[1])
+    built: dict[int, object] = {}
+
+    def interpolant(j: int):
+        """The dense output of the step from sample j to sample j + 1 (its full length)."""
+        if j not in built:
+            end = segment.last_step_end if j + 2 == len(times) else times[j + 1]
+            built[j] = step_interpolant(rhs, times[j], segment.step_y[j], end, rtol=rtol, atol=atol)
+        return built[j]
+
+    peaks = np.empty((values.shape[1], 2))
+    for k in range(values.shape[1]):
+        i = int(np.argmax(values[:, k]))
+        peaks[k] = values[i, k], times[i]
+        for j in (i - 1, i):   # each step beside the sample on its own, as the compiled path does
+            if j < 0 or j + 1 >= len(times) or not times[j + 1] > times[j]:
+                continue
+            def load(u):
+                return -stages.loads_at(int(stage), interpolant(j)(u), p)[k]
+
+            u = peak_search.search_golden(times[j], times[j + 1])
+            search = peak_search.search_from(times[j], times[j + 1], u, load(u))
+            while True:
+                done, u, search = peak_search.search_next(search)
+                if done:
+                    break
+                search = peak_search.search_update(search, u, load(u))
+            if -search.fx > peaks[k, 0]:
+                peaks[k] = -search.fx, search.x
+    return peaks
+
+
+def peak_fields(peaks: np.ndarray) -> dict[str, float]:
+    """``Shot`` fields of the peaks (N_LOADS, 2); none that were never sampled."""
+    fields = {}
+    for (value, time), name in zip(peaks, PEAK_NAMES, strict=True):
+        if np.isfinite(value):
+            fields[name], fields[f"{name}_time"] = float(value), float(time)
+    return fields
