@@ -41,6 +41,13 @@ those events are a constant 1 and the state is as in the table.
 Two terminal events whose roots in one step lie within the root finder's
 tolerance of each other are one instant, and the earlier-listed wins
 (``first_event``: both paths decide by it).
+
+Why one file of about 600 lines: the stages' right-hand sides, events and
+starts read the friction modes in the state, and the modes' choice
+(``decide_modes``, ``switch_mode``) reads the stages' layout and events; apart,
+the two would import each other. The equations themselves are elsewhere
+(``analytic.eom``, ``analytic.friction``), and what a stage's end means is
+``analytic.sequence``.
 """
 
 from __future__ import annotations
