@@ -31,7 +31,7 @@ from engine_model.readout import motion, set_force, stepper
 #: and the worst of each quantity is the same or better.
 FLIGHT_STEP_MULTIPLE = 40
 #: Most pymunk steps in flight, after which the flight ends unlanded and the
-#: shot ``STEP_FAILED`` (``engine_model.shot.MACHINE_STEP_LIMIT`` for the
+#: shot ``STEP_FAILED`` (``engine_model.stepping.MACHINE_STEP_LIMIT`` for the
 #: machine). A real flight takes a few thousand (the cross-check's suite at
 #: most 7,156); a flight under a gravity of 1e-6 m/s^2 would take billions.
 FLIGHT_STEP_LIMIT = 400_000

@@ -160,7 +160,7 @@ def renew(friction: Friction, rig: Rig) -> Friction:
     part outside its clamp. After the opening half step that ratio is 2, so the
     first whole step would apply half a step's friction on top of its limit.
     New constraints start from nothing. (The joints' readings in that step are
-    off the same way: ``engine_model.shot`` does not measure loads in it.)
+    off the same way: ``engine_model.stepping`` does not measure loads in it.)
     """
     old = [joint for joint in (friction.axle, friction.hinge, friction.base) if joint is not None]
     rig.space.remove(*old)

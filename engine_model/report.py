@@ -61,8 +61,8 @@ def format_shot(shot: Shot) -> str:
 
 
 def _budget_note(diagnostics) -> str:
-    """What the step budget of a shot at the default step changed (``engine_model.shot.SHOT_STEP_BUDGET``)."""
-    from engine_model.shot import DEFAULT_DT, MACHINE_FINE_STEPS
+    """What the step budget of a shot at the default step changed (``engine_model.budget.SHOT_STEP_BUDGET``)."""
+    from engine_model.budget import DEFAULT_DT, MACHINE_FINE_STEPS
 
     notes = []
     if diagnostics.discarded_steps:

@@ -13,9 +13,10 @@ from analytic.design import DesignError
 from analytic.design_file import design_from_dict, read_toml
 from analytic.fast import pack
 from analytic.parameters import Params
-from analytic.sweep import designs, expand, spec
+from analytic.sweep import designs, expand, spec, sweep_file
 from analytic.sweep.distributions import Normal, Uniform
-from analytic.sweep.spec import DATA_DIR, design_data, load_sweep, sweep_from_dict
+from analytic.sweep.spec import design_data
+from analytic.sweep.sweep_file import DATA_DIR, load_sweep, sweep_from_dict
 
 TABLE3 = read_toml(DATA_DIR / "paper_table3.toml")
 
@@ -59,7 +60,7 @@ def test_the_readme_example_reads_as_a_grid_in_c_order(tmp_path):
     ("50 g", "kg", 0.05), ("1.5 m/s", "m/s", 1.5), ("3 km/h", "m/s", 3 / 3.6), (0.25, "m", 0.25),
 ], ids=["cm", "deg", "rad-to-deg", "g", "m/s", "km/h", "plain-number"])
 def test_quantities_with_units_convert_to_design_file_units(text, unit, expected):
-    assert spec.quantity("grid.x.from", text, unit) == pytest.approx(expected, rel=1e-15)
+    assert sweep_file.quantity("grid.x.from", text, unit) == pytest.approx(expected, rel=1e-15)
 
 
 @pytest.mark.parametrize("text, reason", [("40 kg", "must be in units of m"), ("forty cm", "pint can read"),
@@ -67,7 +68,7 @@ def test_quantities_with_units_convert_to_design_file_units(text, unit, expected
                          ids=["wrong-dimension", "not-a-quantity", "no-unit", "boolean"])
 def test_bad_quantities_name_field_value_and_reason(text, reason):
     with pytest.raises(DesignError, match=reason) as error:
-        spec.quantity("grid.machine.sling_length.from", text, "m")
+        sweep_file.quantity("grid.machine.sling_length.from", text, "m")
     assert error.value.field == "grid.machine.sling_length.from" and error.value.value == text
 
 

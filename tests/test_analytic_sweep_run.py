@@ -21,7 +21,7 @@ from analytic.fast import shoot
 from analytic.sweep import analyses, read_table, run_sweep, storage, sweep_from_dict
 from analytic.sweep.designs import kernel_rows
 from analytic.sweep.evaluate import OUTCOMES
-from analytic.sweep.spec import DATA_DIR
+from analytic.sweep.sweep_file import DATA_DIR
 
 ROOT = Path(__file__).parents[1]
 GRID = ('design = "paper_table3.toml"\nchunk_size = {chunk}\n[grid]\n'

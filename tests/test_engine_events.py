@@ -18,7 +18,7 @@ from engine_model.build import EngineError
 from engine_model.events import crossing_fraction, interpolate
 from engine_model.flight import (SMALLEST_DRAG_COEFFICIENT, drag_acceleration, drag_rate, fall_speed_bound,
                                  fly)
-from engine_model.shot import DEFAULT_DT
+from engine_model import DEFAULT_DT
 
 
 @pytest.mark.parametrize("root", [0.0, 0.137, 0.5, 0.92, 1.0], ids=lambda r: f"root-{r}")

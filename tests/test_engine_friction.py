@@ -20,7 +20,7 @@ from engine_model import simulate
 from engine_model.build import build
 from engine_model.cli import main
 from engine_model.flight import drag_rate
-from engine_model.shot import _run_machine
+from engine_model.stepping import run_machine
 from support import failure_designs, with_environment, with_machine
 
 #: Stage 1-2 energy audit: mechanical energy plus the work friction took, as a
@@ -155,7 +155,7 @@ def test_the_axle_load_without_ballast_is_the_pivot_joints_reading(table3):
     # The momentum balance that stands in for the pivot's reading on a ballasted arm
     # (friction.axle_load_from_momentum) gives the same load where both apply (measured: to 2.7e-11).
     design = dataclasses.replace(table3, losses=REALISTIC_LOSSES)
-    run, _ = _run_machine(design, 5e-5, 200, "rigid")
+    run, _ = run_machine(design, 5e-5, 200, "rigid")
     raw = run.raw
     swing = [k for k in range(3, len(raw)) if not run.on_base[k]]
     from_momentum = [fr.axle_load_from_momentum(raw[k - 1], raw[k], design, (0.0, 0.0), 5e-5) for k in swing]
@@ -257,11 +257,11 @@ def test_a_joint_that_held_gets_its_static_limit_and_one_that_slipped_its_kineti
     """Each step's limit is mu r times the predicted load, mu the static coefficient after a step in
     which the constraint held (under its limit) and the kinetic one after a step it slipped (at it),
     unless the slipping joint's rate is about to reach zero (``friction.slipping``)."""
-    from engine_model.shot import DEFAULT_ITERATIONS
+    from engine_model.build import DEFAULT_ITERATIONS
 
     dt = 5e-5
     design = dataclasses.replace(table3, losses=STATIC_HINGE)
-    run, _ = _run_machine(design, dt, DEFAULT_ITERATIONS, "rigid")
+    run, _ = run_machine(design, dt, DEFAULT_ITERATIONS, "rigid")
     limit, load = np.array(run.friction_limit)[:, 1], np.array(run.friction_load)[:, 1]
     applied = np.array(run.friction_impulse)[:, 1] / dt
     rate = np.array([fr.joint_rates(row, design) for row in run.raw])[:, 1]
@@ -284,11 +284,11 @@ def test_a_joint_that_held_gets_its_static_limit_and_one_that_slipped_its_kineti
 def test_a_hinge_that_sticks_under_a_falling_load_holds_from_the_step_it_stops(table3):
     """Its load falls ninefold as it sticks (666 N to 72 N on the paper's design): a limit from the line
     through that fall would be nothing for two steps, and the hinge, let go, would swing free."""
-    from engine_model.shot import DEFAULT_ITERATIONS
+    from engine_model.build import DEFAULT_ITERATIONS
 
     dt = 5e-5
     design = dataclasses.replace(table3, losses=STATIC_HINGE)
-    run, _ = _run_machine(design, dt, DEFAULT_ITERATIONS, "rigid")
+    run, _ = run_machine(design, dt, DEFAULT_ITERATIONS, "rigid")
     limit, load = np.array(run.friction_limit)[:, 1], np.array(run.friction_load)[:, 1]
     modes = np.array(run.friction_slips)[:, 1]
     top = int(np.argmax(load))
@@ -319,7 +319,7 @@ def test_the_joints_signed_rates_are_the_sliding_rates_the_work_is_taken_over(ta
     ``kinematics.coordinates``), over a shot with every loss."""
     design = dataclasses.replace(with_machine(table3, counterweight_inertia=0.0) if point else table3,
                                  losses=REALISTIC_LOSSES)
-    run, _ = _run_machine(design, 2e-4, 200, "rigid")
+    run, _ = run_machine(design, 2e-4, 200, "rigid")
     rows = np.array(run.raw)
     qdot = kin.coordinates(rows, design, np.zeros(3))[1]
     expected = fr.rates(rows, qdot, design)
@@ -359,7 +359,7 @@ def test_pymunks_motor_holds_the_arm_exactly_when_the_static_balance_says(table3
 
 
 def _rest_row(design: Design) -> np.ndarray:
-    from engine_model.shot import read_state
+    from engine_model.stepping import read_state
     return np.array(read_state(build(design)))
 
 

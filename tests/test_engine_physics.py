@@ -19,7 +19,7 @@ from engine_model import kinematics as kin
 from engine_model.build import build
 from engine_model import DEFAULT_DT, simulate
 from engine_model.readout import row_reader
-from engine_model.shot import read_state
+from engine_model.stepping import read_state
 
 #: The brief's conservation requirement: stage 1-2 energy to 1e-4 of the energy
 #: the counterweight releases (a sound leapfrog run at 1e-4 s keeps 3.5e-5).
@@ -264,9 +264,9 @@ def test_stepping_through_chipmunk_gives_pymunks_step_bit_for_bit(vacuum):
 # a rolling frame, 66,000 after release), so that the test runs in a second.
 
 def test_a_machine_that_needs_more_steps_than_the_budget_stops_and_says_why(vacuum, monkeypatch):
-    import engine_model.shot as engine_shot
+    import engine_model.stepping as engine_stepping
 
-    monkeypatch.setattr(engine_shot, "MACHINE_STEP_LIMIT", 2_000)
+    monkeypatch.setattr(engine_stepping, "MACHINE_STEP_LIMIT", 2_000)
     shot = simulate(vacuum, dt=DEFAULT_DT)   # a step given: no step budget
     assert shot.status is Status.STEP_FAILED
     assert "stages 1-2 took 2000 steps of 5e-05 s" in shot.message and "gravity" in shot.message
@@ -286,11 +286,12 @@ def test_a_flight_that_needs_more_steps_than_the_budget_stops_and_says_why(vacuu
 def test_a_rolling_run_after_release_that_would_exceed_the_budget_is_not_started(monkeypatch):
     import engine_model.after_release as after_release
     import engine_model.shot as engine_shot
+    import engine_model.stepping as engine_stepping
 
     design = dataclasses.replace(default_design(), base=dataclasses.replace(
         default_design().base, mobility="rolling", mass=20.0))
     started = []
-    monkeypatch.setattr(engine_shot, "MACHINE_STEP_LIMIT", 20_000)   # stages 1-2 take about 7,600
+    monkeypatch.setattr(engine_stepping, "MACHINE_STEP_LIMIT", 20_000)   # stages 1-2 take about 7,600
     monkeypatch.setattr(engine_shot, "run_after_release", lambda *a, **k: started.append(a))
     shot = simulate(design, dt=DEFAULT_DT)
     needed = after_release.after_release_steps(shot.release_time, shot.landing_time, DEFAULT_DT)
@@ -299,7 +300,7 @@ def test_a_rolling_run_after_release_that_would_exceed_the_budget_is_not_started
     assert f"the rolling machine's run after release would need {needed} steps" in shot.message
 
 
-# The step budget of a shot at the default step (``engine_model.shot.MACHINE_FINE_STEPS`` and the
+# The step budget of a shot at the default step (``engine_model.budget.MACHINE_FINE_STEPS`` and the
 # constants after it): a design that never releases runs to the swing's time bound, which took
 # 147,168 steps (5.3 s) at the default step for the cross-check's, 362,151 (11.9 s) on the Moon.
 
@@ -315,7 +316,7 @@ def test_a_shot_that_ends_within_the_fine_steps_is_the_one_a_given_step_gives(en
 
 
 def test_the_budget_gives_a_swing_that_never_releases_its_verdict_in_few_steps():
-    import engine_model.shot as engine_shot
+    import engine_model.budget as engine_budget
 
     design = _moon(failure_designs()[Status.NEVER_RELEASES])
     assert analytic_simulate(design).status is Status.NEVER_RELEASES   # the analytic verdict, as on Earth
@@ -323,9 +324,9 @@ def test_the_budget_gives_a_swing_that_never_releases_its_verdict_in_few_steps()
     assert shot.status is Status.NEVER_RELEASES and PHRASES[Status.NEVER_RELEASES] in shot.message
     diagnostics = shot.diagnostics
     # The default step gave up after MACHINE_FINE_STEPS; the swing's whole bound took the coarse steps.
-    assert diagnostics.discarded_steps == engine_shot.MACHINE_FINE_STEPS + 1
-    assert diagnostics.dt == engine_shot.coarse_step(design) > 10 * DEFAULT_DT
-    assert diagnostics.machine_steps <= engine_shot.MACHINE_COARSE_STEPS + 2
+    assert diagnostics.discarded_steps == engine_budget.MACHINE_FINE_STEPS + 1
+    assert diagnostics.dt == engine_budget.coarse_step(design) > 10 * DEFAULT_DT
+    assert diagnostics.machine_steps <= engine_budget.MACHINE_COARSE_STEPS + 2
 
 
 def test_the_budget_takes_a_late_release_again_at_a_step_fitted_to_it():
@@ -333,7 +334,7 @@ def test_the_budget_takes_a_late_release_again_at_a_step_fitted_to_it():
     spreads 1.1 times its time over ``MACHINE_REFINED_STEPS``; held to the cross-check's limits
     (measured against the reference path: 1.0e-8 in release speed at the default step, 5e-9 at the
     fitted one, 1.1e-4 s)."""
-    import engine_model.shot as engine_shot
+    import engine_model.budget as engine_budget
     from crosscheck import tolerances as tol
     from crosscheck.cases import sample_cases
 
@@ -342,9 +343,9 @@ def test_the_budget_takes_a_late_release_again_at_a_step_fitted_to_it():
     shot = simulate(design)
     diagnostics = shot.diagnostics
     assert DEFAULT_DT < diagnostics.dt < 3 * DEFAULT_DT
-    assert diagnostics.dt == pytest.approx(engine_shot.REFINE_MARGIN * reference.release_time
-                                           / engine_shot.MACHINE_REFINED_STEPS, rel=0.01)
-    assert diagnostics.machine_steps + diagnostics.discarded_steps <= engine_shot.SHOT_STEP_BUDGET
+    assert diagnostics.dt == pytest.approx(engine_budget.REFINE_MARGIN * reference.release_time
+                                           / engine_budget.MACHINE_REFINED_STEPS, rel=0.01)
+    assert diagnostics.machine_steps + diagnostics.discarded_steps <= engine_budget.SHOT_STEP_BUDGET
     assert shot.ok
     assert abs(shot.release_speed / reference.release_speed - 1.0) < tol.RELEASE_SPEED_REL
     assert abs(shot.range - reference.range) < tol.RANGE_REL * max(reference.range, tol.RANGE_FLOOR)
@@ -352,11 +353,11 @@ def test_the_budget_takes_a_late_release_again_at_a_step_fitted_to_it():
 
 
 def test_the_budget_fits_a_rolling_machines_run_after_release_in_what_is_left(monkeypatch):
-    import engine_model.shot as engine_shot
+    import engine_model.budget as engine_budget
 
     design = dataclasses.replace(default_design(), base=dataclasses.replace(
         default_design().base, mobility="rolling", mass=20.0))
-    monkeypatch.setattr(engine_shot, "SHOT_STEP_BUDGET", 30_000)   # 7,639 in stages 1-2, 65,938 after
+    monkeypatch.setattr(engine_budget, "SHOT_STEP_BUDGET", 30_000)   # 7,639 in stages 1-2, 65,938 after
     shot = simulate(design)
     diagnostics = shot.diagnostics
     assert shot.ok and diagnostics.dt == DEFAULT_DT and diagnostics.after_release_dt > 2 * DEFAULT_DT
@@ -370,14 +371,14 @@ def test_a_release_between_the_fine_steps_and_the_fitted_ones_goes_on_at_the_def
     """The paper's design releases at 0.38 s; under a gravity of 1 m/s^2, at 1.2 s: after the fine
     steps (1 s), within the default step's share of the refined ones (1.6 s). The run at the default
     step pauses for the coarse run, then goes on; the numbers are the ones a given step gives."""
-    import engine_model.shot as engine_shot
+    import engine_model.budget as engine_budget
 
     design = default_design()
     design = dataclasses.replace(design, environment=dataclasses.replace(design.environment, gravity=1.0))
     shot = simulate(design)
     given = simulate(design, dt=DEFAULT_DT)
-    assert engine_shot.MACHINE_FINE_STEPS < given.diagnostics.machine_steps < engine_shot.MACHINE_REFINED_STEPS
-    assert shot.diagnostics.dt == DEFAULT_DT and 0 < shot.diagnostics.discarded_steps <= engine_shot.MACHINE_COARSE_STEPS + 2
+    assert engine_budget.MACHINE_FINE_STEPS < given.diagnostics.machine_steps < engine_budget.MACHINE_REFINED_STEPS
+    assert shot.diagnostics.dt == DEFAULT_DT and 0 < shot.diagnostics.discarded_steps <= engine_budget.MACHINE_COARSE_STEPS + 2
     assert np.array_equal(shot.history.q, given.history.q) and shot.range == given.range
 
 
@@ -386,7 +387,7 @@ def test_the_budget_makes_the_engine_throw_at_any_gravity():
     and its flight took 400,000 flight steps and ended step_failed. Within the budget every part's
     step follows the machine's time scale: the range agrees with the analytic model to 1.4e-7
     (2.7e-6 on Earth: tests/test_engine_accuracy.py), within the cross-check's RANGE_REL."""
-    import engine_model.shot as engine_shot
+    import engine_model.budget as engine_budget
     from crosscheck import tolerances as tol
 
     design = default_design()
@@ -395,7 +396,7 @@ def test_the_budget_makes_the_engine_throw_at_any_gravity():
     shot = simulate(design)
     diagnostics = shot.diagnostics
     assert shot.ok and reference.ok
-    assert diagnostics.machine_steps + diagnostics.discarded_steps <= engine_shot.SHOT_STEP_BUDGET
-    assert diagnostics.flight_steps <= 1.1 * engine_shot.FLIGHT_BUDGET_STEPS   # a dragged flight is shorter
+    assert diagnostics.machine_steps + diagnostics.discarded_steps <= engine_budget.SHOT_STEP_BUDGET
+    assert diagnostics.flight_steps <= 1.1 * engine_budget.FLIGHT_BUDGET_STEPS   # a dragged flight is shorter
     assert abs(shot.range / reference.range - 1.0) < tol.RANGE_REL
     assert abs(shot.release_speed / reference.release_speed - 1.0) < tol.RELEASE_SPEED_REL

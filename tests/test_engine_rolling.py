@@ -14,8 +14,8 @@ from analytic.geometry import machine_points
 from analytic.result import JSON_KEYS
 from support import with_machine, with_projectile
 from crosscheck.cases import rolling_cases
+import engine_model.budget as engine_budget
 import engine_model.flight
-import engine_model.shot as engine_shot
 from engine_model import DEFAULT_DT, EngineError, simulate
 from engine_model import kinematics as kin
 from engine_model.build import build, frame_body_mass
@@ -135,7 +135,7 @@ def test_the_frame_is_reported_at_release_and_landing(shot):
     flight, diagnostics = shot.landing_time - shot.release_time, shot.diagnostics
     assert diagnostics.after_release_steps == math.ceil(flight / diagnostics.after_release_dt) + 1
     assert diagnostics.after_release_dt == diagnostics.dt or (
-        diagnostics.machine_steps + diagnostics.after_release_steps <= engine_shot.SHOT_STEP_BUDGET + 1)
+        diagnostics.machine_steps + diagnostics.after_release_steps <= engine_budget.SHOT_STEP_BUDGET + 1)
     data = shot.to_json()
     assert list(data) == list(JSON_KEYS)
     assert (data["frame_release_displacement"], data["frame_release_velocity"]) == \

@@ -11,8 +11,8 @@ from Python::
         run_sweep(sweep, "out/grid", cluster)    # resumes: written chunks are kept
     table = read_table("out/grid")               # a pyarrow Table in row order
 
-The layers, each its own module: ``spec`` (sweep files, checked) and
-``distributions``; ``expand`` (a chunk's inputs) and ``designs`` (its kernel
+The layers, each its own module: ``spec`` (what a sweep is), ``sweep_file``
+(sweep files, checked) and ``distributions``; ``expand`` (a chunk's inputs) and ``designs`` (its kernel
 rows); ``evaluate`` (a chunk computed); ``executors`` and ``worker``;
 ``storage`` (Parquet per chunk, settings beside); ``run``; ``analyses``,
 ``plot`` and ``report`` (``--report``); ``cli``.
@@ -22,8 +22,9 @@ from __future__ import annotations
 
 from analytic.sweep.executors import ExecutorError, InProcess, OnDask
 from analytic.sweep.run import SweepRun, run_sweep
-from analytic.sweep.spec import Sweep, load_sweep, sweep_from_dict
+from analytic.sweep.spec import Sweep
 from analytic.sweep.storage import read_table
+from analytic.sweep.sweep_file import load_sweep, sweep_from_dict
 
 __all__ = ["ExecutorError", "InProcess", "OnDask", "Sweep", "SweepRun", "load_sweep", "read_table",
            "run_sweep", "sweep_from_dict"]

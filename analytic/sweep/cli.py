@@ -71,7 +71,7 @@ def _run(args: argparse.Namespace) -> int:
     from analytic.sweep import storage
     from analytic.sweep.executors import ExecutorError, InProcess, OnDask
     from analytic.sweep.run import run_sweep
-    from analytic.sweep.spec import load_sweep
+    from analytic.sweep.sweep_file import load_sweep
 
     try:
         sweep = load_sweep(args.sweep)

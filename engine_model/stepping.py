@@ -1,0 +1,350 @@
+"""The stepping loop of stages 1-2 in pymunk: fire, slide, swing, up to release or a failure.
+
+``run_machine`` steps the machine at a fixed ``dt`` from rest and watches
+for lift-off, release and the failures after every step, with the friction
+joints' limits set from the loads of the steps before; ``engine_model.shot``
+turns what it gathers (``Run``) into a ``Shot``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from analytic import outcome
+from analytic.design import Design, Machine, largest_length
+from analytic.geometry import RELEASE_RULES, release_value
+from analytic.limits import SLING_VERTICAL_LIMIT, swing_time_limit
+from analytic.outcome import LiftoffFailure
+from analytic.result import Status
+from engine_model import friction as fr
+from engine_model import kinematics as kin
+from engine_model.build import EngineError, Rig, build
+from engine_model.events import crossing_fraction
+from engine_model.readout import rig_row, row_reader, stepper
+
+#: The projectile (in stage 2) or the long-arm tip (in stage 1) counts as back
+#: on the base once this far below base level, m: far above the round-off
+#: (1e-15 m) they leave it with, far below any real dip.
+BASE_TOLERANCE = 1e-9
+#: Solver iterations of the opening step, which has no previous impulses to start from.
+STARTUP_ITERATIONS = 1000
+#: Most pymunk steps in stages 1-2 (and in a rolling machine's run after
+#: release), after which the run ends as ``STEP_FAILED``: the analogue of the
+#: analytic paths' ``STAGE_STEP_LIMITS``. The engine's step is fixed, so a
+#: slow machine needs more of them: the swing's time bound grows as
+#: 1/sqrt(gravity), and at 1e-6 m/s^2 the paper's machine would need 1e9
+#: steps (hours). The most any design of the cross-check's suite takes is
+#: 147,168 (its never-releasing design, run to the bound at the default
+#: step); 400,000 is about 16 s of stepping.
+MACHINE_STEP_LIMIT = 400_000
+
+
+@dataclass
+class Run:
+    """What the stepping loop gathers (internal, mutable while it runs)."""
+
+    raw: list = field(default_factory=list)
+    on_base: list = field(default_factory=list)
+    tension: list = field(default_factory=list)
+    normal: list = field(default_factory=list)
+    release_value: list = field(default_factory=list)
+    friction_impulse: list = field(default_factory=list)
+    friction_limit: list = field(default_factory=list)
+    friction_load: list = field(default_factory=list)
+    friction_slips: list = field(default_factory=list)
+    liftoff_time: float | None = None
+    status: Status | None = None
+    message: str = ""
+    release_fraction: float | None = None
+    out_of_steps: bool = False
+
+
+def read_state(rig: Rig) -> tuple[float, ...]:
+    """The 24 numbers of a state row (``engine_model.kinematics``) read from the bodies."""
+    return rig_row(rig.arm, rig.counterweight, rig.projectile, rig.frame)
+
+
+def run_machine(design: Design, dt: float, iterations: int, sling: str, limit: int = MACHINE_STEP_LIMIT,
+                 at_limit: Callable[[int], int | None] | None = None) -> tuple[Run, Rig]:
+    """Step stages 1 and 2 until release, a failure, or ``limit`` steps (``STEP_FAILED``, and
+    ``run.out_of_steps``); the loop behind ``simulate``. At the limit, ``at_limit(steps)`` may
+    give a new one, and the run goes on as if that had been its limit all along."""
+    m = design.machine
+    h, g = m.pivot_height, design.environment.gravity
+    t_limit = swing_time_limit(largest_length(design.machine), g)
+    rule = RELEASE_RULES.index(m.release_rule)
+    run = Run()
+
+    rig = build(design, sling=sling, iterations=iterations)
+    friction = _attach_friction(rig, design, True, dt)
+    row = _opening_step(rig, dt, iterations)
+    # From rest the opening half step gives the arm omega = alpha dt/2 (pymunk
+    # updates velocities first), so this is its angular acceleration at rest.
+    arm_acceleration = row[kin.ARM + kin.W] / (0.5 * dt)
+    if friction is not None:
+        balance = fr.static_balance(design, np.array(row))
+        held = abs(arm_acceleration) <= fr.HELD_ACCELERATION
+        if (friction.axle is not None and balance.holds) or held:
+            run.raw.append(row)
+            run.on_base.append(True)
+            run.tension.append(0.0)
+            run.friction_impulse.append(fr.impulses(friction, True))
+            run.status = Status.NEVER_FIRES
+            run.message = outcome.never_fires_message(arm_acceleration, -balance.gravity_torque,
+                                                      balance.holding_torque)
+            return run, rig
+    if not arm_acceleration < 0.0:
+        run.raw.append(row)
+        run.on_base.append(True)
+        run.tension.append(0.0)
+        if friction is not None:
+            run.friction_impulse.append(fr.impulses(friction, True))
+        run.status = Status.NEVER_FIRES
+        run.message = outcome.never_fires_message(arm_acceleration)
+        return run, rig
+    geometry = _row_geometry(row, m)
+    base_force = _base_friction(friction, rig, 0.5 * dt, geometry, True)
+    tension, normal = _forces(row, row, geometry, True, design, dt, base_force)
+    on_base = True
+    if normal < 0.0:
+        # The sling lifts the projectile at rest: start again without the base.
+        rig = build(design, sling=sling, iterations=iterations, on_base=False)
+        friction = _attach_friction(rig, design, False, dt)
+        row = _opening_step(rig, dt, iterations)
+        geometry = _row_geometry(row, m)
+        base_force = 0.0
+        tension, normal = _forces(row, row, geometry, False, design, dt)
+        on_base = False
+        run.liftoff_time = 0.0
+    opening_loads = fr.static_loads(design)
+    if friction is not None:
+        # The loads at rest are the weights, but the moving machine's are not (the
+        # axle's is half of it on the paper's design): the opening half step is
+        # taken again with the limits its loads give (its range moved by 1.2e-5 m).
+        opening_loads = _loads(friction, rig, _mirrored(row), row, design,
+                               (base_force, normal if on_base else 0.0), dt, 0.5 * dt)
+        # The joints that broke free of their static hold slip from the start: kinetic limits.
+        rates = fr.joint_rates(row, design)
+        slips = fr.slipping(friction, 0.5 * dt, rates, fr.AT_REST)
+        rig = build(design, sling=sling, iterations=iterations, on_base=on_base)
+        friction = _attach_friction(rig, design, on_base, dt, opening_loads, slips)
+        row = _opening_step(rig, dt, iterations)
+        geometry = _row_geometry(row, m)
+        base_force = _base_friction(friction, rig, 0.5 * dt, geometry, on_base)
+        tension, normal = _forces(row, row, geometry, on_base, design, dt, base_force)
+    run.raw.append(row)
+    run.on_base.append(on_base)
+    run.tension.append(tension)
+    run.normal.append(normal)
+    run.release_value.append(_release(row, row, geometry, rule, m.release_angle)[0])
+    if friction is not None:
+        run.friction_impulse.append(fr.impulses(friction, on_base))
+        loads = _loads(friction, rig, _mirrored(row), row, design, (base_force, normal if on_base else 0.0),
+                       dt, 0.5 * dt)
+        run.friction_limit.append(fr.limits(design, opening_loads, slips))
+        run.friction_slips.append(slips)
+        run.friction_load.append(loads)
+        rates = fr.joint_rates(row, design)
+        slips = fr.slipping(friction, 0.5 * dt, rates, fr.AT_REST)
+        friction = fr.renew(friction, rig)
+
+    step = stepper(rig.space)
+    read = row_reader(rig.arm, rig.counterweight, rig.projectile, rig.frame)
+    # The loop runs up to hundreds of thousands of times: its lists' appends and the row's
+    # indices are looked up once.
+    keep_row, keep_on_base, keep_tension = run.raw.append, run.on_base.append, run.tension.append
+    keep_normal, keep_value = run.normal.append, run.release_value.append
+    y_index, vy_index, alpha = kin.PROJECTILE + kin.Y, kin.PROJECTILE + kin.VY, m.release_angle
+    previous = row
+    previous_value = run.release_value[-1]
+    # The axle's or the base's friction can stop the arm before lift-off (its clockwise turn
+    # ends): the shot ends there, as in the analytic model (``docs/derivation.md``, 10.4).
+    stalls = friction is not None and (design.losses.axle_friction > 0.0 or design.losses.base_friction > 0.0)
+    spin_index = kin.ARM + kin.W
+    earlier_loads = None
+    k = 0
+    while True:
+        if friction is not None:
+            predicted = fr.predicted_loads(loads, earlier_loads, fr.steady(run.friction_slips, slips))
+            run.friction_limit.append(fr.set_limits(friction, predicted, slips))
+            run.friction_slips.append(slips)
+            fr.aim(friction, rig, dt)
+        if k >= limit:
+            more = None if at_limit is None else at_limit(k)
+            if more is None or more <= k:
+                run.out_of_steps = True
+                return _fail(run, rig, Status.STEP_FAILED, step_limit_message("stages 1-2", k, dt, t_limit, limit))
+            limit = more
+        step(dt)
+        k += 1
+        row = read()
+        if not math.isfinite(sum(row)):
+            raise EngineError(f"the engine went unstable (non-finite state) at t = {k * dt:.5g} s "
+                              f"with dt = {dt:g} s and {iterations} iterations: use a smaller dt "
+                              f"or more iterations")
+        geometry = _row_geometry(row, m)
+        if friction is None:
+            tension, normal = _forces(previous, row, geometry, on_base, design, dt)
+        else:
+            base_force = _base_friction(friction, rig, dt, geometry, on_base)
+            tension, normal = _forces(previous, row, geometry, on_base, design, dt, base_force)
+            run.friction_impulse.append(fr.impulses(friction, on_base))
+            rates, earlier_rates = fr.joint_rates(row, design), rates
+            slips = fr.slipping(friction, dt, rates, earlier_rates)
+            earlier_loads = loads
+            if k > 1:
+                loads = _loads(friction, rig, previous, row, design, (base_force, normal if on_base else 0.0),
+                               dt, dt)
+            if k == 2:   # the line from the opening half step's loads, two steps back
+                earlier_loads = tuple(0.5 * (a + b) for a, b in zip(earlier_loads, loads, strict=True))
+            # At k = 1 pymunk's joints misreport the first whole step after the half step
+            # (``friction.renew``): the opening half step's loads stand in.
+            run.friction_load.append(loads)
+        value, armed = _release(previous, row, geometry, rule, alpha)
+        keep_row(row)
+        keep_on_base(on_base)
+        keep_tension(tension)
+        keep_normal(normal)
+        keep_value(value)
+        previous = row
+        earlier_value, previous_value = previous_value, value
+        t = k * dt
+
+        if on_base:
+            if normal < 0.0:
+                fraction = crossing_fraction(tuple(run.normal[-3:]))
+                run.liftoff_time = (k - 1 + fraction) * dt
+                rig.space.remove(rig.groove)
+                if friction is not None:
+                    fr.remove_base(friction, rig.space)
+                on_base = False
+            elif stalls and row[spin_index] >= 0.0:
+                return _fail(run, rig, Status.NEVER_LIFTS_OFF,
+                             outcome.never_lifts_off_message(LiftoffFailure.STALLED, t_limit))
+            elif geometry[2] < SLING_VERTICAL_LIMIT:
+                return _fail(run, rig, Status.NEVER_LIFTS_OFF,
+                             outcome.never_lifts_off_message(LiftoffFailure.UNDER_TIP, t_limit))
+            elif geometry[1] + h < -BASE_TOLERANCE:
+                return _fail(run, rig, Status.NEVER_LIFTS_OFF,
+                             outcome.never_lifts_off_message(LiftoffFailure.ARM_BACK, t_limit))
+            elif t > t_limit:
+                return _fail(run, rig, Status.NEVER_LIFTS_OFF,
+                             outcome.never_lifts_off_message(LiftoffFailure.TIME_LIMIT, t_limit))
+            continue
+
+        if row[y_index] + h < -BASE_TOLERANCE and row[vy_index] < 0.0:
+            return _fail(run, rig, Status.HITS_BASE_BEFORE_RELEASE, outcome.hits_base_message(t))
+        if earlier_value < 0.0 <= value and armed:
+            run.release_fraction = crossing_fraction(tuple(run.release_value[-3:]))
+            return run, rig
+        if t > t_limit:
+            return _fail(run, rig, Status.NEVER_RELEASES,
+                         outcome.never_releases_message(m.release_rule, m.release_angle, t_limit))
+
+
+def _attach_friction(rig: Rig, design: Design, on_base: bool, dt: float,
+                     loads: tuple[float, float, float] | None = None,
+                     slips: tuple[bool, bool, bool] = fr.STUCK) -> fr.Friction | None:
+    """``engine_model.friction.attach``, its limits set for the opening half step from ``loads`` (N;
+    default: the loads at rest, ``friction.static_loads``) and the joints' ``slips`` (default: each
+    held at rest, its static limit)."""
+    friction = fr.attach(rig, design, on_base)
+    if friction is not None:
+        fr.set_limits(friction, fr.static_loads(design) if loads is None else loads, slips)
+        fr.aim(friction, rig, 0.5 * dt)
+    return friction
+
+
+def _mirrored(row: tuple) -> tuple:
+    """The row with its velocities reversed: the half step before rest (``kinematics.synchronise``)."""
+    return tuple(-v if i % 6 >= kin.VX else v for i, v in enumerate(row))
+
+
+def _base_friction(friction: fr.Friction | None, rig: Rig, step: float, geometry: tuple,
+                   on_base: bool) -> float:
+    """The base's friction force on the projectile in the last step of ``step`` s, N, signed (0 off the base)."""
+    if friction is None or not on_base:
+        return 0.0
+    return fr.base_friction_force(friction, rig, step, -geometry[2])
+
+
+def _loads(friction: fr.Friction, rig: Rig, before: tuple, row: tuple, design: Design,
+           base_force: tuple[float, float], dt: float, step: float) -> tuple[float, float, float]:
+    """Each friction joint's load in the step of ``step`` s that produced ``row``, N: the next step's limits.
+
+    ``before`` is the row before (for the opening half step, ``_mirrored(row)``,
+    whose velocity change over ``dt`` is the half step's over ``dt / 2``).
+    """
+    if friction.axle is None:
+        axle = 0.0
+    elif friction.ballast > 0.0:
+        axle = fr.axle_load_from_momentum(before, row, design, base_force, dt)
+    else:
+        axle = fr.impulse(rig.pivot) / step
+    hinge = fr.impulse(rig.hinge) / step
+    if friction.point_hinge:
+        hinge = math.hypot(hinge, fr.impulse(friction.hinge) / step)
+    base = fr.impulse(rig.groove) / step if friction.base is not None else 0.0
+    return axle, hinge, base
+
+
+def _opening_step(rig: Rig, dt: float, iterations: int) -> tuple[float, ...]:
+    """Half a step from rest: the positions stay at t = 0, the velocities reach dt/2 (leapfrog start).
+
+    Later steps start their solver from the previous step's impulses; this one
+    starts from nothing, so it gets ``STARTUP_ITERATIONS`` to converge (with
+    the usual count the sling tension rings by 10 % for a dozen steps).
+    """
+    rig.space.iterations = max(STARTUP_ITERATIONS, iterations)
+    rig.space.step(0.5 * dt)
+    rig.space.iterations = iterations
+    return read_state(rig)
+
+
+def step_limit_message(part: str, steps: int, dt: float, time_bound: float, limit: int = MACHINE_STEP_LIMIT,
+                       ahead: bool = False) -> str:
+    """``analytic.outcome.step_budget_message``, the machine's ``MACHINE_STEP_LIMIT`` by default."""
+    return outcome.step_budget_message(part, steps, dt, time_bound, limit, ahead)
+
+
+def _fail(run: Run, rig: Rig, status: Status, message: str) -> tuple[Run, Rig]:
+    run.status, run.message = status, message
+    return run, rig
+
+
+def _row_geometry(row: tuple[float, ...], machine: Machine) -> tuple[float, float, float, float, float]:
+    """Long tip (x, y), sling unit vector (x, y) from tip to projectile, and the sling's length."""
+    theta = row[kin.ARM + kin.ANGLE]
+    tip_x = row[kin.ARM + kin.X] - machine.arm_long * math.sin(theta)
+    tip_y = row[kin.ARM + kin.Y] + machine.arm_long * math.cos(theta)
+    dx, dy = row[kin.PROJECTILE + kin.X] - tip_x, row[kin.PROJECTILE + kin.Y] - tip_y
+    length = math.hypot(dx, dy)
+    return tip_x, tip_y, dx / length, dy / length, length
+
+
+def _forces(before: tuple, row: tuple, geometry: tuple, on_base: bool, design: Design,
+            dt: float, base_friction: float = 0.0) -> tuple[float, float]:
+    """Sling tension and base normal force over the step that produced ``row`` (``kin.contact_forces``;
+    ``base_friction``, N, the base's friction force on the projectile)."""
+    p = kin.PROJECTILE
+    if before is row:  # the opening half step: the velocity before it is the mirror image
+        v_before = (-row[p + kin.VX], -row[p + kin.VY])
+    else:
+        v_before = (before[p + kin.VX], before[p + kin.VY])
+    return kin.contact_forces(v_before, (row[p + kin.VX], row[p + kin.VY]), geometry[:2],
+                              (row[p + kin.X], row[p + kin.Y]), on_base, design, dt, base_friction)
+
+
+def _release(before: tuple, row: tuple, geometry: tuple, rule: int, release_angle: float) -> tuple[float, bool]:
+    """``analytic.geometry.release_value`` at the row's instant (mean of the half-step velocities)."""
+    p = kin.PROJECTILE
+    if before is row:
+        velocity = (0.0, 0.0)
+    else:
+        velocity = (0.5 * (before[p + kin.VX] + row[p + kin.VX]), 0.5 * (before[p + kin.VY] + row[p + kin.VY]))
+    theta = row[kin.ARM + kin.ANGLE]
+    return release_value(rule, release_angle, -math.sin(theta), math.cos(theta), *geometry[2:4], *velocity)
