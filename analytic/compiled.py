@@ -1,20 +1,23 @@
 """The model compiled with numba: how the fast path runs the very source the reference path runs.
 
 The model (``analytic.geometry``, ``limits``, ``peaks``, ``aero``, ``eom``,
-``friction``, ``stages``, ``sequence``) is plain Python on floats and tuples.
-At import this module registers each of its functions with numba's public
-``register_jitable`` (``register_model``): each stays the Python function the
-reference path calls, and when compiled code calls it, numba compiles it
-there, once per argument types. The kernel (``analytic.kernel``) simply calls
-``stages.derivative`` and the rest. Its own functions are ``Internal``
-dispatchers, compiled for compiled callers only and emitted as machine code
-once, inside the one cached entry point ``kernel.shots``: measured against
-``register_jitable`` for them too, they compile in less than half the time
-(23 s against 55 s of CPU here, shots as fast). ``callable_twins``
-(``compiled.eom_``, ``compiled.stages_``, ...) are the model's functions
-compiled for Python callers: the tests compare them with the Python ones.
-Importing this module imports numba; ``import analytic`` and the reference
-path never do. Only ``kernel.shots`` is cached on disk; a cold compile takes tens of
+``friction``, ``stages``, ``sequence``) is plain Python on floats and tuples,
+which the reference path runs as it is. This module gives the compiled path
+the same functions, compiled (``compile_modules``): for each model module a
+namespace whose functions are numba dispatchers of the very same code
+objects, with their calls to each other rebound to the compiled versions.
+``kernel_twins`` are for compiled callers only (the kernel: ``Internal``
+dispatchers, compiled once per argument type and emitted as machine code only
+inside the one cached entry point ``kernel.shots``); ``callable_twins``
+(``compiled.eom_``, ``compiled.stages_``, ...) are for Python callers (the
+tests compare them with the Python functions). numba's public
+``register_jitable`` does the same job with less machinery, and was measured
+against this (the same model, paired cold compiles): shots as fast and
+bit-identical, but a cold compile 1.37x as long (30.8 against 22.5 s of CPU,
+median of three pairs), because each registered function is compiled and
+emitted as an entry point of its own; so the model is compiled here. Importing
+this module imports numba; ``import analytic`` and the reference path never
+do. Only ``kernel.shots`` is cached on disk; a cold compile takes tens of
 seconds of CPU (``python -m benchmarks --cold`` measures it).
 
 numba caches machine code on disk keyed on each function's own source file,
@@ -39,7 +42,6 @@ from numba.core.dispatcher import _FunctionCompiler
 from numba.core.registry import CPUDispatcher
 from llvmlite import binding as llvm
 from llvmlite import ir as llvmir
-from numba.extending import register_jitable
 
 from analytic import aero, eom, friction, geometry, limits, outcome, parameters, peaks, sequence, stages
 
@@ -176,33 +178,48 @@ def internal(function=None, **options):
     return wrap if function is None else wrap(function)
 
 
-def register_model(modules, inline=None) -> None:
-    """Make every function defined in ``modules`` callable from compiled code, as it is.
+def compile_modules(modules, compile_function, inline=None, callees=None) -> dict[str, types.ModuleType]:
+    """numba twins of every function defined in ``modules``, by module short name.
 
-    numba's public ``register_jitable``: the function stays the plain Python
-    function the reference path runs, and compiled code that calls it (the
-    kernel, or another model function being compiled) compiles it, once per
-    argument types (constants passed to it are typed by their type, not their
-    value), with ``INTERNAL``'s options; ``inline`` maps a short module name
-    (``"eom"``) to the functions LLVM inlines into every caller.
+    Each twin is a new function object on the original's code, with its own
+    globals: a copy of its module's, in which every function of ``modules``
+    is replaced by its compiled twin, or by its twin in ``callees`` (a result
+    of this function) if given. numba reads those globals only when it
+    compiles, so the order of definition does not matter.
+
+    ``compile_function(function, inline)`` makes a dispatcher (``inline``:
+    whether it is to be inlined into its callers); ``inline`` maps a short
+    module name to the functions to inline.
+
+    Returns
+    -------
+    dict of short module name (``"eom"``) to a module object whose attributes
+    are the compiled functions.
     """
+    twins: dict[types.FunctionType, object] = {}
+    namespaces = []
     for module in modules:
+        namespace = dict(vars(module))
         short = module.__name__.rsplit(".", 1)[-1]
         for name, value in vars(module).items():
             if isinstance(value, types.FunctionType) and value.__module__ == module.__name__:
-                forceinline = name in (inline or {}).get(short, ())
-                register_jitable(**INTERNAL, **({"forceinline": True} if forceinline else {}))(value)
-
-
-def callable_module(module) -> types.ModuleType:
-    """``module``'s functions compiled for Python callers (the tests, the benchmark): a
-    namespace of numba dispatchers with their wrappers and disk cache (``CALLABLE``)."""
-    short = module.__name__.rsplit(".", 1)[-1]
-    twin = types.ModuleType(f"{__name__}.{short}", f"{module.__name__}, compiled.")
-    for name, value in vars(module).items():
-        if isinstance(value, types.FunctionType) and value.__module__ == module.__name__:
-            setattr(twin, name, numba.njit(**CALLABLE)(value))
-    return twin
+                twin = types.FunctionType(value.__code__, namespace, name, value.__defaults__, value.__closure__)
+                twin.__qualname__, twin.__module__, twin.__doc__ = value.__qualname__, value.__module__, value.__doc__
+                twins[value] = compile_function(twin, name in (inline or {}).get(short, ()))
+        namespaces.append((module, namespace))
+    compiled = {}
+    for module, namespace in namespaces:
+        short = module.__name__.rsplit(".", 1)[-1]
+        for name, value in namespace.items():
+            if isinstance(value, types.FunctionType) and value in twins:
+                namespace[name] = (getattr(callees[value.__module__.rsplit(".", 1)[-1]], value.__name__)
+                                   if callees is not None else twins[value])
+        twin_module = types.ModuleType(f"{__name__}.{short}", f"{module.__name__}, compiled.")
+        for name, value in vars(module).items():
+            if isinstance(value, types.FunctionType) and value.__module__ == module.__name__:
+                setattr(twin_module, name, twins[value])
+        compiled[short] = twin_module
+    return compiled
 
 
 def source_fingerprint(paths) -> str:
@@ -246,9 +263,12 @@ def drop_stale_cache(directory: Path, paths, stamp_name: str = STAMP_NAME) -> bo
     return True
 
 
-register_model(MODEL_MODULES, INLINE)
-#: The model compiled for Python callers, by module short name.
-callable_twins = {module.__name__.rsplit(".", 1)[-1]: callable_module(module) for module in MODEL_MODULES}
+#: The model compiled for the kernel (``Internal`` dispatchers), by module short name.
+kernel_twins = compile_modules(MODEL_MODULES, lambda f, inline: internal(f, forceinline=inline), INLINE)
+#: The model compiled for Python callers (tests, the benchmark): each function
+#: with its wrappers and disk cache, calling the kernel's twins.
+callable_twins = compile_modules(MODEL_MODULES, lambda f, inline: numba.njit(**CALLABLE)(f),
+                                 callees=kernel_twins)
 geometry_ = callable_twins["geometry"]   # trailing underscore: not the Python module of that name
 limits_ = callable_twins["limits"]
 aero_ = callable_twins["aero"]

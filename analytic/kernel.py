@@ -32,20 +32,29 @@ import numba
 import numpy as np
 from numba.np.unsafe.ndarray import to_fixed_tuple
 
-from analytic.compiled import CALLABLE, internal
+from analytic.compiled import CALLABLE, internal, kernel_twins
 from analytic.dop853 import (ERROR_ORDER, MAX_FACTOR, MIN_FACTOR, N_STAGES, SAFETY, brent, dense_eval, dense_prepare,
                              error_norm, event_at, initial_step, rk_step)
 from analytic.kernel_loads import N_LOADS, POOL_SLOTS, finish_peaks, keep_step, sample_loads, save_step
-from analytic.limits import STAGE_STEP_LIMITS, flight_time_limit
+from analytic.limits import STAGE_STEP_LIMITS
 from analytic.parameters import N_PARAMS, Params
 from analytic.sequence import (FAILED, FINISHED, NEVER_FIRES, NEVER_LIFTS_OFF, NEXT_STAGE, OK, OUT_OF_STEPS,
-                               REACHED_END, STEP_FAILED, SWITCH_MODE, counted_crossing, leaves_zero, past_root,
-                               probe_bracket, probe_time, probe_update, stretch_end)
-# The model's functions: compiled where the kernel calls them (``analytic.compiled.register_model``).
-from analytic.stages import (FLIGHT, SLIDE, SWING, ZERO_START_PROBES, derivative, event_armed, event_count,
-                             event_direction, event_terminal, event_value, fires, first_event, flight_start,
-                             frame_state, loads_after_step, loads_at, slide_start, state_size, swing_start,
-                             switch_mode)
+                               REACHED_END, STEP_FAILED, SWITCH_MODE)
+from analytic.stages import FLIGHT, SLIDE, SWING, ZERO_START_PROBES
+
+# The model's functions, compiled (``analytic.compiled``).
+_stages, _limits, _sequence = kernel_twins["stages"], kernel_twins["limits"], kernel_twins["sequence"]
+derivative, event_value, event_direction = _stages.derivative, _stages.event_value, _stages.event_direction
+event_terminal, event_armed, event_count = _stages.event_terminal, _stages.event_armed, _stages.event_count
+first_event, fires = _stages.first_event, _stages.fires
+flight_start, frame_state = _stages.flight_start, _stages.frame_state
+loads_after_step, loads_at, slide_start, state_size = (_stages.loads_after_step, _stages.loads_at, _stages.slide_start,
+                                                      _stages.state_size)
+swing_start, switch_mode = _stages.swing_start, _stages.switch_mode
+flight_time_limit = _limits.flight_time_limit
+stretch_end, counted_crossing, past_root = _sequence.stretch_end, _sequence.counted_crossing, _sequence.past_root
+leaves_zero, probe_time, probe_update, probe_bracket = (_sequence.leaves_zero, _sequence.probe_time,
+                                                        _sequence.probe_update, _sequence.probe_bracket)
 
 
 # Layout of a result row.

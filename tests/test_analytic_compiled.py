@@ -13,7 +13,6 @@ import sys
 import textwrap
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 from analytic import compiled, default_design
@@ -26,10 +25,10 @@ _MODEL = {
     "eqs.py": "from toy.geo import lever\n\ndef force(x, p):\n    return lever(x, p) + p[1]\n",
     "kernel.py": textwrap.dedent("""\
         import numba
-        from analytic.compiled import CALLABLE, cache_directory, drop_stale_cache, register_model
+        from analytic.compiled import CALLABLE, cache_directory, compile_modules, drop_stale_cache, internal
         from toy import eqs, geo
-        register_model((geo, eqs))
-        force = eqs.force
+        modules = compile_modules((geo, eqs), lambda function, inline: internal(function))
+        force = modules["eqs"].force
 
         @numba.njit(**CALLABLE)
         def total(n, p):
@@ -118,21 +117,10 @@ def test_an_internal_function_is_compiled_once_per_type_not_per_constant():
 
 
 def test_a_kernel_only_function_called_from_python_says_what_to_call():
-    from analytic import kernel
-
     with pytest.raises(TypeError, match="compiled callers only"):
-        kernel.params(np.zeros(3))
-    assert isinstance(kernel.integrate, compiled.Internal)
+        compiled.kernel_twins["eom"].terms(0.1, 0.2, 0.3, 0.0, 0.0, 0.0, _PARAMS)
+    assert isinstance(compiled.kernel_twins["stages"].derivative, compiled.Internal)
     assert not isinstance(compiled.stages_.derivative, compiled.Internal)
-
-
-def test_the_model_stays_plain_python_where_the_kernel_compiles_it():
-    """``register_model`` leaves each model function the Python function the reference path runs."""
-    from analytic import eom, kernel, stages
-
-    assert kernel.derivative is stages.derivative
-    assert eom.terms(0.1, 0.2, 0.3, 0.0, 0.0, 0.0, _PARAMS) == compiled.eom_.terms(0.1, 0.2, 0.3, 0.0, 0.0, 0.0,
-                                                                                    _PARAMS)
 
 
 def test_internal_functions_are_emitted_as_machine_code_only_inside_their_entry_point(monkeypatch):
