@@ -94,7 +94,7 @@ def rms(x, scale):
     return math.sqrt(total / x.shape[0])
 
 
-@internal
+@internal(allocates=True)
 def initial_step(stage, t0, y0, f0, t_bound, rtol, atol, p, table):
     """Starting step: Hairer, Norsett & Wanner (1993), II.4, as in scipy's ``select_initial_step``."""
     interval = abs(t_bound - t0)

@@ -71,7 +71,7 @@ N_RESULT = PEAKS + 2 * N_LOADS
 # (NaN for a machine that never fires, or a step failure).
 
 
-@internal
+@internal(allocates=True)
 def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks, track_loads):
     """Integrate ``stage`` from (t0, y0) until a terminal event or ``t_bound``.
 
@@ -257,7 +257,7 @@ def _step_failed(out, code, stage):
     out[VALUE] = 1.0 if code == OUT_OF_STEPS else 0.0
 
 
-@internal
+@internal(allocates=True)
 def _run_stage(stage, t, y, switches, coef, rtol, atol, p, table, counts, peaks, track_loads, out):
     """Integrate ``stage`` from (t, y) in stretches, switching the friction modes between them,
     until ``analytic.sequence.stretch_end`` says the stage is over.
@@ -278,7 +278,7 @@ def _run_stage(stage, t, y, switches, coef, rtol, atol, p, table, counts, peaks,
     return action, status, detail, switches, t, y
 
 
-@internal(inline="always")
+@internal(inline="always", allocates=True)
 def shot(P, table, coef, rtol, atol, track_loads, out):
     """Simulate the design row ``P`` through all three stages into the result row ``out``.
 

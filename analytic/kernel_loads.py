@@ -93,7 +93,7 @@ def sample_loads(t, values, buffer, samples, sides, pending, last, ended):
     last[N_LOADS] = t
 
 
-@internal
+@internal(allocates=True)
 def finish_peaks(stage, samples, sides, K2, live_y, live_t, pool_k, pool_y, pool_t, peaks, coef, p, table,
                   counts):
     """Locate each load's largest value around its largest sample (``analytic.peaks``' search on
