@@ -4,7 +4,7 @@ interpolants of the steps beside its largest sample, as the reference path does.
 ``analytic.kernel.integrate`` calls ``keep_step`` and ``sample_loads`` after
 each accepted step, ``save_step`` before a step buffer is reused, and
 ``finish_peaks`` at a stretch's end. The search is ``analytic.peaks``' (the
-model's, step for step scipy's bounded minimiser).
+model's), on the same steps as ``analytic.reference_loads.stage_peaks``.
 """
 
 from __future__ import annotations
@@ -21,6 +21,7 @@ from analytic.stages import LOAD_NAMES
 _peaks = kernel_twins["peaks"]
 search_golden, search_from, search_next, search_update = (_peaks.search_golden, _peaks.search_from,
                                                           _peaks.search_next, _peaks.search_update)
+search_around, inside_end = _peaks.search_around, _peaks.inside_end
 loads_at = kernel_twins["stages"].loads_at
 
 N_LOADS = len(LOAD_NAMES)
@@ -93,11 +94,43 @@ def sample_loads(t, values, buffer, samples, sides, pending, last, ended):
     last[N_LOADS] = t
 
 
+@internal
+def _prepare(ref, stage, K2, live_y, live_t, pool_k, pool_y, pool_t, built, F, K, tmp, coef, p, table, counts):
+    """The dense output of step ``ref`` (live buffer ``ref - LIVE``, or pool slot ``ref``) in ``F[ref]``,
+    unless it is ``built`` already."""
+    if built[ref]:
+        return
+    live = ref >= LIVE
+    n = pool_y.shape[2]
+    for q in range(N_STAGES + 1):
+        for i in range(n):
+            K[q, i] = K2[ref - LIVE, q, i] if live else pool_k[ref, q, i]
+    y_old = live_y[ref - LIVE, 0] if live else pool_y[ref, 0]
+    y_end = live_y[ref - LIVE, 1] if live else pool_y[ref, 1]
+    t_start = live_t[ref - LIVE, 0] if live else pool_t[ref, 0]
+    h = live_t[ref - LIVE, 1] if live else pool_t[ref, 1]
+    dense_prepare(stage, t_start, h, y_old, y_end, K[N_STAGES], coef, K, F[ref], tmp, p, table)
+    counts[1] += 3
+    built[ref] = True
+
+
+@internal
+def _load_on_step(u, k, ref, stage, live_y, live_t, pool_y, pool_t, F, tmp, p):
+    """Load ``k`` at time ``u`` on the dense output of step ``ref`` (built)."""
+    live = ref >= LIVE
+    t_start = live_t[ref - LIVE, 0] if live else pool_t[ref, 0]
+    h = live_t[ref - LIVE, 1] if live else pool_t[ref, 1]
+    y_old = live_y[ref - LIVE, 0] if live else pool_y[ref, 0]
+    dense_eval(u, t_start, h, y_old, F[ref], tmp)
+    return loads_at(stage, tmp, p)[k]
+
+
 @internal(allocates=True)
 def finish_peaks(stage, samples, sides, K2, live_y, live_t, pool_k, pool_y, pool_t, peaks, coef, p, table,
                   counts):
     """Locate each load's largest value around its largest sample (``analytic.peaks``' search on
-    its steps' interpolants) and keep it in ``peaks`` (N_LOADS, 2) where it beats it."""
+    its steps' interpolants, as ``analytic.reference_loads.stage_peaks`` does) and keep it in
+    ``peaks`` (N_LOADS, 2) where it beats it."""
     n = pool_y.shape[2]
     F = np.empty((POOL_SLOTS + 2, 7, n))
     built = np.empty(POOL_SLOTS + 2, dtype=np.bool_)
@@ -105,49 +138,50 @@ def finish_peaks(stage, samples, sides, K2, live_y, live_t, pool_k, pool_y, pool
         built[ref] = False
     K = np.empty((N_STAGES + 4, n))
     tmp = np.empty(n)
-    starts, ends = np.empty(2), np.empty(2)
     for k in range(N_LOADS):
         if not samples[k, 3] > -math.inf:
             continue
-        for side in range(2):
-            ref = sides[k, side]
-            starts[side], ends[side] = math.nan, math.nan
-            if ref < 0:
-                continue
-            live = ref >= LIVE
-            t_start = live_t[ref - LIVE, 0] if live else pool_t[ref, 0]
-            h = live_t[ref - LIVE, 1] if live else pool_t[ref, 1]
-            starts[side], ends[side] = t_start, live_t[ref - LIVE, 2] if live else pool_t[ref, 2]
-            if not built[ref]:
-                for q in range(N_STAGES + 1):
-                    for i in range(n):
-                        K[q, i] = K2[ref - LIVE, q, i] if live else pool_k[ref, q, i]
-                y_old = live_y[ref - LIVE, 0] if live else pool_y[ref, 0]
-                y_end = live_y[ref - LIVE, 1] if live else pool_y[ref, 1]
-                dense_prepare(stage, t_start, h, y_old, y_end, K[N_STAGES], coef, K, F[ref], tmp, p, table)
-                counts[1] += 3
-                built[ref] = True
         t_peak, value = samples[k, 2], samples[k, 3]
-        for side in range(2):   # each step beside the sample on its own, as scipy's bounded search
-            ref = sides[k, side]
-            if not ends[side] > starts[side]:
-                continue
-            live = ref >= LIVE
-            h = live_t[ref - LIVE, 1] if live else pool_t[ref, 1]
-            y_old = live_y[ref - LIVE, 0] if live else pool_y[ref, 0]
-            u = search_golden(starts[side], ends[side])
-            dense_eval(u, starts[side], h, y_old, F[ref], tmp)
-            search = search_from(starts[side], ends[side], u, -loads_at(stage, tmp, p)[k])
-            counts[1] += 1   # each load is one evaluation of the accelerations
-            while True:
-                done, u, search = search_next(search)
-                if done:
-                    break
-                dense_eval(u, starts[side], h, y_old, F[ref], tmp)
+        left, right = sides[k, 0], sides[k, 1]
+        if left >= 0 and right >= 0 and samples[k, 0] < t_peak < samples[k, 4]:
+            # Both steps beside the sample, as one bracket: each time on its own step's interpolant.
+            search = search_around(samples[k, 0], samples[k, 1], t_peak, value, samples[k, 4], samples[k, 5])
+            searching = True
+        else:   # the largest sample ends the stretch: the one step beside it
+            left = left if left >= 0 else right
+            right = left
+            searching = left >= 0
+            a, b = math.nan, math.nan
+            if searching:
+                a = live_t[left - LIVE, 0] if left >= LIVE else pool_t[left, 0]
+                b = live_t[left - LIVE, 2] if left >= LIVE else pool_t[left, 2]
+                searching = b > a
+            if searching:
+                _prepare(left, stage, K2, live_y, live_t, pool_k, pool_y, pool_t, built, F, K, tmp, coef, p, table,
+                         counts)
+                counts[1] += 1   # each load is one evaluation of the accelerations
+                inside = inside_end(a, b, left == sides[k, 1])
+                # Still rising into the stretch's end: the peak is the sample there.
+                searching = _load_on_step(inside, k, left, stage, live_y, live_t, pool_y, pool_t, F, tmp, p) > value
+            u = search_golden(a, b)
+            if searching:
                 counts[1] += 1
-                search = search_update(search, u, -loads_at(stage, tmp, p)[k])
-            if -search.fx > value:
-                t_peak, value = search.x, -search.fx
+                search = search_from(a, b, u, -_load_on_step(u, k, left, stage, live_y, live_t, pool_y, pool_t, F,
+                                                             tmp, p))
+            else:
+                search = search_from(a, b, u, -value)
+        while searching:
+            done, u, search = search_next(search)
+            if done:
+                break
+            ref = left if u < t_peak else right
+            _prepare(ref, stage, K2, live_y, live_t, pool_k, pool_y, pool_t, built, F, K, tmp, coef, p, table,
+                     counts)
+            counts[1] += 1
+            search = search_update(search, u, -_load_on_step(u, k, ref, stage, live_y, live_t, pool_y, pool_t, F,
+                                                             tmp, p))
+        if searching and -search.fx > value:
+            t_peak, value = search.x, -search.fx
         if value > peaks[k, 0]:
             peaks[k, 0], peaks[k, 1] = value, t_peak
 

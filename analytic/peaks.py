@@ -1,11 +1,16 @@
-"""Where a load peaks within a step: Brent's bounded search, written once for both paths.
+"""Where a load peaks around its largest sample: Brent's bounded search, written once for both paths.
 
 Both analytic paths sample each load (``stages.loads_at``) at every accepted
-step's end, then locate the largest on the integrator's dense output of each
-of the two steps beside the largest sample. The search is Brent's bounded
-minimiser (Brent 1973, ch. 5) on minus the load, step for step the algorithm
-of scipy's ``minimize_scalar(method="bounded")``: from the golden section of
-the step, to ``PEAK_TIME_TOLERANCE`` plus sqrt(eps) |t|.
+step's end, then locate the largest on the integrator's dense output of the
+two steps beside the largest sample, as one bracket. The search is Brent's
+bounded minimiser (Brent 1973, ch. 5) on minus the load, the algorithm of
+scipy's ``minimize_scalar(method="bounded")``, to ``PEAK_TIME_TOLERANCE``
+plus sqrt(eps) |t|; it starts from the three samples (``search_around``),
+so that its first trial is the vertex of the parabola through them. A
+largest sample at a stretch's end is the peak unless the load is larger just
+inside the step (``inside_end``); then that one step is searched from its
+golden section point (``search_golden``, ``search_from``), step for step
+scipy's.
 
 It is written in reverse communication, as plain arithmetic on floats that
 the compiled path compiles too: ``search_golden`` gives the first time to
@@ -58,6 +63,31 @@ def search_from(a, b, x, fx):
     """The search of ``[a, b]`` after its first evaluation, ``fx`` at ``x = search_golden(a, b)``:
     step for step scipy's bounded minimiser."""
     return Search(a, b, x, x, x, fx, fx, fx, 0.0, 0.0, 1.0)
+
+
+def search_around(t_before, before, t_peak, peak, t_after, after):
+    """The search of ``[t_before, t_after]`` for the largest load around its largest sample, ``peak`` at
+    ``t_peak``, from the samples on either side (``before`` at ``t_before``, ``after`` at ``t_after``):
+    no evaluation yet.
+
+    The three samples are the search's first three points (Brent's x, w, v), so that its first
+    step is the vertex of the parabola through them; the bracket is the two steps beside the
+    sample. On the benchmark's designs a search takes 7.5 evaluations where the search of each
+    step on its own from its golden section point took 2 x 24, to the same tolerance.
+    """
+    if before >= after:
+        return Search(t_before, t_after, t_peak, t_before, t_after, -peak, -before, -after, 0.0, t_after - t_before,
+                      0.0)
+    return Search(t_before, t_after, t_peak, t_after, t_before, -peak, -after, -before, 0.0, t_after - t_before, 0.0)
+
+
+def inside_end(a, b, at_start):
+    """The time just inside the step ``[a, b]`` from its start (``at_start``) or its end, by the
+    search's own tolerance: where a load whose largest sample is at that end is evaluated to tell
+    whether it peaks there (no larger value just inside) or within the step."""
+    if at_start:
+        return a + min(_SQRT_EPS * abs(a) + PEAK_TIME_TOLERANCE / 3.0, 0.5 * (b - a))
+    return b - min(_SQRT_EPS * abs(b) + PEAK_TIME_TOLERANCE / 3.0, 0.5 * (b - a))
 
 
 def search_next(s):

@@ -102,9 +102,11 @@ def stage_peaks(stage: Stage, segment: Segment, p: Params, loads: bool, rtol: fl
     shape (N_LOADS, 2).
 
     Sampled at the start, every accepted step's end and the end, then located
-    on the interpolants of the steps on either side of the largest sample
-    (``analytic.peaks``' search, started from the samples): the compiled path
-    does the same on the same steps. Not ``loads``: none (-inf).
+    on the interpolants of the two steps on either side of the largest sample
+    (``analytic.peaks``' search, started from the three samples); a largest
+    sample at the segment's end is the peak unless the load is larger just
+    inside it. The compiled path does the same on the same steps. Not
+    ``loads``: none (-inf).
     """
     if not loads:
         return np.full((len(stages.LOAD_NAMES), 2), -np.inf)
@@ -126,21 +128,33 @@ def stage_peaks(stage: Stage, segment: Segment, p: Params, loads: bool, rtol: fl
     for k in range(values.shape[1]):
         i = int(np.argmax(values[:, k]))
         peaks[k] = values[i, k], times[i]
-        for j in (i - 1, i):   # each step beside the sample on its own, as the compiled path does
-            if j < 0 or j + 1 >= len(times) or not times[j + 1] > times[j]:
+        if 0 < i < len(times) - 1 and times[i - 1] < times[i] < times[i + 1]:
+            # Both steps beside the sample, as one bracket: each time on its own step's interpolant.
+            def load(u, i=i, k=k):
+                return -stages.loads_at(int(stage), interpolant(i - 1 if u < times[i] else i)(u), p)[k]
+
+            search = peak_search.search_around(times[i - 1], values[i - 1, k], times[i], values[i, k],
+                                               times[i + 1], values[i + 1, k])
+        else:   # the largest sample ends the segment: the one step beside it
+            j = i - 1 if i > 0 else i
+            if j + 1 >= len(times) or not times[j + 1] > times[j]:
                 continue
-            def load(u):
+
+            def load(u, j=j, k=k):
                 return -stages.loads_at(int(stage), interpolant(j)(u), p)[k]
 
+            inside = peak_search.inside_end(times[j], times[j + 1], i == j)
+            if -load(inside) <= values[i, k]:
+                continue   # still rising into the segment's end: the peak is the sample there
             u = peak_search.search_golden(times[j], times[j + 1])
             search = peak_search.search_from(times[j], times[j + 1], u, load(u))
-            while True:
-                done, u, search = peak_search.search_next(search)
-                if done:
-                    break
-                search = peak_search.search_update(search, u, load(u))
-            if -search.fx > peaks[k, 0]:
-                peaks[k] = -search.fx, search.x
+        while True:
+            done, u, search = peak_search.search_next(search)
+            if done:
+                break
+            search = peak_search.search_update(search, u, load(u))
+        if -search.fx > peaks[k, 0]:
+            peaks[k] = -search.fx, search.x
     return peaks
 
 

@@ -71,3 +71,65 @@ def test_the_compiled_search_takes_the_same_steps():
             python = peaks.search_update(python, u, -_skewed(u))
             native = compiled.peaks_.search_update(native, u, -_skewed(u))
     assert np.isfinite(u)
+
+
+def _search_around(load, t_before, t_peak, t_after, module=peaks):
+    """Run the search from three samples of ``load``; returns ``(t, value, evaluations)``."""
+    s = module.search_around(t_before, load(t_before), t_peak, load(t_peak), t_after, load(t_after))
+    while True:
+        done, u, s = module.search_next(s)
+        if done:
+            return s.x, -s.fx, int(s.calls)
+        s = module.search_update(s, u, -load(u))
+
+
+# Steps of 4 ms around T0, the largest sample at either side of the peak, steps of unequal length.
+AROUND = [(-4.1e-3, -1.3e-3, 2.6e-3), (-3.0e-3, 0.9e-3, 4.4e-3), (-2.2e-3, 0.2e-3, 1.7e-3), (-5e-3, -0.1e-3, 3e-3)]
+
+
+@pytest.mark.parametrize("before, peak, after", AROUND, ids=lambda v: f"{v * 1e3:+.1f} ms")
+def test_the_search_from_three_samples_finds_the_peak_of_both_steps(before, peak, after):
+    # The same peak as scipy's bounded minimiser gives on each of the two steps on its own (to the
+    # tolerance both stop at), in a fraction of its evaluations.
+    t_before, t_peak, t_after = T0 + before, T0 + peak, T0 + after
+    assert _skewed(t_peak) > max(_skewed(t_before), _skewed(t_after))   # the largest of the three samples
+    t, value, calls = _search_around(_skewed, t_before, t_peak, t_after)
+    bounded = [minimize_scalar(lambda t: -_skewed(t), bounds=bounds, method="bounded",
+                               options={"xatol": peaks.PEAK_TIME_TOLERANCE, "maxiter": peaks.SEARCH_CALLS})
+               for bounds in ((t_before, t_peak), (t_peak, t_after))]
+    best = min(bounded, key=lambda r: r.fun)
+    assert abs(t - T0) <= 2 * (math.sqrt(2.2e-16) * T0 + peaks.PEAK_TIME_TOLERANCE)
+    assert value == pytest.approx(-best.fun, rel=1e-14)
+    assert t_before <= t <= t_after
+    assert calls <= 10 < sum(r.nfev for r in bounded) / 2
+
+
+@pytest.mark.parametrize("at_start", [True, False], ids=["start", "end"])
+def test_just_inside_a_stretchs_end_is_one_search_tolerance_in(at_start):
+    a, b = 0.25, 0.2503
+    inside = peaks.inside_end(a, b, at_start)
+    tolerance = math.sqrt(2.2e-16) * (a if at_start else b) + peaks.PEAK_TIME_TOLERANCE / 3.0
+    assert a < inside < b
+    assert abs(inside - (a if at_start else b)) == pytest.approx(tolerance, rel=1e-12)
+    # A step shorter than that: the midpoint, still inside.
+    assert peaks.inside_end(a, a + 1e-12, at_start) == pytest.approx(a + 0.5e-12, rel=1e-6)
+
+
+def test_the_compiled_search_from_three_samples_takes_the_same_steps():
+    from analytic import compiled
+
+    for before, peak, after in AROUND:
+        args = (T0 + before, _skewed(T0 + before), T0 + peak, _skewed(T0 + peak), T0 + after, _skewed(T0 + after))
+        python, native = peaks.search_around(*args), compiled.peaks_.search_around(*args)
+        assert tuple(python) == tuple(native)
+        while True:
+            done, u, python = peaks.search_next(python)
+            done_c, u_c, native = compiled.peaks_.search_next(native)
+            assert (done, u, tuple(python)) == (done_c, u_c, tuple(native))
+            if done:
+                break
+            python = peaks.search_update(python, u, -_skewed(u))
+            native = compiled.peaks_.search_update(native, u, -_skewed(u))
+        for at_start in (True, False):
+            assert compiled.peaks_.inside_end(args[0], args[4], at_start) == peaks.inside_end(args[0], args[4],
+                                                                                                at_start)
