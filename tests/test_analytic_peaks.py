@@ -51,6 +51,22 @@ def test_a_load_rising_to_the_steps_end_peaks_there():
     assert 1.5 - 1e-7 <= t <= 1.5 and value == pytest.approx(4.5, rel=1e-7)
 
 
+def _step_together(python, native):
+    """Run a Python and a compiled search of ``_skewed`` side by side, asserting the same state at
+    every step; returns the time found."""
+    from analytic import compiled
+
+    assert tuple(python) == tuple(native)
+    while True:
+        done, u, python = peaks.search_next(python)
+        done_c, u_c, native = compiled.peaks_.search_next(native)
+        assert (done, u, tuple(python)) == (done_c, u_c, tuple(native))
+        if done:
+            return u
+        python = peaks.search_update(python, u, -_skewed(u))
+        native = compiled.peaks_.search_update(native, u, -_skewed(u))
+
+
 def test_the_compiled_search_takes_the_same_steps():
     from analytic import compiled
 
@@ -61,15 +77,7 @@ def test_the_compiled_search_takes_the_same_steps():
         u = peaks.search_golden(a, b)
         assert compiled.peaks_.search_golden(a, b) == u
         python, native = peaks.search_from(a, b, u, -_skewed(u)), compiled.peaks_.search_from(a, b, u, -_skewed(u))
-        assert tuple(python) == tuple(native)
-        while True:
-            done, u, python = peaks.search_next(python)
-            done_c, u_c, native = compiled.peaks_.search_next(native)
-            assert (done, u, tuple(python)) == (done_c, u_c, tuple(native))
-            if done:
-                break
-            python = peaks.search_update(python, u, -_skewed(u))
-            native = compiled.peaks_.search_update(native, u, -_skewed(u))
+        u = _step_together(python, native)
     assert np.isfinite(u)
 
 
@@ -121,15 +129,7 @@ def test_the_compiled_search_from_three_samples_takes_the_same_steps():
     for before, peak, after in AROUND:
         args = (T0 + before, _skewed(T0 + before), T0 + peak, _skewed(T0 + peak), T0 + after, _skewed(T0 + after))
         python, native = peaks.search_around(*args), compiled.peaks_.search_around(*args)
-        assert tuple(python) == tuple(native)
-        while True:
-            done, u, python = peaks.search_next(python)
-            done_c, u_c, native = compiled.peaks_.search_next(native)
-            assert (done, u, tuple(python)) == (done_c, u_c, tuple(native))
-            if done:
-                break
-            python = peaks.search_update(python, u, -_skewed(u))
-            native = compiled.peaks_.search_update(native, u, -_skewed(u))
+        u = _step_together(python, native)
         for at_start in (True, False):
             assert compiled.peaks_.inside_end(args[0], args[4], at_start) == peaks.inside_end(args[0], args[4],
                                                                                                 at_start)
