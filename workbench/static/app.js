@@ -17,6 +17,7 @@ export function show(value, kind, digits = 2) {
 // ---- shots: one request in flight, the latest design next (never a backlog) -----------------------
 let inFlight = false, pending = false, sequence = 0;
 export const timings = [];
+export const latencies = [];
 
 export function requestShot() {
   if (inFlight) { pending = true; return; }
@@ -52,6 +53,8 @@ function adopt(shot) {
   state.t = state.playing ? 0 : duration(shot);
   readouts();
   draw();
+  // From the input that changed the design to this shot drawn (the latency the bench reports).
+  if (state.inputAt !== undefined) latencies.push(performance.now() - state.inputAt);
   document.body.dataset.shots = String(Number(document.body.dataset.shots || 0) + 1);
 }
 
@@ -148,6 +151,7 @@ function setSystem(system) {
 }
 
 function onField(name, value) {
+  state.inputAt = performance.now();
   setValue(state.design, name, value);
   if (name === "base.mobility" && value === "rolling" && getValue(state.design, "base.mass") === undefined) {
     fieldError({field: "base.mass", error: "base.mass: required with mobility = \"rolling\" (give the frame's mass)"});
@@ -225,4 +229,4 @@ async function start() {
 }
 
 start();
-window.workbench = {state, timings};
+window.workbench = {state, timings, latencies, draw};

@@ -62,7 +62,7 @@ function fieldWindow(shot, design, ghosts) {
 
 function followWindow(parts, design) {
   const m = design.machine;
-  const size = 1.3 * (m.arm_long + m.sling_length);
+  const size = 0.8 * (m.arm_long + m.sling_length);
   const cx = parts.flying ? parts.ball[0] : parts.pivot[0];
   const cy = parts.flying ? parts.ball[1] : 0;
   return {xmin: cx - size, xmax: cx + size, ymin: Math.min(-m.pivot_height, cy - size), ymax: cy + size};
@@ -140,9 +140,23 @@ function drawDimension(ctx, T, shot, design, label) {
   }
 }
 
+// The canvas's pixels match its size on screen (one drawing pixel per device pixel), its height
+// ASPECT of its width, so that lines and labels keep their size on a phone as on a desktop.
+const ASPECT = 0.55;
+function fitToScreen(canvas) {
+  const ratio = window.devicePixelRatio || 1;
+  const width = Math.round(canvas.clientWidth * ratio);
+  if (width && canvas.width !== width) {
+    canvas.width = width;
+    canvas.height = Math.round(width * ASPECT);
+  }
+  canvas.getContext("2d").setTransform(1, 0, 0, 1, 0, 0);
+}
+
 // Draws ``shot`` at time ``t``; ``ghosts`` are earlier flights ({path}); ``label`` the texts of
 // the range and apex in the shown units.
 export function drawStage(canvas, shot, design, t, {ghosts = [], camera = "field", label, preview = null}) {
+  fitToScreen(canvas);
   const ctx = canvas.getContext("2d");
   ctx.clearRect(0, 0, canvas.width, canvas.height);
   if (!shot || !shot.history) return;
