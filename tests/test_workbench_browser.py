@@ -247,3 +247,52 @@ def test_screenshots_mid_swing_and_landed(browser, server, layout, viewport):
     page.screenshot(path=SHOTS / f"{layout}-whole-page.png", full_page=True)
     assert pixels["mid-swing"] != pixels["landed"]
     context.close()
+
+
+@pytest.mark.slow
+def test_what_if_hover_previews_and_click_adopts(page, server):
+    open_page(page, server)
+    page.get_by_test_id("whatif").click()
+    plot = page.get_by_test_id("whatif-plot")
+    plot.wait_for(state="visible", timeout=TOOL_WAIT)
+    box = plot.bounding_box()
+    # a third of the way along: a shorter sling than the design's, which throws
+    x, y = box["x"] + box["width"] * 0.3, box["y"] + box["height"] / 2
+    page.mouse.move(x, y)
+    page.wait_for_function("window.workbench.state.preview && window.workbench.state.preview.length > 1",
+                           timeout=SHOT_WAIT)
+    count = shots(page)
+    page.mouse.click(x, y)
+    wait_for_next_shot(page, count)
+    adopted = page.evaluate("window.workbench.state.design.machine.sling_length")
+    assert adopted != 0.61
+    assert page.input_value('[name="machine.sling_length"]') == f"{adopted:.6g}"
+    # the previewed flight is the adopted design's
+    assert page.evaluate("window.workbench.state.shot.history.flight_path.length") > 1
+
+
+@pytest.mark.slow
+def test_ghosts_cross_check_and_optimise(page, server):
+    open_page(page, server)
+    page.get_by_test_id("ghost").click()
+    assert page.get_by_test_id("ghost-count").inner_text() == "1 ghost"
+    page.get_by_test_id("crosscheck").click()
+    table = page.get_by_test_id("crosscheck-table")
+    table.wait_for(state="visible", timeout=TOOL_WAIT)
+    assert "The models agree" in table.inner_text()
+    engine = page.evaluate("window.workbench.state.ghosts.filter((g) => g.engine)[0].path")
+    analytic = page.evaluate("window.workbench.state.shot.range")
+    # the engine's landing beside the analytic range, within the cross-check's own range tolerance
+    from crosscheck import tolerances
+
+    assert abs(engine[-1][0] - analytic) <= tolerances.RANGE_REL * max(analytic, tolerances.RANGE_FLOOR)
+    page.get_by_test_id("clear-ghosts").click()
+    assert page.evaluate("window.workbench.state.ghosts.length") == 0
+    page.get_by_test_id("front").click()
+    page.get_by_test_id("adopt-4").wait_for(timeout=TOOL_WAIT)
+    ranges = [float(cell.split()[0]) for cell in page.locator("#optimise-table td:nth-child(2)").all_inner_texts()]
+    assert ranges == sorted(ranges, reverse=True)   # a tighter axle-load cap never throws farther
+    count = shots(page)
+    page.get_by_test_id("adopt-0").click()
+    wait_for_next_shot(page, count)
+    assert range_shown(page)[0] == pytest.approx(ranges[0], abs=DISPLAY_ROUNDING)

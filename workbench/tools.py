@@ -1,4 +1,4 @@
-"""The page's tools, each a function of (design, inputs, job) over the library: best pin, aim, what-if, cross-check."""
+"""The page's tools, each a function of (design, inputs, job) over the library: best pin, aim, what-if, cross-check, optimise."""
 
 from __future__ import annotations
 
@@ -113,12 +113,60 @@ def what_if(design: Design, inputs: dict[str, Any], job: Job) -> dict[str, Any]:
 
 def cross_check(design: Design, inputs: dict[str, Any], job: Job) -> dict[str, Any]:
     """The pymunk twin on this design beside the analytic model (``crosscheck.compare``)."""
+    import engine_model
     from crosscheck import Case, compare
 
-    job.check()
-    comparison = compare(Case(design.name, design, "workbench"))
-    return comparison.to_json()
+    engine_shots = []
+
+    def engine(design: Design, dt: float):
+        """The engine as ``compare`` runs it, each shot kept (the last is the one compared)."""
+        job.check()
+        engine_shots.append(engine_model.simulate(design, dt=dt))
+        return engine_shots[-1]
+
+    comparison = compare(Case(design.name, design, "workbench"), engine=engine)
+    shot = engine_shots[-1] if engine_shots else None
+    flight = [] if shot is None or shot.history is None else np.round(shot.history.flight_path, 5).tolist()
+    return {**comparison.to_json(), "engine_flight_path": flight}
+
+
+#: The axle-load caps of the range-against-axle-load front, as fractions of the peak axle load
+#: of the unconstrained optimum (1: that optimum itself).
+FRONT_FRACTIONS = (1.0, 0.85, 0.7, 0.55, 0.4)
+
+
+def optimise_paper(design: Design, inputs: dict[str, Any], job: Job) -> dict[str, Any]:
+    """``analytic.optimise.optimise`` on the paper's problem; with ``"front": true`` also the
+    longest range under each of ``FRONT_FRACTIONS`` of the optimum's peak axle load (range
+    against peak axle load). Each point carries its design to adopt."""
+    import dataclasses
+
+    from analytic.design_file import design_to_dict
+    from analytic.design_space import default_problem, design_at
+    from analytic.optimise import optimise
+
+    problem = default_problem()
+    caps = [None] + (list(FRONT_FRACTIONS[1:]) if inputs.get("front") else [])
+    points, full_load = [], None
+    for index, fraction in enumerate(caps):
+        job.check()
+        limited = problem if fraction is None else dataclasses.replace(
+            problem, load_limits=(("axle_load", fraction * full_load),))
+        result = optimise(limited, workers=1)
+        label = "optimum"
+        peaks = result.peaks[label]
+        if fraction is None:
+            full_load = peaks["peak_axle_load"]
+        points.append({"axle_limit": None if fraction is None else fraction * full_load,
+                       "range": result.ranges[label], "peak_axle_load": peaks.get("peak_axle_load"),
+                       "design": design_to_dict(design_at(limited, result.optimum.values,
+                                                          name="optimum" if fraction is None
+                                                          else f"optimum-axle-{fraction:g}"))})
+        job.progress = (index + 1) / len(caps)
+    return {"points": points}
+
 
 
 #: The tools by the name the page asks for.
-TOOLS = {"best_pin": best_pin, "aim": aim_at, "what_if": what_if, "crosscheck": cross_check}
+TOOLS = {"best_pin": best_pin, "aim": aim_at, "what_if": what_if, "crosscheck": cross_check,
+         "optimise": optimise_paper}

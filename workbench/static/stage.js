@@ -1,7 +1,7 @@
 // The stage: the machine and its shot drawn to scale on a canvas from the shot's history (m, s).
 
 const COLORS = {arm: "#6b4226", frame: "#8a8a8a", weight: "#333", sling: "#b08d57", ball: "#c0392b",
-  path: "#c0392b", ghost: "#5d6d7e", dimension: "#1f618d", ground: "#c9b98f"};
+  path: "#c0392b", ghost: "#5d6d7e", engine: "#117a65", dimension: "#1f618d", ground: "#c9b98f"};
 
 // Index of the last sample at or before ``t`` in the sorted ``times``.
 function before(times, t) {
@@ -166,7 +166,9 @@ export function drawStage(canvas, shot, design, t, {ghosts = [], camera = "field
   const ground = -design.machine.pivot_height;
   ctx.fillStyle = COLORS.ground;
   ctx.fillRect(0, T.Y(ground), canvas.width, canvas.height - T.Y(ground));
-  for (const ghost of ghosts) polyline(ctx, T, ghost.path, COLORS.ghost, 1.5, [6, 5]);
+  for (const ghost of ghosts) {
+    polyline(ctx, T, ghost.path, ghost.engine ? COLORS.engine : COLORS.ghost, 1.5, ghost.engine ? [2, 4] : [6, 5]);
+  }
   if (preview) polyline(ctx, T, preview, "#7d3c98", 1.5, [2, 3]);
   const h = shot.history;
   const flown = h.flight_t.length ? h.flight_path.filter((_, i) => h.flight_t[i] <= t) : [];

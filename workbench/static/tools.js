@@ -100,6 +100,13 @@ export function setupTools(state, api) {
     api.draw();
   });
 
+  for (const [button, front] of [["optimise", false], ["front", true]]) {
+    $(button).addEventListener("click", async () => {
+      const result = await runJob(state, "optimise", {front}, api);
+      if (result) optimiseTable(state, api, result.points);
+    });
+  }
+
   $("crosscheck").addEventListener("click", async () => {
     const result = await runJob(state, "crosscheck", {}, api);
     if (!result) return;
@@ -110,7 +117,27 @@ export function setupTools(state, api) {
       + `${result.error ? `: ${result.error}` : ""}</caption><tr><th>quantity</th><th>analytic</th><th>engine</th>`
       + `<th>difference</th><th>tolerance</th><th>unit</th><th></th></tr>${rows}`;
     $("crosscheck-table").hidden = false;
+    if (result.engine_flight_path.length) {   // the engine's flight beside the analytic one
+      state.ghosts = state.ghosts.filter((g) => !g.engine);
+      state.ghosts.push({path: result.engine_flight_path, engine: true});
+      api.draw();
+    }
   });
+}
+
+// Each optimum: its axle-load cap, range and peak axle load, and a button that adopts its design.
+function optimiseTable(state, api, points) {
+  const table = $("optimise-table");
+  table.innerHTML = "<tr><th>axle load cap</th><th>range</th><th>peak axle load</th><th></th></tr>";
+  points.forEach((point, i) => {
+    const row = document.createElement("tr");
+    row.innerHTML = `<td>${point.axle_limit === null ? "none" : api.show(point.axle_limit, "force", 0)}</td>`
+      + `<td>${api.show(point.range, "length")}</td><td>${api.show(point.peak_axle_load, "force", 0)}</td>`
+      + `<td><button type="button" data-testid="adopt-${i}">Adopt</button></td>`;
+    row.querySelector("button").addEventListener("click", () => api.loadDesign(point.design));
+    table.append(row);
+  });
+  table.hidden = false;
 }
 
 function fmt(value) {
@@ -146,7 +173,9 @@ function plotSweep(state, api, result, kind) {
     ctx.fillStyle = "#333"; ctx.font = "11px sans-serif";
     const units = state.meta.units;
     ctx.fillText(`range to ${api.show(r1, "length", 1)}`, m, 12);
-    ctx.fillText(`${result.load} to ${l1.toPrecision(4)} SI`, W / 2, 12);
+    const load = result.load === "peak_projectile_acceleration"
+      ? `${(l1 / (state.design.environment?.gravity ?? 9.81)).toFixed(1)} g` : api.show(l1, "force", 0);
+    ctx.fillText(`${result.load.replace("peak_", "peak ").replaceAll("_", " ")} to ${load}`, W / 2, 12);
     const shown = (v) => shownValue(units, kind, state.system, v).toPrecision(4);
     ctx.fillText(`${result.field}: ${shown(xs[0])} .. ${shown(xs[xs.length - 1])} ${unitLabel(units, kind, state.system)}`, m, H - 8);
     curve(result.ranges, r0, r1, "#c0392b");
