@@ -163,3 +163,12 @@ def test_command_prints_its_url_when_ready_and_warns_off_this_machine():
         server.terminate()
         _, err = server.communicate(timeout=10)
     assert "warning: listening on localhost" in err
+
+
+def test_summary_is_the_fast_paths_with_the_same_keys(client):
+    answer = client.post("/api/summary", json={"design": tables()}).json()
+    assert set(answer) == set(JSON_KEYS)
+    # The fast path agrees with the reference to its integrator's error (tests/test_analytic_fast.py),
+    # far inside the readout's rounding (1 cm of 45 m).
+    assert answer["range"] == pytest.approx(simulate(default_design()).range, rel=1e-6)
+    assert client.post("/api/summary", json={"design": {"machine": {}}}).status_code == 400

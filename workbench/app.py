@@ -19,7 +19,7 @@ from analytic.design_file import design_from_dict, design_to_dict, dumps_design
 from workbench.fields import fields_table, units_table
 from workbench.jobs import Jobs, TooMany
 from workbench.presets import presets_json
-from workbench.shot import shot_json
+from workbench.shot import shot_json, summary_json
 from workbench.tools import TOOLS
 
 STATIC = Path(__file__).with_name("static")
@@ -77,6 +77,12 @@ async def shot(request: Request) -> Response:
     """``POST /api/shot``: ``simulate --json``'s keys and ``history``."""
     design = design_of(await read_json(request))
     return JSONResponse(await run_in_threadpool(shot_json, design))
+
+
+async def summary(request: Request) -> Response:
+    """``POST /api/summary``: the fast path's summary of the design (``simulate --json``'s keys)."""
+    design = design_of(await read_json(request))
+    return JSONResponse(summary_json(design))
 
 
 async def design_toml(request: Request) -> Response:
@@ -166,6 +172,7 @@ def build_app() -> Starlette:
         Route("/api/meta", meta),
         Route("/api/presets", presets),
         Route("/api/shot", shot, methods=["POST"]),
+        Route("/api/summary", summary, methods=["POST"]),
         Route("/api/toml", design_toml, methods=["POST"]),
         Route("/api/read", read_toml, methods=["POST"]),
         Route("/api/jobs", start_job, methods=["POST"]),

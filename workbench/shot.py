@@ -7,6 +7,7 @@ from typing import Any
 import numpy as np
 
 from analytic.design import Design
+from analytic.fast import simulate_fast
 from analytic.geometry import machine_points
 from analytic.reference import simulate
 from analytic.result import Shot
@@ -24,6 +25,12 @@ def shot_json(design: Design) -> dict[str, Any]:
     (``Shot.to_json`` of the same reference shot) and ``history`` (``history_json``)."""
     shot = simulate(design)
     return {**shot.to_json(), "history": history_json(shot)}
+
+
+def summary_json(design: Design) -> dict[str, Any]:
+    """The answer of ``POST /api/summary``: the same keys from the compiled fast path (no
+    histories, so no efficiencies nor energies), for the readouts while a slider moves."""
+    return simulate_fast(design).to_json()
 
 
 def _rounded(values: np.ndarray, decimals: int) -> list:

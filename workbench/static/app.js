@@ -14,32 +14,54 @@ export function show(value, kind, digits = 2) {
   return `${shown.toFixed(digits)} ${unitLabel(state.meta.units, kind, state.system)}`;
 }
 
-// ---- shots: one request in flight, the latest design next (never a backlog) -----------------------
-let inFlight = false, pending = false, sequence = 0;
+// ---- shots: on each of two channels one request in flight, the latest design next (never a backlog) --
+// The summary (the compiled fast path, a few ms) updates the readouts while a slider moves; the
+// shot with its histories (the reference path) then redraws the stage and completes them.
 export const timings = [];
 export const latencies = [];
+export const readoutLatencies = [];
+let version = 0, shownVersion = 0;
 
-export function requestShot() {
-  if (inFlight) { pending = true; return; }
-  inFlight = true; pending = false;
-  const mine = ++sequence;
-  const started = performance.now();
-  const body = JSON.stringify({design: state.design});
-  fetch("/api/shot", {method: "POST", headers: {"content-type": "application/json"}, body})
-    .then(async (response) => {
-      const data = await response.json();
-      if (mine !== sequence) return;
-      if (response.ok) {
-        showError($("fields"), null, "");
-        $("design-error").hidden = true;
-        adopt(data);
-        timings.push(performance.now() - started);
-      } else {
-        fieldError(data);
-      }
-    })
-    .catch((error) => fieldError({error: `no answer from the server: ${error}`, field: ""}))
-    .finally(() => { inFlight = false; if (pending) requestShot(); });
+function channel(url, onAnswer) {
+  let inFlight = false, pending = false;
+  const send = () => {
+    if (inFlight) { pending = true; return null; }
+    inFlight = true; pending = false;
+    const mine = version, started = performance.now();
+    return fetch(url, {method: "POST", headers: {"content-type": "application/json"},
+      body: JSON.stringify({design: state.design})})
+      .then(async (response) => onAnswer(response, await response.json(), mine, started))
+      .catch((error) => fieldError({error: `no answer from the server: ${error}`, field: ""}))
+      .finally(() => { inFlight = false; if (pending) send(); });
+  };
+  return send;
+}
+
+const sendSummary = channel("/api/summary", (response, data, mine) => {
+  if (!response.ok || mine <= shownVersion || mine !== version) return;
+  readouts(data, true);
+  if (state.inputAt !== undefined) readoutLatencies.push(performance.now() - state.inputAt);
+});
+
+const sendShot = channel("/api/shot", (response, data, mine, started) => {
+  if (mine < shownVersion) return;
+  if (response.ok) {
+    showError($("fields"), null, "");
+    $("design-error").hidden = true;
+    shownVersion = mine;
+    adopt(data);
+    timings.push(performance.now() - started);
+  } else if (mine === version) {
+    fieldError(data);
+  }
+});
+
+// The shot is asked for once the summary is in: the server would otherwise hold the summary
+// behind the shot's Python work (one interpreter lock), several ms for each switch.
+export function requestShot(live = false) {
+  version += 1;
+  const summary = live ? sendSummary() : null;
+  if (summary) summary.finally(sendShot); else sendShot();
 }
 
 export function fieldError(data) {
@@ -51,7 +73,7 @@ export function fieldError(data) {
 function adopt(shot) {
   state.shot = shot;
   state.t = state.playing ? 0 : duration(shot);
-  readouts();
+  readouts(shot, false);
   draw();
   // From the input that changed the design to this shot drawn (the latency the bench reports).
   if (state.inputAt !== undefined) latencies.push(performance.now() - state.inputAt);
@@ -59,20 +81,22 @@ function adopt(shot) {
 }
 
 // ---- readouts ----------------------------------------------------------------------------------
-function readouts() {
-  const s = state.shot;
+// ``summary``: the fast path's (no histories): the efficiencies and the energy bar wait for the shot.
+function readouts(s, summary) {
   $("range").textContent = s.range === null ? "–" : show(s.range, "length");
   $("status").textContent = s.status;
   $("status").className = s.status === "ok" ? "ok" : "failed";
   $("message").textContent = s.message;
+  $("readouts").classList.toggle("pending", summary);
   const g = state.design.environment?.gravity ?? 9.81;
+  const percent = (value) => (summary ? "…" : value === null ? "–" : `${(100 * value).toFixed(1)} %`);
   const rows = [
     ["release speed", show(s.release_speed, "speed")],
     ["launch angle", s.launch_angle === null ? "–" : `${s.launch_angle.toFixed(1)} deg`],
     ["apex", show(s.apex_height, "length")],
     ["flight time", s.flight_time === null ? "–" : `${s.flight_time.toFixed(3)} s`],
-    ["energy efficiency", s.energy_efficiency === null ? "–" : `${(100 * s.energy_efficiency).toFixed(1)} %`],
-    ["range efficiency", s.range_efficiency === null ? "–" : `${(100 * s.range_efficiency).toFixed(1)} %`],
+    ["energy efficiency", percent(s.energy_efficiency)],
+    ["range efficiency", percent(s.range_efficiency)],
     ["peak sling tension", show(s.peak_sling_tension, "force", 1)],
     ["peak axle load", show(s.peak_axle_load, "force", 1)],
     ["peak hinge load", show(s.peak_hinge_load, "force", 1)],
@@ -82,7 +106,7 @@ function readouts() {
   $("numbers").innerHTML = rows.map(([k, v]) => `<dt>${k}</dt><dd>${v}</dd>`).join("");
   $("warnings").innerHTML = "";
   for (const w of s.warnings) { const li = document.createElement("li"); li.textContent = w; $("warnings").append(li); }
-  energyBar(s);
+  if (!summary) energyBar(s);
 }
 
 function energyBar(s) {
@@ -157,7 +181,7 @@ function onField(name, value) {
     fieldError({field: "base.mass", error: "base.mass: required with mobility = \"rolling\" (give the frame's mass)"});
     return;
   }
-  requestShot();
+  requestShot(true);
 }
 
 async function download() {
@@ -207,7 +231,7 @@ async function start() {
   $("units").addEventListener("change", (e) => {
     setSystem(e.target.value);
     fillForm($("fields"), state.design, state.meta.units, state.system);
-    if (state.shot) { readouts(); draw(); }
+    if (state.shot) { readouts(state.shot, false); draw(); }
   });
   $("play").addEventListener("click", () => {
     if (!state.playing && state.t >= duration(state.shot)) state.t = 0;
@@ -229,4 +253,4 @@ async function start() {
 }
 
 start();
-window.workbench = {state, timings, latencies, draw};
+window.workbench = {state, timings, latencies, readoutLatencies, draw};
