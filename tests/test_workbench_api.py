@@ -68,6 +68,7 @@ def test_invalid_design_is_400_naming_its_field(client, body, field):
 def test_malformed_and_oversized_bodies_are_refused(client):
     assert client.post("/api/shot", content=b"{not json").status_code == 400
     assert client.post("/api/shot", content=b"[1, 2]").json()["field"] == "body"
+    assert client.post("/api/shot", content=b"[" * (MAX_BODY // 2)).status_code == 400   # nested past recursion
     big = client.post("/api/shot", content=b" " * (MAX_BODY + 1))
     assert big.status_code == 413 and big.json()["field"] == "body"
 

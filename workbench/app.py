@@ -58,6 +58,8 @@ async def read_json(request: Request) -> dict[str, Any]:
         data = json.loads(await read_body(request))
     except (ValueError, UnicodeDecodeError) as error:
         raise BadRequest(f"body is not JSON: {error}", "body") from None
+    except RecursionError:
+        raise BadRequest("body is not a design: nested too deeply", "body") from None
     if not isinstance(data, dict):
         raise BadRequest("body must be a JSON object", "body")
     return data

@@ -69,7 +69,9 @@ export function setupTools(state, api) {
         : "out of reach: nothing throws";
       return;
     }
-    const best = result.solutions[0];
+    // Of several settings that land on the target, the one nearest the present setting.
+    const now = getValue(state.design, name);
+    const best = result.solutions.reduce((a, b) => (Math.abs(b.value - now) < Math.abs(a.value - now) ? b : a));
     const kind = fields.find((f) => f.name === name).kind;
     const shownValue_ = shownValue(state.meta.units, kind, state.system, best.value);
     $("aim-result").textContent = `${name} = ${shownValue_.toPrecision(5)} ${unitLabel(state.meta.units, kind, state.system)}`
