@@ -296,3 +296,17 @@ def test_ghosts_cross_check_and_optimise(page, server):
     page.get_by_test_id("adopt-0").click()
     wait_for_next_shot(page, count)
     assert range_shown(page)[0] == pytest.approx(ranges[0], abs=DISPLAY_ROUNDING)
+
+
+@pytest.mark.parametrize("status", ["never_releases", "hits_base_before_release"])
+def test_a_design_that_does_not_throw_shows_its_status_and_how_far_it_got(page, server, status):
+    open_page(page, server)
+    count = shots(page)
+    page.get_by_test_id("upload").set_input_files(str(ROOT / "analytic" / "data" / "designs" / f"fails-{status}.toml"))
+    wait_for_next_shot(page, count)
+    assert page.get_by_test_id("status").inner_text() == status
+    assert page.get_by_test_id("range").inner_text() == "–"
+    assert page.get_by_test_id("message").inner_text() != ""
+    # the stage plays the swing to where the shot ended
+    assert page.evaluate("window.workbench.state.t") == page.evaluate(
+        "window.workbench.state.shot.history.t.at(-1)")
