@@ -310,3 +310,17 @@ def test_a_design_that_does_not_throw_shows_its_status_and_how_far_it_got(page, 
     # the stage plays the swing to where the shot ended
     assert page.evaluate("window.workbench.state.t") == page.evaluate(
         "window.workbench.state.shot.history.t.at(-1)")
+
+
+def test_a_rolling_frame_needs_its_mass_and_then_rolls(page, server):
+    open_page(page, server)
+    page.locator("#fields > details", has=page.locator('[name="base.mobility"]')).locator("summary").first.click()
+    page.select_option('[name="base.mobility"]', "rolling")
+    error = page.locator('.field[data-field="base.mass"] .error')
+    error.wait_for(state="visible", timeout=SHOT_WAIT)
+    assert error.inner_text().startswith("base.mass: required")   # the design contract's MissingValueError
+    count = shots(page)
+    page.fill('[name="base.mass"]', "8")
+    wait_for_next_shot(page, count)
+    assert error.is_hidden()
+    assert page.evaluate("window.workbench.state.shot.frame_release_displacement") != 0.0

@@ -11,20 +11,17 @@ from analytic.design_file import default_design, design_to_dict, load_design
 _HERE = Path(__file__).with_name("presets")
 _ANALYTIC_DESIGNS = Path(str(files("analytic.data") / "designs"))
 
-#: Preset name -> (title on the page, the unit system it is shown in, how to load it).
+#: Preset name -> (title on the page, how to load it).
 PRESETS = {
-    "paper-table3": ("Paper's optimum (Table III)", "metric", default_design),
-    "prototype-61": ("Paper's prototype as fired (61 deg)", "metric",
-                     lambda: load_design(_ANALYTIC_DESIGNS / "prototype-61.toml")),
-    "virtual-trebuchet": ("Virtual Trebuchet's default", "imperial",
-                          lambda: load_design(_HERE / "virtual-trebuchet.toml")),
-    "backyard": ("Backyard build (ft, lb)", "imperial", lambda: load_design(_HERE / "backyard.toml")),
-    "pumpkin-hurler": ("Pumpkin hurler", "metric", lambda: load_design(_HERE / "pumpkin.toml")),
-    "warwolf-scale": ("Siege engine at Warwolf scale", "metric", lambda: load_design(_HERE / "warwolf.toml")),
+    "paper-table3": ("Paper's optimum (Table III)", default_design),
+    "prototype-61": ("Paper's prototype as fired (61 deg)", lambda: load_design(_ANALYTIC_DESIGNS / "prototype-61.toml")),
+    "virtual-trebuchet": ("Virtual Trebuchet's default", lambda: load_design(_HERE / "virtual-trebuchet.toml")),
+    "backyard": ("Backyard build (ft, lb)", lambda: load_design(_HERE / "backyard.toml")),
+    "pumpkin-hurler": ("Pumpkin hurler", lambda: load_design(_HERE / "pumpkin.toml")),
+    "warwolf-scale": ("Siege engine at Warwolf scale", lambda: load_design(_HERE / "warwolf.toml")),
 }
 
 
 def presets_json() -> list[dict[str, Any]]:
-    """Every preset as the page takes it: name, title, units and the design's tables (file units)."""
-    return [{"name": name, "title": title, "units": units, "design": design_to_dict(load())}
-            for name, (title, units, load) in PRESETS.items()]
+    """Every preset as the page takes it: name, title and the design's tables (file units)."""
+    return [{"name": name, "title": title, "design": design_to_dict(load())} for name, (title, load) in PRESETS.items()]

@@ -1,5 +1,5 @@
 // The workbench page: the design form, live shots (latest wins), the stage's playback, readouts, files and links.
-import {buildForm, fillForm, getValue, round, setValue, showError, shownValue, unitLabel} from "./form.js";
+import {buildForm, fillForm, round, setValue, showError, shownValue, unitLabel} from "./form.js";
 import {drawStage, duration} from "./stage.js";
 import {setupTools} from "./tools.js";
 
@@ -177,10 +177,6 @@ function setSystem(system) {
 function onField(name, value) {
   state.inputAt = performance.now();
   setValue(state.design, name, value);
-  if (name === "base.mobility" && value === "rolling" && getValue(state.design, "base.mass") === undefined) {
-    fieldError({field: "base.mass", error: "base.mass: required with mobility = \"rolling\" (give the frame's mass)"});
-    return;
-  }
   requestShot(true);
 }
 
