@@ -324,3 +324,48 @@ def test_a_rolling_frame_needs_its_mass_and_then_rolls(page, server):
     wait_for_next_shot(page, count)
     assert error.is_hidden()
     assert page.evaluate("window.workbench.state.shot.frame_release_displacement") != 0.0
+
+
+def test_share_link_loads_the_design(page, browser, server):
+    open_page(page, server)
+    page.get_by_test_id("preset").select_option("pumpkin-hurler")
+    page.wait_for_function("window.workbench.state.shot.design === 'pumpkin-hurler'", timeout=SHOT_WAIT)
+    page.get_by_test_id("share").click()
+    link = page.get_by_test_id("share-link").input_value()
+    assert link.startswith(server)
+    other = browser.new_page()
+    open_page(other, link)
+    assert other.evaluate("window.workbench.state.design") == page.evaluate("window.workbench.state.design")
+    assert other.get_by_test_id("range").inner_text() == page.get_by_test_id("range").inner_text()
+    other.close()
+
+
+@pytest.mark.slow
+def test_a_builders_session_in_feet(page, server, tmp_path):
+    # Feet, the backyard preset, the best pin, aim at 150 ft, two shots as ghosts, the cross-check,
+    # and the downloaded design giving the page's range from the command line.
+    open_page(page, server)
+    page.get_by_test_id("units").select_option("imperial")
+    page.get_by_test_id("preset").select_option("backyard")
+    page.wait_for_function("window.workbench.state.shot.design === 'backyard'", timeout=SHOT_WAIT)
+    page.get_by_test_id("ghost").click()
+    count = shots(page)
+    run_tool(page, "best-pin", "best-pin-result")
+    wait_for_next_shot(page, count)
+    page.get_by_test_id("ghost").click()
+    assert page.get_by_test_id("ghost-count").inner_text() == "2 ghosts"
+    page.fill('[data-testid="aim-target"]', "150")
+    count = shots(page)
+    run_tool(page, "aim", "aim-result")
+    wait_for_next_shot(page, count)
+    feet, unit = range_shown(page)
+    assert unit == "ft" and feet == pytest.approx(150.0, abs=0.01)
+    page.get_by_test_id("crosscheck").click()
+    page.get_by_test_id("crosscheck-table").wait_for(state="visible", timeout=TOOL_WAIT)
+    with page.expect_download() as download:
+        page.get_by_test_id("download").click()
+    path = tmp_path / "backyard.toml"
+    download.value.save_as(path)
+    metres = cli_range(__import__("tomllib").loads(path.read_text()), tmp_path)
+    assert metres / 0.3048 == pytest.approx(feet, abs=DISPLAY_ROUNDING)   # 1 ft = 0.3048 m exactly
+    page.get_by_test_id("units").select_option("metric")
