@@ -6,7 +6,7 @@ PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed-stamp
 OUT    ?= out
 
-.PHONY: run test install compile clean crosscheck run-shot run-crosscheck run-frames docs
+.PHONY: run test install compile clean crosscheck run-shot run-crosscheck run-frames docs serve browser
 
 # uv (from PyPI, into the environment) installs the dependencies in parallel:
 # 26 s from an empty cache where pip took 52-115 s on the same machine. It
@@ -58,9 +58,18 @@ crosscheck: compile
 # slow ones first, and a Dask-cluster module whole on one worker (tests/conftest.py).
 # `$(PY) -m pytest` alone still runs the whole suite in one process. Then the
 # documentation site, so that a broken link or reference fails the tests too.
-test: compile
+test: compile browser
 	$(PY) -m pytest -n auto
 	@$(MAKE) --no-print-directory docs
+
+# The workbench: the whole project in a local web page (python -m workbench), opened in the browser.
+serve: compile
+	@$(PY) -m workbench
+
+# The workbench's browser tests drive Debian's chromium (never a browser build of
+# Playwright's own, which cannot be downloaded here); CI runs as root.
+browser:
+	@test -x /usr/bin/chromium || (apt-get update -qq && apt-get install -y -qq chromium)
 
 # The documentation site into docs/_build/html, every warning an error
 # (--keep-going lists them all first). It imports the package for the API

@@ -6,6 +6,7 @@ The product code is four packages, each importing only those below it::
     engine_model   the same machine in pymunk (which of analytic it may use: test_engine_imports.py)
     crosscheck     analytic + engine_model
     benchmarks     anything below
+    workbench      the local web page: analytic, engine_model and crosscheck (not benchmarks); nothing imports it
 
 Inside ``analytic`` the same holds for its layers (``ANALYTIC_LAYERS``). No
 module imports in a circle. An import counts wherever it is written (module
@@ -29,7 +30,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 #: The product packages, lowest first: each may import only itself and those before it.
-PACKAGES = ("analytic", "engine_model", "crosscheck", "benchmarks")
+PACKAGES = ("analytic", "engine_model", "crosscheck", "benchmarks", "workbench")
 #: ``analytic``'s layers, lowest first: a module may import only its own layer and those before it.
 #: A module of ``analytic`` not named here fails ``test_every_analytic_module_has_a_layer``.
 ANALYTIC_LAYERS = {
@@ -219,6 +220,15 @@ def test_importing_every_analytic_module_loads_none_of_the_packages_above_it():
             f"print(json.dumps(sorted(m for m in sys.modules if m.split('.')[0] in {PACKAGES[1:]!r})))")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, check=True)
     assert json.loads(done.stdout) == []
+
+
+def test_workbench_imports_no_benchmarks_and_nothing_imports_it():
+    # benchmarks and workbench sit side by side at the top: neither is below the other.
+    reached = {(name, target) for name, targets in GRAPH.items() for target in targets
+               if (name.split(".")[0] == "workbench") != (target.split(".")[0] == "workbench")
+               and (target.split(".")[0] in ("workbench", "benchmarks"))}
+    assert not reached
+    assert "analytic.reference" in GRAPH["workbench.shot"]   # the scan sees the workbench
 
 
 def test_analytic_starts_other_commands_only_where_declared():

@@ -1,0 +1,175 @@
+"""The workbench's server, without a browser: its API answers as the contract says, and refuses bad requests."""
+
+from __future__ import annotations
+
+import json
+import re
+import socket
+import subprocess
+import sys
+import time
+
+import pytest
+from starlette.testclient import TestClient
+
+from analytic.design_file import default_design, design_to_dict
+from analytic.reference import simulate
+from analytic.result import JSON_KEYS
+from workbench import jobs
+from workbench.app import MAX_BODY, build_app
+from workbench.presets import PRESETS
+
+
+@pytest.fixture(scope="module")
+def client():
+    return TestClient(build_app(), raise_server_exceptions=False)
+
+
+def tables():
+    return json.loads(json.dumps(design_to_dict(default_design())))
+
+
+def test_shot_answers_the_simulate_json_keys_and_history(client):
+    answer = client.post("/api/shot", json={"design": tables()})
+    assert answer.status_code == 200
+    data = answer.json()
+    assert set(data) == set(JSON_KEYS) | {"history"}
+    # The same reference shot as python -m analytic simulate --json, in this process.
+    expected = simulate(default_design()).to_json()
+    assert {key: data[key] for key in JSON_KEYS} == json.loads(json.dumps(expected))
+    history = data["history"]
+    assert len(history["t"]) == len(history["parts"]["projectile"]) == len(history["frame_x"])
+    # The last flight sample is the landing point (within the history's rounding to 10 um).
+    assert history["flight_path"][-1][0] == pytest.approx(data["range"], abs=1e-5)
+
+
+def test_shot_takes_values_with_units(client):
+    design = tables()
+    design["machine"]["sling_length"] = "61 cm"
+    answer = client.post("/api/shot", json={"design": design}).json()
+    assert answer["range"] == pytest.approx(simulate(default_design()).range, rel=1e-9)
+
+
+@pytest.mark.parametrize("body, field", [
+    ({"design": {"machine": {}}}, "machine.pivot_height"),
+    ({"design": "paper"}, "design"),
+    ({}, "design"),
+    ({"design": {**tables(), "machine": {**tables()["machine"], "sling_length": -1}}}, "machine.sling_length"),
+    ({"design": {**tables(), "machine": {**tables()["machine"], "sling_length": "3 kg"}}}, "machine.sling_length"),
+    ({"design": {**tables(), "colour": "red"}}, "colour"),
+], ids=["missing", "not-a-table", "no-design", "negative", "wrong-unit", "unknown-key"])
+def test_invalid_design_is_400_naming_its_field(client, body, field):
+    answer = client.post("/api/shot", json=body)
+    assert answer.status_code == 400
+    assert answer.json()["field"] == field
+    assert "Traceback" not in answer.text
+
+
+def test_malformed_and_oversized_bodies_are_refused(client):
+    assert client.post("/api/shot", content=b"{not json").status_code == 400
+    assert client.post("/api/shot", content=b"[1, 2]").json()["field"] == "body"
+    assert client.post("/api/shot", content=b"[" * (MAX_BODY // 2)).status_code == 400   # nested past recursion
+    big = client.post("/api/shot", content=b" " * (MAX_BODY + 1))
+    assert big.status_code == 413 and big.json()["field"] == "body"
+
+
+def test_static_files_stay_in_the_package(client):
+    assert client.get("/static/app.js").status_code == 200
+    assert client.get("/static/../app.py").status_code == 404
+    assert client.get("/static/%2e%2e/app.py").status_code == 404
+
+
+def test_downloaded_toml_reads_back_to_the_same_design(client, tmp_path):
+    from analytic.design_file import load_design
+
+    text = client.post("/api/toml", json={"design": tables()}).text
+    path = tmp_path / "design.toml"
+    path.write_text(text)
+    assert load_design(path).machine == default_design().machine
+    back = client.post("/api/read", content=text.encode()).json()["design"]
+    assert back["machine"] == tables()["machine"]
+
+
+def test_uploaded_bad_toml_names_its_field(client):
+    answer = client.post("/api/read", content=b'[machine]\nsling_length = "x"\n')
+    assert answer.status_code == 400 and answer.json()["field"] == "machine.sling_length"
+    assert client.post("/api/read", content=b"[[[").json()["field"] == "file"
+
+
+@pytest.mark.parametrize("name", list(PRESETS))
+def test_every_preset_throws(client, name):
+    preset = next(p for p in client.get("/api/presets").json() if p["name"] == name)
+    assert client.post("/api/shot", json={"design": preset["design"]}).json()["status"] == "ok"
+
+
+def wait(client, job):
+    while job["state"] == "running":
+        time.sleep(0.05)
+        job = client.get(f"/api/jobs/{job['id']}").json()
+    return job
+
+
+def test_best_pin_finds_a_longer_range_than_its_neighbours(client):
+    job = wait(client, client.post("/api/jobs", json={"tool": "best_pin", "design": tables(), "client": "a"}).json())
+    assert job["state"] == "done"
+    best = job["result"]
+    # The best pin beats every scanned angle, and a degree either side of it (fast path, same design).
+    from analytic.fast import simulate_fast
+    from analytic.fields import field
+
+    assert best["range"] >= max(r for r in best["ranges"] if r is not None)
+    angle = field("machine.release_angle")
+    assert simulate_fast(angle.replace(default_design(), best["value"])).range == pytest.approx(best["range"], rel=1e-12)
+    for offset in (-1.0, 1.0):
+        assert simulate_fast(angle.replace(default_design(), best["value"] + offset)).range < best["range"]
+
+
+def test_tool_inputs_are_checked_and_jobs_limited_per_client(client, monkeypatch):
+    bad = client.post("/api/jobs", json={"tool": "aim", "design": tables(), "inputs": {"target": -3}})
+    job = wait(client, bad.json())
+    assert job["state"] == "error" and job["error"]["field"] == "target"
+    assert client.post("/api/jobs", json={"tool": "nope", "design": tables()}).status_code == 400
+    monkeypatch.setattr(jobs, "JOB_SECONDS", 0.0)   # the time limit stops a job at its first check
+    stopped = wait(client, client.post("/api/jobs", json={"tool": "best_pin", "design": tables(),
+                                                          "client": "b"}).json())
+    assert stopped["state"] == "cancelled"
+
+
+def test_a_second_job_of_one_client_waits_for_the_first(client):
+    slow = {"tool": "what_if", "design": tables(), "client": "c",
+            "inputs": {"field": "machine.sling_length", "low": 0.3, "high": 1.2, "steps": 201}}
+    first = client.post("/api/jobs", json=slow).json()
+    second = client.post("/api/jobs", json=slow)
+    assert second.status_code == 429
+    cancelled = client.post(f"/api/jobs/{first['id']}/cancel").json()
+    assert cancelled["state"] == "cancelled"
+
+
+def free_port() -> int:
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        return sock.getsockname()[1]
+
+
+def test_command_prints_its_url_when_ready_and_warns_off_this_machine():
+    port = free_port()
+    server = subprocess.Popen([sys.executable, "-m", "workbench", "--port", str(port), "--no-browser",
+                               "--host", "localhost"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        line = server.stdout.readline()
+        assert re.search(rf"http://localhost:{port}/", line)
+        with socket.create_connection(("localhost", port), timeout=5):
+            pass   # listening once the line is printed
+    finally:
+        server.terminate()
+        _, err = server.communicate(timeout=10)
+    assert "warning: listening on localhost" in err
+
+
+def test_summary_is_the_fast_paths_with_the_same_keys(client):
+    answer = client.post("/api/summary", json={"design": tables()}).json()
+    assert set(answer) == set(JSON_KEYS)
+    # The fast path agrees with the reference to its integrator's error (tests/test_analytic_fast.py),
+    # far inside the readout's rounding (1 cm of 45 m).
+    assert answer["range"] == pytest.approx(simulate(default_design()).range, rel=1e-6)
+    assert client.post("/api/summary", json={"design": {"machine": {}}}).status_code == 400

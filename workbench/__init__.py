@@ -1,0 +1,1 @@
+"""The workbench: the whole project in one local web page (``python -m workbench``)."""

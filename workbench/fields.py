@@ -1,0 +1,105 @@
+"""The design fields the page shows: grouped, explained, with their kinds and the units each system shows them in."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from analytic.aero import DRAG_MODELS
+from analytic.design import MOBILITIES
+from analytic.geometry import RELEASE_RULES
+from analytic.units import FIELD_KINDS, registry
+
+#: Each group of fields, its table and its fields with a line a builder reads (file units: SI, degrees).
+GROUPS = (
+    ("Machine", "machine", (
+        ("pivot_height", "Height of the axle above the base."),
+        ("arm_long", "Axle to the sling end of the arm (the long arm)."),
+        ("arm_short", "Axle to the counterweight hinge (the short arm)."),
+        ("arm_mass", "Mass of the arm alone."),
+        ("arm_cg", "Axle to the arm's centre of mass, toward the long end (negative: on the short side)."),
+        ("arm_inertia", "The arm's moment of inertia about its own centre of mass."),
+        ("counterweight_mass", "Mass of the counterweight box or weight."),
+        ("counterweight_link", "Hinge to the counterweight's centre (how far it hangs)."),
+        ("counterweight_inertia", "The counterweight's moment of inertia about its own centre."),
+        ("sling_length", "Arm tip to the projectile's centre, along the sling."),
+        ("release_angle", "When the sling lets go: the projectile's flight direction above horizontal "
+                          "(rule velocity), or the sling-to-arm angle (rule sling). The pin's setting."),
+        ("release_rule", "What the release angle measures: velocity direction, or sling-to-arm angle."),
+    )),
+    ("Projectile", "projectile", (
+        ("mass", "Mass of the projectile."),
+        ("diameter", "Diameter of the (spherical) projectile; sets its drag area."),
+        ("drag", "The drag law: none, a constant coefficient, a smooth sphere or a golf ball."),
+        ("drag_coefficient", "Cd of the constant drag law (only with drag = constant)."),
+        ("drag_factor", "A multiplier on the drag force of any law (1: as the law gives)."),
+    )),
+    ("Environment", "environment", (
+        ("gravity", "Acceleration of gravity."),
+        ("air_density", "Density of the air (1.225 kg/m^3 at sea level, 15 C)."),
+        ("air_viscosity", "Dynamic viscosity of the air; sets the Reynolds number of the drag laws."),
+        ("wind_speed", "Horizontal wind, positive toward the target."),
+    )),
+    ("Base", "base", (
+        ("mobility", "Fixed: the frame is bolted down. Rolling: it rides on wheels and moves as the arm swings."),
+        ("mass", "Mass of the rolling frame (required when rolling)."),
+    )),
+    ("Losses", "losses", (
+        ("axle_friction", "Coulomb coefficient of the axle in its bearing (0: frictionless)."),
+        ("axle_radius", "Radius of the axle: friction torque = coefficient x radius x axle load."),
+        ("hinge_friction", "Coulomb coefficient of the counterweight's hinge."),
+        ("hinge_radius", "Radius of the hinge pin."),
+        ("base_friction", "Coulomb coefficient of the projectile sliding on the base before lift-off."),
+        ("axle_static_friction", "Static coefficient of the axle (empty: the kinetic one)."),
+        ("hinge_static_friction", "Static coefficient of the hinge (empty: the kinetic one)."),
+        ("base_static_friction", "Static coefficient of the projectile on the base (empty: the kinetic one)."),
+    )),
+)
+
+#: Choices of the fields that are not numbers.
+CHOICES = {"machine.release_rule": RELEASE_RULES, "projectile.drag": tuple(DRAG_MODELS),
+           "base.mobility": MOBILITIES}
+
+#: Units shown in the imperial system for each kind of field (label, pint's spelling); a kind not
+#: listed is shown as in files (degrees, pure numbers, viscosity).
+IMPERIAL = {"length": ("ft", "ft"), "mass": ("lb", "lb"), "moment of inertia": ("lb ft²", "lb * ft ** 2"),
+            "density": ("lb/ft³", "lb / ft ** 3"), "acceleration": ("ft/s²", "ft / s ** 2"),
+            "speed": ("ft/s", "ft / s"), "force": ("lbf", "lbf"), "energy": ("ft lbf", "ft * lbf")}
+#: The units each field is shown in, metric, by kind (file units but friendlier labels).
+METRIC_LABELS = {"moment of inertia": "kg m²", "density": "kg/m³", "acceleration": "m/s²", "speed": "m/s",
+                 "viscosity": "Pa s", "angle": "deg"}
+
+
+def _factor(si: str, unit: str) -> float:
+    """How many ``unit`` make one ``si`` (pint)."""
+    return float(registry().Quantity(1.0, si).to(unit).magnitude)
+
+
+def units_table() -> dict[str, Any]:
+    """For each kind: the label in each system and the factor from the file unit to it."""
+    kinds = {kind.name: kind.file_unit for kind in FIELD_KINDS.values()}
+    kinds.update({"energy": "J"})
+    table = {}
+    for name, si in kinds.items():
+        metric = METRIC_LABELS.get(name, si)
+        imperial = IMPERIAL.get(name)
+        table[name] = {"metric": {"label": metric, "factor": 1.0},
+                       "imperial": ({"label": metric, "factor": 1.0} if imperial is None
+                                    else {"label": imperial[0], "factor": _factor(si, imperial[1])})}
+    return table
+
+
+def fields_table() -> list[dict[str, Any]]:
+    """The groups of fields the page builds its form from (``GET /api/meta``)."""
+    groups = []
+    for title, table, fields in GROUPS:
+        rows = []
+        for key, help_text in fields:
+            name = f"{table}.{key}"
+            row = {"name": name, "key": key, "help": help_text}
+            if name in CHOICES:
+                row["choices"] = list(CHOICES[name])
+            else:
+                row["kind"] = FIELD_KINDS[key].name
+            rows.append(row)
+        groups.append({"title": title, "table": table, "fields": rows})
+    return groups

@@ -1,0 +1,27 @@
+"""The page's presets: designs that span real machines, each read from a design file shipped with the packages."""
+
+from __future__ import annotations
+
+from importlib.resources import files
+from pathlib import Path
+from typing import Any
+
+from analytic.design_file import default_design, design_to_dict, load_design
+
+_HERE = Path(__file__).with_name("presets")
+_ANALYTIC_DESIGNS = Path(str(files("analytic.data") / "designs"))
+
+#: Preset name -> (title on the page, how to load it).
+PRESETS = {
+    "paper-table3": ("Paper's optimum (Table III)", default_design),
+    "prototype-61": ("Paper's prototype as fired (61 deg)", lambda: load_design(_ANALYTIC_DESIGNS / "prototype-61.toml")),
+    "virtual-trebuchet": ("Virtual Trebuchet's default", lambda: load_design(_HERE / "virtual-trebuchet.toml")),
+    "backyard": ("Backyard build (ft, lb)", lambda: load_design(_HERE / "backyard.toml")),
+    "pumpkin-hurler": ("Pumpkin hurler", lambda: load_design(_HERE / "pumpkin.toml")),
+    "warwolf-scale": ("Siege engine at Warwolf scale", lambda: load_design(_HERE / "warwolf.toml")),
+}
+
+
+def presets_json() -> list[dict[str, Any]]:
+    """Every preset as the page takes it: name, title and the design's tables (file units)."""
+    return [{"name": name, "title": title, "design": design_to_dict(load())} for name, (title, load) in PRESETS.items()]

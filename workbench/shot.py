@@ -1,0 +1,68 @@
+"""A shot as the page draws it: ``simulate --json``'s object plus the sampled motion (``history``)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from analytic.design import Design
+from analytic.fast import simulate_fast
+from analytic.geometry import machine_points
+from analytic.reference import simulate
+from analytic.result import Shot
+
+#: Decimals kept of a position (m) and a time (s) in ``history``: 10 um and 1 us, far below a
+#: pixel of the stage at any preset's scale, and a third of the digits of a full float.
+POSITION_DECIMALS = 5
+TIME_DECIMALS = 6
+#: The parts the stage draws, in ``analytic.geometry.PARTS`` names.
+DRAWN_PARTS = ("long_tip", "short_tip", "counterweight", "projectile")
+
+
+def shot_json(design: Design) -> dict[str, Any]:
+    """The answer of ``POST /api/shot``: the keys of ``python -m analytic simulate --json``
+    (``Shot.to_json`` of the same reference shot) and ``history`` (``history_json``)."""
+    shot = simulate(design)
+    return {**shot.to_json(), "history": history_json(shot)}
+
+
+def summary_json(design: Design) -> dict[str, Any]:
+    """The answer of ``POST /api/summary``: the same keys from the compiled fast path (no
+    histories, so no efficiencies nor energies), for the readouts while a slider moves."""
+    return simulate_fast(design).to_json()
+
+
+def _rounded(values: np.ndarray, decimals: int) -> list:
+    return np.round(np.asarray(values, dtype=float), decimals).tolist()
+
+
+def history_json(shot: Shot) -> dict[str, Any] | None:
+    """The sampled motion in ground coordinates (m from the pivot at rest, s from firing).
+
+    ``t`` (n,) and, on it, ``stage``, ``frame_x`` (n,) (zeros for a fixed frame) and each
+    part of ``DRAWN_PARTS`` (n, 2) relative to the pivot; ``flight_t`` (k,) and
+    ``flight_path`` (k, 2); ``energy`` (J): ``released``, the potential energy counterweight and
+    arm gave up by release, and of it ``projectile`` (the projectile's energy at release) and
+    ``kept`` (the arm's and counterweight's motion then); None where the shot did not release.
+    """
+    history = shot.history
+    if history is None:
+        return None
+    points = machine_points(history.q, shot.design.machine)
+    frame_x = history.frame_x if len(history.frame_x) == len(history.t) else np.zeros(len(history.t))
+    released = shot.release_time is not None and shot.counterweight_energy_released is not None
+    return {
+        "t": _rounded(history.t, TIME_DECIMALS),
+        "stage": [int(s) for s in history.stage],
+        "frame_x": _rounded(frame_x, POSITION_DECIMALS),
+        "parts": {name: _rounded(points[name], POSITION_DECIMALS) for name in DRAWN_PARTS},
+        "flight_t": _rounded(history.flight_t, TIME_DECIMALS),
+        "flight_path": _rounded(history.flight_path, POSITION_DECIMALS),
+        "energy": {
+            "released": shot.counterweight_energy_released,
+            "projectile": float(history.energy.projectile[-1]) if released else None,
+            # ``machine`` counts from the start: its motion at release less the energy given up.
+            "kept": float(history.energy.machine[-1] + shot.counterweight_energy_released) if released else None,
+        },
+    }

@@ -1,0 +1,252 @@
+// The workbench page: the design form, live shots (latest wins), the stage's playback, readouts, files and links.
+import {buildForm, fillForm, round, setValue, showError, shownValue, unitLabel} from "./form.js";
+import {drawStage, duration} from "./stage.js";
+import {setupTools} from "./tools.js";
+
+const $ = (id) => document.getElementById(id);
+export const state = {meta: null, presets: [], design: null, system: "metric", shot: null, ghosts: [],
+  t: 0, playing: false, speed: 0.1, camera: "field", preview: null};
+
+// ---- units -------------------------------------------------------------------------------------
+export function show(value, kind, digits = 2) {
+  if (value === null || value === undefined) return "–";
+  const shown = shownValue(state.meta.units, kind, state.system, value);
+  return `${shown.toFixed(digits)} ${unitLabel(state.meta.units, kind, state.system)}`;
+}
+
+// ---- shots: on each of two channels one request in flight, the latest design next (never a backlog) --
+// The summary (the compiled fast path, a few ms) updates the readouts while a slider moves; the
+// shot with its histories (the reference path) then redraws the stage and completes them.
+export const timings = [];
+export const latencies = [];
+export const readoutLatencies = [];
+let version = 0, shownVersion = 0;
+
+function channel(url, onAnswer) {
+  let inFlight = false, pending = false;
+  const send = () => {
+    if (inFlight) { pending = true; return null; }
+    inFlight = true; pending = false;
+    const mine = version, started = performance.now();
+    return fetch(url, {method: "POST", headers: {"content-type": "application/json"},
+      body: JSON.stringify({design: state.design})})
+      .then(async (response) => onAnswer(response, await response.json(), mine, started))
+      .catch((error) => fieldError({error: `no answer from the server: ${error}`, field: ""}))
+      .finally(() => { inFlight = false; if (pending) send(); });
+  };
+  return send;
+}
+
+const sendSummary = channel("/api/summary", (response, data, mine) => {
+  if (!response.ok || mine <= shownVersion || mine !== version) return;
+  readouts(data, true);
+  if (state.inputAt !== undefined) readoutLatencies.push(performance.now() - state.inputAt);
+});
+
+const sendShot = channel("/api/shot", (response, data, mine, started) => {
+  if (mine < shownVersion) return;
+  if (response.ok) {
+    showError($("fields"), null, "");
+    $("design-error").hidden = true;
+    shownVersion = mine;
+    adopt(data);
+    timings.push(performance.now() - started);
+  } else if (mine === version) {
+    fieldError(data);
+  }
+});
+
+// The shot is asked for once the summary is in: the server would otherwise hold the summary
+// behind the shot's Python work (one interpreter lock), several ms for each switch.
+export function requestShot(live = false) {
+  version += 1;
+  const summary = live ? sendSummary() : null;
+  if (summary) summary.finally(sendShot); else sendShot();
+}
+
+export function fieldError(data) {
+  const shownAtField = showError($("fields"), data.field, data.error);
+  $("design-error").hidden = shownAtField;
+  $("design-error").textContent = data.error;
+}
+
+function adopt(shot) {
+  state.shot = shot;
+  state.t = state.playing ? 0 : duration(shot);
+  readouts(shot, false);
+  draw();
+  // From the input that changed the design to this shot drawn (the latency the bench reports).
+  if (state.inputAt !== undefined) latencies.push(performance.now() - state.inputAt);
+  document.body.dataset.shots = String(Number(document.body.dataset.shots || 0) + 1);
+}
+
+// ---- readouts ----------------------------------------------------------------------------------
+// ``summary``: the fast path's (no histories): the efficiencies and the energy bar wait for the shot.
+function readouts(s, summary) {
+  $("range").textContent = s.range === null ? "–" : show(s.range, "length");
+  $("status").textContent = s.status;
+  $("status").className = s.status === "ok" ? "ok" : "failed";
+  $("message").textContent = s.message;
+  $("readouts").classList.toggle("pending", summary);
+  const g = state.design.environment?.gravity ?? 9.81;
+  const percent = (value) => (summary ? "…" : value === null ? "–" : `${(100 * value).toFixed(1)} %`);
+  const rows = [
+    ["release speed", show(s.release_speed, "speed")],
+    ["launch angle", s.launch_angle === null ? "–" : `${s.launch_angle.toFixed(1)} deg`],
+    ["apex", show(s.apex_height, "length")],
+    ["flight time", s.flight_time === null ? "–" : `${s.flight_time.toFixed(3)} s`],
+    ["energy efficiency", percent(s.energy_efficiency)],
+    ["range efficiency", percent(s.range_efficiency)],
+    ["peak sling tension", show(s.peak_sling_tension, "force", 1)],
+    ["peak axle load", show(s.peak_axle_load, "force", 1)],
+    ["peak hinge load", show(s.peak_hinge_load, "force", 1)],
+    ["peak projectile accel.", s.peak_projectile_acceleration === null ? "–"
+      : `${(s.peak_projectile_acceleration / g).toFixed(1)} g`],
+  ];
+  $("numbers").innerHTML = rows.map(([k, v]) => `<dt>${k}</dt><dd>${v}</dd>`).join("");
+  $("warnings").innerHTML = "";
+  for (const w of s.warnings) { const li = document.createElement("li"); li.textContent = w; $("warnings").append(li); }
+  if (!summary) energyBar(s);
+}
+
+function energyBar(s) {
+  const e = s.history?.energy;
+  const bar = $("energy");
+  bar.innerHTML = "";
+  if (!e || !e.released || e.projectile === null) return;
+  const lost = s.energy_dissipated || {};
+  const drag = lost.drag ?? 0;
+  const parts = [["projectile", e.projectile - drag, "#c0392b"], ["drag", drag, "#e59866"],
+    ["arm and counterweight", e.kept, "#6b4226"], ["axle friction", lost.axle ?? 0, "#7f8c8d"],
+    ["hinge friction", lost.hinge ?? 0, "#95a5a6"], ["base friction", lost.base ?? 0, "#bdc3c7"]];
+  for (const [name, joules, color] of parts) {
+    if (!(joules > 0)) continue;
+    const share = 100 * joules / e.released;
+    const piece = document.createElement("span");
+    piece.style.width = `${share}%`; piece.style.background = color;
+    piece.title = `${name}: ${show(joules, "energy", 1)} (${share.toFixed(1)} %)`;
+    piece.textContent = share > 12 ? name : "";
+    bar.append(piece);
+  }
+}
+
+// ---- stage and playback --------------------------------------------------------------------------
+export function draw() {
+  if (!state.shot) return;
+  const end = duration(state.shot);
+  $("scrubber").value = end ? Math.round(1000 * state.t / end) : 1000;
+  $("clock").textContent = `${state.t.toFixed(3)} s`;
+  const label = {range: show(state.shot.range, "length"), apex: `apex ${show(state.shot.apex_height, "length")}`};
+  drawStage($("stage"), state.shot, state.design, state.t,
+    {ghosts: state.ghosts, camera: state.camera, label, preview: state.preview});
+}
+
+let last = null;
+function frame(now) {
+  if (state.playing && state.shot) {
+    if (last !== null) state.t += state.speed * (now - last) / 1000;
+    if (state.t >= duration(state.shot)) { state.t = duration(state.shot); setPlaying(false); }
+    draw();
+  }
+  last = state.playing ? now : null;
+  requestAnimationFrame(frame);
+}
+
+function setPlaying(playing) {
+  state.playing = playing;
+  $("play").textContent = playing ? "Pause" : "Play";
+}
+
+// ---- designs: presets, files, links -----------------------------------------------------------------
+export function loadDesign(design, system = null) {
+  state.design = structuredClone(design);
+  if (system) setSystem(system);
+  fillForm($("fields"), state.design, state.meta.units, state.system);
+  requestShot();
+}
+
+function setSystem(system) {
+  state.system = system;
+  $("units").value = system;
+  localStorage.setItem("workbench.units", system);
+  for (const span of document.querySelectorAll(".unit[data-kind]")) {
+    span.textContent = unitLabel(state.meta.units, span.dataset.kind, system);
+  }
+}
+
+function onField(name, value) {
+  state.inputAt = performance.now();
+  setValue(state.design, name, value);
+  requestShot(true);
+}
+
+async function download() {
+  const response = await fetch("/api/toml", {method: "POST", headers: {"content-type": "application/json"},
+    body: JSON.stringify({design: state.design})});
+  if (!response.ok) return fieldError(await response.json());
+  const link = document.createElement("a");
+  link.href = URL.createObjectURL(await response.blob());
+  link.download = `${state.design.name || "design"}.toml`;
+  link.click();
+  URL.revokeObjectURL(link.href);
+}
+
+async function upload(file) {
+  const response = await fetch("/api/read", {method: "POST", body: await file.text()});
+  const data = await response.json();
+  if (!response.ok) return fieldError(data);
+  loadDesign(data.design);
+}
+
+function shareLink() {
+  const url = new URL(location.href);
+  url.hash = `design=${encodeURIComponent(JSON.stringify(state.design))}`;
+  $("share-link").hidden = false;
+  $("share-link").value = url.href;
+  $("share-link").select();
+  navigator.clipboard?.writeText(url.href).catch(() => {});
+}
+
+function designFromLink() {
+  const match = location.hash.match(/^#design=(.*)$/);
+  if (!match) return null;
+  try { return JSON.parse(decodeURIComponent(match[1])); } catch { return null; }
+}
+
+// ---- start -------------------------------------------------------------------------------------------
+async function start() {
+  const [meta, presets] = await Promise.all([fetch("/api/meta").then((r) => r.json()),
+    fetch("/api/presets").then((r) => r.json())]);
+  state.meta = meta; state.presets = presets;
+  buildForm($("fields"), meta.groups, onField);
+  $("preset").innerHTML = presets.map((p) => `<option value="${p.name}">${p.title}</option>`).join("");
+  $("preset").addEventListener("change", (e) => {
+    const preset = presets.find((p) => p.name === e.target.value);
+    loadDesign(preset.design);
+  });
+  $("units").addEventListener("change", (e) => {
+    setSystem(e.target.value);
+    fillForm($("fields"), state.design, state.meta.units, state.system);
+    if (state.shot) { readouts(state.shot, false); draw(); }
+  });
+  $("play").addEventListener("click", () => {
+    if (!state.playing && state.t >= duration(state.shot)) state.t = 0;
+    setPlaying(!state.playing);
+  });
+  $("scrubber").addEventListener("input", (e) => {
+    setPlaying(false); state.t = duration(state.shot) * e.target.value / 1000; draw();
+  });
+  $("speed").addEventListener("change", (e) => { state.speed = Number(e.target.value); });
+  $("camera").addEventListener("change", (e) => { state.camera = e.target.value; draw(); });
+  $("download").addEventListener("click", download);
+  $("upload").addEventListener("change", (e) => e.target.files[0] && upload(e.target.files[0]));
+  $("share").addEventListener("click", shareLink);
+  setSystem(localStorage.getItem("workbench.units") === "imperial" ? "imperial" : "metric");
+  setupTools(state, {loadDesign, requestShot, draw, show, fieldError, round});
+  loadDesign(designFromLink() ?? presets[0].design);
+  requestAnimationFrame(frame);
+  document.body.dataset.ready = "true";
+}
+
+start();
+window.workbench = {state, timings, latencies, readoutLatencies, draw};

@@ -1,0 +1,180 @@
+// The stage: the machine and its shot drawn to scale on a canvas from the shot's history (m, s).
+
+const COLORS = {arm: "#6b4226", frame: "#8a8a8a", weight: "#333", sling: "#b08d57", ball: "#c0392b",
+  path: "#c0392b", ghost: "#5d6d7e", engine: "#117a65", dimension: "#1f618d", ground: "#c9b98f"};
+
+// Index of the last sample at or before ``t`` in the sorted ``times``.
+function before(times, t) {
+  let low = 0, high = times.length - 1;
+  if (t <= times[0]) return 0;
+  if (t >= times[high]) return high;
+  while (high - low > 1) {
+    const mid = (low + high) >> 1;
+    if (times[mid] <= t) low = mid; else high = mid;
+  }
+  return low;
+}
+
+function lerp(a, b, f) { return [a[0] + (b[0] - a[0]) * f, a[1] + (b[1] - a[1]) * f]; }
+
+function at(times, points, t) {
+  const i = before(times, t);
+  const j = Math.min(i + 1, times.length - 1);
+  const f = j === i ? 0 : Math.max(0, Math.min(1, (t - times[i]) / (times[j] - times[i])));
+  return lerp(points[i], points[j], f);
+}
+
+// The shot's duration on the stage: to landing, or to the end of its history.
+export function duration(shot) {
+  const h = shot.history;
+  if (!h) return 0;
+  if (h.flight_t.length) return h.flight_t[h.flight_t.length - 1];
+  return h.t[h.t.length - 1];
+}
+
+// Where everything is at time ``t``: parts relative to the ground mark (frame_x added).
+export function pose(shot, t) {
+  const h = shot.history;
+  const i = before(h.t, Math.min(t, h.t[h.t.length - 1]));
+  const x = h.frame_x[i];
+  const shift = (p) => [p[0] + x, p[1]];
+  const parts = {};
+  for (const [name, points] of Object.entries(h.parts)) parts[name] = shift(at(h.t, points, Math.min(t, h.t[h.t.length - 1])));
+  parts.pivot = [x, 0];
+  const flying = h.flight_t.length && t > h.t[h.t.length - 1];
+  if (flying) parts.ball = at(h.flight_t, h.flight_path, t);
+  else parts.ball = parts.projectile;
+  parts.flying = flying;
+  return parts;
+}
+
+// The world window (m) that frames the machine, the trajectory and the ghosts.
+function fieldWindow(shot, design, ghosts) {
+  const m = design.machine;
+  const reach = m.arm_long + m.sling_length;
+  let xmin = -reach, xmax = reach, ymax = m.arm_long + m.sling_length;
+  const ymin = -m.pivot_height;
+  for (const path of [shot.history?.flight_path ?? [], ...ghosts.map((g) => g.path)]) {
+    for (const [x, y] of path) { xmin = Math.min(xmin, x); xmax = Math.max(xmax, x); ymax = Math.max(ymax, y); }
+  }
+  return {xmin, xmax, ymin, ymax};
+}
+
+function followWindow(parts, design) {
+  const m = design.machine;
+  const size = 0.8 * (m.arm_long + m.sling_length);
+  const cx = parts.flying ? parts.ball[0] : parts.pivot[0];
+  const cy = parts.flying ? parts.ball[1] : 0;
+  return {xmin: cx - size, xmax: cx + size, ymin: Math.min(-m.pivot_height, cy - size), ymax: cy + size};
+}
+
+// One scale for x and y (to scale), the window centred in the canvas with a margin.
+function transform(canvas, w) {
+  const margin = 28;
+  const sx = (canvas.width - 2 * margin) / (w.xmax - w.xmin);
+  const sy = (canvas.height - 2 * margin) / (w.ymax - w.ymin);
+  const s = Math.min(sx, sy);
+  const ox = margin + ((canvas.width - 2 * margin) - s * (w.xmax - w.xmin)) / 2 - s * w.xmin;
+  const oy = canvas.height - margin - ((canvas.height - 2 * margin) - s * (w.ymax - w.ymin)) / 2 + s * w.ymin;
+  return {s, X: (x) => ox + s * x, Y: (y) => oy - s * y};
+}
+
+function line(ctx, T, a, b, color, width) {
+  ctx.strokeStyle = color; ctx.lineWidth = width;
+  ctx.beginPath(); ctx.moveTo(T.X(a[0]), T.Y(a[1])); ctx.lineTo(T.X(b[0]), T.Y(b[1])); ctx.stroke();
+}
+
+function disc(ctx, T, p, radius, color, minimum = 3) {
+  ctx.fillStyle = color;
+  ctx.beginPath(); ctx.arc(T.X(p[0]), T.Y(p[1]), Math.max(minimum, radius * T.s), 0, 2 * Math.PI); ctx.fill();
+}
+
+function polyline(ctx, T, points, color, width, dash = []) {
+  if (!points.length) return;
+  ctx.strokeStyle = color; ctx.lineWidth = width; ctx.setLineDash(dash);
+  ctx.beginPath();
+  points.forEach(([x, y], i) => (i ? ctx.lineTo(T.X(x), T.Y(y)) : ctx.moveTo(T.X(x), T.Y(y))));
+  ctx.stroke(); ctx.setLineDash([]);
+}
+
+function drawMachine(ctx, T, parts, design) {
+  const m = design.machine;
+  const base = -m.pivot_height;
+  const foot = 0.45 * m.pivot_height;
+  const [px] = parts.pivot;
+  line(ctx, T, [px - foot, base], [px, 0], COLORS.frame, 3);
+  line(ctx, T, [px + foot, base], [px, 0], COLORS.frame, 3);
+  line(ctx, T, [px - foot * 1.2, base], [px + foot * 1.2, base], COLORS.frame, 4);
+  if (design.base && design.base.mobility === "rolling") {
+    for (const wx of [px - foot, px + foot]) {
+      ctx.strokeStyle = "#222"; ctx.lineWidth = 2; ctx.beginPath();
+      ctx.arc(T.X(wx), T.Y(base + 0.08 * m.pivot_height), 0.08 * m.pivot_height * T.s, 0, 2 * Math.PI); ctx.stroke();
+    }
+  }
+  const tip = parts.long_tip, short = parts.short_tip;
+  line(ctx, T, [short[0], short[1]], [tip[0], tip[1]], COLORS.arm, Math.max(3, 0.04 * m.arm_long * T.s));
+  line(ctx, T, short, parts.counterweight, "#555", 2);
+  const weightSize = 0.35 * m.counterweight_link;
+  ctx.fillStyle = COLORS.weight;
+  const [cx, cy] = parts.counterweight;
+  ctx.fillRect(T.X(cx) - weightSize * T.s, T.Y(cy) - weightSize * T.s, 2 * weightSize * T.s, 2 * weightSize * T.s);
+  if (!parts.flying) line(ctx, T, tip, parts.ball, COLORS.sling, 1.5);
+  disc(ctx, T, parts.pivot, 0.02 * m.arm_long, "#000");
+}
+
+function drawDimension(ctx, T, shot, design, label) {
+  if (shot.range === null) return;
+  const y = -design.machine.pivot_height;
+  const below = y - 14 / T.s;
+  line(ctx, T, [0, below], [shot.range, below], COLORS.dimension, 1);
+  line(ctx, T, [0, y], [0, below - 4 / T.s], COLORS.dimension, 1);
+  line(ctx, T, [shot.range, y], [shot.range, below - 4 / T.s], COLORS.dimension, 1);
+  ctx.fillStyle = COLORS.dimension; ctx.font = "13px sans-serif"; ctx.textAlign = "center";
+  ctx.fillText(label.range, T.X(shot.range / 2), T.Y(below) - 4);
+  const path = shot.history.flight_path;
+  let apex = path[0];
+  for (const p of path) if (p[1] > apex[1]) apex = p;
+  if (apex) {
+    line(ctx, T, [apex[0], apex[1]], [apex[0], y], COLORS.dimension, 0.5);
+    ctx.fillText(label.apex, T.X(apex[0]), T.Y(apex[1]) - 8);
+  }
+}
+
+// The canvas's pixels match its size on screen (one drawing pixel per device pixel), its height
+// ASPECT of its width, so that lines and labels keep their size on a phone as on a desktop.
+const ASPECT = 0.55;
+function fitToScreen(canvas) {
+  const ratio = window.devicePixelRatio || 1;
+  const width = Math.round(canvas.clientWidth * ratio);
+  if (width && canvas.width !== width) {
+    canvas.width = width;
+    canvas.height = Math.round(width * ASPECT);
+  }
+  canvas.getContext("2d").setTransform(1, 0, 0, 1, 0, 0);
+}
+
+// Draws ``shot`` at time ``t``; ``ghosts`` are earlier flights ({path}); ``label`` the texts of
+// the range and apex in the shown units.
+export function drawStage(canvas, shot, design, t, {ghosts = [], camera = "field", label, preview = null}) {
+  fitToScreen(canvas);
+  const ctx = canvas.getContext("2d");
+  ctx.clearRect(0, 0, canvas.width, canvas.height);
+  if (!shot || !shot.history) return;
+  const parts = pose(shot, t);
+  const w = camera === "follow" ? followWindow(parts, design) : fieldWindow(shot, design, ghosts);
+  const T = transform(canvas, w);
+  const ground = -design.machine.pivot_height;
+  ctx.fillStyle = COLORS.ground;
+  ctx.fillRect(0, T.Y(ground), canvas.width, canvas.height - T.Y(ground));
+  for (const ghost of ghosts) {
+    polyline(ctx, T, ghost.path, ghost.engine ? COLORS.engine : COLORS.ghost, 1.5, ghost.engine ? [2, 4] : [6, 5]);
+  }
+  if (preview) polyline(ctx, T, preview, "#7d3c98", 1.5, [2, 3]);
+  const h = shot.history;
+  const flown = h.flight_t.length ? h.flight_path.filter((_, i) => h.flight_t[i] <= t) : [];
+  polyline(ctx, T, [...h.parts.projectile.slice(0, before(h.t, t) + 1).map(([x, y], i) => [x + h.frame_x[i], y]), ...flown],
+    COLORS.path, 2);
+  drawMachine(ctx, T, parts, design);
+  disc(ctx, T, parts.ball, design.projectile.diameter / 2, COLORS.ball);
+  if (t >= duration(shot)) drawDimension(ctx, T, shot, design, label);
+}

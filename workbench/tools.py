@@ -1,0 +1,172 @@
+"""The page's tools, each a function of (design, inputs, job) over the library: best pin, aim, what-if, cross-check, optimise."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from analytic import fast
+from analytic.aim import aim, check_inputs, default_bounds
+from analytic.design import Design, DesignError
+from analytic.fields import Field, field
+from analytic.result import PEAK_NAMES
+
+from workbench.jobs import Job
+
+#: Release angles the best-pin scan shoots over the rule's span (then refined between the best's neighbours).
+BEST_PIN_POINTS = 89
+#: Shots a what-if sweep may ask for, and shots per progress step of the scans.
+MAX_SWEEP_STEPS = 201
+CHUNK = 16
+
+
+def _number(name: str, value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise DesignError(name, value, "must be a finite number")
+    return float(value)
+
+
+def _ranges(design: Design, target: Field, values: np.ndarray, job: Job, loads: bool = False):
+    """Each setting's fast shot, in chunks with progress: (range (NaN: no throw), status, peak loads)."""
+    designs, valid = [], []
+    for value in values:
+        try:
+            designs.append(target.replace(design, float(value)))
+            valid.append(True)
+        except DesignError:
+            valid.append(False)
+    ranges = np.full(len(values), np.nan)
+    status = np.array(["design_error"] * len(values), dtype=object)
+    peaks = {name: np.full(len(values), np.nan) for name in PEAK_NAMES}
+    where = np.flatnonzero(valid)
+    for start in range(0, len(designs), CHUNK):
+        job.check()
+        shots = fast.shoot(designs[start:start + CHUNK], loads=loads, threads=1)
+        index = where[start:start + CHUNK]
+        ranges[index] = np.where(shots.ok, shots.range, np.nan)
+        status[index] = [s.value for s in shots.status]
+        for name in PEAK_NAMES:
+            peaks[name][index] = getattr(shots, name)
+        job.progress = min(1.0, (start + CHUNK) / max(len(designs), 1))
+    return ranges, status, peaks
+
+
+def best_pin(design: Design, inputs: dict[str, Any], job: Job) -> dict[str, Any]:
+    """The release angle of the longest range: a scan over the rule's span, then a bounded refinement."""
+    from scipy.optimize import minimize_scalar
+
+    target = field("machine.release_angle")
+    low, high = default_bounds(target, design)
+    values = np.linspace(low, high, BEST_PIN_POINTS)
+    ranges, _, _ = _ranges(design, target, values, job)
+    if not np.isfinite(ranges).any():
+        return {"field": target.name, "value": None, "range": None, "values": values.tolist(),
+                "ranges": [None] * len(values)}
+    best = int(np.nanargmax(ranges))
+    a, b = values[max(best - 1, 0)], values[min(best + 1, len(values) - 1)]
+
+    def negative_range(angle: float) -> float:
+        shot = fast.simulate_fast(target.replace(design, angle), loads=False)
+        return -shot.range if shot.ok else math.inf
+
+    found = minimize_scalar(negative_range, bounds=(a, b), method="bounded", options={"xatol": 1e-3})
+    value, reach = (float(found.x), -float(found.fun)) if -found.fun >= ranges[best] else (values[best], ranges[best])
+    return {"field": target.name, "value": float(value), "range": float(reach), "values": values.tolist(),
+            "ranges": [None if math.isnan(r) else float(r) for r in ranges]}
+
+
+def aim_at(design: Design, inputs: dict[str, Any], job: Job) -> dict[str, Any]:
+    """``analytic.aim.aim``: the settings of one field that land on a target distance (m)."""
+    target_field = field(inputs.get("field", "machine.release_angle"))
+    target_field.check(design)
+    target = _number("target", inputs.get("target"))
+    bounds = default_bounds(target_field, design)
+    check_inputs(target, bounds, None)
+    job.check()
+    return aim(design, target_field.name, target, bounds=bounds).to_json()
+
+
+def what_if(design: Design, inputs: dict[str, Any], job: Job) -> dict[str, Any]:
+    """One field swept from ``low`` to ``high`` (file units): each setting's range and one peak load."""
+    target = field(inputs.get("field", ""))
+    target.check(design)
+    low, high = _number("low", inputs.get("low")), _number("high", inputs.get("high"))
+    if not low < high:
+        raise DesignError("low", low, f"must be below high ({high:g})")
+    steps = inputs.get("steps", 41)
+    if isinstance(steps, bool) or not isinstance(steps, int) or not 3 <= steps <= MAX_SWEEP_STEPS:
+        raise DesignError("steps", steps, f"must be a whole number from 3 to {MAX_SWEEP_STEPS}")
+    load = inputs.get("load", "peak_axle_load")
+    if load not in PEAK_NAMES:
+        raise DesignError("load", load, f"must be one of {', '.join(PEAK_NAMES)}")
+    values = np.linspace(low, high, steps)
+    ranges, status, peaks = _ranges(design, target, values, job, loads=True)
+
+    def listed(array: np.ndarray) -> list:
+        return [None if math.isnan(v) else float(v) for v in array]
+
+    return {"field": target.name, "load": load, "values": values.tolist(), "ranges": listed(ranges),
+            "loads": listed(peaks[load]), "status": status.tolist()}
+
+
+def cross_check(design: Design, inputs: dict[str, Any], job: Job) -> dict[str, Any]:
+    """The pymunk twin on this design beside the analytic model (``crosscheck.compare``)."""
+    import engine_model
+    from crosscheck import Case, compare
+
+    engine_shots = []
+
+    def engine(design: Design, dt: float):
+        """The engine as ``compare`` runs it, each shot kept (the last is the one compared)."""
+        job.check()
+        engine_shots.append(engine_model.simulate(design, dt=dt))
+        return engine_shots[-1]
+
+    comparison = compare(Case(design.name, design, "workbench"), engine=engine)
+    shot = engine_shots[-1] if engine_shots else None
+    flight = [] if shot is None or shot.history is None else np.round(shot.history.flight_path, 5).tolist()
+    return {**comparison.to_json(), "engine_flight_path": flight}
+
+
+#: The axle-load caps of the range-against-axle-load front, as fractions of the peak axle load
+#: of the unconstrained optimum (1: that optimum itself).
+FRONT_FRACTIONS = (1.0, 0.85, 0.7, 0.55, 0.4)
+
+
+def optimise_paper(design: Design, inputs: dict[str, Any], job: Job) -> dict[str, Any]:
+    """``analytic.optimise.optimise`` on the paper's problem; with ``"front": true`` also the
+    longest range under each of ``FRONT_FRACTIONS`` of the optimum's peak axle load (range
+    against peak axle load). Each point carries its design to adopt."""
+    import dataclasses
+
+    from analytic.design_file import design_to_dict
+    from analytic.design_space import default_problem, design_at
+    from analytic.optimise import optimise
+
+    problem = default_problem()
+    caps = [None] + (list(FRONT_FRACTIONS[1:]) if inputs.get("front") else [])
+    points, full_load = [], None
+    for index, fraction in enumerate(caps):
+        job.check()
+        limited = problem if fraction is None else dataclasses.replace(
+            problem, load_limits=(("axle_load", fraction * full_load),))
+        result = optimise(limited, workers=1)
+        label = "optimum"
+        peaks = result.peaks[label]
+        if fraction is None:
+            full_load = peaks["peak_axle_load"]
+        points.append({"axle_limit": None if fraction is None else fraction * full_load,
+                       "range": result.ranges[label], "peak_axle_load": peaks.get("peak_axle_load"),
+                       "design": design_to_dict(design_at(limited, result.optimum.values,
+                                                          name="optimum" if fraction is None
+                                                          else f"optimum-axle-{fraction:g}"))})
+        job.progress = (index + 1) / len(caps)
+    return {"points": points}
+
+
+
+#: The tools by the name the page asks for.
+TOOLS = {"best_pin": best_pin, "aim": aim_at, "what_if": what_if, "crosscheck": cross_check,
+         "optimise": optimise_paper}
