@@ -54,8 +54,8 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
         gives only the summary (status, lift-off, release, landing, apex), the
         same as the fast path ``analytic.fast.simulate_fast``, about 5x sooner;
         the numbers are identical either way.
-    loads : find the peak loads (on the continuous solution of stages 1-2, which
-        costs about as much again as a summary without them); False leaves them None.
+    loads : find the peak loads (on the continuous solution of stages 1-2: about a
+        third more than a summary without them); False leaves them None.
     after_release : on a rolling frame, run the machine on from release to landing for
         the frame's place there (``frame_landing_*``; stage 4, friction included: with
         friction several times the cost of a summary). None: with histories only, so
