@@ -173,3 +173,25 @@ def test_summary_is_the_fast_paths_with_the_same_keys(client):
     # far inside the readout's rounding (1 cm of 45 m).
     assert answer["range"] == pytest.approx(simulate(default_design()).range, rel=1e-6)
     assert client.post("/api/summary", json={"design": {"machine": {}}}).status_code == 400
+
+
+def test_shot_takes_the_pages_spacings_and_gives_the_same_shot_sampled_less_often(client):
+    sampling = client.get("/api/meta").json()["sampling"]
+    default = client.post("/api/shot", json={"design": tables()}).json()
+    coarse = client.post("/api/shot", json={"design": tables(), **sampling}).json()
+    assert len(coarse["history"]["t"]) < len(default["history"]["t"]) / 3
+    assert len(coarse["history"]["flight_t"]) < len(default["history"]["flight_t"]) / 3
+    # the same shot: its summary (none of the sampled extremes is among simulate --json's keys
+    # but min_sling_tension, refined on the continuous solution) and its last samples
+    assert {k: coarse[k] for k in JSON_KEYS if k != "min_sling_tension"} == {
+        k: default[k] for k in JSON_KEYS if k != "min_sling_tension"}
+    for key in ("t", "flight_t", "flight_path"):
+        assert coarse["history"][key][-1] == default["history"][key][-1]
+
+
+@pytest.mark.parametrize("name, value", [("sample_step", 1e-5), ("sample_step", "2 ms"), ("flight_sample_step", 10),
+                                         ("flight_sample_step", True)], ids=["fine", "text", "coarse", "bool"])
+def test_a_spacing_out_of_bounds_is_400_naming_it(client, name, value):
+    answer = client.post("/api/shot", json={"design": tables(), name: value})
+    assert answer.status_code == 400
+    assert answer.json()["field"] == name and name in answer.json()["error"]

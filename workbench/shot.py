@@ -9,7 +9,7 @@ import numpy as np
 from analytic.design import Design
 from analytic.fast import simulate_fast
 from analytic.geometry import machine_points
-from analytic.reference import simulate
+from analytic.reference import FLIGHT_OUTPUT_STEP, SWING_OUTPUT_STEP, simulate
 from analytic.result import Shot
 
 #: Decimals kept of a position (m) and a time (s) in ``history``: 10 um and 1 us, far below a
@@ -20,10 +20,27 @@ TIME_DECIMALS = 6
 DRAWN_PARTS = ("long_tip", "short_tip", "counterweight", "projectile")
 
 
-def shot_json(design: Design) -> dict[str, Any]:
+#: Spacings of the stage's history the page asks for, s (``simulate``'s ``sample_step`` and
+#: ``flight_sample_step``). The page draws at the screen's rate and interpolates linearly between
+#: samples: 2 ms through the swing is a sample about every frame at 1/10 speed, and its chords
+#: miss the arcs of an 8 m arm and sling whirling at 50 rad/s by under 1 mm (``r (w dt)^2 / 8``);
+#: 20 ms of flight miss the parabola by ``g dt^2 / 8`` = 0.5 mm. Both are well under a pixel of
+#: the stage, and a quarter of the default's samples through the swing.
+PAGE_SAMPLE_STEP = 2e-3
+PAGE_FLIGHT_SAMPLE_STEP = 2e-2
+#: The spacings a request may ask for, s: no finer than the reference path's own, no coarser
+#: than would leave a swing with a handful of samples.
+SAMPLE_STEP_BOUNDS = {"sample_step": (SWING_OUTPUT_STEP, 0.02), "flight_sample_step": (FLIGHT_OUTPUT_STEP, 0.2)}
+
+
+def shot_json(design: Design, sample_step: float | None = None,
+              flight_sample_step: float | None = None) -> dict[str, Any]:
     """The answer of ``POST /api/shot``: the keys of ``python -m analytic simulate --json``
-    (``Shot.to_json`` of the same reference shot) and ``history`` (``history_json``)."""
-    shot = simulate(design)
+    (``Shot.to_json`` of the same reference shot) and ``history`` (``history_json``), its
+    samples ``sample_step`` and ``flight_sample_step`` apart (None: the reference path's own).
+
+    The per-sample load histories are not computed: ``history_json`` does not send them."""
+    shot = simulate(design, sample_step=sample_step, flight_sample_step=flight_sample_step, sampled_loads=False)
     return {**shot.to_json(), "history": history_json(shot)}
 
 

@@ -22,14 +22,15 @@ export const latencies = [];
 export const readoutLatencies = [];
 let version = 0, shownVersion = 0;
 
-function channel(url, onAnswer) {
+// ``extra``: () => more keys of the request body.
+function channel(url, onAnswer, extra = () => ({})) {
   let inFlight = false, pending = false;
   const send = () => {
     if (inFlight) { pending = true; return null; }
     inFlight = true; pending = false;
     const mine = version, started = performance.now();
     return fetch(url, {method: "POST", headers: {"content-type": "application/json"},
-      body: JSON.stringify({design: state.design})})
+      body: JSON.stringify({design: state.design, ...extra()})})
       .then(async (response) => onAnswer(response, await response.json(), mine, started))
       .catch((error) => fieldError({error: `no answer from the server: ${error}`, field: ""}))
       .finally(() => { inFlight = false; if (pending) send(); });
@@ -54,7 +55,7 @@ const sendShot = channel("/api/shot", (response, data, mine, started) => {
   } else if (mine === version) {
     fieldError(data);
   }
-});
+}, () => state.meta.sampling);   // the history spaced for drawing (the server says why)
 
 // The shot is asked for once the summary is in: the server would otherwise hold the summary
 // behind the shot's Python work (one interpreter lock), several ms for each switch.

@@ -198,7 +198,7 @@ function plotSweep(state, api, result, kind) {
     const design = structuredClone(state.design);
     setValue(design, result.field, xs[i]);
     const response = await fetch("/api/shot", {method: "POST", headers: {"content-type": "application/json"},
-      body: JSON.stringify({design})});
+      body: JSON.stringify({design, ...state.meta.sampling})});
     if (previewed !== i) return;
     const shot = await response.json();
     state.preview = response.ok && shot.history ? shot.history.flight_path : null;
