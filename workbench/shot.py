@@ -54,8 +54,20 @@ def _rounded(values: np.ndarray, decimals: int) -> list:
     return np.round(np.asarray(values, dtype=float), decimals).tolist()
 
 
-def history_json(shot: Shot) -> dict[str, Any] | None:
-    """The sampled motion in ground coordinates (m from the pivot at rest, s from firing).
+def _every(t: np.ndarray, step: float | None) -> np.ndarray | slice:
+    """Indices of the samples of ``t`` about ``step`` apart (the first in each ``step`` of time,
+    and the last sample); all of them for None."""
+    if step is None or len(t) < 2:
+        return slice(None)
+    starts = np.flatnonzero(np.diff(np.floor(np.asarray(t) / step))) + 1
+    return np.unique(np.concatenate([[0], starts, [len(t) - 1]]))
+
+
+def history_json(shot: Shot, sample_step: float | None = None,
+                 flight_sample_step: float | None = None) -> dict[str, Any] | None:
+    """The sampled motion in ground coordinates (m from the pivot at rest, s from firing),
+    thinned to about ``sample_step`` and ``flight_sample_step`` (s; None: every sample), for a
+    shot sampled finely (the engine model's, on each of its steps).
 
     ``t`` (n,) and, on it, ``stage``, ``frame_x`` (n,) (zeros for a fixed frame) and each
     part of ``DRAWN_PARTS`` (n, 2) relative to the pivot; ``flight_t`` (k,) and
@@ -66,16 +78,17 @@ def history_json(shot: Shot) -> dict[str, Any] | None:
     history = shot.history
     if history is None:
         return None
-    points = machine_points(history.q, shot.design.machine)
+    keep, flown = _every(history.t, sample_step), _every(history.flight_t, flight_sample_step)
+    points = machine_points(history.q[keep], shot.design.machine)
     frame_x = history.frame_x if len(history.frame_x) == len(history.t) else np.zeros(len(history.t))
     released = shot.release_time is not None and shot.counterweight_energy_released is not None
     return {
-        "t": _rounded(history.t, TIME_DECIMALS),
-        "stage": [int(s) for s in history.stage],
-        "frame_x": _rounded(frame_x, POSITION_DECIMALS),
+        "t": _rounded(history.t[keep], TIME_DECIMALS),
+        "stage": [int(s) for s in history.stage[keep]],
+        "frame_x": _rounded(frame_x[keep], POSITION_DECIMALS),
         "parts": {name: _rounded(points[name], POSITION_DECIMALS) for name in DRAWN_PARTS},
-        "flight_t": _rounded(history.flight_t, TIME_DECIMALS),
-        "flight_path": _rounded(history.flight_path, POSITION_DECIMALS),
+        "flight_t": _rounded(history.flight_t[flown], TIME_DECIMALS),
+        "flight_path": _rounded(history.flight_path[flown], POSITION_DECIMALS),
         "energy": {
             "released": shot.counterweight_energy_released,
             "projectile": float(history.energy.projectile[-1]) if released else None,

@@ -5,7 +5,7 @@ import {setupTools} from "./tools.js";
 
 const $ = (id) => document.getElementById(id);
 export const state = {meta: null, presets: [], design: null, system: "metric", shot: null, ghosts: [],
-  t: 0, playing: false, speed: 0.1, camera: "field", preview: null};
+  t: 0, playing: false, speed: 0.1, camera: "field", preview: null, twin: null};
 
 // ---- units -------------------------------------------------------------------------------------
 export function show(value, kind, digits = 2) {
@@ -139,7 +139,7 @@ export function draw() {
   $("clock").textContent = `${state.t.toFixed(3)} s`;
   const label = {range: show(state.shot.range, "length"), apex: `apex ${show(state.shot.apex_height, "length")}`};
   drawStage($("stage"), state.shot, state.design, state.t,
-    {ghosts: state.ghosts, camera: state.camera, label, preview: state.preview});
+    {ghosts: state.ghosts, camera: state.camera, label, preview: state.preview, twin: state.twin});
 }
 
 let last = null;
@@ -161,6 +161,7 @@ function setPlaying(playing) {
 // ---- designs: presets, files, links -----------------------------------------------------------------
 export function loadDesign(design, system = null) {
   state.design = structuredClone(design);
+  state.twin = null;   // the engine's shot was of the design before
   if (system) setSystem(system);
   fillForm($("fields"), state.design, state.meta.units, state.system);
   requestShot();
@@ -177,6 +178,7 @@ function setSystem(system) {
 
 function onField(name, value) {
   state.inputAt = performance.now();
+  state.twin = null;
   setValue(state.design, name, value);
   requestShot(true);
 }
