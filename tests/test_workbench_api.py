@@ -9,6 +9,7 @@ import subprocess
 import sys
 import time
 
+import numpy as np
 import pytest
 from starlette.testclient import TestClient
 
@@ -195,3 +196,25 @@ def test_a_spacing_out_of_bounds_is_400_naming_it(client, name, value):
     answer = client.post("/api/shot", json={"design": tables(), name: value})
     assert answer.status_code == 400
     assert answer.json()["field"] == name and name in answer.json()["error"]
+
+
+@pytest.mark.parametrize("name", list(PRESETS))
+def test_the_pages_spacing_draws_each_preset_within_half_a_pixel(name):
+    from analytic.geometry import machine_points
+    from workbench.shot import PAGE_FLIGHT_SAMPLE_STEP, PAGE_SAMPLE_STEP
+
+    design = PRESETS[name][1]()
+    fine = simulate(design, sampled_loads=False)
+    coarse = simulate(design, sample_step=PAGE_SAMPLE_STEP, flight_sample_step=PAGE_FLIGHT_SAMPLE_STEP,
+                      sampled_loads=False)
+    # Half a pixel of the following camera (stage.js followWindow: 1.6 x 0.8 of arm and sling
+    # across) on a stage 900 pixels wide, the desktop's.
+    half_pixel = 0.5 * 1.6 * 0.8 * (design.machine.arm_long + design.machine.sling_length) / 900
+    drawn, true = machine_points(coarse.history.q, design.machine), machine_points(fine.history.q, design.machine)
+    for part in ("long_tip", "short_tip", "counterweight", "projectile"):
+        for k in (0, 1):   # the page draws the straight line between two samples
+            between = np.interp(fine.history.t, coarse.history.t, drawn[part][:, k])
+            assert np.max(np.abs(between - true[part][:, k])) < half_pixel, part
+    for k in (0, 1):
+        between = np.interp(fine.history.flight_t, coarse.history.flight_t, coarse.history.flight_path[:, k])
+        assert np.max(np.abs(between - fine.history.flight_path[:, k])) < half_pixel
