@@ -90,7 +90,7 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
     flight_spacing = _spacing("flight_sample_step", flight_sample_step, FLIGHT_OUTPUT_STEP)
     p = params(design)
     output_step = max(swing_spacing, p.t_limit / HISTORY_SAMPLE_LIMIT) if histories else None
-    _finish = functools.partial(_finish_shot, sampled_loads=sampled_loads)
+    finish = functools.partial(_finish_shot, sampled_loads=sampled_loads)
     machine = design.machine
     history = [] if histories else None
     segments = []
@@ -104,13 +104,13 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
         # underflow the model's products (a mass or length near the ends of the float range).
         if histories:
             history.append(_history(Stage.SLIDE, Segment(np.zeros(1), y1[None, :], None, 0.0, y1, {}), p))
-        return _finish(design, p, history, segments, Status.STEP_FAILED,
+        return finish(design, p, history, segments, Status.STEP_FAILED,
                        outcome.failure_message(Status.STEP_FAILED, detail=Stage.SLIDE))
     if not ddtheta0 < 0.0:
         if histories:
             history.append(_history(Stage.SLIDE, Segment(np.zeros(1), y1[None, :], None, 0.0, y1, {}), p))
         balance = friction.rest_balance(p) if friction.lossy(p) else ()
-        return _finish(design, p, history, segments, Status.NEVER_FIRES,
+        return finish(design, p, history, segments, Status.NEVER_FIRES,
                        outcome.failure_message(Status.NEVER_FIRES, fires=(ddtheta0, *balance)))
 
     stage = Stage.SLIDE
@@ -129,7 +129,7 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
             history.append(_history(Stage.SLIDE, slide, p))
         segments.append((Stage.SLIDE, slide))
         if action == sequence.FINISHED:
-            return _finish(design, p, history, segments, Status.NEVER_LIFTS_OFF,
+            return finish(design, p, history, segments, Status.NEVER_LIFTS_OFF,
                            outcome.failure_message(Status.NEVER_LIFTS_OFF, detail=detail, time_limit=p.t_limit),
                            **peak_fields(peaks))
 
@@ -150,10 +150,10 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
             history.append(_history(Stage.SWING, swing, p)[1:])   # the first is lift-off, already recorded
         segments.append((Stage.SWING, swing))
         if status == sequence.HITS_BASE:
-            return _finish(design, p, history, segments, Status.HITS_BASE_BEFORE_RELEASE,
+            return finish(design, p, history, segments, Status.HITS_BASE_BEFORE_RELEASE,
                            outcome.failure_message(Status.HITS_BASE_BEFORE_RELEASE, time=swing.t_end), **reached)
         if action == sequence.FINISHED:
-            return _finish(design, p, history, segments, Status.NEVER_RELEASES,
+            return finish(design, p, history, segments, Status.NEVER_RELEASES,
                            outcome.failure_message(Status.NEVER_RELEASES, time_limit=p.t_limit,
                                                    release=(machine.release_rule, machine.release_angle)), **reached)
 
@@ -178,13 +178,13 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
             if histories:
                 history.append(_history(stage, error.segment, p)[0 if stage is Stage.SLIDE else 1:])
             segments.append((stage, error.segment))
-        return _finish(design, p, history, segments, Status.STEP_FAILED,
+        return finish(design, p, history, segments, Status.STEP_FAILED,
                        outcome.failure_message(Status.STEP_FAILED, time=error.time, detail=stage,
                                                step_limit=error.step_limit), **reached)
     reached["drag_work"] = drag_work(flight, p)
     _, status, _ = sequence.stretch_end(Stage.FLIGHT, _code(Stage.FLIGHT, flight), switches[0])
     if status == sequence.NO_LANDING:
-        return _finish(design, p, history, segments, Status.NO_LANDING,
+        return finish(design, p, history, segments, Status.NO_LANDING,
                        outcome.failure_message(Status.NO_LANDING, time=t_max - release_time), **reached)
     apex = max([position[1]] + [y[1] for _, y in flight.roots["apex"]])
     landing = flight.y_end[:2]
@@ -193,7 +193,7 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
     elif histories if after_release is None else after_release:
         reached.update(_frame_after_release(p, swing.y_end, release_time, flight.t_end, rtol, atol,
                                             reached["frame_release_displacement"], velocity[0], output_step))
-    return _finish(design, p, history, segments, Status.OK, outcome.thrown_message(landing[0]), **reached,
+    return finish(design, p, history, segments, Status.OK, outcome.thrown_message(landing[0]), **reached,
                    landing_time=flight.t_end, landing_position=landing, apex_height=apex + p.h,
                    flight_t=flight.t, flight_path=flight.y[:, :2])
 
