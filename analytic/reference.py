@@ -8,6 +8,7 @@ and the sling tension for plots.
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -43,7 +44,9 @@ HISTORY_SAMPLE_LIMIT = 200_000
 # compiled path does silently with its plain floats; numpy's scalars would warn.
 @np.errstate(over="ignore", invalid="ignore", divide="ignore")
 def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAULT_ATOL,
-             histories: bool = True, loads: bool = True, after_release: bool | None = None) -> Shot:
+             histories: bool = True, loads: bool = True, after_release: bool | None = None,
+             sample_step: float | None = None, flight_sample_step: float | None = None,
+             sampled_loads: bool = True) -> Shot:
     """Simulate a shot of ``design`` through all three stages.
 
     Parameters
@@ -61,6 +64,17 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
         friction several times the cost of a summary). None: with histories only, so
         that a summary costs what it did and holds the fast path's numbers; False
         leaves them None. A fixed frame's are 0 either way.
+    sample_step, flight_sample_step : spacing of the histories of stages 1-2 and of the flight, s
+        (positive; None: ``SWING_OUTPUT_STEP``, ``FLIGHT_OUTPUT_STEP``). The integrator's steps,
+        and so every sample two spacings share, are the same either way (the samples are the
+        continuous solution read at other times). The summary is the same but for what is read
+        off the samples of stages 1-2:
+        ``min_ground_force``, ``max_frame_speed`` and the jump warning (a sampled extreme), and
+        ``min_sling_tension``, refined from the smallest sample (the same minimum where
+        the refinement finds it). A coarser spacing is for a caller that only draws the motion.
+    sampled_loads : record ``History.axle_load``, ``hinge_load`` and
+        ``projectile_acceleration`` on every sample (each a solve of the model's loads, in
+        Python); False leaves them None and changes nothing else.
 
     Returns
     -------
@@ -72,8 +86,11 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
         flight's steps), with histories or without; with histories
         ``energy.dissipated`` holds the friction's on every sample.
     """
+    swing_spacing = _spacing("sample_step", sample_step, SWING_OUTPUT_STEP)
+    flight_spacing = _spacing("flight_sample_step", flight_sample_step, FLIGHT_OUTPUT_STEP)
     p = params(design)
-    output_step = max(SWING_OUTPUT_STEP, p.t_limit / HISTORY_SAMPLE_LIMIT) if histories else None
+    output_step = max(swing_spacing, p.t_limit / HISTORY_SAMPLE_LIMIT) if histories else None
+    finish = functools.partial(_finish_shot, sampled_loads=sampled_loads)
     machine = design.machine
     history = [] if histories else None
     segments = []
@@ -87,13 +104,13 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
         # underflow the model's products (a mass or length near the ends of the float range).
         if histories:
             history.append(_history(Stage.SLIDE, Segment(np.zeros(1), y1[None, :], None, 0.0, y1, {}), p))
-        return _finish(design, p, history, segments, Status.STEP_FAILED,
+        return finish(design, p, history, segments, Status.STEP_FAILED,
                        outcome.failure_message(Status.STEP_FAILED, detail=Stage.SLIDE))
     if not ddtheta0 < 0.0:
         if histories:
             history.append(_history(Stage.SLIDE, Segment(np.zeros(1), y1[None, :], None, 0.0, y1, {}), p))
         balance = friction.rest_balance(p) if friction.lossy(p) else ()
-        return _finish(design, p, history, segments, Status.NEVER_FIRES,
+        return finish(design, p, history, segments, Status.NEVER_FIRES,
                        outcome.failure_message(Status.NEVER_FIRES, fires=(ddtheta0, *balance)))
 
     stage = Stage.SLIDE
@@ -112,7 +129,7 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
             history.append(_history(Stage.SLIDE, slide, p))
         segments.append((Stage.SLIDE, slide))
         if action == sequence.FINISHED:
-            return _finish(design, p, history, segments, Status.NEVER_LIFTS_OFF,
+            return finish(design, p, history, segments, Status.NEVER_LIFTS_OFF,
                            outcome.failure_message(Status.NEVER_LIFTS_OFF, detail=detail, time_limit=p.t_limit),
                            **peak_fields(peaks))
 
@@ -133,10 +150,10 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
             history.append(_history(Stage.SWING, swing, p)[1:])   # the first is lift-off, already recorded
         segments.append((Stage.SWING, swing))
         if status == sequence.HITS_BASE:
-            return _finish(design, p, history, segments, Status.HITS_BASE_BEFORE_RELEASE,
+            return finish(design, p, history, segments, Status.HITS_BASE_BEFORE_RELEASE,
                            outcome.failure_message(Status.HITS_BASE_BEFORE_RELEASE, time=swing.t_end), **reached)
         if action == sequence.FINISHED:
-            return _finish(design, p, history, segments, Status.NEVER_RELEASES,
+            return finish(design, p, history, segments, Status.NEVER_RELEASES,
                            outcome.failure_message(Status.NEVER_RELEASES, time_limit=p.t_limit,
                                                    release=(machine.release_rule, machine.release_angle)), **reached)
 
@@ -151,7 +168,7 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
         reached.update(release_time=release_time, release_position=position, release_velocity=velocity,
                        frame_release_displacement=frame_x, frame_release_velocity=frame_v)
         t_max = release_time + flight_time_limit(position[1] + p.h, velocity[1], p.g)
-        flight_step = (max(FLIGHT_OUTPUT_STEP, (t_max - release_time) / HISTORY_SAMPLE_LIMIT)
+        flight_step = (max(flight_spacing, (t_max - release_time) / HISTORY_SAMPLE_LIMIT)
                        if histories else None)
         # The continuous solution is kept for the drag's work (the steps are the same either way).
         flight = _run(stage, p, release_time, start, t_max, rtol, atol, flight_step, True)
@@ -161,13 +178,13 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
             if histories:
                 history.append(_history(stage, error.segment, p)[0 if stage is Stage.SLIDE else 1:])
             segments.append((stage, error.segment))
-        return _finish(design, p, history, segments, Status.STEP_FAILED,
+        return finish(design, p, history, segments, Status.STEP_FAILED,
                        outcome.failure_message(Status.STEP_FAILED, time=error.time, detail=stage,
                                                step_limit=error.step_limit), **reached)
     reached["drag_work"] = drag_work(flight, p)
     _, status, _ = sequence.stretch_end(Stage.FLIGHT, _code(Stage.FLIGHT, flight), switches[0])
     if status == sequence.NO_LANDING:
-        return _finish(design, p, history, segments, Status.NO_LANDING,
+        return finish(design, p, history, segments, Status.NO_LANDING,
                        outcome.failure_message(Status.NO_LANDING, time=t_max - release_time), **reached)
     apex = max([position[1]] + [y[1] for _, y in flight.roots["apex"]])
     landing = flight.y_end[:2]
@@ -176,9 +193,18 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
     elif histories if after_release is None else after_release:
         reached.update(_frame_after_release(p, swing.y_end, release_time, flight.t_end, rtol, atol,
                                             reached["frame_release_displacement"], velocity[0], output_step))
-    return _finish(design, p, history, segments, Status.OK, outcome.thrown_message(landing[0]), **reached,
+    return finish(design, p, history, segments, Status.OK, outcome.thrown_message(landing[0]), **reached,
                    landing_time=flight.t_end, landing_position=landing, apex_height=apex + p.h,
                    flight_t=flight.t, flight_path=flight.y[:, :2])
+
+
+def _spacing(name: str, value: float | None, default: float) -> float:
+    """A history spacing argument of ``simulate``, s: ``default`` for None, else a positive number."""
+    if value is None:
+        return default
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0.0 < value < math.inf:
+        raise ValueError(f"{name} = {value!r}: must be a positive number of seconds")
+    return float(value)
 
 
 def _frame_after_release(p: Params, release_state: np.ndarray, release_time: float, landing_time: float,
@@ -368,7 +394,8 @@ def _dissipated(p: Params, segments, drag: float) -> dict[str, float]:
     return dict(zip(LOSS_NAMES, (*work, drag), strict=True))
 
 
-def _finish(design: Design, p: Params, history, segments, status: Status, message: str, **fields) -> Shot:
+def _finish_shot(design: Design, p: Params, history, segments, status: Status, message: str, *,
+                 sampled_loads: bool = True, **fields) -> Shot:
     after_release = fields.pop("after_release_speed", None)
     warnings = tuple(filter(None, [fields.pop("after_release_warning", None)]))
     if history is None:   # summary only
@@ -405,7 +432,8 @@ def _finish(design: Design, p: Params, history, segments, status: Status, messag
     ground = np.array([eom.ground_force(*state, *stages.accelerations(int(k), y, p), p)
                        for k, state, y in zip(stage, states, raw, strict=True)])
     fields["min_ground_force"] = float(ground.min())
-    loads = np.array([stages.loads_at(int(k), y, p) for k, y in zip(stage, raw, strict=True)])   # (n, N_LOADS)
+    loads = (np.array([stages.loads_at(int(k), y, p) for k, y in zip(stage, raw, strict=True)])   # (n, N_LOADS)
+             if sampled_loads else None)
     if p.rolling and ground.min() < 0.0:
         warnings = (jump_warning(float(ground.min()), float(t[int(np.argmin(ground))]), p.g), *warnings)
     fields["warnings"] = warnings
@@ -419,7 +447,8 @@ def _finish(design: Design, p: Params, history, segments, status: Status, messag
                       sling_tension=tension, energy=energy, frame_x=frame_x if p.rolling else np.empty(0),
                       flight_t=fields.pop("flight_t", np.empty(0)),
                       flight_path=fields.pop("flight_path", np.empty((0, 2))),
-                      axle_load=loads[:, 0], hinge_load=loads[:, 1], projectile_acceleration=loads[:, 3])
+                      **({} if loads is None else
+                         {"axle_load": loads[:, 0], "hinge_load": loads[:, 1], "projectile_acceleration": loads[:, 3]}))
     return Shot(design, status, message, history=history,
                 # A machine that never moves (never fires, or its equations fail at rest) holds
                 # its projectile statically: no tension is defined.

@@ -78,9 +78,10 @@ def sling_tension_at(stage: Stage, y: np.ndarray, p: Params) -> float:
 def smallest_tension(t: np.ndarray, stage: np.ndarray, tension: np.ndarray, segments, p: Params) -> float:
     """The minimum of the sling tension, refined between the output samples.
 
-    The samples are ``SWING_OUTPUT_STEP`` apart while a push of the sling can
-    last about a millisecond, so the sampled minimum is refined by a bounded
-    scalar minimisation on the integrator's continuous solution around it.
+    The samples are ``SWING_OUTPUT_STEP`` (or ``simulate``'s ``sample_step``) apart
+    while a push of the sling can last about a millisecond, so the sampled minimum is
+    refined by a bounded scalar minimisation on the integrator's continuous solution
+    around it.
     """
     i = int(np.argmin(tension))
     stage_i = Stage(stage[i])

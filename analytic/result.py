@@ -75,7 +75,7 @@ class History:
     flight_t : (k,) flight sample times, s from firing; (0,) if the projectile never flew.
     flight_path : (k, 2) projectile centre in flight, m.
     axle_load, hinge_load, projectile_acceleration : (n,) the loads on ``t`` (N, N, m/s^2), or
-        None where the model does not record them (the engine model).
+        None where they are not recorded (the engine model; ``simulate(sampled_loads=False)``).
     """
 
     t: np.ndarray

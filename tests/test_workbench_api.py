@@ -9,6 +9,7 @@ import subprocess
 import sys
 import time
 
+import numpy as np
 import pytest
 from starlette.testclient import TestClient
 
@@ -173,3 +174,49 @@ def test_summary_is_the_fast_paths_with_the_same_keys(client):
     # far inside the readout's rounding (1 cm of 45 m).
     assert answer["range"] == pytest.approx(simulate(default_design()).range, rel=1e-6)
     assert client.post("/api/summary", json={"design": {"machine": {}}}).status_code == 400
+
+
+def test_shot_takes_the_pages_spacings_and_gives_the_same_shot_sampled_less_often(client):
+    sampling = client.get("/api/meta").json()["sampling"]
+    default = client.post("/api/shot", json={"design": tables()}).json()
+    coarse = client.post("/api/shot", json={"design": tables(), **sampling}).json()
+    assert len(coarse["history"]["t"]) < len(default["history"]["t"]) / 3
+    assert len(coarse["history"]["flight_t"]) < len(default["history"]["flight_t"]) / 3
+    # the same shot: its summary (of the sampled extremes only min_sling_tension is among
+    # simulate --json's keys, refined to the same minimum on the continuous solution from
+    # another sample: equal to the minimiser's round-off) and its last samples
+    assert {k: coarse[k] for k in JSON_KEYS if k != "min_sling_tension"} == {
+        k: default[k] for k in JSON_KEYS if k != "min_sling_tension"}
+    assert coarse["min_sling_tension"] == pytest.approx(default["min_sling_tension"], rel=1e-9)
+    for key in ("t", "flight_t", "flight_path"):
+        assert coarse["history"][key][-1] == default["history"][key][-1]
+
+
+@pytest.mark.parametrize("name, value", [("sample_step", 1e-5), ("sample_step", "2 ms"), ("flight_sample_step", 10),
+                                         ("flight_sample_step", True)], ids=["fine", "text", "coarse", "bool"])
+def test_a_spacing_out_of_bounds_is_400_naming_it(client, name, value):
+    answer = client.post("/api/shot", json={"design": tables(), name: value})
+    assert answer.status_code == 400
+    assert answer.json()["field"] == name and name in answer.json()["error"]
+
+
+@pytest.mark.parametrize("name", list(PRESETS))
+def test_the_pages_spacing_draws_each_preset_within_half_a_pixel(name):
+    from analytic.geometry import machine_points
+    from workbench.shot import PAGE_FLIGHT_SAMPLE_STEP, PAGE_SAMPLE_STEP
+
+    design = PRESETS[name][1]()
+    fine = simulate(design, sampled_loads=False)
+    coarse = simulate(design, sample_step=PAGE_SAMPLE_STEP, flight_sample_step=PAGE_FLIGHT_SAMPLE_STEP,
+                      sampled_loads=False)
+    # Half a pixel of the following camera (stage.js followWindow: 1.6 x 0.8 of arm and sling
+    # across) on a stage 900 pixels wide, the desktop's.
+    half_pixel = 0.5 * 1.6 * 0.8 * (design.machine.arm_long + design.machine.sling_length) / 900
+    drawn, true = machine_points(coarse.history.q, design.machine), machine_points(fine.history.q, design.machine)
+    for part in ("long_tip", "short_tip", "counterweight", "projectile"):
+        for k in (0, 1):   # the page draws the straight line between two samples
+            between = np.interp(fine.history.t, coarse.history.t, drawn[part][:, k])
+            assert np.max(np.abs(between - true[part][:, k])) < half_pixel, part
+    for k in (0, 1):
+        between = np.interp(fine.history.flight_t, coarse.history.flight_t, coarse.history.flight_path[:, k])
+        assert np.max(np.abs(between - fine.history.flight_path[:, k])) < half_pixel

@@ -271,8 +271,52 @@ def test_what_if_hover_previews_and_click_adopts(page, server):
     assert page.evaluate("window.workbench.state.shot.history.flight_path.length") > 1
 
 
+#: Pixels of the stage in the engine's colour (stage.js ``COLORS.engine``, #117a65), within
+#: antialiasing's blend of a few units per channel.
+ENGINE_PIXELS = """(() => {
+  const c = document.getElementById("stage"), d = c.getContext("2d").getImageData(0, 0, c.width, c.height).data;
+  let n = 0;
+  for (let i = 0; i < d.length; i += 4) if (Math.abs(d[i] - 17) < 10 && Math.abs(d[i + 1] - 122) < 10 && Math.abs(d[i + 2] - 101) < 10) n++;
+  return n;
+})()"""
+
+
+def pixels_in_engine_colour(page, t: float, twin: bool) -> int:
+    """The engine-coloured pixels of the stage drawn at ``t``, with or without the engine's machine."""
+    return page.evaluate(f"""(() => {{ const s = window.workbench.state, kept = s.twin;
+      if (!{str(twin).lower()}) s.twin = null;
+      s.t = {t}; window.workbench.draw(); const n = {ENGINE_PIXELS}; s.twin = kept; return n; }})()""")
+
+
 @pytest.mark.slow
-def test_ghosts_cross_check_and_optimise(page, server):
+def test_what_if_on_a_phone_a_tap_previews_and_a_second_tap_adopts(browser, server):
+    context = browser.new_context(viewport={"width": 390, "height": 844}, has_touch=True, is_mobile=True)
+    page = context.new_page()
+    open_page(page, server)
+    page.get_by_test_id("whatif").tap()
+    plot = page.get_by_test_id("whatif-plot")
+    plot.wait_for(state="visible", timeout=TOOL_WAIT)
+    box = plot.bounding_box()
+    where = {"x": box["width"] * 0.3, "y": box["height"] / 2}
+    before, count = page.evaluate("window.workbench.state.design.machine.sling_length"), shots(page)
+    plot.tap(position=where)
+    page.wait_for_function("window.workbench.state.preview && window.workbench.state.preview.length > 1",
+                           timeout=SHOT_WAIT)
+    assert page.evaluate("window.workbench.state.design.machine.sling_length") == before   # previewed only
+    assert shots(page) == count
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    page.screenshot(path=SHOTS / "phone-what-if-preview.png")
+    page.get_by_test_id("stage").screenshot(path=SHOTS / "phone-what-if-preview-stage.png")
+    plot.tap(position=where)
+    wait_for_next_shot(page, count)
+    adopted = page.evaluate("window.workbench.state.design.machine.sling_length")
+    assert adopted != before
+    assert page.input_value('[name="machine.sling_length"]') == f"{adopted:.6g}"
+    context.close()
+
+
+@pytest.mark.slow
+def test_ghosts_and_the_cross_check_shows_the_engines_swing_and_flight(page, server):
     open_page(page, server)
     page.get_by_test_id("ghost").click()
     assert page.get_by_test_id("ghost-count").inner_text() == "1 ghost"
@@ -286,16 +330,42 @@ def test_ghosts_cross_check_and_optimise(page, server):
     from crosscheck import tolerances
 
     assert abs(engine[-1][0] - analytic) <= tolerances.RANGE_REL * max(analytic, tolerances.RANGE_FLOOR)
+    # its swing: the engine's machine drawn mid-swing beside the analytic one, and gone with the ghosts
+    release = page.evaluate("window.workbench.state.shot.release_time")
+    # its swing ends at its release: the cross-check's event-time tolerance, plus the history's 1 us rounding
+    assert page.evaluate("window.workbench.state.twin.history.t.at(-1)") == pytest.approx(
+        release, abs=tolerances.EVENT_TIME + 1e-6)
+    with_twin, without = (pixels_in_engine_colour(page, 0.6 * release, twin) for twin in (True, False))
+    assert with_twin > without + 200, (with_twin, without)   # an arm, a sling and a ball: hundreds of pixels
+    page.get_by_test_id("camera").select_option("follow")
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    page.get_by_test_id("stage").screenshot(path=SHOTS / "desktop-crosscheck-mid-swing-stage.png")
     page.get_by_test_id("clear-ghosts").click()
     assert page.evaluate("window.workbench.state.ghosts.length") == 0
+    assert page.evaluate("window.workbench.state.twin") is None
+
+
+@pytest.mark.slow
+def test_range_against_axle_load_is_plotted_and_a_point_adopted(page, server):
+    open_page(page, server)
     page.get_by_test_id("front").click()
-    page.get_by_test_id("adopt-4").wait_for(timeout=TOOL_WAIT)
+    plot = page.get_by_test_id("front-plot")
+    plot.wait_for(state="visible", timeout=TOOL_WAIT)
     ranges = [float(cell.split()[0]) for cell in page.locator("#optimise-table td:nth-child(2)").all_inner_texts()]
     assert ranges == sorted(ranges, reverse=True)   # a tighter axle-load cap never throws farther
+    points = json.loads(plot.get_attribute("data-points"))
+    assert len(points) == len(ranges)
+    # drawn as a front: the longer the range, the higher its point (canvas y grows downwards)
+    assert [y for _, y in points] == sorted(y for _, y in points)
+    page.get_by_test_id("stage").scroll_into_view_if_needed()
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    plot.screenshot(path=SHOTS / "desktop-front-plot.png")
+    box = plot.bounding_box()
     count = shots(page)
-    page.get_by_test_id("adopt-0").click()
+    page.mouse.click(box["x"] + points[2][0], box["y"] + points[2][1])
     wait_for_next_shot(page, count)
-    assert range_shown(page)[0] == pytest.approx(ranges[0], abs=DISPLAY_ROUNDING)
+    assert range_shown(page)[0] == pytest.approx(ranges[2], abs=DISPLAY_ROUNDING)
+    assert page.get_by_test_id("front-pick").inner_text().startswith("adopted")
 
 
 @pytest.mark.parametrize("status", ["never_releases", "hits_base_before_release"])

@@ -19,7 +19,7 @@ from analytic.design_file import design_from_dict, design_to_dict, dumps_design
 from workbench.fields import fields_table, units_table
 from workbench.jobs import Jobs, TooMany
 from workbench.presets import presets_json
-from workbench.shot import shot_json, summary_json
+from workbench.shot import PAGE_FLIGHT_SAMPLE_STEP, PAGE_SAMPLE_STEP, SAMPLE_STEP_BOUNDS, shot_json, summary_json
 from workbench.tools import TOOLS
 
 STATIC = Path(__file__).with_name("static")
@@ -76,9 +76,20 @@ def design_of(data: dict[str, Any]):
 
 
 async def shot(request: Request) -> Response:
-    """``POST /api/shot``: ``simulate --json``'s keys and ``history``."""
-    design = design_of(await read_json(request))
-    return JSONResponse(await run_in_threadpool(shot_json, design))
+    """``POST /api/shot``: ``simulate --json``'s keys and ``history``; the body may set the
+    history's spacings, s (``"sample_step"``, ``"flight_sample_step"``, in ``SAMPLE_STEP_BOUNDS``)."""
+    data = await read_json(request)
+    design = design_of(data)
+    steps = {name: sample_step(name, data[name]) for name in SAMPLE_STEP_BOUNDS if name in data}
+    return JSONResponse(await run_in_threadpool(shot_json, design, **steps))
+
+
+def sample_step(name: str, value: Any) -> float:
+    """A history spacing of a shot request, s, checked against ``SAMPLE_STEP_BOUNDS``."""
+    low, high = SAMPLE_STEP_BOUNDS[name]
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not low <= value <= high:
+        raise BadRequest(f"{name} = {value!r}: must be a number of seconds from {low:g} to {high:g}", name)
+    return float(value)
 
 
 async def summary(request: Request) -> Response:
@@ -111,7 +122,9 @@ async def read_toml(request: Request) -> Response:
 
 
 async def meta(request: Request) -> Response:
-    return JSONResponse({"groups": fields_table(), "units": units_table()})
+    """``GET /api/meta``: the design fields, the units, and the history spacings the stage asks for."""
+    return JSONResponse({"groups": fields_table(), "units": units_table(),
+                         "sampling": {"sample_step": PAGE_SAMPLE_STEP, "flight_sample_step": PAGE_FLIGHT_SAMPLE_STEP}})
 
 
 async def presets(request: Request) -> Response:

@@ -9,7 +9,7 @@ import numpy as np
 from analytic.design import Design
 from analytic.fast import simulate_fast
 from analytic.geometry import machine_points
-from analytic.reference import simulate
+from analytic.reference import FLIGHT_OUTPUT_STEP, SWING_OUTPUT_STEP, simulate
 from analytic.result import Shot
 
 #: Decimals kept of a position (m) and a time (s) in ``history``: 10 um and 1 us, far below a
@@ -20,10 +20,28 @@ TIME_DECIMALS = 6
 DRAWN_PARTS = ("long_tip", "short_tip", "counterweight", "projectile")
 
 
-def shot_json(design: Design) -> dict[str, Any]:
+#: Spacings of the stage's history the page asks for, s (``simulate``'s ``sample_step`` and
+#: ``flight_sample_step``). The page draws at the screen's rate and interpolates linearly between
+#: samples: 2 ms through the swing is a sample about every frame at 1/10 speed. Drawn so, every
+#: preset's arm tips, counterweight and projectile stay within 0.4 mm of the reference path's own
+#: 0.5 ms samples through the swing and 1 mm of its 5 ms ones in flight: under half a pixel of the
+#: following camera on a 900-pixel stage (``tests/test_workbench_api.py`` checks it), at a
+#: quarter of the samples.
+PAGE_SAMPLE_STEP = 2e-3
+PAGE_FLIGHT_SAMPLE_STEP = 2e-2
+#: The spacings a request may ask for, s: no finer than the reference path's own, no coarser
+#: than would leave a swing with a handful of samples.
+SAMPLE_STEP_BOUNDS = {"sample_step": (SWING_OUTPUT_STEP, 0.02), "flight_sample_step": (FLIGHT_OUTPUT_STEP, 0.2)}
+
+
+def shot_json(design: Design, sample_step: float | None = None,
+              flight_sample_step: float | None = None) -> dict[str, Any]:
     """The answer of ``POST /api/shot``: the keys of ``python -m analytic simulate --json``
-    (``Shot.to_json`` of the same reference shot) and ``history`` (``history_json``)."""
-    shot = simulate(design)
+    (``Shot.to_json`` of the same reference shot) and ``history`` (``history_json``), its
+    samples ``sample_step`` and ``flight_sample_step`` apart (None: the reference path's own).
+
+    The per-sample load histories are not computed: ``history_json`` does not send them."""
+    shot = simulate(design, sample_step=sample_step, flight_sample_step=flight_sample_step, sampled_loads=False)
     return {**shot.to_json(), "history": history_json(shot)}
 
 
@@ -37,8 +55,20 @@ def _rounded(values: np.ndarray, decimals: int) -> list:
     return np.round(np.asarray(values, dtype=float), decimals).tolist()
 
 
-def history_json(shot: Shot) -> dict[str, Any] | None:
-    """The sampled motion in ground coordinates (m from the pivot at rest, s from firing).
+def _every(t: np.ndarray, step: float | None) -> np.ndarray | slice:
+    """Indices of the samples of ``t`` about ``step`` apart (the first in each ``step`` of time,
+    and the last sample); all of them for None."""
+    if step is None or len(t) < 2:
+        return slice(None)
+    starts = np.flatnonzero(np.diff(np.floor(np.asarray(t) / step))) + 1
+    return np.unique(np.concatenate([[0], starts, [len(t) - 1]]))
+
+
+def history_json(shot: Shot, sample_step: float | None = None,
+                 flight_sample_step: float | None = None) -> dict[str, Any] | None:
+    """The sampled motion in ground coordinates (m from the pivot at rest, s from firing),
+    thinned to about ``sample_step`` and ``flight_sample_step`` (s; None: every sample), for a
+    shot sampled finely (the engine model's, on each of its steps).
 
     ``t`` (n,) and, on it, ``stage``, ``frame_x`` (n,) (zeros for a fixed frame) and each
     part of ``DRAWN_PARTS`` (n, 2) relative to the pivot; ``flight_t`` (k,) and
@@ -49,16 +79,17 @@ def history_json(shot: Shot) -> dict[str, Any] | None:
     history = shot.history
     if history is None:
         return None
-    points = machine_points(history.q, shot.design.machine)
+    keep, flown = _every(history.t, sample_step), _every(history.flight_t, flight_sample_step)
+    points = machine_points(history.q[keep], shot.design.machine)
     frame_x = history.frame_x if len(history.frame_x) == len(history.t) else np.zeros(len(history.t))
     released = shot.release_time is not None and shot.counterweight_energy_released is not None
     return {
-        "t": _rounded(history.t, TIME_DECIMALS),
-        "stage": [int(s) for s in history.stage],
-        "frame_x": _rounded(frame_x, POSITION_DECIMALS),
+        "t": _rounded(history.t[keep], TIME_DECIMALS),
+        "stage": [int(s) for s in history.stage[keep]],
+        "frame_x": _rounded(frame_x[keep], POSITION_DECIMALS),
         "parts": {name: _rounded(points[name], POSITION_DECIMALS) for name in DRAWN_PARTS},
-        "flight_t": _rounded(history.flight_t, TIME_DECIMALS),
-        "flight_path": _rounded(history.flight_path, POSITION_DECIMALS),
+        "flight_t": _rounded(history.flight_t[flown], TIME_DECIMALS),
+        "flight_path": _rounded(history.flight_path[flown], POSITION_DECIMALS),
         "energy": {
             "released": shot.counterweight_energy_released,
             "projectile": float(history.energy.projectile[-1]) if released else None,

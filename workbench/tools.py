@@ -14,6 +14,7 @@ from analytic.fields import Field, field
 from analytic.result import PEAK_NAMES
 
 from workbench.jobs import Job
+from workbench.shot import PAGE_FLIGHT_SAMPLE_STEP, PAGE_SAMPLE_STEP, history_json
 
 #: Release angles the best-pin scan shoots over the rule's span (then refined between the best's neighbours).
 BEST_PIN_POINTS = 89
@@ -112,7 +113,9 @@ def what_if(design: Design, inputs: dict[str, Any], job: Job) -> dict[str, Any]:
 
 
 def cross_check(design: Design, inputs: dict[str, Any], job: Job) -> dict[str, Any]:
-    """The pymunk twin on this design beside the analytic model (``crosscheck.compare``)."""
+    """The pymunk twin on this design beside the analytic model (``crosscheck.compare``): the
+    agreement table and, under ``engine``, the engine's shot as the stage draws one (its swing
+    and flight, ``history_json``)."""
     import engine_model
     from crosscheck import Case, compare
 
@@ -126,8 +129,11 @@ def cross_check(design: Design, inputs: dict[str, Any], job: Job) -> dict[str, A
 
     comparison = compare(Case(design.name, design, "workbench"), engine=engine)
     shot = engine_shots[-1] if engine_shots else None
-    flight = [] if shot is None or shot.history is None else np.round(shot.history.flight_path, 5).tolist()
-    return {**comparison.to_json(), "engine_flight_path": flight}
+    drawn = None if shot is None or shot.history is None else {
+        "status": shot.status.value, "range": shot.range,
+        # the engine samples every step (0.1 ms): thinned to the stage's own spacing
+        "history": history_json(shot, PAGE_SAMPLE_STEP, PAGE_FLIGHT_SAMPLE_STEP)}
+    return {**comparison.to_json(), "engine": drawn}
 
 
 #: The axle-load caps of the range-against-axle-load front, as fractions of the peak axle load

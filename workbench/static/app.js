@@ -5,7 +5,7 @@ import {setupTools} from "./tools.js";
 
 const $ = (id) => document.getElementById(id);
 export const state = {meta: null, presets: [], design: null, system: "metric", shot: null, ghosts: [],
-  t: 0, playing: false, speed: 0.1, camera: "field", preview: null};
+  t: 0, playing: false, speed: 0.1, camera: "field", preview: null, twin: null};
 
 // ---- units -------------------------------------------------------------------------------------
 export function show(value, kind, digits = 2) {
@@ -22,14 +22,15 @@ export const latencies = [];
 export const readoutLatencies = [];
 let version = 0, shownVersion = 0;
 
-function channel(url, onAnswer) {
+// ``extra``: () => more keys of the request body.
+function channel(url, onAnswer, extra = () => ({})) {
   let inFlight = false, pending = false;
   const send = () => {
     if (inFlight) { pending = true; return null; }
     inFlight = true; pending = false;
     const mine = version, started = performance.now();
     return fetch(url, {method: "POST", headers: {"content-type": "application/json"},
-      body: JSON.stringify({design: state.design})})
+      body: JSON.stringify({design: state.design, ...extra()})})
       .then(async (response) => onAnswer(response, await response.json(), mine, started))
       .catch((error) => fieldError({error: `no answer from the server: ${error}`, field: ""}))
       .finally(() => { inFlight = false; if (pending) send(); });
@@ -54,7 +55,7 @@ const sendShot = channel("/api/shot", (response, data, mine, started) => {
   } else if (mine === version) {
     fieldError(data);
   }
-});
+}, () => state.meta.sampling);   // the history spaced for drawing (the server says why)
 
 // The shot is asked for once the summary is in: the server would otherwise hold the summary
 // behind the shot's Python work (one interpreter lock), several ms for each switch.
@@ -138,7 +139,7 @@ export function draw() {
   $("clock").textContent = `${state.t.toFixed(3)} s`;
   const label = {range: show(state.shot.range, "length"), apex: `apex ${show(state.shot.apex_height, "length")}`};
   drawStage($("stage"), state.shot, state.design, state.t,
-    {ghosts: state.ghosts, camera: state.camera, label, preview: state.preview});
+    {ghosts: state.ghosts, camera: state.camera, label, preview: state.preview, twin: state.twin});
 }
 
 let last = null;
@@ -160,6 +161,7 @@ function setPlaying(playing) {
 // ---- designs: presets, files, links -----------------------------------------------------------------
 export function loadDesign(design, system = null) {
   state.design = structuredClone(design);
+  state.twin = null;   // the engine's shot was of the design before
   if (system) setSystem(system);
   fillForm($("fields"), state.design, state.meta.units, state.system);
   requestShot();
@@ -176,6 +178,7 @@ function setSystem(system) {
 
 function onField(name, value) {
   state.inputAt = performance.now();
+  state.twin = null;
   setValue(state.design, name, value);
   requestShot(true);
 }

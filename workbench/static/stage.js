@@ -140,6 +140,22 @@ function drawDimension(ctx, T, shot, design, label) {
   }
 }
 
+// The engine's machine (the cross-check's pymunk twin) at the same time, in its colour over the
+// analytic one: arm, counterweight link, sling and projectile, and the projectile's path so far.
+function drawTwin(ctx, T, twin, design, t) {
+  const parts = pose(twin, t);
+  const h = twin.history;
+  const flown = h.flight_t.length ? h.flight_path.filter((_, i) => h.flight_t[i] <= t) : [];
+  polyline(ctx, T, [...h.parts.projectile.slice(0, before(h.t, t) + 1).map(([x, y], i) => [x + h.frame_x[i], y]),
+    ...flown], COLORS.engine, 1.5, [2, 4]);
+  line(ctx, T, parts.short_tip, parts.long_tip, COLORS.engine, 1.5);   // thinner: the analytic arm shows round it
+  line(ctx, T, parts.short_tip, parts.counterweight, COLORS.engine, 1.5);
+  if (!parts.flying) line(ctx, T, parts.long_tip, parts.ball, COLORS.engine, 1.5);
+  disc(ctx, T, parts.ball, design.projectile.diameter / 2, COLORS.engine);
+  ctx.fillStyle = COLORS.engine; ctx.font = "12px sans-serif"; ctx.textAlign = "left";
+  ctx.fillText("green: the engine's (pymunk) shot of this design", 8, 16);
+}
+
 // The canvas's pixels match its size on screen (one drawing pixel per device pixel), its height
 // ASPECT of its width, so that lines and labels keep their size on a phone as on a desktop.
 const ASPECT = 0.55;
@@ -154,8 +170,9 @@ function fitToScreen(canvas) {
 }
 
 // Draws ``shot`` at time ``t``; ``ghosts`` are earlier flights ({path}); ``label`` the texts of
-// the range and apex in the shown units.
-export function drawStage(canvas, shot, design, t, {ghosts = [], camera = "field", label, preview = null}) {
+// the range and apex in the shown units; ``twin`` the engine's shot of the same design ({history}).
+export function drawStage(canvas, shot, design, t, {ghosts = [], camera = "field", label, preview = null,
+  twin = null}) {
   fitToScreen(canvas);
   const ctx = canvas.getContext("2d");
   ctx.clearRect(0, 0, canvas.width, canvas.height);
@@ -176,5 +193,6 @@ export function drawStage(canvas, shot, design, t, {ghosts = [], camera = "field
     COLORS.path, 2);
   drawMachine(ctx, T, parts, design);
   disc(ctx, T, parts.ball, design.projectile.diameter / 2, COLORS.ball);
+  if (twin) drawTwin(ctx, T, twin, design, t);
   if (t >= duration(shot)) drawDimension(ctx, T, shot, design, label);
 }

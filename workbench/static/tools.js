@@ -98,6 +98,7 @@ export function setupTools(state, api) {
   });
   $("clear-ghosts").addEventListener("click", () => {
     state.ghosts = [];
+    state.twin = null;
     $("ghost-count").textContent = "0 ghosts";
     api.draw();
   });
@@ -105,7 +106,9 @@ export function setupTools(state, api) {
   for (const [button, front] of [["optimise", false], ["front", true]]) {
     $(button).addEventListener("click", async () => {
       const result = await runJob(state, "optimise", {front}, api);
-      if (result) optimiseTable(state, api, result.points);
+      if (!result) return;
+      optimiseTable(state, api, result.points);
+      if (front) frontPlot(state, api, result.points);
     });
   }
 
@@ -119,11 +122,11 @@ export function setupTools(state, api) {
       + `${result.error ? `: ${result.error}` : ""}</caption><tr><th>quantity</th><th>analytic</th><th>engine</th>`
       + `<th>difference</th><th>tolerance</th><th>unit</th><th></th></tr>${rows}`;
     $("crosscheck-table").hidden = false;
-    if (result.engine_flight_path.length) {   // the engine's flight beside the analytic one
-      state.ghosts = state.ghosts.filter((g) => !g.engine);
-      state.ghosts.push({path: result.engine_flight_path, engine: true});
-      api.draw();
-    }
+    // The engine's shot beside the analytic one: its machine swinging on the stage, its flight a ghost.
+    state.ghosts = state.ghosts.filter((g) => !g.engine);
+    state.twin = result.engine;
+    if (result.engine?.history.flight_path.length) state.ghosts.push({path: result.engine.history.flight_path, engine: true});
+    api.draw();
   });
 }
 
@@ -140,6 +143,70 @@ function optimiseTable(state, api, points) {
     table.append(row);
   });
   table.hidden = false;
+}
+
+// The front of range against peak axle load: a point per optimum, nearest point to a click
+// (or a second tap: the first picks it) adopted. Each point's place, in the canvas's CSS pixels,
+// is in its ``data-points`` (what a click must hit).
+const PICK_RADIUS = 24;   // canvas pixels: a fingertip
+function frontPlot(state, api, points) {
+  const canvas = $("front-plot");
+  canvas.hidden = false;
+  const ctx = canvas.getContext("2d");
+  const m = 36, W = canvas.width, H = canvas.height;
+  const shown = points.filter((p) => p.range !== null && p.peak_axle_load !== null);
+  const loads = shown.map((p) => p.peak_axle_load), ranges = shown.map((p) => p.range);
+  const span = (a) => { const lo = Math.min(...a), hi = Math.max(...a); const pad = 0.08 * (hi - lo || hi || 1); return [lo - pad, hi + pad]; };
+  const [x0, x1] = span(loads), [y0, y1] = span(ranges);
+  const X = (v) => m + (W - 2 * m) * (v - x0) / (x1 - x0);
+  const Y = (v) => H - m - (H - 2 * m) * (v - y0) / (y1 - y0);
+  const at = shown.map((p) => [X(p.peak_axle_load), Y(p.range)]);
+  const describe = (p) => `range ${api.show(p.range, "length")} at peak axle load ${api.show(p.peak_axle_load, "force", 0)}`
+    + (p.axle_limit === null ? " (no cap)" : ` (cap ${api.show(p.axle_limit, "force", 0)})`);
+  const redraw = (picked) => {
+    ctx.clearRect(0, 0, W, H);
+    ctx.strokeStyle = "#999"; ctx.lineWidth = 1;
+    ctx.beginPath(); ctx.moveTo(m, m / 2); ctx.lineTo(m, H - m); ctx.lineTo(W - m / 2, H - m); ctx.stroke();
+    ctx.fillStyle = "#333"; ctx.font = "11px sans-serif"; ctx.textAlign = "left";
+    ctx.fillText(`range ${api.show(y0, "length", 1)} .. ${api.show(y1, "length", 1)}`, m + 4, 12);
+    ctx.textAlign = "center";
+    ctx.fillText(`peak axle load ${api.show(x0, "force", 0)} .. ${api.show(x1, "force", 0)}`, W / 2, H - 10);
+    const order = at.map((_, i) => i).sort((a, b) => loads[a] - loads[b]);
+    ctx.strokeStyle = "#c0392b"; ctx.lineWidth = 1.5; ctx.beginPath();
+    order.forEach((i, k) => (k ? ctx.lineTo(...at[i]) : ctx.moveTo(...at[i])));
+    ctx.stroke();
+    at.forEach(([x, y], i) => {
+      ctx.fillStyle = i === picked ? "#7d3c98" : "#c0392b";
+      ctx.beginPath(); ctx.arc(x, y, i === picked ? 8 : 6, 0, 2 * Math.PI); ctx.fill();
+    });
+  };
+  redraw(-1);
+  const scale = () => canvas.clientWidth / canvas.width;
+  canvas.dataset.points = JSON.stringify(at.map(([x, y]) => [x * scale(), y * scale()]));
+  const nearest = (event) => {
+    const x = event.offsetX / scale(), y = event.offsetY / scale();
+    let best = -1, distance = PICK_RADIUS;
+    at.forEach(([px, py], i) => { const d = Math.hypot(px - x, py - y); if (d <= distance) { best = i; distance = d; } });
+    return best;
+  };
+  const pick = (i) => {
+    redraw(i);
+    $("front-pick").hidden = i < 0;
+    if (i >= 0) $("front-pick").textContent = `${describe(shown[i])}: click to adopt`;
+  };
+  let touch = false, picked = -1;
+  canvas.onpointerdown = (event) => { touch = event.pointerType !== "mouse"; };
+  canvas.onpointermove = (event) => { if (event.pointerType === "mouse") { picked = nearest(event); pick(picked); } };
+  canvas.onclick = (event) => {
+    const i = nearest(event);
+    if (i < 0) return;
+    if (touch && i !== picked) { picked = i; pick(i); return; }   // a finger's first tap picks
+    picked = -1;
+    redraw(i);
+    $("front-pick").hidden = false;
+    $("front-pick").textContent = `adopted: ${describe(shown[i])}`;
+    api.loadDesign(shown[i].design);
+  };
 }
 
 function fmt(value) {
@@ -190,20 +257,33 @@ function plotSweep(state, api, result, kind) {
     return Math.max(0, Math.min(xs.length - 1, Math.round((x - m) / (W - 2 * m) * (xs.length - 1))));
   };
   let previewed = -1;
-  canvas.onmousemove = async (event) => {
-    const i = index(event);
+  const preview = async (i) => {
     redraw(i);
     if (i === previewed) return;
     previewed = i;
     const design = structuredClone(state.design);
     setValue(design, result.field, xs[i]);
     const response = await fetch("/api/shot", {method: "POST", headers: {"content-type": "application/json"},
-      body: JSON.stringify({design})});
+      body: JSON.stringify({design, ...state.meta.sampling})});
     if (previewed !== i) return;
     const shot = await response.json();
     state.preview = response.ok && shot.history ? shot.history.flight_path : null;
     api.draw();
   };
-  canvas.onmouseleave = () => { previewed = -1; state.preview = null; redraw(null); api.draw(); };
-  canvas.onclick = (event) => { state.preview = null; adoptValue(state, api, result.field, xs[index(event)]); };
+  // A mouse previews by hovering and adopts by clicking. A finger cannot hover: its first tap on a
+  // value previews it, a second tap on the same value adopts it (a tap elsewhere previews that).
+  let touch = false;
+  canvas.onpointerdown = (event) => { touch = event.pointerType !== "mouse"; };
+  canvas.onpointermove = (event) => { if (event.pointerType === "mouse") preview(index(event)); };
+  canvas.onpointerleave = (event) => {
+    if (event.pointerType !== "mouse") return;
+    previewed = -1; state.preview = null; redraw(null); api.draw();
+  };
+  canvas.onclick = (event) => {
+    const i = index(event);
+    if (touch && i !== previewed) { preview(i); return; }
+    previewed = -1; state.preview = null;
+    adoptValue(state, api, result.field, xs[i]);
+  };
+  $("whatif-hint").hidden = false;
 }
