@@ -157,3 +157,12 @@ def positive_float(text: str) -> float:
     if not 0.0 < value < float("inf"):
         raise argparse.ArgumentTypeError(f"{text} must be a positive number")
     return value
+
+
+def units_argument(parser: argparse.ArgumentParser, what: str = "the printed text") -> None:
+    """``--units metric|imperial``: the units of ``what``; JSON and CSV stay SI. Its default (None) is the
+    design file's own units (``analytic.design_file.chosen_units``)."""
+    parser.add_argument("--units", choices=("metric", "imperial"), default=None,
+                        help=f"units of {what} and of bare numbers on the command line (imperial: ft, lb, "
+                             f"ft/s, lbf); JSON and CSV stay SI. Default: the units the design file is "
+                             f"mostly written in, else metric")
