@@ -18,6 +18,7 @@ import numpy as np
 
 from analytic.design import DesignError
 from analytic.sweep import analyses, plot, storage
+from analytic.units import display
 
 
 @dataclass(frozen=True)
