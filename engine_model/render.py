@@ -412,7 +412,7 @@ def render_shot(shot: Shot, out_dir: str | Path, *, fps: float = DEFAULT_FPS,
     -------
     The frame paths, in order.
     """
-    from tqdm import tqdm
+    from analytic.cli_shared import progress_bar
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -420,7 +420,7 @@ def render_shot(shot: Shot, out_dir: str | Path, *, fps: float = DEFAULT_FPS,
     view = camera(shot.design, frame_state(shot, float(times[-1])))
     drawing = _Drawing(shot.design)
     paths, frames = [], []
-    for i, (time, speed) in enumerate(tqdm(list(zip(times, speeds)), desc="frames", unit="frame",
+    for i, (time, speed) in enumerate(progress_bar(list(zip(times, speeds)), desc="frames", unit="frame",
                                            disable=not progress, file=sys.stderr)):
         drawing.draw(frame_state(shot, float(time)), view, float(speed), shot)
         path = out / f"frame_{i:05d}.png"
@@ -446,12 +446,12 @@ def write_gif(frames: list[np.ndarray], path: Path, fps: float, progress: bool =
     took 20 times as long and let the colours flicker between frames.
     """
     from PIL import Image
-    from tqdm import tqdm
+    from analytic.cli_shared import progress_bar
 
     sample = np.concatenate([frames[0], frames[len(frames) // 2], frames[-1]], axis=0)
     palette = Image.fromarray(sample, "RGB").quantize(256, method=Image.Quantize.MEDIANCUT,
                                                       dither=Image.Dither.NONE)
-    with tqdm(total=len(frames) + 1, desc=f"writing {path.name}", unit="frame", disable=not progress,
+    with progress_bar(total=len(frames) + 1, desc=f"writing {path.name}", unit="frame", disable=not progress,
               file=sys.stderr) as bar:
         images = []
         for frame in frames:
@@ -469,13 +469,13 @@ def write_mp4(frames: list[np.ndarray], path: Path, fps: float, progress: bool =
     file 11 % smaller (these flat, mostly still frames gain nothing from the slower searches).
     """
     import imageio_ffmpeg
-    from tqdm import tqdm
+    from analytic.cli_shared import progress_bar
 
     rows, columns = frames[0].shape[:2]
     writer = imageio_ffmpeg.write_frames(str(path), (columns, rows), fps=fps, codec="libx264",
                                          macro_block_size=2, ffmpeg_log_level="error",
                                          output_params=["-fflags", "+bitexact", "-preset", "veryfast"])
     writer.send(None)
-    for frame in tqdm(frames, desc=f"writing {path.name}", unit="frame", disable=not progress, file=sys.stderr):
+    for frame in progress_bar(frames, desc=f"writing {path.name}", unit="frame", disable=not progress, file=sys.stderr):
         writer.send(np.ascontiguousarray(frame))
     writer.close()
