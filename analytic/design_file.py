@@ -66,14 +66,19 @@ def design_from_dict(data: dict[str, Any], name: str = "design") -> Design:
 
 def written_texts(data: dict[str, Any], table: str = "") -> dict[str, str]:
     """Every value of a file's tables written as a text (``"-200 lb"``), by its place (``machine.counterweight_mass``)."""
-    texts = {}
+    return dict(_texts(data, table))
+
+
+def _texts(data: dict[str, Any], table: str = ""):
+    """(place, text) for every text value of ``data``, its tables and its arrays of tables (``[[shot]]``)."""
     for key, value in data.items():
         place = f"{table}.{key}" if table else key
-        if isinstance(value, dict):
-            texts.update(written_texts(value, place))
-        elif isinstance(value, str):
-            texts[place] = value
-    return texts
+        items = value if isinstance(value, list) else [value]
+        for item in items:
+            if isinstance(item, dict):
+                yield from _texts(item, place)
+            elif isinstance(item, str):
+                yield place, item
 
 
 def as_written(error: DesignError, texts: dict[str, str]) -> DesignError:
@@ -103,7 +108,7 @@ def chosen_units(given: str | None, path: str | Path | None) -> str:
 def file_system(path: str | Path) -> str:
     """The unit system a design file is mostly written in (``analytic.units.written_system`` over its
     lengths, masses, speeds and forces with units), ``metric`` if it gives none: the default of ``--units``."""
-    texts = [text for place, text in written_texts(read_toml(path)).items() if kind_of(place) in SYSTEM_KINDS]
+    texts = [text for place, text in _texts(read_toml(path)) if kind_of(place) in SYSTEM_KINDS]
     return written_system(texts)
 
 

@@ -22,7 +22,7 @@ _LABEL_UNIT = re.compile(r"\(([^()]*)\)\s*$")
 _FIGURE = re.compile(r"(-?\d+(?:\.(\d+))?) (m/s\^2|m/s|m|kg|N|J)(?![\w/])")
 
 
-class _ShownLocator(MaxNLocator):
+class ShownLocator(MaxNLocator):
     """Ticks at round numbers of the shown unit (``factor`` shown units per SI unit)."""
 
     def __init__(self, factor: float):
@@ -52,7 +52,7 @@ def in_units(figure, system: str):
             if match is None or match.group(1) not in SYSTEMS[system]:
                 continue
             factor, shown = display(1.0, match.group(1), system)
-            axis.set_major_locator(_ShownLocator(factor))
+            axis.set_major_locator(ShownLocator(factor))
             axis.set_major_formatter(FuncFormatter(lambda value, _, f=factor: f"{value * f:.6g}"))
             axis.set_label_text(axis.get_label_text()[:match.start()] + f"({shown})")
         ax.set_title(shown_text(ax.get_title(), system))

@@ -66,7 +66,8 @@ def _render(args: argparse.Namespace) -> int:
     if isinstance(shot, int):
         return shot
     frames = render_shot(shot, args.out, fps=args.fps, swing_slow_motion=args.slow_motion,
-                         gif=args.gif, mp4=args.mp4, progress=not args.quiet)
+                         gif=args.gif, mp4=args.mp4, progress=not args.quiet,
+                         units=chosen_units(args.units, args.design))
     movies = [name for name, asked in (("shot.gif", args.gif), ("shot.mp4", args.mp4)) if asked]
     print(f"the shot drawn from the engine: {len(frames)} frames written to {args.out}"
           + (f" (and {', '.join(movies)})" if movies else ""))
@@ -103,6 +104,7 @@ def build_parser() -> argparse.ArgumentParser:
     ren.add_argument("--gif", action="store_true", help="also write shot.gif")
     ren.add_argument("--mp4", action="store_true", help="also write shot.mp4 (H.264, ffmpeg from imageio-ffmpeg)")
     ren.add_argument("--quiet", action="store_true", help="no progress bar")
+    units_argument(ren, "the frames' ground scale, landing mark and summary")
     ren.set_defaults(func=_render)
     return parser
 

@@ -116,3 +116,27 @@ def test_the_engines_table_is_shown_in_the_chosen_units(capsys):
     line = next(line for line in imperial.splitlines() if line.startswith("range from pivot"))
     assert line.endswith("ft") and float(line.split()[-2]) == pytest.approx(metric["range"] / FOOT, abs=1e-4)
     assert math.isfinite(metric["range"])
+
+
+def test_calibrate_prints_its_shots_in_the_chosen_units(capsys):
+    from support import DATA
+
+    shots = str(DATA / "calibration" / "prototype.toml")   # one shot: 26.8 m measured, +- 0.5 m
+    assert main(["calibrate", shots, "--units", "imperial", "--quiet"]) == EXIT_OK
+    line = next(line for line in capsys.readouterr().out.splitlines() if line.strip().startswith("range"))
+    assert f"measured {26.8 / FOOT:.4f} +- {0.5 / FOOT:.4g} ft" in line and line.count(" ft") == 3, line
+    assert main(["calibrate", shots, "--units", "imperial", "--quiet", "--json"]) == EXIT_OK
+    data = json.loads(capsys.readouterr().out)
+    assert data["shots"][0]["measured"] == 26.8 and data["units"]["json"].startswith("SI")
+
+
+def test_the_optimise_report_is_written_in_the_chosen_units(tmp_path, capsys):
+    import tomli_w
+
+    from support import release_angle_problem_dict
+
+    problem = tmp_path / "release-angle.toml"
+    problem.write_text(tomli_w.dumps(release_angle_problem_dict()))
+    assert main(["optimise", str(problem), "--units", "imperial", "--out", str(tmp_path / "out"), "--quiet"]) == 0
+    report = (tmp_path / "out" / "report.txt").read_text()
+    assert "lengths in, angles deg" in report and "range (ft)" in report and "axle load (lbf)" in report
