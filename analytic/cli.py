@@ -165,7 +165,7 @@ def build_parser() -> argparse.ArgumentParser:
     aim.add_argument("--adjust", required=True, metavar="FIELD",
                      help="the field to set, dotted (machine.release_angle, projectile.mass) or a machine name")
     aim.add_argument("--bounds", metavar="LOW:HIGH",
-                     help="settings to search, file units or with units (30:60, 2kg:10kg; default: see README)")
+                     help="settings to search, bare in --units or with units (30:60, 2kg:10kg; default: see README)")
     aim.add_argument("--within", metavar="D", help="also report the settings landing within D of the target")
     aim.add_argument("--json", action="store_true", help="print one JSON object (SI, angles in degrees)")
     units_argument(aim)
