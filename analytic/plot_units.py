@@ -3,8 +3,8 @@
 The plotting modules draw in SI; this converts at the very edge, as the
 tick labels are made: each axis whose label ends in an SI unit in brackets
 (``range (m)``) gets ticks placed at round numbers of the shown unit and
-labelled in it, and every figure in a title followed by an SI unit
-(``range 133.33 m``) is rewritten in the shown unit with as many decimals.
+labelled in it, and every figure in a title or legend followed by an SI unit
+(``range 133.33 m``) is rewritten in the shown unit to as many significant digits.
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ from analytic.units import SYSTEMS, display
 #: An axis label's unit: the last bracket of the label.
 _LABEL_UNIT = re.compile(r"\(([^()]*)\)\s*$")
 #: A figure followed by an SI unit in a title: ``133.33 m``, ``-3.9 N``.
-_FIGURE = re.compile(r"(-?\d+(?:\.(\d+))?) (m/s\^2|m/s|m|kg|N|J)(?![\w/])")
+_FIGURE = re.compile(r"(?<![\w.+-])(-?\d+(?:\.(\d+))?) (m/s\^2|m/s|m|kg|N|J)(?![\w/])")
 
 
 class ShownLocator(MaxNLocator):
@@ -34,10 +34,12 @@ class ShownLocator(MaxNLocator):
 
 
 def shown_text(text: str, system: str) -> str:
-    """``text`` with each figure followed by an SI unit in ``system``'s unit, to as many decimals."""
+    """``text`` with each figure followed by an SI unit in ``system``'s unit, to as many significant
+    digits (the figure was rounded to them: more would show the rounding's error, 3.3 times larger in ft)."""
     def convert(match: re.Match) -> str:
         number, shown = display(float(match.group(1)), match.group(3), system)
-        return f"{number:.{len(match.group(2) or '')}f} {shown}"
+        digits = max(2, len(match.group(1).lstrip("-").replace(".", "").lstrip("0")))
+        return f"{number:#.{digits}g}".rstrip(".") + f" {shown}"
 
     return _FIGURE.sub(convert, text)
 
@@ -57,6 +59,7 @@ def in_units(figure, system: str):
             axis.set_label_text(axis.get_label_text()[:match.start()] + f"({shown})")
         ax.set_title(shown_text(ax.get_title(), system))
         for text in ax.get_legend().get_texts() if ax.get_legend() is not None else ():
+            text.set_text(shown_text(text.get_text(), system))
             match = _LABEL_UNIT.search(text.get_text())
             if match is not None and match.group(1) in SYSTEMS[system]:
                 text.set_text(text.get_text()[:match.start()] + f"({SYSTEMS[system][match.group(1)][0]})")

@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from analytic.design import DesignError
+from analytic.plot_units import in_units
 from analytic.sweep import analyses, plot, storage
 from analytic.units import display
 
@@ -63,7 +64,8 @@ def make_report(results: str | Path, out: str | Path | None = None, distances=No
     out : where to write (default ``RESULTS/_report``, which pyarrow's dataset reader skips).
     distances : where to give the probability of reaching (default: round numbers across the outputs).
     system : the units of the summary's text, ``metric`` or ``imperial`` (``analytic.units.display``);
-        ``summary.json`` and the figures stay in the file units (SI, degrees).
+        the figures are labelled in them too (``analytic.plot_units``); ``summary.json`` stays in the
+        file units (SI, degrees).
     """
     settings = check_results(results)
     sweep = settings["sweep"]
@@ -94,7 +96,7 @@ def make_report(results: str | Path, out: str | Path | None = None, distances=No
         if best is not None:
             where = ", ".join(f"{f} = {shown(v, units.get(f, ''))}" for f, v in zip(grid.fields, best[1]))
             lines.append(f"  best {output} {shown(best[0], output_unit)} at {where}")
-        files.append(_save(plot.grid_figure(grid, output, units), out / "grid.png"))
+        files.append(_save(in_units(plot.grid_figure(grid, output, units), system), out / "grid.png"))
     elif sweep["grid"]:
         lines.append(f"grid of {len(sweep['grid'])} fields: maps are drawn for grids of one or two fields")
 
@@ -109,7 +111,7 @@ def make_report(results: str | Path, out: str | Path | None = None, distances=No
                                              for q, v in spread.quantiles.items()),
                   "  probability of reaching " + ", ".join(f"{shown(d, output_unit, 'g')}: {p:.4f}"
                                                            for d, p in spread.reach)]
-        files.append(_save(plot.spread_figure(spread, output), out / "distribution.png"))
+        files.append(_save(in_units(plot.spread_figure(spread, output), system), out / "distribution.png"))
 
     indices = analyses.sensitivity(settings, table)
     if isinstance(indices, analyses.Sensitivity):
