@@ -12,7 +12,7 @@ from analytic.cli_shared import (EXIT_INVALID, EXIT_NO_THROW, EXIT_OK, OutputPat
 from analytic.design import Design, DesignError
 from analytic.design_file import chosen_units, default_design, load_design
 from analytic.report import format_shot
-from analytic.units import LENGTH, command_line_value, display, with_units
+from analytic.units import LENGTH, NUMBER, Written, command_line_value, display, with_units
 
 
 def load_or_default(path: str | None) -> Design:
@@ -48,6 +48,19 @@ def _simulate(args: argparse.Namespace) -> int:
     return EXIT_OK if shot.ok else EXIT_NO_THROW
 
 
+def as_typed(error: DesignError, typed: dict[str, tuple[str | None, str]]) -> DesignError:
+    """``error`` echoing its option's value as typed, with the value in file units in brackets
+    (``target = "-10" (-3.048 m)``); ``typed``: option -> (the text, its file unit)."""
+    text, unit = typed.get(error.field, (None, ""))
+    if text is None:
+        return error
+    values = error.value if isinstance(error.value, (list, tuple)) else [error.value]
+    if not all(isinstance(value, (int, float)) for value in values):
+        return error
+    inside = ", ".join(f"{value:.6g}" for value in values) + f" {unit}".rstrip()
+    return DesignError(error.field, Written(text, inside, NUMBER), error.reason)
+
+
 def _aim(args: argparse.Namespace) -> int:
     from analytic.aim import aim, check_inputs, default_bounds, format_aim
     from analytic.fields import field
@@ -66,7 +79,12 @@ def _aim(args: argparse.Namespace) -> int:
             if len(parts) != 2:
                 raise DesignError("bounds", args.bounds, "must be LOW:HIGH")
             bounds = tuple(command_line_value("bounds", part, target_field.kind, units) for part in parts)
-        check_inputs(target, bounds, within)
+        typed = {"target": (args.target, "m"), "within": (args.within, "m"),
+                 "bounds": (args.bounds, target_field.unit)}
+        try:
+            check_inputs(target, bounds, within)
+        except DesignError as error:
+            raise as_typed(error, typed) from None
     except DesignError as error:
         print(f"invalid input: {error}", file=sys.stderr)
         return EXIT_INVALID

@@ -65,7 +65,8 @@ def design_from_dict(data: dict[str, Any], name: str = "design") -> Design:
 
 
 def written_texts(data: dict[str, Any], table: str = "") -> dict[str, str]:
-    """Every value of a file's tables written as a text (``"-200 lb"``), by its place (``machine.counterweight_mass``)."""
+    """Every value of a file's tables written as a text (``"-200 lb"``), by its place
+    (``machine.counterweight_mass``)."""
     return dict(_texts(data, table))
 
 

@@ -144,3 +144,12 @@ def test_the_optimise_report_is_written_in_the_chosen_units(tmp_path, capsys):
     assert main(["optimise", str(problem), "--units", "imperial", "--out", str(tmp_path / "out"), "--quiet"]) == 0
     report = (tmp_path / "out" / "report.txt").read_text()
     assert "lengths in, angles deg" in report and "range (ft)" in report and "axle load (lbf)" in report
+
+
+def test_a_refused_option_is_echoed_as_typed(capsys):
+    code = main(["aim", str(TABLE3_FILE), "--target", "-10", "--units", "imperial", "--adjust", "counterweight_mass"])
+    assert code == EXIT_INVALID
+    assert f'target = "-10" ({-10 * FOOT:.6g} m): must be a positive distance' in capsys.readouterr().err
+    code = main(["aim", str(TABLE3_FILE), "--target", "30", "--bounds", "20lb:2lb", "--adjust", "counterweight_mass"])
+    assert code == EXIT_INVALID
+    assert f'bounds = "20lb:2lb" ({20 * POUND:.6g}, {2 * POUND:.6g} kg): inverted' in capsys.readouterr().err
