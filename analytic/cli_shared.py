@@ -163,13 +163,13 @@ def positive_float(text: str) -> float:
     return value
 
 
-def units_argument(parser: argparse.ArgumentParser, what: str = "the printed text") -> None:
-    """``--units metric|imperial``: the units of ``what``; JSON and CSV stay SI. Its default (None) is the
-    design file's own units (``analytic.design_file.chosen_units``)."""
+def units_argument(parser: argparse.ArgumentParser, what: str = "the printed text",
+                   default: str = "the units the design file is mostly written in, else metric") -> None:
+    """``--units metric|imperial``: the units of ``what``; JSON and CSV stay SI. Its default (None) is
+    resolved by the command (``analytic.design_file.chosen_units``); ``default`` says how, for --help."""
     parser.add_argument("--units", choices=("metric", "imperial"), default=None,
                         help=f"units of {what} and of bare numbers on the command line (imperial: ft, lb, "
-                             f"ft/s, lbf); JSON and CSV stay SI. Default: the units the design file is "
-                             f"mostly written in, else metric")
+                             f"ft/s, lbf); JSON and CSV stay SI. Default: {default}")
 
 
 #: Seconds between the lines of a progress bar written to a file or a pipe (not a terminal).

@@ -29,7 +29,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", metavar="DIR", help="write report.txt, calibration.json, calibration.png and "
                                                      "fitted/*.toml here (created if missing)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
-    units_argument(parser, "the printed report (report.txt stays metric)")
+    units_argument(parser, "the printed report (report.txt stays metric)",
+                   default="the units the calibration file is mostly written in, else metric")
 
 
 def run(args: argparse.Namespace) -> int:

@@ -49,7 +49,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              f"default {DEFAULT_PROCESSES}) simulating in parallel")
     parser.add_argument("--out", default="out/optimise", help="output folder (default %(default)s)")
     parser.add_argument("--quiet", action="store_true", help="no progress bars")
-    units_argument(parser, "report.txt and the printed report (metric: the paper's cm)")
+    units_argument(parser, "report.txt and the printed report (metric: the paper's cm)",
+                   default="the units the problem file is mostly written in, else metric")
 
 
 def run(args: argparse.Namespace) -> int:

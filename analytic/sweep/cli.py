@@ -41,7 +41,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--reach", type=float, action="append", metavar="D",
                         help="with --report: give the probability of reaching D (repeatable)")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
-    units_argument(parser, "--report's summary and of --reach (default metric)")
+    units_argument(parser, "--report's summary and figures and of --reach", default="metric")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
