@@ -238,15 +238,17 @@ def _map_figure(result: Chart, fig):
     return fig
 
 
-def save_chart(result: Chart, out: str | Path) -> tuple[Path, Path]:
-    """Write ``chart.csv`` and ``chart.png`` into the folder ``out``; their paths."""
+def save_chart(result: Chart, out: str | Path, units: str = "metric") -> tuple[Path, Path]:
+    """Write ``chart.csv`` (SI) and ``chart.png`` (shown in ``units``, ``analytic.plot_units``) into the
+    folder ``out``; their paths."""
     from analytic.plot import save_figure
+    from analytic.plot_units import in_units
 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     csv_path, png_path = out / "chart.csv", out / "chart.png"
     write_csv(result, csv_path)
-    save_figure(chart_figure(result), png_path)
+    save_figure(in_units(chart_figure(result), units), png_path)
     return csv_path, png_path
 
 

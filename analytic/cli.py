@@ -8,11 +8,11 @@ import subprocess
 import sys
 
 from analytic.cli_shared import (EXIT_INVALID, EXIT_NO_THROW, EXIT_OK, OutputPathError, negative_numbers_as_values,
-                                 output_file, output_folder)
+                                 output_file, output_folder, units_argument)
 from analytic.design import Design, DesignError
-from analytic.design_file import default_design, load_design
+from analytic.design_file import chosen_units, default_design, load_design
 from analytic.report import format_shot
-from analytic.units import LENGTH, SYSTEMS
+from analytic.units import LENGTH, NUMBER, Written, command_line_value, display, with_units
 
 
 def load_or_default(path: str | None) -> Design:
@@ -25,6 +25,7 @@ def _simulate(args: argparse.Namespace) -> int:
 
     try:
         design = load_or_default(args.design)
+        units = chosen_units(args.units, args.design)
     except DesignError as error:
         print(f"invalid design: {error}", file=sys.stderr)
         return EXIT_INVALID
@@ -35,31 +36,29 @@ def _simulate(args: argparse.Namespace) -> int:
         return EXIT_INVALID
     shot = simulate(design)
     if args.json:
-        print(json.dumps(shot.to_json(), indent=2))
+        print(json.dumps(with_units(shot.to_json(), units), indent=2))
     else:
-        print(format_shot(shot, args.units))
+        print(format_shot(shot, units))
     if plot is not None:
         from analytic.plot import save_shot_figure
 
-        save_shot_figure(shot, plot)
+        save_shot_figure(shot, plot, units=units)
         if not args.json:
             print(f"plot written to {plot}")
     return EXIT_OK if shot.ok else EXIT_NO_THROW
 
 
-def _units_argument(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--units", choices=tuple(SYSTEMS), default="metric",
-                        help="units of the printed table (imperial: ft, lb, ft/s, lbf); JSON stays SI")
-
-
-def _quantity(name: str, text: str, kind) -> float:
-    """A command-line value: a bare number in file units, or a text with units (``analytic.units``)."""
-    from analytic.units import parse
-
-    try:
-        return float(text)
-    except ValueError:
-        return parse(name, text, kind)
+def as_typed(error: DesignError, typed: dict[str, tuple[str | None, str]]) -> DesignError:
+    """``error`` echoing its option's value as typed, with the value in file units in brackets
+    (``target = "-10" (-3.048 m)``); ``typed``: option -> (the text, its file unit)."""
+    text, unit = typed.get(error.field, (None, ""))
+    if text is None:
+        return error
+    values = error.value if isinstance(error.value, (list, tuple)) else [error.value]
+    if not all(isinstance(value, (int, float)) for value in values):
+        return error
+    inside = ", ".join(f"{value:.6g}" for value in values) + f" {unit}".rstrip()
+    return DesignError(error.field, Written(text, inside, NUMBER), error.reason)
 
 
 def _aim(args: argparse.Namespace) -> int:
@@ -68,33 +67,39 @@ def _aim(args: argparse.Namespace) -> int:
 
     try:
         design = load_design(args.design)
+        units = chosen_units(args.units, args.design)
         target_field = field(args.adjust)
         target_field.check(design)
-        target = _quantity("target", args.target, LENGTH)
-        within = None if args.within is None else _quantity("within", args.within, LENGTH)
+        target = command_line_value("target", args.target, LENGTH, units)
+        within = None if args.within is None else command_line_value("within", args.within, LENGTH, units)
         if args.bounds is None:
             bounds = default_bounds(target_field, design)
         else:
             parts = args.bounds.split(":")
             if len(parts) != 2:
                 raise DesignError("bounds", args.bounds, "must be LOW:HIGH")
-            bounds = tuple(_quantity("bounds", part, target_field.kind) for part in parts)
-        check_inputs(target, bounds, within)
+            bounds = tuple(command_line_value("bounds", part, target_field.kind, units) for part in parts)
+        typed = {"target": (args.target, "m"), "within": (args.within, "m"),
+                 "bounds": (args.bounds, target_field.unit)}
+        try:
+            check_inputs(target, bounds, within)
+        except DesignError as error:
+            raise as_typed(error, typed) from None
     except DesignError as error:
         print(f"invalid input: {error}", file=sys.stderr)
         return EXIT_INVALID
     result = aim(design, target_field.name, target, bounds=bounds, within=within)
     if args.json:
-        print(json.dumps(result.to_json(), indent=2))
+        print(json.dumps(with_units(result.to_json(), units), indent=2))
     else:
-        print(format_aim(result, args.units))
+        print(format_aim(result, units))
     if not result.reached:
         if result.reachable is None:
             print("out of reach: no setting within the bounds throws", file=sys.stderr)
         else:
-            low, high = result.reachable
-            print(f"out of reach: the target {target:g} m is outside the reachable span {low:.3f} .. {high:.3f} m",
-                  file=sys.stderr)
+            (low, unit), (high, _), (shown, _) = (display(value, "m", units) for value in (*result.reachable, target))
+            print(f"out of reach: the target {args.target} ({shown:.4g} {unit}) is outside the reachable span "
+                  f"{low:.3f} .. {high:.3f} {unit}", file=sys.stderr)
         return EXIT_NO_THROW
     return EXIT_OK
 
@@ -105,6 +110,7 @@ def _chart(args: argparse.Namespace) -> int:
 
     try:
         design = load_design(args.design)
+        units = chosen_units(args.units, args.design)
         varies = []
         for spec in args.vary:
             name, equals, rest = spec.partition("=")
@@ -116,8 +122,9 @@ def _chart(args: argparse.Namespace) -> int:
                 steps = int(parts[2])
             except ValueError:
                 raise DesignError(f"vary {target_field.name} steps", parts[2], "must be a whole number") from None
-            varies.append(vary(name, _quantity(f"vary {target_field.name} from", parts[0], target_field.kind),
-                               _quantity(f"vary {target_field.name} to", parts[1], target_field.kind), steps))
+            ends = (command_line_value(f"vary {target_field.name} {end}", part, target_field.kind, units)
+                    for end, part in (("from", parts[0]), ("to", parts[1])))
+            varies.append(vary(name, *ends, steps))
         if len(varies) > 2:
             raise DesignError("vary", len(varies), "give one or two fields to vary")
         if len({v.field.name for v in varies}) != len(varies):
@@ -132,7 +139,7 @@ def _chart(args: argparse.Namespace) -> int:
         print(error, file=sys.stderr)
         return EXIT_INVALID
     result = chart(design, varies)
-    csv_path, png_path = save_chart(result, out)
+    csv_path, png_path = save_chart(result, out, units)
     thrown = int((result.status == "ok").sum())
     print(f"{len(result.status)} designs ({thrown} throw) in {result.seconds:.2f} s; "
           f"written {csv_path} and {png_path}")
@@ -166,19 +173,20 @@ def build_parser() -> argparse.ArgumentParser:
     sim.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
     sim.add_argument("--plot", metavar="FILE.png", help="write trajectory, machine at release, energy and loads plot "
                                                         "(.png, .pdf or .svg; no extension: .png)")
-    _units_argument(sim)
+    units_argument(sim, "the printed table and the plot")
     sim.set_defaults(func=_simulate)
 
     aim = commands.add_parser("aim", help="find the setting of one field that lands on a target distance")
     aim.add_argument("design", help="design TOML")
-    aim.add_argument("--target", required=True, help="distance from the pivot: metres, or with a unit (30m, 100ft)")
+    aim.add_argument("--target", required=True,
+                     help="distance from the pivot: a number in --units (m or ft), or with a unit (30m, 100ft)")
     aim.add_argument("--adjust", required=True, metavar="FIELD",
                      help="the field to set, dotted (machine.release_angle, projectile.mass) or a machine name")
     aim.add_argument("--bounds", metavar="LOW:HIGH",
-                     help="settings to search, file units or with units (30:60, 2kg:10kg; default: see README)")
+                     help="settings to search, bare in --units or with units (30:60, 2kg:10kg; default: see README)")
     aim.add_argument("--within", metavar="D", help="also report the settings landing within D of the target")
     aim.add_argument("--json", action="store_true", help="print one JSON object (SI, angles in degrees)")
-    _units_argument(aim)
+    units_argument(aim)
     aim.set_defaults(func=_aim)
 
     cha = commands.add_parser("chart", help="range and peak loads against one or two varied fields (CSV and PNG)")
@@ -186,6 +194,7 @@ def build_parser() -> argparse.ArgumentParser:
     cha.add_argument("--vary", action="append", required=True, metavar="FIELD=FROM:TO:STEPS",
                      help="a field and its settings (counterweight_mass=1kg:3kg:9); once or twice")
     cha.add_argument("--out", required=True, metavar="DIR", help="folder for chart.csv and chart.png")
+    units_argument(cha, "chart.png and bare numbers in --vary (chart.csv stays SI)")
     cha.set_defaults(func=_chart)
     from analytic.calibrate import cli as calibrate_cli
 

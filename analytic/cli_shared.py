@@ -1,12 +1,15 @@
-"""What every command line shares: its exit codes, and the checks it makes before any work.
+"""What every command line shares: its exit codes, its checks before any work, its progress bars.
 
 The command lines themselves are ``analytic/cli.py`` (``python -m analytic``)
 and each package's ``cli.py``; they all import this module, which imports
-nothing of theirs. Every command that writes files takes its paths through here (``--out``,
-``--report``, ``--plot``), so that a path that cannot be written is refused
-at once, as a one-line message and exit code 2, rather than as a traceback
-after minutes of simulation; and so that the path a command prints is the
-path it writes. Plain ``pathlib`` and ``os``; nothing here computes anything.
+nothing of theirs. Every command that writes files takes its paths through
+here (``--out``, ``--report``, ``--plot``), so that a path that cannot be
+written is refused at once, as a one-line message and exit code 2, rather
+than as a traceback after minutes of simulation; and so that the path a
+command prints is the path it writes. Every progress bar is made here
+(``progress_bar``), so that each behaves the same on a terminal and in a
+log file. Plain ``pathlib`` and ``os`` (and tqdm for the bars); nothing
+here computes anything.
 """
 
 from __future__ import annotations
@@ -14,6 +17,7 @@ from __future__ import annotations
 import argparse
 import os
 import re
+import sys
 from pathlib import Path
 
 #: Exit codes of every command line (``python -m analytic``, ``engine_model``, ``crosscheck``,
@@ -157,3 +161,51 @@ def positive_float(text: str) -> float:
     if not 0.0 < value < float("inf"):
         raise argparse.ArgumentTypeError(f"{text} must be a positive number")
     return value
+
+
+def units_argument(parser: argparse.ArgumentParser, what: str = "the printed text",
+                   default: str = "the units the design file is mostly written in, else metric") -> None:
+    """``--units metric|imperial``: the units of ``what``; JSON and CSV stay SI. Its default (None) is
+    resolved by the command (``analytic.design_file.chosen_units``); ``default`` says how, for --help."""
+    parser.add_argument("--units", choices=("metric", "imperial"), default=None,
+                        help=f"units of {what} and of bare numbers on the command line (imperial: ft, lb, "
+                             f"ft/s, lbf); JSON and CSV stay SI. Default: {default}")
+
+
+#: Seconds between the lines of a progress bar written to a file or a pipe (not a terminal).
+LOG_INTERVAL = 5.0
+
+
+class _Lines:
+    """A text stream for tqdm that writes each state of the bar as a line of its own: tqdm redraws
+    its bar in place with carriage returns, which a log file or pipe keeps as one endless line."""
+
+    def __init__(self, stream):
+        self.stream = stream
+
+    def write(self, text: str) -> None:
+        for line in text.replace("\r", "\n").split("\n"):
+            if line.strip():   # tqdm clears a finished bar with spaces: nothing to keep
+                self.stream.write(line.rstrip() + "\n")
+
+    def flush(self) -> None:
+        self.stream.flush()
+
+
+def _is_terminal(stream) -> bool:
+    try:
+        return stream.isatty()
+    except (AttributeError, ValueError):   # no isatty, or a closed stream
+        return False
+
+
+def progress_bar(iterable=None, **options):
+    """A tqdm progress bar on stderr (or ``options["file"]``): redrawn in place on a terminal, and
+    elsewhere (a file, a pipe, CI's log) a line every ``LOG_INTERVAL`` s and one at the end."""
+    from tqdm import tqdm
+
+    stream = options.pop("file", None) or sys.stderr
+    if not _is_terminal(stream):
+        stream = _Lines(stream)
+        options["mininterval"] = max(options.get("mininterval", 0.0), LOG_INTERVAL)
+    return tqdm(iterable, file=stream, **options)

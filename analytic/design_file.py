@@ -12,7 +12,9 @@ from typing import Any
 
 from analytic.design import (Base, BeamArm, Design, DesignError, Environment, Losses, Machine, MissingValueError,
                              Projectile, paper_geometry, require_number)
-from analytic.units import FIELD_KINDS, from_file, to_file_text
+from analytic.suggest import did_you_mean
+from analytic.units import (ANGLE, FIELD_KINDS, SYSTEM_KINDS, Written, from_file, kind_of, to_file_text,
+                            written_system)
 
 _MACHINE_NUMBERS = tuple(f.name for f in dataclasses.fields(Machine) if f.name != "release_rule")
 _ENVIRONMENT_KEYS = tuple(f.name for f in dataclasses.fields(Environment))
@@ -51,12 +53,64 @@ def design_from_dict(data: dict[str, Any], name: str = "design") -> Design:
     """
     reject_unknown_keys("", require_table("design", data),
                         ("machine", "projectile", "environment", "base", "losses", "name"))
-    machine = machine_from_dict(data.get("machine"))
-    projectile = projectile_from_dict(data.get("projectile"))
-    environment = environment_from_dict(data.get("environment"))
-    base = base_from_dict(data.get("base"))
-    losses = losses_from_dict(data.get("losses"))
-    return Design(machine, projectile, environment, name=data.get("name", name), base=base, losses=losses)
+    try:
+        machine = machine_from_dict(data.get("machine"))
+        projectile = projectile_from_dict(data.get("projectile"))
+        environment = environment_from_dict(data.get("environment"))
+        base = base_from_dict(data.get("base"))
+        losses = losses_from_dict(data.get("losses"))
+        return Design(machine, projectile, environment, name=data.get("name", name), base=base, losses=losses)
+    except DesignError as error:
+        raise as_written(error, written_texts(data)) from None
+
+
+def written_texts(data: dict[str, Any], table: str = "") -> dict[str, str]:
+    """Every value of a file's tables written as a text (``"-200 lb"``), by its place
+    (``machine.counterweight_mass``)."""
+    return dict(_texts(data, table))
+
+
+def _texts(data: dict[str, Any], table: str = ""):
+    """(place, text) for every text value of ``data``, its tables and its arrays of tables (``[[shot]]``)."""
+    for key, value in data.items():
+        place = f"{table}.{key}" if table else key
+        items = value if isinstance(value, list) else [value]
+        for item in items:
+            if isinstance(item, dict):
+                yield from _texts(item, place)
+            elif isinstance(item, str):
+                yield place, item
+
+
+def as_written(error: DesignError, texts: dict[str, str]) -> DesignError:
+    """``error`` echoing its value as the file wrote it, with the value in file units in brackets
+    (``machine.counterweight_mass = "-200 lb" (-90.7185 kg): must be positive``), when the file
+    gave it with a unit; otherwise ``error`` itself."""
+    text, kind = texts.get(error.field), kind_of(error.field)
+    if text is None or kind is None or not kind.file_unit or error.value == text:
+        return error
+    if isinstance(error.value, str):   # the design's checks showed it in file units already
+        return type(error)(error.field, Written(text, error.value, kind), error.reason)
+    try:
+        value = math.degrees(error.value) if kind is ANGLE else float(error.value)
+    except (TypeError, ValueError):
+        return error
+    return type(error)(error.field, Written(text, value, kind), error.reason)
+
+
+def chosen_units(given: str | None, path: str | Path | None) -> str:
+    """The units a command shows: ``given`` (``--units``) if given, else the design file's own
+    (``file_system``), else ``metric`` (no file: the built-in default design)."""
+    if given is not None:
+        return given
+    return "metric" if path is None else file_system(path)
+
+
+def file_system(path: str | Path) -> str:
+    """The unit system a design file is mostly written in (``analytic.units.written_system`` over its
+    lengths, masses, speeds and forces with units), ``metric`` if it gives none: the default of ``--units``."""
+    texts = [text for place, text in _texts(read_toml(path)) if kind_of(place) in SYSTEM_KINDS]
+    return written_system(texts)
 
 
 def machine_from_dict(data: Any) -> Machine:
@@ -177,7 +231,11 @@ def design_to_dict(design: Design, units: dict[str, str] | None = None) -> dict[
 
 def load_design(path: str | Path) -> Design:
     """Read a design TOML file; errors name the file, the field, the value and the reason."""
-    return design_from_dict(read_toml(path), name=Path(path).stem)
+    data = read_toml(path)
+    if not data:
+        raise DesignError("file", str(path), "is empty (no tables, no keys); a design needs at least [machine] "
+                                             "and [projectile], see analytic/data/paper_table3.toml")
+    return design_from_dict(data, name=Path(path).stem)
 
 
 def dumps_design(design: Design, units: dict[str, str] | None = None) -> str:
@@ -262,7 +320,7 @@ def reject_unknown_keys(table: str, values: dict[str, Any], allowed: tuple[str, 
         if key not in allowed:
             name = toml_key(key)
             raise DesignError(f"{table}.{name}" if table else name, values[key],
-                              f"unknown key; expected one of {', '.join(allowed)}")
+                              f"unknown key; {did_you_mean(key, allowed)}expected one of {', '.join(allowed)}")
 
 
 def toml_key(key: str) -> str:

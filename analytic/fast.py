@@ -112,7 +112,7 @@ def _compile_settings():
 def _compile_progress(enabled: bool):
     """While compiling (not while loading from the cache): a line on stderr, then a running count."""
     from numba.core import event
-    from tqdm import tqdm
+    from analytic.cli_shared import progress_bar
 
     class Listener(event.Listener):
         """Counts the model's and the kernel's functions as they compile (numba's own helpers too,
@@ -124,7 +124,7 @@ def _compile_progress(enabled: bool):
             if self.bar is None:
                 print("compiling the fast path once (tens of seconds); "
                       "later runs load it from the cache in about 0.3 s", file=sys.stderr, flush=True)
-                self.bar = tqdm(desc="compiling", unit=" functions", file=sys.stderr, mininterval=0.5,
+                self.bar = progress_bar(desc="compiling", unit=" functions", file=sys.stderr, mininterval=0.5,
                                 leave=False)   # gone when done: `analytic compile` then prints the time
             function = ev.data["dispatcher"].py_func
             if function.__module__.startswith("analytic."):

@@ -16,6 +16,7 @@ import math
 from dataclasses import dataclass
 
 from analytic.design import Base, Design, DesignError, Environment, Losses, Machine, Projectile
+from analytic.suggest import did_you_mean
 from analytic.units import ANGLE, FIELD_KINDS, Kind
 
 #: The tables of a design and the dataclass each holds.
@@ -93,12 +94,14 @@ def field(name: str) -> Field:
     table, _, key = name.rpartition(".")
     table = table or "machine"
     if table not in _TABLES:
-        raise DesignError("field", name, f"unknown table {table!r}; expected one of {', '.join(_TABLES)}")
+        raise DesignError("field", name, f"unknown table {table!r}; {did_you_mean(table, _TABLES)}"
+                                         f"expected one of {', '.join(_TABLES)}")
     keys = [f.name for f in dataclasses.fields(_TABLES[table])]
     dotted = f"{table}.{key}"
     if key in _CHOICES and key in keys:
         raise DesignError("field", dotted, "is a choice, not a number; only numeric fields can be adjusted")
     if key not in keys or key not in FIELD_KINDS:
         numeric = [k for k in keys if k not in _CHOICES]
-        raise DesignError("field", dotted, f"no such field in [{table}]; expected one of {', '.join(numeric)}")
+        raise DesignError("field", dotted, f"no such field in [{table}]; {did_you_mean(key, numeric)}"
+                                           f"expected one of {', '.join(numeric)}")
     return Field(table, key)

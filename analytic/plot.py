@@ -43,9 +43,9 @@ def draw_machine(ax, shot, index: int, alpha: float = 1.0) -> None:
     ax.plot(x, 0.0, "o", color="k", ms=4, alpha=alpha)
 
 
-def shot_figure(shot) -> Figure:
+def shot_figure(shot, units: str = "metric") -> Figure:
     """Four panels of a ``Shot`` with a history: the flight, the machine at release (or at the end), the
-    energy and the loads over time."""
+    energy and the loads over time; drawn in SI and shown in ``units`` (``analytic.plot_units``)."""
     history = shot.history
     if history is None:
         raise ValueError(f"shot of {shot.design.name!r} has no histories to plot (a summary from the "
@@ -79,7 +79,9 @@ def shot_figure(shot) -> Figure:
 
     draw_energy(ax_energy, shot)
     draw_loads(ax_loads, shot)
-    return fig
+    from analytic.plot_units import in_units
+
+    return in_units(fig, units)
 
 
 def draw_energy(ax_energy, shot) -> None:
@@ -149,6 +151,6 @@ def save_figure(figure: Figure, path: str | Path, dpi: int = 110) -> None:
     figure.savefig(path, dpi=dpi, **options)
 
 
-def save_shot_figure(shot: Shot, path: str | Path, dpi: int = 110) -> None:
-    """Render ``shot_figure`` to a file."""
-    save_figure(shot_figure(shot), path, dpi)
+def save_shot_figure(shot: Shot, path: str | Path, dpi: int = 110, units: str = "metric") -> None:
+    """Render ``shot_figure`` to a file, shown in ``units`` (``metric`` or ``imperial``)."""
+    save_figure(shot_figure(shot, units), path, dpi)

@@ -47,7 +47,9 @@ def format_shot(shot: Shot, units: str = "metric") -> str:
     row("energy efficiency", None if shot.energy_efficiency is None else 100 * shot.energy_efficiency, "%", ".2f")
     row("range efficiency", None if shot.range_efficiency is None else 100 * shot.range_efficiency, "%", ".2f")
     _energy_rows(shot, row)
-    row("min sling tension", shot.min_sling_tension, "N", ".3f", " (negative: the rigid sling pushed)")
+    pushed = shot.min_sling_tension is not None and shot.min_sling_tension < 0.0
+    row("min sling tension", shot.min_sling_tension, "N", ".3f",
+        " (negative: the rigid sling pushed)" if pushed else "")
     row("peak sling tension", shot.peak_sling_tension, "N", ".3f", at("peak_sling_tension"))
     row("peak axle load", shot.peak_axle_load, "N", ".3f", at("peak_axle_load"))
     row("peak hinge load", shot.peak_hinge_load, "N", ".3f", at("peak_hinge_load"))

@@ -23,6 +23,7 @@ from pathlib import Path
 from typing import Any, NamedTuple
 
 from analytic.design import DesignError
+from analytic.suggest import did_you_mean
 
 
 class Kind(NamedTuple):
@@ -45,6 +46,10 @@ ACCELERATION = Kind("acceleration", "[length] / [time] ** 2", "m / s ** 2", '"9.
 SPEED = Kind("speed", "[length] / [time]", "m / s", '"3 m/s" or "10 ft/s"')
 FORCE = Kind("force", "[length] * [mass] / [time] ** 2", "N", '"200 N" or "45 lbf"')
 NUMBER = Kind("pure number", "", "", "0.47")
+
+#: Units a builder writes, offered for a mistyped one ("6 ftt": did you mean 'ft'?).
+COMMON_UNITS = ("m", "cm", "mm", "km", "in", "inch", "ft", "foot", "feet", "yd", "mi", "kg", "g", "lb", "oz",
+                "N", "kN", "lbf", "s", "ms", "deg", "degree", "rad", "m/s", "ft/s", "mph", "g0", "Pa")
 
 #: The kind of every numeric key of a design or problem file (the key alone decides it;
 #: a problem's ``lower``, ``upper`` and ``value`` take their table's, see ``kind_of``).
@@ -141,8 +146,9 @@ def parse(field: str, text: str, kind: Kind) -> float | int:
         quantity = registry().Quantity(text)
     except pint.UndefinedUnitError as error:
         names = ", ".join(repr(name) for name in error.unit_names)
+        guess = did_you_mean(error.unit_names[0], COMMON_UNITS) if error.unit_names else ""
         raise DesignError(field, text, f"must be a number, or a {kind.name} with a unit: unknown unit {names}; "
-                                       f"{expected}") from None
+                                       f"{guess}{expected}") from None
     except Exception:   # pint's parser raises assorted errors for text that is no expression at all
         raise DesignError(field, text, f"must be a number, or a {kind.name} with a unit; {expected}") from None
     if not isinstance(quantity, registry().Quantity):   # a bare number in text
@@ -198,3 +204,76 @@ def display(value: float, unit: str, system: str = "metric") -> tuple[float, str
     if shown is None or value is None or not math.isfinite(value):
         return value, (unit if shown is None else shown[0])
     return float(registry().Quantity(value, _PINT_SI[unit]).to(shown[1]).magnitude), shown[0]
+
+
+#: The SI unit (a key of ``SYSTEMS``' tables) each kind is shown in, for kinds a system changes.
+_SHOWN_AS = {LENGTH: "m", MASS: "kg", SPEED: "m/s", FORCE: "N", ACCELERATION: "m/s^2"}
+#: The kinds whose unit a system decides: what a file's dominant units are counted on (``written_system``).
+SYSTEM_KINDS = tuple(_SHOWN_AS)
+
+
+def from_display(value: float, unit: str, system: str = "metric") -> float:
+    """The inverse of ``display``: ``value`` as shown in ``system`` for the SI ``unit``, back in ``unit``."""
+    shown = SYSTEMS[system].get(unit)
+    if shown is None or not math.isfinite(value):
+        return value
+    # 12 significant digits: what a typed number carries, without the conversion's last-bit noise
+    return float(f"{registry().Quantity(value, shown[1]).to(_PINT_SI[unit]).magnitude:.12g}")
+
+
+def command_line_value(name: str, text: str, kind: Kind, system: str = "metric") -> float:
+    """A value typed on a command line, in ``kind.file_unit``: a text with units as ``parse`` reads
+    it, a bare number in ``system``'s units (``--units imperial``: ``150`` is 150 ft)."""
+    try:
+        number = float(text)
+    except ValueError:
+        return parse(name, text, kind)
+    unit = _SHOWN_AS.get(kind)
+    return number if unit is None else from_display(number, unit, system)
+
+
+def json_units(system: str) -> dict:
+    """The ``units`` block a ``--json`` object gains when ``system`` is not metric: what the
+    numbers are in (always SI, angles in degrees) and how the text output showed them."""
+    return {"json": "SI (angles in degrees)", "shown": system,
+            "shown_as": {si: shown for si, (shown, _) in SYSTEMS[system].items()}}
+
+
+def with_units(obj: dict, system: str) -> dict:
+    """``obj`` (a ``--json`` object) with a ``units`` block (``json_units``) if ``system`` is imperial;
+    as it is for metric, so that its keys stay as they were."""
+    return obj if system == "metric" else {**obj, "units": json_units(system)}
+
+
+#: Units that mark a value as written in imperial units (pint's names).
+_IMPERIAL_NAMES = {"foot", "inch", "yard", "mile", "pound", "ounce", "stone", "pound_force", "slug",
+                   "mile_per_hour", "foot_per_second", "kip"}
+
+
+def written_system(texts: list[str]) -> str:
+    """``imperial`` if more of ``texts`` (a file's values with units) are in imperial units than in
+    any other, else ``metric``. A text pint cannot read counts for neither."""
+    imperial = metric = 0
+    for text in texts:
+        try:
+            quantity = registry().Quantity(text)
+            names = {str(name) for name in getattr(quantity, "_units", {})}
+        except Exception:
+            continue
+        if names & _IMPERIAL_NAMES:
+            imperial += 1
+        elif names:
+            metric += 1
+    return "imperial" if imperial > metric else "metric"
+
+
+class Written(str):
+    """A file's value as the user wrote it, with its value in file units in brackets
+    (``"-200 lb" (-90.7185 kg)``): what a ``DesignError`` echoes for a value given with a unit."""
+
+    def __new__(cls, text: str, value: float | str, kind: Kind):
+        inside = value if isinstance(value, str) else f"{value:.6g} {kind.file_unit}"
+        return super().__new__(cls, f'"{text}" ({inside})')
+
+    def __repr__(self) -> str:
+        return str(self)

@@ -10,9 +10,9 @@ import sys
 from typing import Callable
 
 import numpy as np
-from tqdm import tqdm
 
 from analytic import fast
+from analytic.cli_shared import progress_bar
 from analytic.reference import simulate
 from benchmarks.designs import ROLLING_FRAME, TYPICAL_LOSSES, bench_designs
 from benchmarks.measure import best_time
@@ -41,7 +41,7 @@ def agreement(designs: list, reference: list, fast_shots: list) -> dict:
 def both_paths(designs: list, progress: bool, label: str) -> dict:
     """Both analytic paths on ``designs``, one shot each, untimed: their ``agreement``."""
     reference = [simulate(design, histories=False)
-                 for design in tqdm(designs, desc=f"reference, {label}", unit="design", disable=not progress,
+                 for design in progress_bar(designs, desc=f"reference, {label}", unit="design", disable=not progress,
                                     leave=False, file=sys.stderr)]
     return agreement(designs, reference, [fast.simulate_fast(design) for design in designs])
 
@@ -65,7 +65,7 @@ def paths(count: int, seed: int, repeat: int, batch_repeat: int, progress: bool)
 
     def each(label: str, simulate_one: Callable, times: int, among=None):
         results, seconds = [], []
-        for design in tqdm(designs if among is None else among, desc=label, unit="design",
+        for design in progress_bar(designs if among is None else among, desc=label, unit="design",
                            disable=not progress, leave=False, file=sys.stderr):
             best, result = best_time(lambda: simulate_one(design), times)
             results.append(result)

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections import Counter
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -211,12 +212,15 @@ def stage1_event_cases() -> list[Case]:
 
 
 def file_cases(paths: list[str]) -> list[Case]:
-    """Designs from the user's TOML files."""
-    cases = []
-    for path in paths:
-        design = load_design(path)
-        cases.append(Case(design.name, design, "file"))
-    return cases
+    """Designs from the user's TOML files, each named by its own name, or by its file (the stem) where
+    that name is the built-in default's or more than one file's: twelve files made from the default
+    design are twelve rows a reader tells apart."""
+    designs = [load_design(path) for path in paths]
+    names = Counter(design.name for design in designs)
+    default_name = default_design().name
+    return [Case(Path(path).stem if design.name == default_name or names[design.name] > 1 else design.name,
+                 design, "file")
+            for path, design in zip(paths, designs, strict=True)]
 
 
 def default_suite(sample: int = 24, seed: int = 0) -> list[Case]:

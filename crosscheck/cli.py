@@ -12,7 +12,7 @@ from analytic.cli_shared import (EXIT_FAILED, EXIT_INVALID, EXIT_OK, OutputPathE
 from analytic.design import DesignError
 from crosscheck.cases import QUICK_CASES, default_suite, file_cases, quick_suite, sample_cases
 from crosscheck.comparison import DEFAULT_DT, step_study
-from crosscheck.report import format_summary, format_table, write_report
+from crosscheck.report import format_plain, format_summary, format_table, write_report
 from crosscheck.runner import run
 
 #: The exit codes under the names of what they mean here.
@@ -70,14 +70,14 @@ def main(argv: list[str] | None = None) -> int:
     if args.json:
         print(json.dumps(report.to_json(), indent=2))
     else:
+        if args.quick and not args.table:   # ``make run``'s check: one sentence, the detail in --report
+            print(format_plain(comparisons, None if not args.report else f"{args.report}/table.txt"))
+            return EXIT_AGREE if report.agree else EXIT_DISAGREE
         if args.table:
             print(format_table(comparisons))
             print()
-        # --quick (``make run``'s check) prints the verdict and the worst cases only; the engine's
-        # step, drift and convergence go to --report's table.txt (and with --table, here too).
         title = "quick cross-check, analytic against engine" if args.quick else None
-        print(format_summary(comparisons, study, steps_detail=args.table, title=title,
-                             engine_detail=not (args.quick and not args.table)))
+        print(format_summary(comparisons, study, steps_detail=args.table, title=title))
         if args.report:
             print(f"report in {args.report}: " + ", ".join(p.name for p in paths))
     return EXIT_AGREE if report.agree else EXIT_DISAGREE

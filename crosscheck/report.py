@@ -60,26 +60,11 @@ def worst_cases(comparisons: list[Comparison]) -> dict[str, dict]:
     return worst
 
 
-#: In the brief summary (``--quick`` without ``--table``: ``make run``'s, which keeps its whole
-#: report under 40 lines), each of these families of rows is one line, its worst member's.
-BRIEF_FAMILIES = ("peak_", "dissipated_")
-
-
-def brief(worst: dict[str, dict]) -> dict[str, dict]:
-    """``worst_cases`` with each family of ``BRIEF_FAMILIES`` down to its worst member, in order."""
-    kept: dict[str, tuple[str, dict]] = {}
-    for quantity, w in worst.items():
-        family = next((f for f in BRIEF_FAMILIES if quantity.startswith(f)), quantity)
-        if family not in kept or w["fraction_of_tolerance"] > kept[family][1]["fraction_of_tolerance"]:
-            kept[family] = (quantity, w)
-    return dict(kept.values())
-
-
 def format_summary(comparisons: list[Comparison], study: StepStudy | None, steps_detail: bool = True,
-                   title: str | None = None, engine_detail: bool = True) -> str:
+                   title: str | None = None) -> str:
     """The verdict (after ``title``, if given), the worst case per quantity as a fraction of its
-    tolerance, and, if ``engine_detail``, the engine's step and drift and the convergence study (with
-    a line per step if ``steps_detail``); without it, one line per family of ``BRIEF_FAMILIES``."""
+    tolerance, the engine's step and drift and the convergence study (with a line per step if
+    ``steps_detail``)."""
     agreed = sum(c.agree for c in comparisons)
     outcomes = {}
     for c in comparisons:
@@ -87,14 +72,12 @@ def format_summary(comparisons: list[Comparison], study: StepStudy | None, steps
     lines = [("" if title is None else f"{title}: ") + f"{agreed} of {len(comparisons)} designs agree "
              f"(analytic outcomes: {', '.join(f'{k} {v}' for k, v in sorted(outcomes.items()))})",
              "worst case per quantity (|difference| as a fraction of its tolerance):"]
-    worst = worst_cases(comparisons) if engine_detail else brief(worst_cases(comparisons))
+    worst = worst_cases(comparisons)
     width = max(map(len, worst), default=0)
     for quantity, w in worst.items():
         shown, unit = _display(w["difference"], w["unit"])
         lines.append(f"  {quantity:<{width}} {shown:>12} {unit:<5} rel {w['relative']:.2e}  "
                      f"{w['fraction_of_tolerance']:.3f} of tolerance  ({w['case']})")
-    if not engine_detail:
-        return "\n".join(lines)
     steps = sorted({c.engine_dt for c in comparisons if c.engine_dt is not None})
     if len(steps) > 1:
         refined = [f"{c.case} ({c.engine_dt:.3g} s)" for c in comparisons if c.engine_dt not in (None, steps[-1])]
@@ -110,6 +93,28 @@ def format_summary(comparisons: list[Comparison], study: StepStudy | None, steps
         if steps_detail:
             for dt, s, r in zip(study.dt, study.speed_error, study.range_error, strict=True):
                 lines.append(f"  dt {dt:.1e} s   speed error {s:.2e}   range error {r:.2e}")
+    return "\n".join(lines)
+
+
+def format_plain(comparisons: list[Comparison], details: str | None = None) -> str:
+    """The cross-check in words a newcomer reads: whether the two models agree, how closely on
+    the range, what a deliberate failure case is there for, and where the details are (``details``)."""
+    agreed = [c for c in comparisons if c.agree]
+    ranges = [abs(row.difference) / abs(row.analytic) for c in comparisons for row in c.rows
+              if row.quantity == "range" and row.difference is not None and row.analytic]
+    closeness = f", to {max(ranges):.1g} of the range at worst" if ranges else ""
+    if len(agreed) == len(comparisons):
+        lines = [f"the engine and the analytic model agree on all {len(comparisons)} designs{closeness}"]
+    else:
+        lines = [f"the engine and the analytic model DISAGREE on {len(comparisons) - len(agreed)} of "
+                 f"{len(comparisons)} designs: {', '.join(c.case for c in comparisons if not c.agree)}"]
+    for c in comparisons:
+        if c.group == "failure":
+            lines.append(f"  ({c.case} is a design made to fail on purpose, ending in "
+                         f"{c.analytic_status.replace('_', ' ')}: the check is that both models say so"
+                         + (", and they do)" if c.agree else ")"))
+    lines.append(f"details, quantity by quantity: {details}" if details is not None
+                 else "details, quantity by quantity: add --table, or --report DIR for table.txt and plots")
     return "\n".join(lines)
 
 

@@ -8,9 +8,8 @@ from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from functools import partial
 
-from tqdm import tqdm
-
 from analytic import fast
+from analytic.cli_shared import progress_bar
 from analytic.result import Shot
 from crosscheck.cases import Case, default_suite
 from crosscheck.comparison import DEFAULT_DT, Comparison, compare
@@ -69,7 +68,7 @@ def run(cases: list[Case] | None = None, *, dt: float = DEFAULT_DT, workers: int
     workers = min(2, os.cpu_count() or 1) if workers is None else workers
     fast.compile(progress=progress)
     analytic = fast.simulate_fast_many([case.design for case in cases])
-    bar = tqdm(total=len(cases), desc="cross-check", unit="design", disable=not progress, file=sys.stderr)
+    bar = progress_bar(total=len(cases), desc="cross-check", unit="design", disable=not progress, file=sys.stderr)
     results = []
     if workers <= 1:
         for case, shot in zip(cases, analytic, strict=True):

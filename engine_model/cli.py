@@ -7,10 +7,12 @@ import json
 import sys
 
 from analytic.cli_shared import (EXIT_FAILED, EXIT_INVALID, EXIT_NO_THROW, EXIT_OK, OutputPathError,
-                                 negative_numbers_as_values, output_folder, positive_float, positive_int)
+                                 negative_numbers_as_values, output_folder, positive_float, positive_int,
+                                 units_argument)
 from analytic.design import Design, DesignError
-from analytic.design_file import default_design, load_design
+from analytic.design_file import chosen_units, default_design, load_design
 from analytic.result import Shot
+from analytic.units import with_units
 from engine_model import DEFAULT_DT, EngineError, simulate
 from engine_model.build import DEFAULT_ITERATIONS, SLINGS
 from engine_model.render import DEFAULT_FPS, SWING_SLOW_MOTION
@@ -43,10 +45,12 @@ def _simulate(args: argparse.Namespace) -> int:
     shot = _run(args)
     if isinstance(shot, int):
         return shot
+    units = chosen_units(args.units, args.design)
     if args.json:
-        print(json.dumps({**shot.to_json(), "max_joint_drift": shot.diagnostics.max_joint_drift}, indent=2))
+        data = {**shot.to_json(), "max_joint_drift": shot.diagnostics.max_joint_drift}
+        print(json.dumps(with_units(data, units), indent=2))
     else:
-        print(format_shot(shot))
+        print(format_shot(shot, units))
     return EXIT_OK if shot.ok else EXIT_NO_THROW
 
 
@@ -62,7 +66,8 @@ def _render(args: argparse.Namespace) -> int:
     if isinstance(shot, int):
         return shot
     frames = render_shot(shot, args.out, fps=args.fps, swing_slow_motion=args.slow_motion,
-                         gif=args.gif, mp4=args.mp4, progress=not args.quiet)
+                         gif=args.gif, mp4=args.mp4, progress=not args.quiet,
+                         units=chosen_units(args.units, args.design))
     movies = [name for name, asked in (("shot.gif", args.gif), ("shot.mp4", args.mp4)) if asked]
     print(f"the shot drawn from the engine: {len(frames)} frames written to {args.out}"
           + (f" (and {', '.join(movies)})" if movies else ""))
@@ -86,6 +91,7 @@ def build_parser() -> argparse.ArgumentParser:
     sim = commands.add_parser("simulate", parents=[common], help="simulate one shot")
     sim.add_argument("--json", action="store_true",
                      help="print one JSON object (the analytic model's keys plus max_joint_drift, m)")
+    units_argument(sim, "the printed table")
     sim.set_defaults(func=_simulate)
 
     ren = commands.add_parser("render", parents=[common], help="draw the shot as numbered PNG frames")
@@ -98,6 +104,7 @@ def build_parser() -> argparse.ArgumentParser:
     ren.add_argument("--gif", action="store_true", help="also write shot.gif")
     ren.add_argument("--mp4", action="store_true", help="also write shot.mp4 (H.264, ffmpeg from imageio-ffmpeg)")
     ren.add_argument("--quiet", action="store_true", help="no progress bar")
+    units_argument(ren, "the frames' ground scale, landing mark and summary")
     ren.set_defaults(func=_render)
     return parser
 

@@ -28,7 +28,9 @@ from matplotlib.ticker import FuncFormatter
 
 from analytic.design import Design
 from analytic.geometry import machine_points
+from analytic.plot_units import ShownLocator
 from analytic.result import Shot, Stage
+from analytic.units import display
 
 #: Frame size, px (FRAME_INCHES at FRAME_DPI).
 FRAME_DPI = 100
@@ -273,8 +275,8 @@ class _Drawing:
     """One matplotlib Figure (Agg canvas): the whole scene with a ground scale in metres, the
     machine close up in an inset, the time and playback speed, the landing and a summary."""
 
-    def __init__(self, design: Design, inset: bool = True):
-        self.design = design
+    def __init__(self, design: Design, inset: bool = True, units: str = "metric"):
+        self.design, self.units = design, units
         self.figure = Figure(figsize=FRAME_INCHES, dpi=FRAME_DPI)
         FigureCanvasAgg(self.figure)
         ax = self.figure.add_axes((0.0, 0.0, 1.0, 1.0))
@@ -285,7 +287,10 @@ class _Drawing:
         ax.spines["bottom"].set_color("#5a4a3a")
         ax.tick_params(axis="x", direction="inout", pad=-14, labelsize=8, colors="#5a4a3a")
         ax.tick_params(axis="y", left=False, labelleft=False)
-        ax.xaxis.set_major_formatter(FuncFormatter(lambda x, _: f"{x:g} m"))
+        per_m, unit = display(1.0, "m", units)
+        if per_m != 1.0:   # ticks at round numbers of the shown unit (analytic.plot_units)
+            ax.xaxis.set_major_locator(ShownLocator(per_m))
+        ax.xaxis.set_major_formatter(FuncFormatter(lambda x, _: f"{x * per_m:.6g} {unit}"))
         ax.set_facecolor("none")
         self.scene = _Machine(ax, design, PROJECTILE_MARKER_PX)
         self.landing, = ax.plot([], [], marker="v", linestyle="none", color="#2060c0", markersize=9, zorder=6)
@@ -334,8 +339,8 @@ class _Drawing:
             x = float(shot.landing_position[0])
             self.landing.set_data([x], [-self.design.machine.pivot_height])
             self.landing_text.set_position((x, -self.design.machine.pivot_height + 0.03 * (view[3] - view[2])))
-            self.landing_text.set_text(f"{shot.range:.1f} m")
-            self.summary.set_text(summary(shot))
+            self.landing_text.set_text("{:.1f} {}".format(*display(shot.range, "m", self.units)))
+            self.summary.set_text(summary(shot, self.units))
             self.summary.set_visible(True)
         else:
             self.landing.set_data([], [])
@@ -384,10 +389,13 @@ class _Drawing:
         return np.asarray(rgb)
 
 
-def summary(shot: Shot) -> str:
-    """The last frame's box: what the shot did, in a builder's units."""
-    lines = [f"range {shot.range:.2f} m", f"release speed {shot.release_speed:.2f} m/s",
-             f"launch angle {math.degrees(shot.launch_angle):.1f} deg", f"apex {shot.apex_height:.2f} m",
+def summary(shot: Shot, units: str = "metric") -> str:
+    """The last frame's box: what the shot did, in a builder's units (``metric`` or ``imperial``)."""
+    def shown(value: float, unit: str) -> str:
+        return "{:.2f} {}".format(*display(value, unit, units))
+
+    lines = [f"range {shown(shot.range, 'm')}", f"release speed {shown(shot.release_speed, 'm/s')}",
+             f"launch angle {math.degrees(shot.launch_angle):.1f} deg", f"apex {shown(shot.apex_height, 'm')}",
              f"flight {shot.flight_time:.2f} s"]
     return "\n".join(lines)
 
@@ -401,26 +409,26 @@ def draw_frame(design: Design, state: FrameState, view: tuple[float, float, floa
 
 def render_shot(shot: Shot, out_dir: str | Path, *, fps: float = DEFAULT_FPS,
                 swing_slow_motion: float = SWING_SLOW_MOTION, flight_speed: float = FLIGHT_SPEED,
-                gif: bool = False, mp4: bool = False, progress: bool = True) -> list[Path]:
+                gif: bool = False, mp4: bool = False, progress: bool = True, units: str = "metric") -> list[Path]:
     """Write ``frame_00000.png``, ... (one per ``frame_times``) to ``out_dir``; ``shot.gif`` and
     ``shot.mp4`` if asked, the last frame held for ``FINAL_HOLD`` s in both.
 
     Every frame has the same view (the whole shot, a fixed ground scale in
-    metres) with the machine close up in an inset.
+    metres, or feet with ``units="imperial"``) with the machine close up in an inset.
 
     Returns
     -------
     The frame paths, in order.
     """
-    from tqdm import tqdm
+    from analytic.cli_shared import progress_bar
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     times, speeds = frame_times(shot, fps, swing_slow_motion, flight_speed)
     view = camera(shot.design, frame_state(shot, float(times[-1])))
-    drawing = _Drawing(shot.design)
+    drawing = _Drawing(shot.design, units=units)
     paths, frames = [], []
-    for i, (time, speed) in enumerate(tqdm(list(zip(times, speeds)), desc="frames", unit="frame",
+    for i, (time, speed) in enumerate(progress_bar(list(zip(times, speeds)), desc="frames", unit="frame",
                                            disable=not progress, file=sys.stderr)):
         drawing.draw(frame_state(shot, float(time)), view, float(speed), shot)
         path = out / f"frame_{i:05d}.png"
@@ -446,12 +454,12 @@ def write_gif(frames: list[np.ndarray], path: Path, fps: float, progress: bool =
     took 20 times as long and let the colours flicker between frames.
     """
     from PIL import Image
-    from tqdm import tqdm
+    from analytic.cli_shared import progress_bar
 
     sample = np.concatenate([frames[0], frames[len(frames) // 2], frames[-1]], axis=0)
     palette = Image.fromarray(sample, "RGB").quantize(256, method=Image.Quantize.MEDIANCUT,
                                                       dither=Image.Dither.NONE)
-    with tqdm(total=len(frames) + 1, desc=f"writing {path.name}", unit="frame", disable=not progress,
+    with progress_bar(total=len(frames) + 1, desc=f"writing {path.name}", unit="frame", disable=not progress,
               file=sys.stderr) as bar:
         images = []
         for frame in frames:
@@ -469,13 +477,13 @@ def write_mp4(frames: list[np.ndarray], path: Path, fps: float, progress: bool =
     file 11 % smaller (these flat, mostly still frames gain nothing from the slower searches).
     """
     import imageio_ffmpeg
-    from tqdm import tqdm
+    from analytic.cli_shared import progress_bar
 
     rows, columns = frames[0].shape[:2]
     writer = imageio_ffmpeg.write_frames(str(path), (columns, rows), fps=fps, codec="libx264",
                                          macro_block_size=2, ffmpeg_log_level="error",
                                          output_params=["-fflags", "+bitexact", "-preset", "veryfast"])
     writer.send(None)
-    for frame in tqdm(frames, desc=f"writing {path.name}", unit="frame", disable=not progress, file=sys.stderr):
+    for frame in progress_bar(frames, desc=f"writing {path.name}", unit="frame", disable=not progress, file=sys.stderr):
         writer.send(np.ascontiguousarray(frame))
     writer.close()

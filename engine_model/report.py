@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from analytic.result import LOSS_NAMES, Shot
+from analytic.units import display
 
 #: (JSON key, label, unit, format) in the order printed; values are as in ``Shot.to_json``.
 _FIELDS = (
@@ -31,19 +32,34 @@ _FRAME_FIELDS = (
 )
 
 
-def format_shot(shot: Shot) -> str:
+def _shown(value, unit: str, system: str):
+    """``value`` (a number or a pair, in the SI unit that ``unit`` starts with) and ``unit`` as shown in ``system``."""
+    si, _, rest = unit.partition(" ")
+    if isinstance(value, (list, tuple)):
+        return [_shown(v, unit, system)[0] for v in value], _shown(1.0, unit, system)[1]
+    if not isinstance(value, float):
+        return value, unit
+    number, label = display(value, si, system)
+    return number, f"{label} {rest}".rstrip()
+
+
+def format_shot(shot: Shot, units: str = "metric") -> str:
     """A two-column table of what the engine's shot reached (fields it never reached are left
-    out) and its ``shot.diagnostics``."""
+    out) and its ``shot.diagnostics``; lengths, speeds, forces and energies in ``units``."""
     data = shot.to_json()
     rows = [("design", data["design"], ""), ("status", data["status"], data["message"])]
-    rows += [(label, fmt.format(data[key]), unit)
-             for key, label, unit, fmt in _FIELDS if data[key] is not None]
+
+    def row(label: str, value, unit: str, fmt: str) -> tuple[str, str, str]:
+        number, shown = _shown(value, unit, units)
+        return label, fmt.format(number), shown
+
+    rows += [row(label, data[key], unit, fmt) for key, label, unit, fmt in _FIELDS if data[key] is not None]
     if shot.design.base.rolling:
-        rows += [(label, fmt.format(getattr(shot, name)), unit)
+        rows += [row(label, getattr(shot, name), unit, fmt)
                  for name, label, unit, fmt in _FRAME_FIELDS if getattr(shot, name) is not None]
     if shot.energy_dissipated is not None:
-        rows += [(f"{name} {'friction' if name != 'drag' else 'in flight'}", f"{shot.energy_dissipated[name]:.4f}",
-                  "J dissipated") for name in LOSS_NAMES]
+        rows += [row(f"{name} {'friction' if name != 'drag' else 'in flight'}", shot.energy_dissipated[name],
+                     "J dissipated", "{:.4f}") for name in LOSS_NAMES]
     diagnostics = shot.diagnostics
     rows += [("engine", f"dt {diagnostics.dt:g} s, {diagnostics.iterations} iterations",
               f"{diagnostics.sling} sling"),

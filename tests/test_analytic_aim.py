@@ -111,7 +111,7 @@ def test_the_command_prints_json_and_exits_3_out_of_reach(table3, tmp_path, caps
 
 
 @pytest.mark.parametrize("argv, words", [
-    (["--target", "-5", "--adjust", "release_angle"], ["target = -5.0", "positive distance"]),
+    (["--target", "-5", "--adjust", "release_angle"], ['target = "-5" (-5 m)', "positive distance"]),
     (["--target", "3 kg", "--adjust", "release_angle"], ["target = '3 kg'", "length"]),
     (["--target", "30 bananas", "--adjust", "release_angle"], ["target = '30 bananas'", "unknown unit 'bananas'"]),
     (["--target", "far", "--adjust", "release_angle"], ["target = 'far'", "no number"]),

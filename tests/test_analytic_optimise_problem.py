@@ -15,7 +15,7 @@ from analytic.optimise.constraints import (CONSTRAINT_NAMES, axle_distance, cons
                                            feasible, footprint, rest_points)
 from analytic.design_space import (VARIABLE_NAMES, default_problem, design_at, from_unit,
                                        problem_from_dict, to_unit, variables_of)
-from analytic.optimise.report import format_tables, ratios
+from analytic.optimise.report import format_constraints, format_tables, ratios
 from support import NOT_NUMBERS, problem_dict, table3_beam
 
 
@@ -279,3 +279,19 @@ def test_a_problems_bad_losses_name_the_field(entry, field):
     with pytest.raises(DesignError) as raised:
         problem_from_dict(data)
     assert raised.value.field == field
+
+
+def test_the_report_tables_are_shown_in_the_chosen_units(table3):
+    # 1 in = 2.54 cm and 1 ft = 0.3048 m by definition; the paper's tables are in cm and m.
+    values = variables_of(table3.machine)
+    rows = {}
+    for system in ("metric", "imperial"):
+        text = format_tables(default_problem(), [("Table III", values, 35.9)], system)
+        rows[system] = {line[:24].strip(): line[24:].split() for line in text.splitlines()}
+        assert f"lengths {'cm' if system == 'metric' else 'in'}, angles deg" in text
+    assert float(rows["metric"]["L_S   sling"][0]) == pytest.approx(100 * table3.machine.sling_length, abs=5e-3)
+    assert float(rows["imperial"]["L_S   sling"][0]) == pytest.approx(table3.machine.sling_length / 0.0254, abs=5e-3)
+    assert rows["imperial"]["range (ft)"] == [f"{35.9 / 0.3048:.2f}"] and rows["metric"]["range (m)"] == ["35.90"]
+    assert rows["imperial"]["theta release angle"] == rows["metric"]["theta release angle"]   # deg either way
+    constraints = format_constraints(default_problem(), [("Table III", values, 35.9)], "imperial")
+    assert constraints.startswith("Constraints at rest (in;")

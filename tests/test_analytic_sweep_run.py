@@ -205,3 +205,20 @@ def test_a_sweep_of_a_coefficient_from_zero_starts_at_the_ideal_machine(tmp_path
     settings = storage.read_settings(out)
     figure = grid_figure(analyses.grid_map(settings, read_table(out)), "range", settings["sweep"]["units"])
     assert figure.axes[0].get_xlabel() == "losses.axle_friction"   # dimensionless: no empty "()"
+
+
+def test_the_report_gives_every_figure_its_unit_in_the_chosen_units(tmp_path, capsys):
+    out = tmp_path / "out"
+    assert main(["sweep", str(sweep_file(tmp_path)), "--out", str(out), "--quiet"]) == 0
+    capsys.readouterr()
+    assert main(["sweep", "--report", str(out), "--json"]) == 0
+    best = json.loads(capsys.readouterr().out)["grid"]["best"]
+    assert main(["sweep", "--report", str(out)]) == 0
+    metric = next(line for line in capsys.readouterr().out.splitlines() if "best range" in line)
+    assert f"best range {best['value']:.6g} m at" in metric
+    assert main(["sweep", "--report", str(out), "--units", "imperial", "--json"]) == 0
+    imperial_json = json.loads(capsys.readouterr().out)
+    assert imperial_json["grid"]["best"] == best and imperial_json["units"]["json"].startswith("SI")
+    assert main(["sweep", "--report", str(out), "--units", "imperial"]) == 0
+    imperial = next(line for line in capsys.readouterr().out.splitlines() if "best range" in line)
+    assert f"best range {best['value'] / 0.3048:.6g} ft at" in imperial   # 1 ft = 0.3048 m by definition

@@ -159,9 +159,10 @@ def test_imperial_output_is_in_feet_pounds_and_json_stays_si(table3, tmp_path, c
     assert f"{shot['peak_axle_load'] / POUND_FORCE:.3f}" in line and "lbf" in line
     line = next(row for row in text.splitlines() if "release speed" in row)
     assert f"{shot['release_speed'] / FOOT:.4f}" in line and "ft/s" in line
-    # --units changes only the table: the JSON is the same with it.
+    # --units changes the table: the JSON's numbers stay SI, and it gains a block saying so.
     assert cli.main(["simulate", str(path), "--json", "--units", "imperial"]) == 0
-    assert json.loads(capsys.readouterr().out) == shot
+    imperial = json.loads(capsys.readouterr().out)
+    assert imperial.pop("units")["json"].startswith("SI") and imperial == shot
 
 
 def test_display_converts_only_what_the_system_names():

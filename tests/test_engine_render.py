@@ -148,3 +148,16 @@ def test_frames_of_a_rolling_shot_follow_its_frame(shot):
         assert getattr(state, part) == pytest.approx(points[part] + [state.frame_x, 0.0], abs=1e-12), part
     assert state.projectile == pytest.approx(rolling_shot.history.path[moving], abs=1e-12)   # already over the ground
     assert camera(rolling_shot.design, state)[0] < state.frame_x - rolling_shot.design.machine.arm_long
+
+
+def test_the_frames_are_labelled_in_the_chosen_units(shot):
+    # 1 ft = 0.3048 m by definition
+    assert summary(shot, "imperial").startswith(f"range {shot.range / 0.3048:.2f} ft")
+    assert f"apex {shot.apex_height / 0.3048:.2f} ft" in summary(shot, "imperial")
+    from engine_model.render import _Drawing
+
+    axis = _Drawing(shot.design, units="imperial").figure.axes[0].xaxis
+    axis.axes.set_xlim(-5.0, 50.0)
+    ticks = axis.get_major_locator()()
+    assert all(abs(t / 0.3048 - round(t / 0.3048)) < 1e-9 for t in ticks)   # whole feet
+    assert axis.get_major_formatter()(20 * 0.3048, 0) == "20 ft"

@@ -16,8 +16,10 @@ import argparse
 import json
 import sys
 
-from analytic.cli_shared import EXIT_INVALID, EXIT_NO_THROW, EXIT_OK, OutputPathError, output_folder
+from analytic.cli_shared import EXIT_INVALID, EXIT_NO_THROW, EXIT_OK, OutputPathError, output_folder, units_argument
 from analytic.design import DesignError
+from analytic.design_file import chosen_units
+from analytic.units import with_units
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -27,6 +29,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", metavar="DIR", help="write report.txt, calibration.json, calibration.png and "
                                                      "fitted/*.toml here (created if missing)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    units_argument(parser, "the printed report (report.txt stays metric)",
+                   default="the units the calibration file is mostly written in, else metric")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -46,6 +50,7 @@ def run(args: argparse.Namespace) -> int:
     except DesignError as error:
         print(f"invalid input: {error}", file=sys.stderr)
         return EXIT_INVALID
+    units = chosen_units(args.units, args.shots)
     created = args.out is not None and not Path(args.out).exists()
     try:
         out = None if args.out is None else output_folder(args.out, "--out")
@@ -60,9 +65,9 @@ def run(args: argparse.Namespace) -> int:
             out.rmdir()   # made by the check before work, and nothing was written into it
         return EXIT_NO_THROW
     if args.json:
-        print(json.dumps(to_json(result), indent=2))
+        print(json.dumps(with_units(to_json(result), units), indent=2))
     else:
-        print(format_report(result))
+        print(format_report(result, units))
     if out is not None:
         written = write(result, out)
         if not args.json:

@@ -182,13 +182,13 @@ class _Model:
     """Residuals and their Jacobian at any parameters, each set of parameters shot once."""
 
     def __init__(self, spec: CalibrationSpec, progress: bool):
-        from tqdm import tqdm
+        from analytic.cli_shared import progress_bar
 
         self.spec = spec
         self.cache: dict[bytes, tuple[np.ndarray, tuple[Prediction, ...]]] = {}
         self.shots = 0
         self.failed_shots = 0
-        self.bar = tqdm(desc="calibrate", unit=" shots", file=sys.stderr, disable=not progress, leave=False)
+        self.bar = progress_bar(desc="calibrate", unit=" shots", file=sys.stderr, disable=not progress, leave=False)
         p = spec.parameters
         self.lower = np.array([q.lower for q in p])
         self.upper = np.array([q.upper for q in p])

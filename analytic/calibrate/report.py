@@ -75,8 +75,11 @@ def _format(value: float | None, digits: int = 4) -> str:
     return "-" if value is None or not math.isfinite(value) else f"{value:.{digits}f}"
 
 
-def format_report(result: Calibration) -> str:
-    """The result as text: parameters, fit quality, every shot's measurements, warnings."""
+def format_report(result: Calibration, system: str = "metric") -> str:
+    """The result as text: parameters, fit quality, every shot's measurements, warnings; lengths and
+    masses in ``system``'s units (``analytic.units.display``)."""
+    from analytic.units import display
+
     spec = result.spec
     lines = [(f"calibration {spec.path.name}: {len(spec.parameters)} parameter(s), {len(spec.shots)} shot(s), "
               f"{spec.measurements} measurement(s)"), "", "parameters (value +- one standard deviation):"]
@@ -85,8 +88,10 @@ def format_report(result: Calibration) -> str:
         sd = result.uncertainties[j]
         flags = (" [at bound]" if result.at_bound[j] else "") + (" [not fixed by the data]"
                                                                   if result.singular[j] else "")
-        lines.append(f"  {p.name:<{width}}  {result.values[j]:.6g} +- {_format(sd, 6) if math.isfinite(sd) else '?'}"
-                     f" {p.unit}".rstrip() + f"   (start {p.start:g}, bounds {p.lower:g} .. {p.upper:g}){flags}")
+        scale, unit = display(1.0, p.unit, system)
+        lines.append(f"  {p.name:<{width}}  {result.values[j] * scale:.6g} +- "
+                     f"{_format(sd * scale, 6) if math.isfinite(sd) else '?'} {unit}".rstrip()
+                     + f"   (start {p.start * scale:g}, bounds {p.lower * scale:g} .. {p.upper * scale:g}){flags}")
     if len(spec.parameters) > 1:
         lines.append("  correlation:")
         for j, p in enumerate(spec.parameters):
@@ -106,9 +111,14 @@ def format_report(result: Calibration) -> str:
         for m in shot.measurements:
             q = _quantity(m, fitted)
             before = start.values[m.quantity] if start.ok else None
-            lines.append(f"    {m.quantity:<14} measured {m.value:.4f} +- {m.uncertainty:.4g} {m.unit:<3}  "
-                         f"predicted {_format(q['predicted'])} (at start {_format(before)})  "
-                         f"residual {_format(q['residual'])} ({_format(q['weighted_residual'], 2)} sd)")
+            scale, unit = display(1.0, m.unit, system)
+
+            def shown(value: float | None) -> str:
+                return _format(None if value is None else value * scale)
+
+            lines.append(f"    {m.quantity:<14} measured {m.value * scale:.4f} +- {m.uncertainty * scale:.4g} "
+                         f"{unit:<3}  predicted {shown(q['predicted'])} {unit} (at start {shown(before)})  "
+                         f"residual {shown(q['residual'])} {unit} ({_format(q['weighted_residual'], 2)} sd)")
     if result.warnings:
         lines += ["", "warnings:"] + [f"  {w}" for w in result.warnings]
     return "\n".join(lines)

@@ -15,9 +15,10 @@ import math
 import sys
 from pathlib import Path
 
-from analytic.cli_shared import EXIT_INVALID, EXIT_OK, OutputPathError, negative_numbers_as_values, output_folder
+from analytic.cli_shared import (EXIT_INVALID, EXIT_OK, OutputPathError, negative_numbers_as_values, output_folder,
+                                 units_argument)
 from analytic.design import DesignError
-from analytic.design_file import save_design
+from analytic.design_file import chosen_units, save_design
 from analytic.optimise import Optimisation, optimise
 from analytic.optimise.evaluate import DEFAULT_PROCESSES, PATHS
 from analytic.design_space import default_problem, design_at, load_problem
@@ -48,6 +49,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              f"default {DEFAULT_PROCESSES}) simulating in parallel")
     parser.add_argument("--out", default="out/optimise", help="output folder (default %(default)s)")
     parser.add_argument("--quiet", action="store_true", help="no progress bars")
+    units_argument(parser, "report.txt and the printed report (metric: the paper's cm)",
+                   default="the units the problem file is mostly written in, else metric")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -76,7 +79,7 @@ def run(args: argparse.Namespace) -> int:
     result = optimise(problem, seed=args.seed, path=args.path, workers=args.workers,
                       robust_sigma=None if args.robust is None else math.radians(args.robust),
                       nodes=args.nodes, progress=not args.quiet)
-    print(write_outputs(result, out))
+    print(write_outputs(result, out, chosen_units(args.units, args.problem)))
     print(f"\nwritten to {out}/: report.txt, optimum.toml, convergence.png, sensitivity.png"
           + (", robust-optimum.toml" if args.robust is not None else ""))
     return EXIT_OK
@@ -90,8 +93,9 @@ def main(argv: list[str] | None = None) -> int:
     return run(parser.parse_args(negative_numbers_as_values(sys.argv[1:] if argv is None else argv)))
 
 
-def write_outputs(result: Optimisation, out: Path) -> str:
-    """Write the report, the figures and each optimum as a design file to the folder ``out``.
+def write_outputs(result: Optimisation, out: Path, system: str = "metric") -> str:
+    """Write the report (in ``system``'s units, ``metric`` or ``imperial``), the figures and each optimum
+    as a design file to the folder ``out``.
 
     Returns
     -------
@@ -100,7 +104,7 @@ def write_outputs(result: Optimisation, out: Path) -> str:
     from analytic.optimise.plot import convergence_figure, save_figure, sensitivity_figure  # matplotlib, not for every command
 
     problem = result.problem
-    report = format_report(result)
+    report = format_report(result, system)
     (out / "report.txt").write_text(report + "\n")
     save_figure(convergence_figure(result.optima), out / "convergence.png")
     save_figure(sensitivity_figure(problem, result.sensitivity, f"range through the optimum ({problem.name})"),

@@ -1,9 +1,10 @@
-"""Text tables of an optimisation beside the paper's Tables III and IV (cm, deg, m at this edge)."""
+"""Text tables of an optimisation beside the paper's Tables III and IV (cm, deg, m at this edge; in, ft, lb, lbf
+with ``units="imperial"``)."""
 
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
@@ -13,6 +14,7 @@ from analytic.optimise.constraints import (CONSTRAINT_NAMES, axle_distance, cons
 from analytic.design_space import ANGLE_VARIABLES, FRAME_MASS, LOADS, Problem, design_at
 from analytic.optimise.robust import Scatter, expected, spread
 from analytic.optimise.search import Optimum
+from analytic.units import display as shown_as
 
 if TYPE_CHECKING:
     from analytic.optimise import Optimisation
@@ -32,6 +34,27 @@ _DIMENSIONS = (("L_Al  long arm", "arm_long", "cm"), ("L_As  short arm", "arm_sh
                ("h     pivot height", "pivot_height", "cm"), ("      clearance", "clearance", "cm"),
                ("theta0 starting angle", "starting_angle", "deg"),
                ("theta release angle", "release_angle", "deg"))
+
+
+class Scales(NamedTuple):
+    """The report's units in one system: each a (label, shown units per SI unit) pair."""
+
+    short: tuple[str, float]       # a machine's lengths: cm, or in
+    distance: tuple[str, float]    # ranges: m, or ft
+    force: tuple[str, float]
+    acceleration: tuple[str, float]
+    mass: tuple[str, float]
+
+    @classmethod
+    def of(cls, system: str = "metric") -> Scales:
+        """``metric`` (cm, m, N, m/s^2, kg) or ``imperial`` (in, ft, lbf, ft/s^2, lb), through ``analytic.units``."""
+        def pair(unit: str) -> tuple[str, float]:
+            factor, label = shown_as(1.0, unit, system)
+            return label, factor
+
+        feet = pair("m")
+        short = ("cm", 100.0) if feet[0] == "m" else ("in", 12.0 * feet[1])
+        return cls(short, feet, pair("N"), pair("m/s^2"), pair("kg"))
 
 
 def display(name: str, value):
@@ -60,16 +83,19 @@ def ratios(problem: Problem, values: np.ndarray) -> tuple[float, float, float]:
             machine.counterweight_mass / problem.projectile.mass)
 
 
-def format_tables(problem: Problem, columns: list[tuple[str, np.ndarray, float]]) -> str:
+def format_tables(problem: Problem, columns: list[tuple[str, np.ndarray, float]], system: str = "metric") -> str:
     """Tables III and IV side by side for several designs.
 
     Parameters
     ----------
     columns : (heading, (6,) design variables in m and rad, range in m) per column.
+    system : the units shown (``Scales.of``).
     """
+    scales = Scales.of(system)
+    (short, per_cm), (distance, per_m) = (scales.short[0], scales.short[1] / 100.0), scales.distance
     width = 16
     head = f"{'':<24}" + "".join(f"{c[0]:>{width}}" for c in columns)
-    lines = ["Table III (optimisation results; lengths cm, angles deg)", head]
+    lines = [f"Table III (optimisation results; lengths {short}, angles deg)", head]
     if not problem.losses.ideal:
         losses = problem.losses
         static = [f"{name} {losses.static(name):g}" for name in FRICTIONS
@@ -81,8 +107,9 @@ def format_tables(problem: Problem, columns: list[tuple[str, np.ndarray, float]]
     dims = [dimensions(problem, values) for _, values, _ in columns]
     for label, key, unit in _DIMENSIONS:
         digits = 1 if unit == "deg" and key == "release_angle" else 2
-        lines.append(f"{label:<24}" + "".join(f"{d[key]:>{width}.{digits}f}" for d in dims))
-    lines.append(f"{'range (m)':<24}" + "".join(f"{r:>{width}.2f}" for _, _, r in columns))
+        scale = 1.0 if unit == "deg" else per_cm
+        lines.append(f"{label:<24}" + "".join(f"{d[key] * scale:>{width}.{digits}f}" for d in dims))
+    lines.append(f"{f'range ({distance})':<24}" + "".join(f"{r * per_m:>{width}.2f}" for _, _, r in columns))
     lines += ["", "Table IV (ratios)",
               f"{'':<24}{'Table I':>{width}}{'Table IV':>{width}}"
               + "".join(f"{c[0]:>{width}}" for c in columns)]
@@ -94,37 +121,43 @@ def format_tables(problem: Problem, columns: list[tuple[str, np.ndarray, float]]
     return "\n".join(lines)
 
 
-def format_constraints(problem: Problem, columns: list[tuple[str, np.ndarray, float]]) -> str:
-    """Footprint, height and axle clearance of each design at rest, with the limits (cm)."""
+def format_constraints(problem: Problem, columns: list[tuple[str, np.ndarray, float]],
+                       system: str = "metric") -> str:
+    """Footprint, height and axle clearance of each design at rest, with the limits (cm, or in)."""
+    short, per_m = Scales.of(system).short
     width = 16
-    clearance_needed = 100.0 * (problem.counterweight_radius + problem.axle_radius)
-    lines = ["Constraints at rest (cm; a negative margin violates)",
+    clearance_needed = per_m * (problem.counterweight_radius + problem.axle_radius)
+    lines = [f"Constraints at rest ({short}; a negative margin violates)",
              f"{'':<34}{'limit':>10}" + "".join(f"{c[0]:>{width}}" for c in columns)]
     machines = [design_at(problem, values).machine for _, values, _ in columns]
-    lines.append(f"{'footprint (horizontal span)':<34}{'<= ' + format(100 * problem.max_footprint, '.2f'):>10}"
-                 + "".join(f"{100 * footprint(m):>{width}.2f}" for m in machines))
-    lines.append(f"{'height (pivot)':<34}{'<= ' + format(100 * problem.max_height, '.2f'):>10}"
-                 + "".join(f"{100 * m.pivot_height:>{width}.2f}" for m in machines))
+    lines.append(f"{'footprint (horizontal span)':<34}{'<= ' + format(per_m * problem.max_footprint, '.2f'):>10}"
+                 + "".join(f"{per_m * footprint(m):>{width}.2f}" for m in machines))
+    lines.append(f"{'height (pivot)':<34}{'<= ' + format(per_m * problem.max_height, '.2f'):>10}"
+                 + "".join(f"{per_m * m.pivot_height:>{width}.2f}" for m in machines))
     lines.append(f"{'counterweight link to axle':<34}{'>= ' + format(clearance_needed, '.2f'):>10}"
-                 + "".join(f"{100 * axle_distance(m):>{width}.2f}" for m in machines))
+                 + "".join(f"{per_m * axle_distance(m):>{width}.2f}" for m in machines))
     margins = [constraint_values(problem, m) for m in machines]
     for j, name in enumerate(CONSTRAINT_NAMES):
-        lines.append(f"{'  margin: ' + name:<44}" + "".join(f"{100 * g[j]:>{width}.3f}" for g in margins))
+        lines.append(f"{'  margin: ' + name:<44}" + "".join(f"{per_m * g[j]:>{width}.3f}" for g in margins))
     return "\n".join(lines)
 
 
-def format_first_order(optimum: Optimum) -> str:
+def format_first_order(optimum: Optimum, system: str = "metric") -> str:
     """Active bounds and constraints with their multipliers, and the stationarity residual."""
+    scales = Scales.of(system)
+    (short, per_m), (distance, range_per_m), (mass, per_kg) = scales.short, scales.distance, scales.mass
     fo = optimum.first_order
     lines = [("First-order optimality (KKT, finite differences; a multiplier is the range gained per unit"
               " the bound or limit is relaxed)")]
     for name, side in fo.active_bounds.items():
         per, scale = (("deg", math.radians(1.0)) if name in ANGLE_VARIABLES
-                      else ("kg", 1.0) if name == FRAME_MASS else ("cm", 0.01))
-        lines.append(f"  bound {side:<5} {name:<20} multiplier {fo.bound_multipliers[name] * scale:10.4f} m per {per}")
+                      else (mass, 1.0 / per_kg) if name == FRAME_MASS else (short, 1.0 / per_m))
+        lines.append(f"  bound {side:<5} {name:<20} multiplier "
+                     f"{fo.bound_multipliers[name] * scale * range_per_m:10.4f} {distance} per {per}")
     for name in fo.active_constraints:
         if name in CONSTRAINT_NAMES:
-            lines.append(f"  constraint {name:<32} multiplier {fo.constraint_multipliers[name] * 0.01:10.4f} m per cm")
+            lines.append(f"  constraint {name:<32} multiplier "
+                         f"{fo.constraint_multipliers[name] * range_per_m / per_m:10.4f} {distance} per {short}")
         else:   # an outcome constraint: a relative margin
             lines.append(f"  constraint {name:<32} multiplier {fo.constraint_multipliers[name] * 0.01:10.4f}"
                          f" of the score per 1 % of the limit")
@@ -139,23 +172,24 @@ def format_first_order(optimum: Optimum) -> str:
     return "\n".join(lines)
 
 
-def format_search(label: str, optimum: Optimum) -> str:
+def format_search(label: str, optimum: Optimum, system: str = "metric") -> str:
     """Shots, failures by kind, the stages' results and the time taken."""
+    distance, per_m = Scales.of(system).distance
     failures = ", ".join(f"{kind} {count}" for kind, count in sorted(optimum.failures.items())) or "none"
     global_stage = ("skipped (started from the optimum)" if math.isnan(optimum.global_score)
-                    else f"best {optimum.global_score:.4f} m")
+                    else f"best {optimum.global_score * per_m:.4f} {distance}")
     lines = [f"Search ({label})",
              f"  shots {optimum.shots}" + (" (each quadrature node one)" if optimum.scatter.nodes > 1 else "")
              + f", failed to throw: {failures}",
              f"  global stage {global_stage}; local stage: {optimum.local_message}",
-             (f"  optimum {optimum.score:.6f} m" if optimum.problem.minimise is None else
+             (f"  optimum {optimum.score * per_m:.6f} {distance}" if optimum.problem.minimise is None else
               f"  optimum peak {optimum.problem.minimise.replace('_', ' ')} {-optimum.score:.6f}")
              + f" at integrator tolerance {optimum.settings.final_tolerance:g}",
              f"  wall time {optimum.seconds:.1f} s"]
     return "\n".join(lines)
 
 
-def format_scatter(scatter: Scatter, rows: list[tuple[str, float, np.ndarray]]) -> str:
+def format_scatter(scatter: Scatter, rows: list[tuple[str, float, np.ndarray]], system: str = "metric") -> str:
     """Each design's nominal range beside its expected range and spread under release-angle scatter.
 
     Parameters
@@ -163,40 +197,57 @@ def format_scatter(scatter: Scatter, rows: list[tuple[str, float, np.ndarray]]) 
     rows : (label, nominal range in m, (n_nodes,) ranges at the scatter's nodes in m) per design.
     """
     sigma = math.degrees(scatter.sigma)
+    unit, per_m = Scales.of(system).distance
     lines = [f"Release-angle scatter: normal, sigma = {sigma:g} deg ({scatter.nodes}-node Gauss-Hermite)",
-             f"{'':<24}{'nominal (m)':>14}{'expected (m)':>14}{'std dev (m)':>14}{'loss (m)':>12}"]
+             f"{'':<24}{f'nominal ({unit})':>14}{f'expected ({unit})':>14}{f'std dev ({unit})':>14}"
+             f"{f'loss ({unit})':>12}"]
     for label, nominal, ranges in rows:
         mean, sd = float(expected(scatter, ranges)), float(spread(scatter, ranges))
-        lines.append(f"{label:<24}{nominal:>14.4f}{mean:>14.4f}{sd:>14.4f}{nominal - mean:>12.4f}")
+        lines.append(f"{label:<24}{nominal * per_m:>14.4f}{mean * per_m:>14.4f}{sd * per_m:>14.4f}"
+                     f"{(nominal - mean) * per_m:>12.4f}")
     return "\n".join(lines)
 
 
-def format_peaks(problem: Problem, peaks: dict[str, dict[str, float]]) -> str:
+def format_peaks(problem: Problem, peaks: dict[str, dict[str, float]], system: str = "metric") -> str:
     """Each design's peak loads through stages 1-2 beside the problem's limits."""
+    scales = Scales.of(system)
     labels = list(peaks)
     width = max(16, *(len(label) + 2 for label in labels))
     limits = dict(problem.load_limits)
-    lines = ["Peak loads (stages 1-2)" + ("; limits: " + ", ".join(f"{load} {limit:g}" for load, limit in
-                                                                  problem.load_limits) if limits else ""),
+    lines = ["Peak loads (stages 1-2)" + ("; limits: " + ", ".join(f"{load} {_limit(load, limit, scales)}"
+                                                                  for load, limit in problem.load_limits)
+                                          if limits else ""),
              f"{'':<34}" + "".join(f"{label:>{width}}" for label in labels)]
     for load, name in LOADS.items():
-        unit = "m/s^2" if load == "projectile_acceleration" else "N"
-        row = "".join(f"{peaks[label][name]:>{width}.2f}" if name in peaks[label] else f"{'-':>{width}}"
+        unit, scale = _load_scale(load, scales)
+        row = "".join(f"{peaks[label][name] * scale:>{width}.2f}" if name in peaks[label] else f"{'-':>{width}}"
                       for label in labels)
         lines.append(f"{'  ' + load.replace('_', ' ') + ' (' + unit + ')':<34}{row}")
     return "\n".join(lines)
 
 
-def format_report(result: Optimisation) -> str:
+def _load_scale(load: str, scales: Scales) -> tuple[str, float]:
+    """A load's unit and scale: an acceleration's or a force's."""
+    return scales.acceleration if load == "projectile_acceleration" else scales.force
+
+
+def _limit(load: str, limit: float, scales: Scales) -> str:
+    """A load limit with its unit (``200 N``)."""
+    unit, scale = _load_scale(load, scales)
+    return f"{limit * scale:g} {unit}"
+
+
+def format_report(result: Optimisation, system: str = "metric") -> str:
     """The whole report: the problem, Tables III and IV, the limits, each search and its first-order
-    check, the release-angle scatter (if any) and the wall time."""
+    check, the release-angle scatter (if any) and the wall time; in ``system``'s units (``Scales.of``)."""
     problem, optima, ranges, scatter = result.problem, result.optima, result.ranges, result.scatter
     columns = [("paper", result.paper, PAPER_RANGE), (PAPER_LABEL, result.paper, ranges[PAPER_LABEL])]
     columns += [(label, optimum.values, ranges[label]) for label, optimum in optima.items()]
     goal = ("maximise range" if problem.minimise is None else
-            f"minimise the peak {problem.minimise.replace('_', ' ')} with a range of at least {problem.min_range:g} m")
+            f"minimise the peak {problem.minimise.replace('_', ' ')} with a range of at least "
+            f"{problem.min_range * Scales.of(system).distance[1]:g} {Scales.of(system).distance[0]}")
     if problem.load_limits:
-        goal += "; peak loads at most " + ", ".join(f"{load.replace('_', ' ')} {limit:g}"
+        goal += "; peak loads at most " + ", ".join(f"{load.replace('_', ' ')} {_limit(load, limit, Scales.of(system))}"
                                                     for load, limit in problem.load_limits)
     sections = [f"Problem {problem.name!r}: {goal}"
                 + ("" if scatter is None else f"; robust variant: maximise the expected range when the "
@@ -204,12 +255,12 @@ def format_report(result: Optimisation) -> str:
                    f"from the optimum)"),
                 "Columns: the paper's published Table III optimum; the same design under this problem "
                 "and our model; " + "; ".join(f"our {label}" for label in optima),
-                format_tables(problem, columns), format_constraints(problem, columns),
-                format_peaks(problem, {label: result.peaks[label] for label in [PAPER_LABEL, *optima]})]
+                format_tables(problem, columns, system), format_constraints(problem, columns, system),
+                format_peaks(problem, {label: result.peaks[label] for label in [PAPER_LABEL, *optima]}, system)]
     for label, optimum in optima.items():
-        sections += [format_search(label, optimum), format_first_order(optimum)]
+        sections += [format_search(label, optimum, system), format_first_order(optimum, system)]
     if scatter is not None:
         sections.append(format_scatter(scatter, [(label, ranges[label], result.node_ranges[label])
-                                                 for label in ranges]))
+                                                 for label in ranges], system))
     sections.append(f"Total wall time {result.seconds:.1f} s ({result.path} path)")
     return "\n\n".join(sections)

@@ -139,7 +139,7 @@ def maximise(problem: Problem, evaluator: Evaluator, settings: Settings = Settin
         O(sigma^4)``, a smooth perturbation that moves the optimum within its basin.
     progress : show progress bars (tqdm, on stderr).
     """
-    from tqdm import tqdm
+    from analytic.cli_shared import progress_bar
 
     began = time.perf_counter()
     shots0, failures0 = evaluator.shots, evaluator.failures.copy()
@@ -151,14 +151,14 @@ def maximise(problem: Problem, evaluator: Evaluator, settings: Settings = Settin
 
     if start is None:
         unit, global_score = _global_stage(problem, evaluator, settings, scatter, record,
-                                           tqdm(total=settings.maxiter, desc="global (DE)",
+                                           progress_bar(total=settings.maxiter, desc="global (DE)",
                                                 unit="gen", disable=not progress, leave=False))
     else:
         unit, global_score = to_unit(problem, start), math.nan
     global_values = from_unit(problem, unit)
     unit, message, score, gradient, outcomes = _local_stage(
         problem, evaluator, settings, scatter, unit, record,
-        tqdm(total=settings.local_maxiter, desc="local (SLSQP)", unit="it", disable=not progress, leave=False))
+        progress_bar(total=settings.local_maxiter, desc="local (SLSQP)", unit="it", disable=not progress, leave=False))
     stage, shots, best = zip(*records, strict=True)
     failures = evaluator.failures - failures0
     return Optimum(problem=problem, scatter=scatter, settings=settings,

@@ -17,8 +17,9 @@ import math
 import sys
 from pathlib import Path
 
-from analytic.cli_shared import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_INVALID, EXIT_OK
+from analytic.cli_shared import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_INVALID, EXIT_OK, units_argument
 from analytic.design import DesignError
+from analytic.units import from_display, with_units
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -40,6 +41,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--reach", type=float, action="append", metavar="D",
                         help="with --report: give the probability of reaching D (repeatable)")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
+    units_argument(parser, "--report's summary and figures and of --reach", default="metric")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
@@ -117,11 +119,13 @@ def _report(args: argparse.Namespace) -> int:
     from analytic.sweep.report import make_report
 
     try:
-        report = make_report(args.report, args.out, distances=args.reach)
+        system = args.units or "metric"
+        distances = None if args.reach is None else [from_display(d, "m", system) for d in args.reach]
+        report = make_report(args.report, args.out, distances=distances, system=system)
     except DesignError as error:
         return _invalid(f"invalid results: {error}")
     if args.json:
-        print(json.dumps(report.summary, indent=2))
+        print(json.dumps(with_units(report.summary, system), indent=2))
     else:
         print(report.text)
         print(f"written: {', '.join(str(path) for path in report.files)}")

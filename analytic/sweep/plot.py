@@ -15,6 +15,8 @@ from analytic.sweep.analyses import OK, GridMap, Sensitivity, Spread
 FAILURE_COLOURS = {"never_fires": "#4d4d4d", "never_lifts_off": "#8c8c8c", "hits_base_before_release": "#d62728",
                    "never_releases": "#ff9896", "no_landing": "#9467bd", "step_failed": "#000000"}
 _OUTPUT_LABELS = {"range": "range (m)", "y": "y"}
+#: The unit each output's figures carry in legends (none for a test function's y).
+_OUTPUT_UNITS = {"range": " m", "y": ""}
 
 
 def label(field: str, units: dict) -> str:
@@ -51,7 +53,7 @@ def grid_figure(grid: GridMap, output: str, units: dict) -> Figure:
         best = grid.best
         if best is not None:
             ax.plot(best[1][1], best[1][0], "*", color="white", mec="black", ms=14, clip_on=False,
-                    label=f"best {best[0]:.4g}")
+                    label=f"best {best[0]:.4g}{_OUTPUT_UNITS.get(output, '')}")
         handles = [Patch(color=FAILURE_COLOURS[name], label=name) for name in failures]
         ax.legend(handles=ax.get_legend_handles_labels()[0] + handles, loc="upper left", fontsize=8,
                   framealpha=0.85)
@@ -74,13 +76,13 @@ def spread_figure(spread: Spread, output: str) -> Figure:
     done = "thrown" if output == "range" else "ok"
     figure = _figure((11, 4.2))
     hist, reach = figure.subplots(1, 2)
-    name = _OUTPUT_LABELS.get(output, output)
+    name, unit = _OUTPUT_LABELS.get(output, output), _OUTPUT_UNITS.get(output, "")
     hist.hist(spread.values, bins=min(80, max(10, int(np.sqrt(max(spread.thrown, 1))))), color="C0", alpha=0.8)
     for q, value in spread.quantiles.items():
         hist.axvline(value, color="C3" if q == 50 else "0.4", ls="-" if q == 50 else ":", lw=1)
-    hist.axvline(spread.mean, color="C1", lw=1.5, label=f"mean {spread.mean:.4g}, sd {spread.sd:.3g}")
+    hist.axvline(spread.mean, color="C1", lw=1.5, label=f"mean {spread.mean:.4g}{unit}, sd {spread.sd:.3g}{unit}")
     hist.plot([], [], color="0.4", ls=":", label="5, 25, 75, 95 % quantiles")
-    hist.plot([], [], color="C3", label=f"median {spread.quantiles[50]:.4g}")
+    hist.plot([], [], color="C3", label=f"median {spread.quantiles[50]:.4g}{unit}")
     failed = spread.shots - spread.thrown
     hist.set(xlabel=name, ylabel="shots",
              title=f"{spread.thrown} of {spread.shots} shots {done}" + (f" ({failed} failed)" if failed else ""))

@@ -17,7 +17,9 @@ from pathlib import Path
 import numpy as np
 
 from analytic.design import DesignError
+from analytic.plot_units import in_units
 from analytic.sweep import analyses, plot, storage
+from analytic.units import display
 
 
 @dataclass(frozen=True)
@@ -52,7 +54,8 @@ def check_results(results: str | Path) -> dict:
     return settings
 
 
-def make_report(results: str | Path, out: str | Path | None = None, distances=None) -> Report:
+def make_report(results: str | Path, out: str | Path | None = None, distances=None,
+                system: str = "metric") -> Report:
     """Analyse a finished sweep and write the summary and figures.
 
     Parameters
@@ -60,10 +63,18 @@ def make_report(results: str | Path, out: str | Path | None = None, distances=No
     results : the sweep's results folder.
     out : where to write (default ``RESULTS/_report``, which pyarrow's dataset reader skips).
     distances : where to give the probability of reaching (default: round numbers across the outputs).
+    system : the units of the summary's text, ``metric`` or ``imperial`` (``analytic.units.display``);
+        the figures are labelled in them too (``analytic.plot_units``); ``summary.json`` stays in the
+        file units (SI, degrees).
     """
     settings = check_results(results)
     sweep = settings["sweep"]
     output, units = sweep["output"], sweep["units"]
+    output_unit = "m" if output == "range" else ""
+
+    def shown(value: float, unit: str, fmt: str = ".6g") -> str:
+        number, label = display(value, unit, system)
+        return f"{number:{fmt}} {label}".rstrip()
     table = storage.read_table(results, ["status", output], ordered=False)
     out = Path(results) / storage.REPORT_NAME if out is None else Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -83,9 +94,9 @@ def make_report(results: str | Path, out: str | Path | None = None, distances=No
         lines.append(f"grid over {' x '.join(grid.fields)} ({' x '.join(map(str, grid.value.shape))} points): "
                      f"{summary['grid']['points_thrown']} points throw")
         if best is not None:
-            where = ", ".join(f"{f} = {v:.6g} {units.get(f, '')}".rstrip() for f, v in zip(grid.fields, best[1]))
-            lines.append(f"  best {output} {best[0]:.6g} at {where}")
-        files.append(_save(plot.grid_figure(grid, output, units), out / "grid.png"))
+            where = ", ".join(f"{f} = {shown(v, units.get(f, ''))}" for f, v in zip(grid.fields, best[1]))
+            lines.append(f"  best {output} {shown(best[0], output_unit)} at {where}")
+        files.append(_save(in_units(plot.grid_figure(grid, output, units), system), out / "grid.png"))
     elif sweep["grid"]:
         lines.append(f"grid of {len(sweep['grid'])} fields: maps are drawn for grids of one or two fields")
 
@@ -94,11 +105,13 @@ def make_report(results: str | Path, out: str | Path | None = None, distances=No
         summary["distribution"] = {"shots": spread.shots, "thrown": spread.thrown, "mean": spread.mean,
                                    "sd": spread.sd, "quantiles": {str(q): v for q, v in spread.quantiles.items()},
                                    "reach": [{"distance": d, "probability": p} for d, p in spread.reach]}
-        lines += [f"{output} over the sample: mean {spread.mean:.6g}, sd {spread.sd:.4g} "
-                  f"({spread.thrown} of {spread.shots} thrown)",
-                  "  quantiles " + ", ".join(f"{q} %: {v:.5g}" for q, v in spread.quantiles.items()),
-                  "  probability of reaching " + ", ".join(f"{d:g}: {p:.4f}" for d, p in spread.reach)]
-        files.append(_save(plot.spread_figure(spread, output), out / "distribution.png"))
+        lines += [f"{output} over the sample: mean {shown(spread.mean, output_unit)}, "
+                  f"sd {shown(spread.sd, output_unit, '.4g')} ({spread.thrown} of {spread.shots} thrown)",
+                  "  quantiles " + ", ".join(f"{q} %: {shown(v, output_unit, '.5g')}"
+                                             for q, v in spread.quantiles.items()),
+                  "  probability of reaching " + ", ".join(f"{shown(d, output_unit, 'g')}: {p:.4f}"
+                                                           for d, p in spread.reach)]
+        files.append(_save(in_units(plot.spread_figure(spread, output), system), out / "distribution.png"))
 
     indices = analyses.sensitivity(settings, table)
     if isinstance(indices, analyses.Sensitivity):

@@ -60,7 +60,7 @@ def run_sweep(sweep: Sweep, out: str | Path, executor=None, *, progress: bool = 
     DesignError
         if ``out`` holds something else, before anything is written.
     """
-    from tqdm import tqdm
+    from analytic.cli_shared import progress_bar
 
     began = time.perf_counter()
     executor = executor or InProcess()
@@ -70,7 +70,7 @@ def run_sweep(sweep: Sweep, out: str | Path, executor=None, *, progress: bool = 
     ok = sum(_ok_in(storage.chunk_path(out, chunk)) for chunk in done)
     todo = [chunk for chunk in range(sweep.chunks) if chunk not in done]
     written = shots_run = 0
-    with tqdm(total=sweep.chunks, initial=len(done), unit="chunk", desc=sweep.name, disable=not progress,
+    with progress_bar(total=sweep.chunks, initial=len(done), unit="chunk", desc=sweep.name, disable=not progress,
               file=sys.stderr) as bar:
         for chunk, columns in executor.chunks(sweep, todo):
             storage.write_chunk(out, chunk, columns)
