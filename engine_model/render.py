@@ -7,8 +7,10 @@ the ground carries a fixed scale in metres (its labels under the ground, clear
 of the machine), and an inset shows the machine close up, as large as the
 space above the trajectory allows (``layout``); the landing is marked with
 the range, and the last frame sums the shot up in a box placed where the
-trajectory is not. The machine is drawn as it was at release from then on (the
-``Shot`` records its motion only up to release). A rolling frame is drawn on
+trajectory is not. After release the machine swings on as it moved, where the
+shot kept that motion (``engine_model.simulate(..., machine_after_release=True)``,
+which the ``render`` command asks for); otherwise it is drawn as it was at
+release. A rolling frame is drawn on
 two wheels, carried along by its displacement, the wheels turning as they
 roll. Frames are deterministic: the PNGs carry no software version or
 time stamp.
@@ -142,11 +144,14 @@ def frame_state(shot: Shot, time: float) -> FrameState:
     in_flight = release is not None and time > release
     swing_time = min(time, float(history.t[-1]))
     q = np.array([np.interp(swing_time, history.t, history.q[:, i]) for i in range(3)])
-    points = machine_points(q, shot.design.machine)
-    frame_x = 0.0
-    if shot.design.base.rolling and len(history.frame_x):
-        frame_x = float(np.interp(swing_time, history.t, history.frame_x))
-        points = {name: point + np.array([frame_x, 0.0]) for name, point in points.items()}
+    frame_x = float(np.interp(swing_time, history.t, history.frame_x)) if len(history.frame_x) else 0.0
+    if in_flight and history.machine_t is not None:   # the machine swinging on without its projectile
+        q[:2] = [np.interp(time, history.machine_t, history.machine_q[:, i]) for i in range(2)]
+        frame_x = float(np.interp(time, history.machine_t, history.machine_frame_x))
+    if not shot.design.base.rolling:
+        frame_x = 0.0
+    points = {name: point + np.array([frame_x, 0.0])
+              for name, point in machine_points(q, shot.design.machine).items()}
     on_machine = history.t <= swing_time
     trace = [history.path[on_machine]]
     if in_flight:

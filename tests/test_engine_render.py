@@ -187,3 +187,18 @@ def test_the_ground_scale_is_labelled_under_the_ground_clear_of_the_machine(shot
     assert below.shape[0] >= 14   # a label's height at 8 pt
     zero_column = int(round(-view[0] / (view[1] - view[0]) * FRAME_SIZE[0]))
     assert _colour_mask(below[:, zero_column - 15:zero_column + 15], "#5a4a3a", 40).any()
+
+
+def test_the_machine_swings_on_after_release_in_the_frames():
+    """Asked for, the engine steps the fixed machine on from release to landing: its motion starts
+    where stages 1-2 left it and the frames in flight draw the arm where it has swung to, not
+    frozen at its release angle; not asked for, nothing is stepped."""
+    shot = simulate(default_design(), dt=4e-4, machine_after_release=True)
+    history = shot.history
+    assert history.machine_t[0] == pytest.approx(shot.release_time) and history.machine_t[-1] == shot.landing_time
+    assert history.machine_q[0] == pytest.approx(history.q[-1, :2], abs=1e-9)
+    at_release = frame_state(shot, shot.release_time)
+    tips = [frame_state(shot, shot.release_time + dt).long_tip for dt in (0.1, 0.2, 0.4)]
+    moved = [float(np.hypot(*(tip - at_release.long_tip))) for tip in tips]
+    assert max(moved) > 0.2, moved   # the 70 cm arm's tip swings tens of centimetres on
+    assert simulate(default_design(), dt=4e-4).history.machine_t is None
