@@ -188,3 +188,15 @@ def test_an_implausible_or_entangled_fit_is_warned_of(tmp_path):
     lines = " ".join(result.warnings)
     assert "correlate at" in lines or "plausible range" in lines, result.warnings
     assert "probably" in lines or "combination" in lines
+
+
+def test_designs_of_the_same_name_in_two_folders_get_a_fitted_file_each(tmp_path, capsys):
+    for folder in ("a", "b"):
+        (tmp_path / folder).mkdir()
+        (tmp_path / folder / "p.toml").write_text(PROTOTYPE_FILE.read_text())
+    path = tmp_path / "two.toml"
+    path.write_text('fit = ["drag_factor"]\n'
+                    '[[shot]]\ndesign = "a/p.toml"\nrange = 28.0\nrange_uncertainty = 0.5\n'
+                    '[[shot]]\ndesign = "b/p.toml"\nrange = 28.4\nrange_uncertainty = 0.5\n')
+    assert main(["calibrate", str(path), "--quiet", "--out", str(tmp_path / "out")]) == 0
+    assert sorted(p.name for p in (tmp_path / "out" / FITTED_FOLDER).iterdir()) == ["p-shot2.toml", "p.toml"]

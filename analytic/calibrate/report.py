@@ -238,12 +238,14 @@ def write(result: Calibration, out: str | Path, predictions=()) -> list[Path]:
     save_figure(calibration_figure(result, predictions), written[2])
     folder = out / FITTED_FOLDER
     folder.mkdir(exist_ok=True)
-    names: set[str] = set()
+    names: dict[str, tuple] = {}   # file name -> the design file and settings it was written for
     for shot in result.spec.shots:
-        name = setting_name(shot)
-        if name in names:
-            continue
-        names.add(name)
+        name, setting = setting_name(shot), (shot.design_file, tuple(shot.settings.items()))
+        if names.get(name) == setting:
+            continue   # the same design at the same setting: one file
+        if name in names:   # another design file of the same name, or settings that print alike
+            name = f"{name}-shot{shot.number}"
+        names[name] = setting
         path = folder / f"{name}.toml"
         path.write_text(fitted_text(result, shot))
         written.append(path)
