@@ -200,3 +200,10 @@ def test_designs_of_the_same_name_in_two_folders_get_a_fitted_file_each(tmp_path
                     '[[shot]]\ndesign = "b/p.toml"\nrange = 28.4\nrange_uncertainty = 0.5\n')
     assert main(["calibrate", str(path), "--quiet", "--out", str(tmp_path / "out")]) == 0
     assert sorted(p.name for p in (tmp_path / "out" / FITTED_FOLDER).iterdir()) == ["p-shot2.toml", "p.toml"]
+
+
+def test_the_shipped_counterweight_series_finds_the_drag_it_was_made_with():
+    """analytic/data/calibration/counterweight-series.toml: six synthetic shots made with drag 1.3
+    times the golf-ball curve (its header says how), fitted within 3 sd of 1.3."""
+    result = calibrate(load_calibration(DATA / "calibration" / "counterweight-series.toml"))
+    assert abs(result.values[0] - 1.3) < 3.0 * result.uncertainties[0] and not result.warnings
