@@ -186,53 +186,92 @@ def _line_figure(result: Chart, fig):
     ax_joints.plot(x, result.loads["peak_hinge_load"], "--", color="tab:green", label="peak hinge load")
     ax_joints.set(ylabel="force (N)")
     ax_joints.legend(fontsize=8)
-    ax_sling.plot(x, result.loads["peak_sling_tension"], "-", color="tab:purple", label="peak sling tension (N)")
-    ax_sling.set(xlabel=v.field.label, ylabel="sling tension (N)")
-    ax_g = ax_sling.twinx()
-    g = result.design.environment.gravity
-    ax_g.plot(x, result.loads["peak_projectile_acceleration"] / g, "--", color="tab:orange",
-              label="peak projectile acceleration (g)")
-    ax_g.set(ylabel="projectile acceleration (g)")
-    lines, more = ax_sling.get_legend_handles_labels(), ax_g.get_legend_handles_labels()
-    ax_sling.legend(lines[0] + more[0], lines[1] + more[1], fontsize=8)
+    ax_sling.plot(x, result.loads["peak_sling_tension"], "-", color="tab:purple", label="peak sling tension")
+    ax_sling.set(xlabel=v.field.label, ylabel="peak sling tension (N)")
+    _acceleration_scale(ax_sling, result)
+    ax_sling.legend(fontsize=8)
     for ax in (ax_range, ax_joints, ax_sling):
         ax.grid(alpha=0.3)
     return fig
+
+
+#: Fields whose change breaks the proportion between sling tension and the projectile's felt acceleration.
+_WEIGHT_FIELDS = ("projectile.mass", "environment.gravity")
+
+
+def _proportional(result: Chart) -> bool:
+    """True when the peak sling tension and the peak projectile acceleration are one quantity on two
+    scales: after lift-off the sling's pull over the projectile's mass is the acceleration it feels,
+    so with the projectile's weight the same at every setting they are proportional."""
+    return not any(v.field.name in _WEIGHT_FIELDS for v in result.varies)
+
+
+def _weight(result: Chart) -> float:
+    return result.design.projectile.mass * result.design.environment.gravity
+
+
+def _acceleration_scale(ax, result: Chart) -> None:
+    """The projectile's peak acceleration (g) as the right-hand scale of a sling-tension axis where the
+    two are proportional (``_proportional``); its own dashed curve on a twin axis where not."""
+    g = result.design.environment.gravity
+    if _proportional(result):
+        weight = _weight(result)
+        scale = ax.secondary_yaxis("right", functions=(lambda n: n / weight, lambda a: a * weight))
+        scale.set_ylabel("peak projectile acceleration (g)")
+        return
+    twin = ax.twinx()
+    twin.plot(result.settings[:, 0], result.loads["peak_projectile_acceleration"] / g, "--", color="tab:orange",
+              label="peak projectile acceleration (g)")
+    twin.set(ylabel="projectile acceleration (g)")
+    twin.legend(fontsize=8, loc="lower right")
+
+
+#: The map panels: (column or "range", title, colour map). Peak projectile acceleration is the
+#: sling tension's second scale where the two are proportional, a panel of its own where not.
+_MAP_PANELS = (("range", "range (m)", "viridis"), ("peak_sling_tension", "peak sling tension (N)", "magma"),
+               ("peak_axle_load", "peak axle load (N)", "magma"), ("peak_hinge_load", "peak hinge load (N)", "magma"))
+_ACCELERATION_PANEL = ("peak_projectile_acceleration", "peak projectile acceleration (g)", "magma")
 
 
 def _map_figure(result: Chart, fig):
     vx, vy = result.varies[1], result.varies[0]     # the last varies fastest: along x
     shape = result.shape
     grid_x, grid_y = vx.values, vy.values
-    g = result.design.environment.gravity
-    panels = [("range (m)", result.range, "viridis")] + [
-        (f"{label} ({unit if name != 'peak_projectile_acceleration' else 'g'})",
-         result.loads[name] / (g if name == "peak_projectile_acceleration" else 1.0), "magma")
-        for name, unit, label in LOAD_COLUMNS]
     axes = fig.subplots(2, 3, gridspec_kw=dict(left=0.06, right=0.97, bottom=0.07, top=0.91,
                                                wspace=0.35, hspace=0.35)).ravel()
     fig.suptitle(f"{result.design.name}: range and peak loads over {vy.field.name} and {vx.field.name}"
-                 f" (grey: no throw)")
+                 + (" (grey: no throw)" if _failures(result) else ", every setting throws"))
     failures = _failures(result)
-    for ax, (title, values, cmap) in zip(axes, panels, strict=False):
+    panels = _MAP_PANELS if _proportional(result) else _MAP_PANELS + (_ACCELERATION_PANEL,)
+    g = result.design.environment.gravity
+    for ax, (name, title, cmap) in zip(axes, panels, strict=False):
+        values = result.range if name == "range" else result.loads[name] / (g if name == _ACCELERATION_PANEL[0]
+                                                                             else 1.0)
         z = np.ma.masked_invalid(values.reshape(shape))
         ax.set_facecolor("0.85")
         mesh = ax.pcolormesh(grid_x, grid_y, z, shading="nearest", cmap=cmap)
-        fig.colorbar(mesh, ax=ax, shrink=0.9)
+        bar = fig.colorbar(mesh, ax=ax, shrink=0.9)
+        if name == "peak_sling_tension" and _proportional(result):   # its ticks in N and in g
+            weight = _weight(result)
+            bar.ax.yaxis.set_major_formatter(lambda n, _: f"{n:.3g} N = {n / weight:.3g} g")
+            title = "peak sling tension (N) = projectile acceleration (g)"
         if z.count() > 3 and np.ptp(z.compressed()) > 0:
             lines = ax.contour(grid_x, grid_y, z, levels=8, colors="w", linewidths=0.6)
-            if values is result.range:   # labelled where a team reads off a distance
-                ax.clabel(lines, fontsize=7, fmt="%.3g")
+            ax.clabel(lines, fontsize=7, fmt="%.4g")
         ax.set(title=title, xlabel=vx.field.label, ylabel=vy.field.label)
     ax_status = axes[len(panels)]
-    ax_status.set_facecolor("0.85")
-    ok = result.status == "ok"
-    ax_status.plot(result.settings[ok, 1], result.settings[ok, 0], ".", color="tab:green", ms=4, label="throws")
-    for (status, mask), marker in zip(failures.items(), _MARKERS, strict=False):
-        ax_status.plot(result.settings[mask, 1], result.settings[mask, 0], marker, color="k", ms=5,
-                       ls="none", label=status.replace("_", " "))
-    ax_status.set(title="outcome", xlabel=vx.field.label, ylabel=vy.field.label)
-    ax_status.legend(fontsize=8, loc="best")
+    if failures:   # the settings that do not throw; with none, nothing to show
+        ax_status.set_facecolor("0.85")
+        ok = result.status == "ok"
+        ax_status.plot(result.settings[ok, 1], result.settings[ok, 0], ".", color="tab:green", ms=4,
+                       label="throws")
+        for (status, mask), marker in zip(failures.items(), _MARKERS, strict=False):
+            ax_status.plot(result.settings[mask, 1], result.settings[mask, 0], marker, color="k", ms=5,
+                           ls="none", label=status.replace("_", " "))
+        ax_status.set(title="outcome", xlabel=vx.field.label, ylabel=vy.field.label)
+        ax_status.legend(fontsize=8, loc="best")
+    else:
+        ax_status.set_visible(False)
     for ax in axes[len(panels) + 1:]:
         ax.set_visible(False)
     return fig

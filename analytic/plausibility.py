@@ -72,3 +72,36 @@ def plausibility_warnings(design, shot) -> tuple[str, ...]:
             found.append(f"the release speed, {speed:.4g} m/s, is beyond the speed of sound"
                          f" ({SPEED_OF_SOUND:g} m/s): the drag curves hold only well below it")
     return tuple(found)
+
+
+#: Plausible ranges of what calibration fits, file units: name -> (low, high, why). A kinetic
+#: Coulomb coefficient: greased steel 0.05-0.15, dry wood on wood 0.25-0.5, rubber on
+#: concrete about 1; a bearing beyond 1 grips harder than rubber on a road. A drag factor:
+#: the drag crisis moves a sphere's Cd by a factor of 2-4 between balls and Reynolds
+#: numbers (``analytic.aero``), so a curve right to within a factor of 2 either way.
+#: A release-angle offset: a pin or hook lets go within a few degrees of its setting; 10 deg
+#: is more than a 240 fps video's 6.3 deg between frames.
+FITTED_RANGES = {"friction": (0.0, 1.0, "a Coulomb coefficient beyond 1 grips harder than rubber on concrete"),
+                 "drag_factor": (0.5, 2.0, "a drag curve off by more than a factor of 2 is another shape of "
+                                           "projectile"),
+                 "release_angle_offset": (-10.0, 10.0, "a release pin lets go within a few degrees of its "
+                                                       "setting")}
+
+
+def fitted_value_warning(name: str, value: float) -> str | None:
+    """A line when a fitted parameter ``name`` (calibration's spelling) leaves ``FITTED_RANGES``; None inside.
+
+    The line names the parameter, its value, the range and what a value outside it
+    probably means: a loss the model lacks (a headwind, a grade, a stretching sling)
+    charged to this parameter, or measurement uncertainties stated too small.
+    """
+    key = "friction" if name.endswith("_friction") else name
+    if key not in FITTED_RANGES:
+        return None
+    low, high, why = FITTED_RANGES[key]
+    if low <= value <= high:
+        return None
+    return (f"{name} = {value:.3g} is outside its plausible range {low:g} to {high:g} ({why}): probably the "
+            f"shots lose (or gain) range to something the model does not have, a headwind, a slope, a "
+            f"stretching sling or a slipping hook, and the fit charges it all to {name}; predictions near the "
+            f"measured settings can still hold, but do not read the value as {name} itself")

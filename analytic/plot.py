@@ -43,15 +43,25 @@ def draw_machine(ax, shot, index: int, alpha: float = 1.0) -> None:
     ax.plot(x, 0.0, "o", color="k", ms=4, alpha=alpha)
 
 
+#: A load above this fraction of its peak is part of the stroke: the loads panels show
+#: the window from the first such sample to the end of the history, widened by
+#: ``STROKE_PAD`` of its width before it, so the rise is seen from the flat.
+STROKE_FRACTION, STROKE_PAD = 0.05, 0.5
+
+
 def shot_figure(shot, units: str = "metric") -> Figure:
-    """Four panels of a ``Shot`` with a history: the flight, the machine at release (or at the end), the
-    energy and the loads over time; drawn in SI and shown in ``units`` (``analytic.plot_units``)."""
+    """Five panels of a ``Shot`` with a history, on a 2 x 3 grid that fits a laptop screen (1430 x 825
+    pixels at the default 110 dpi): the flight and the machine at release (or at the end) above; the
+    energy, the joint loads and the sling tension below, the loads zoomed on the stroke (``stroke_window``).
+    Drawn in SI and shown in ``units`` (``analytic.plot_units``)."""
     history = shot.history
     if history is None:
         raise ValueError(f"shot of {shot.design.name!r} has no histories to plot (a summary from the "
                          f"fast path or simulate(histories=False)): simulate it with histories")
-    fig = Figure(figsize=(17, 4.4), layout="constrained")
-    ax_flight, ax_machine, ax_energy, ax_loads = fig.subplots(1, 4, gridspec_kw={"width_ratios": [1.6, 1, 1.1, 1.1]})
+    fig = Figure(figsize=(13, 7.5), layout="constrained")
+    panels = fig.subplot_mosaic([["flight", "flight", "machine"], ["energy", "loads", "sling"]],
+                                height_ratios=[1, 1.15])
+    ax_flight, ax_machine = panels["flight"], panels["machine"]
     h = shot.design.machine.pivot_height
     title = f"{shot.design.name}: {shot.status.value}"
     if shot.range is not None:
@@ -77,11 +87,29 @@ def shot_figure(shot, units: str = "metric") -> Figure:
     ax_machine.set(xlabel="x (m)", ylabel="y (m)", title=f"machine at start (faint) and {when}")
     ax_machine.set_aspect("equal", adjustable="datalim")
 
-    draw_energy(ax_energy, shot)
-    draw_loads(ax_loads, shot)
+    draw_energy(panels["energy"], shot)
+    draw_loads(panels["loads"], shot)
+    draw_sling(panels["sling"], shot)
+    window = stroke_window(shot)
+    if window is not None:
+        panels["energy"].axvspan(*window, color="0.85", zorder=0, label="the loads' window")
+        panels["energy"].legend(fontsize=8)
     from analytic.plot_units import in_units
 
     return in_units(fig, units)
+
+
+def stroke_window(shot) -> tuple[float, float] | None:
+    """(start, end) s: where the axle carries more than ``STROKE_FRACTION`` of its peak, to the
+    history's end (release), widened before by ``STROKE_PAD``; None without loads."""
+    history = shot.history
+    if history.axle_load is None or not len(history.t):
+        return None
+    loads = np.abs(history.axle_load)
+    above = np.flatnonzero(loads > STROKE_FRACTION * float(np.max(loads)))
+    start, end = float(history.t[above[0]]), float(history.t[-1])
+    start = max(float(history.t[0]), start - STROKE_PAD * (end - start))
+    return (start, end) if end > start else None
 
 
 def draw_energy(ax_energy, shot) -> None:
@@ -111,33 +139,61 @@ def draw_energy(ax_energy, shot) -> None:
 
 
 def draw_loads(ax, shot) -> None:
-    """The joint loads through stages 1-2 (N, left) and the projectile's felt acceleration (g,
-    right), each peak marked; the panel hidden where the history holds no loads."""
+    """The axle and hinge loads (N) over the stroke (``stroke_window``), each peak marked; the
+    panel hidden where the history holds no loads."""
     history = shot.history
     if history.axle_load is None:
         ax.set_visible(False)
         return
-    g = shot.design.environment.gravity
-    curves = [(history.axle_load, shot.peak_axle_load, shot.peak_axle_load_time, "axle", "tab:blue"),
-              (history.hinge_load, shot.peak_hinge_load, shot.peak_hinge_load_time, "hinge", "tab:green"),
-              (history.sling_tension, shot.peak_sling_tension, shot.peak_sling_tension_time, "sling tension",
-               "tab:purple")]
-    for values, peak, when, label, color in curves:
-        ax.plot(history.t, values, color=color, lw=1, label=label)
-        if peak is not None:
+    for values, peak, when, label, color, side in (
+            (history.axle_load, shot.peak_axle_load, shot.peak_axle_load_time, "axle", "tab:blue", "right"),
+            (history.hinge_load, shot.peak_hinge_load, shot.peak_hinge_load_time, "hinge", "tab:green", "left")):
+        ax.plot(history.t, values, color=color, lw=1.2, label=label)
+        if peak is not None:   # labels on either side of the peaks, which often nearly coincide
             ax.plot(when, peak, "o", color=color, ms=4)
+            ax.annotate(f"{label} {peak:.0f} N", (when, peak), textcoords="offset points", ha=side, fontsize=8,
+                        xytext=(-6 if side == "right" else 6, 4), color=color)
+    _zoom(ax, shot)
+    ax.set(xlabel="time (s)", ylabel="force (N)", title="joint loads over the stroke (dots: peaks)")
+    ax.legend(fontsize=8, loc="upper left")
+
+
+def draw_sling(ax, shot) -> None:
+    """The sling tension (N) over the stroke, with the projectile's felt acceleration (g) as a second
+    scale of the same curve: after lift-off the sling's pull is the only force but gravity on the
+    projectile, so the two are one curve there, drawn once."""
+    history = shot.history
+    if history.sling_tension is None:
+        ax.set_visible(False)
+        return
+    ax.plot(history.t, history.sling_tension, color="tab:purple", lw=1.2, label="sling tension")
+    if shot.peak_sling_tension is not None:
+        ax.plot(shot.peak_sling_tension_time, shot.peak_sling_tension, "o", color="tab:purple", ms=4)
     ax.axhline(0.0, color="0.6", lw=0.6)
-    ax.set(xlabel="time (s)", ylabel="force (N)", title="loads (dots: peaks)")
-    ax_g = ax.twinx()
-    ax_g.plot(history.t, history.projectile_acceleration / g, color="tab:orange", lw=1, ls="--",
-              label="projectile acceleration")
+    _zoom(ax, shot)
+    ax.set(xlabel="time (s)", ylabel="sling tension (N)", title="sling over the stroke")
+    weight = shot.design.projectile.mass * shot.design.environment.gravity
+    felt = ax.secondary_yaxis("right", functions=(lambda n: n / weight, lambda a: a * weight))
+    felt.set_ylabel("projectile acceleration after lift-off (g)")
     if shot.peak_projectile_acceleration is not None:
-        ax_g.plot(shot.peak_projectile_acceleration_time, shot.peak_projectile_acceleration / g, "o",
-                  color="tab:orange", ms=4)
-    ax_g.set(ylabel="projectile acceleration (g)")
-    handles, labels = ax.get_legend_handles_labels()
-    more = ax_g.get_legend_handles_labels()
-    ax.legend(handles + more[0], labels + more[1], fontsize=8, loc="upper left")
+        g = shot.design.environment.gravity
+        ax.annotate(f"peak {shot.peak_projectile_acceleration / g:.0f} g", (shot.peak_projectile_acceleration_time,
+                    shot.peak_projectile_acceleration * shot.design.projectile.mass), textcoords="offset points",
+                    xytext=(-6, 4), ha="right", fontsize=8, color="tab:purple")
+
+
+def _zoom(ax, shot) -> None:
+    window = stroke_window(shot)
+    if window is not None:
+        ax.set_xlim(*window)
+        history, (start, end) = shot.history, window
+        inside = (history.t >= start) & (history.t <= end)
+        lines = [line.get_ydata() for line in ax.get_lines() if len(line.get_ydata()) == len(history.t)]
+        if lines and inside.any():
+            top = max(float(np.max(np.asarray(y)[inside])) for y in lines)
+            low = min(0.0, min(float(np.min(np.asarray(y)[inside])) for y in lines))
+            ax.set_ylim(low - 0.04 * (top - low), top + 0.12 * (top - low))
+    ax.grid(alpha=0.3)
 
 
 def save_figure(figure: Figure, path: str | Path, dpi: int = 110) -> None:

@@ -76,6 +76,9 @@ class History:
     flight_path : (k, 2) projectile centre in flight, m.
     axle_load, hinge_load, projectile_acceleration : (n,) the loads on ``t`` (N, N, m/s^2), or
         None where they are not recorded (the engine model; ``simulate(sampled_loads=False)``).
+    machine_t, machine_q, machine_frame_x : the machine without its projectile from release to
+        landing: (m,) times, s from firing; (m, 2) [theta, phi], rad; (m,) the frame's X, m.
+        None unless asked for (the engine's ``simulate(machine_after_release=True)``, for drawing).
     """
 
     t: np.ndarray
@@ -91,6 +94,9 @@ class History:
     axle_load: np.ndarray | None = None
     hinge_load: np.ndarray | None = None
     projectile_acceleration: np.ndarray | None = None
+    machine_t: np.ndarray | None = None
+    machine_q: np.ndarray | None = None
+    machine_frame_x: np.ndarray | None = None
 
 
 @dataclass(frozen=True)

@@ -33,7 +33,8 @@ def _run(args: argparse.Namespace) -> Shot | int:
         print(f"invalid design: {error}", file=sys.stderr)
         return EXIT_INVALID
     try:
-        return simulate(design, dt=args.dt, iterations=args.iterations, sling=args.sling)
+        return simulate(design, dt=args.dt, iterations=args.iterations, sling=args.sling,
+                        machine_after_release=args.command == "render")   # frames draw its swing on
     except EngineError as error:
         print(f"engine error: {error}", file=sys.stderr)
         return EXIT_ENGINE_ERROR

@@ -3,10 +3,14 @@
 Frames are drawn from the recorded ``Shot`` alone (coordinates, projectile path,
 flight path), time-warped: the swing in slow motion, the flight in real time,
 with the playback speed shown. Every frame has one view of the whole shot, so
-the ground carries a fixed scale in metres, and an inset shows the machine
-close up; the landing is marked with the range, and the last frame sums the
-shot up. The machine is drawn as it was at release from then on (the
-``Shot`` records its motion only up to release). A rolling frame is drawn on
+the ground carries a fixed scale in metres (its labels under the ground, clear
+of the machine), and an inset shows the machine close up, as large as the
+space above the trajectory allows (``layout``); the landing is marked with
+the range, and the last frame sums the shot up in a box placed where the
+trajectory is not. After release the machine swings on as it moved, where the
+shot kept that motion (``engine_model.simulate(..., machine_after_release=True)``,
+which the ``render`` command asks for); otherwise it is drawn as it was at
+release. A rolling frame is drawn on
 two wheels, carried along by its displacement, the wheels turning as they
 roll. Frames are deterministic: the PNGs carry no software version or
 time stamp.
@@ -52,8 +56,21 @@ DEFAULT_FPS = 25.0
 SWING_SLOW_MOTION = 8.0
 FLIGHT_SPEED = 1.0
 FINAL_HOLD = 2.0
-#: The machine's close-up: (left, bottom, width, height) as fractions of the frame.
+#: The machine's close-up: (left, bottom, width, height) as fractions of the frame: the
+#: smallest, used where no larger one keeps clear of the trajectory (``INSET_SCALES``).
 INSET = (0.01, 0.52, 0.30, 0.42)
+#: Sizes the close-up tries, largest first, as multiples of ``INSET``'s (its top-left corner kept).
+INSET_SCALES = (1.8, 1.6, 1.45, 1.3, 1.15, 1.0)
+#: The top of the close-up when it goes in the top-right corner, under the header's two lines.
+INSET_RIGHT_TOP = 0.86
+#: Room under the ground for the scale's labels, as a fraction of what the view must show.
+LABEL_ROOM = 0.06
+#: Pixels kept between a placed box (close-up, summary) and the trajectory.
+CLEARANCE_PX = 8.0
+#: Where the summary box may go, its centre in fractions of the frame, tried in order: the
+#: empty sky above the flight first, then lower down.
+SUMMARY_PLACES = ((0.5, 0.8), (0.68, 0.8), (0.82, 0.8), (0.5, 0.62), (0.82, 0.62), (0.5, 0.45), (0.82, 0.45),
+                  (0.5, 0.3), (0.3, 0.3), (0.82, 0.3))
 #: A rolling frame's wheels, drawn with this radius as a fraction of the pivot
 #: height (for the picture only: the model's frame has no wheel size).
 WHEEL_RADIUS_FRACTION = 0.12
@@ -129,11 +146,14 @@ def frame_state(shot: Shot, time: float) -> FrameState:
     in_flight = release is not None and time > release
     swing_time = min(time, float(history.t[-1]))
     q = np.array([np.interp(swing_time, history.t, history.q[:, i]) for i in range(3)])
-    points = machine_points(q, shot.design.machine)
-    frame_x = 0.0
-    if shot.design.base.rolling and len(history.frame_x):
-        frame_x = float(np.interp(swing_time, history.t, history.frame_x))
-        points = {name: point + np.array([frame_x, 0.0]) for name, point in points.items()}
+    frame_x = float(np.interp(swing_time, history.t, history.frame_x)) if len(history.frame_x) else 0.0
+    if in_flight and history.machine_t is not None:   # the machine swinging on without its projectile
+        q[:2] = [np.interp(time, history.machine_t, history.machine_q[:, i]) for i in range(2)]
+        frame_x = float(np.interp(time, history.machine_t, history.machine_frame_x))
+    if not shot.design.base.rolling:
+        frame_x = 0.0
+    points = {name: point + np.array([frame_x, 0.0])
+              for name, point in machine_points(q, shot.design.machine).items()}
     on_machine = history.t <= swing_time
     trace = [history.path[on_machine]]
     if in_flight:
@@ -180,15 +200,51 @@ def camera(design: Design, state: FrameState) -> tuple[float, float, float, floa
     ``render_shot`` calls it once, with the whole shot's trace, so that every
     frame has the same ground scale."""
     reach, h = _reach(design), design.machine.pivot_height
+    top = max(reach, state.trace[:, 1].max())
     return _fit(min(state.frame_x - reach, state.trace[:, 0].min()),
                 max(state.frame_x + reach, state.trace[:, 0].max()),
-                -h, max(reach, state.trace[:, 1].max()), FRAME_SIZE[0] / FRAME_SIZE[1])
+                -h - LABEL_ROOM * (top + h), top, FRAME_SIZE[0] / FRAME_SIZE[1])
 
 
-def machine_view(design: Design) -> tuple[float, float, float, float]:
-    """The inset's view, m: the machine's reach from the base up, at the inset's aspect ratio."""
+def machine_view(design: Design, rect: tuple[float, float, float, float] = INSET) -> tuple[float, float, float, float]:
+    """The inset's view, m: the machine's reach from the base up, at the aspect ratio of ``rect``."""
     reach, h = _reach(design), design.machine.pivot_height
-    return _fit(-reach, reach, -h, reach, INSET[2] * FRAME_SIZE[0] / (INSET[3] * FRAME_SIZE[1]))
+    return _fit(-reach, reach, -h, reach, rect[2] * FRAME_SIZE[0] / (rect[3] * FRAME_SIZE[1]))
+
+
+def _box_px(rect: tuple[float, float, float, float]) -> tuple[float, float, float, float]:
+    """A rectangle in fractions of the frame (left, bottom, width, height) as pixels
+    (left, top, right, bottom), rows from the top."""
+    left, bottom, width, height = rect
+    return (left * FRAME_SIZE[0], (1.0 - bottom - height) * FRAME_SIZE[1], (left + width) * FRAME_SIZE[0],
+            (1.0 - bottom) * FRAME_SIZE[1])
+
+
+def _crossed(box: tuple[float, float, float, float], points: np.ndarray) -> int:
+    """How many of ``points`` ((k, 2) pixels) fall within ``CLEARANCE_PX`` of ``box`` (pixels)."""
+    left, top, right, bottom = box
+    inside = ((points[:, 0] > left - CLEARANCE_PX) & (points[:, 0] < right + CLEARANCE_PX)
+              & (points[:, 1] > top - CLEARANCE_PX) & (points[:, 1] < bottom + CLEARANCE_PX))
+    return int(np.count_nonzero(inside))
+
+
+def _overlap(a: tuple[float, ...], b: tuple[float, ...]) -> bool:
+    return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
+
+
+def inset_rect(view: tuple[float, float, float, float], trace: np.ndarray) -> tuple[float, float, float, float]:
+    """The close-up's rectangle (fractions of the frame): the largest of ``INSET_SCALES`` that keeps
+    clear of ``trace`` ((k, 2), m) drawn in ``view``, in the top-left corner where ``INSET`` is, or
+    in the top-right one under the header; ``INSET`` where none is clear."""
+    points = np.array([pixel(view, point) for point in trace])
+    left, bottom, width, height = INSET
+    top = bottom + height
+    for scale in INSET_SCALES:
+        w, h = scale * width, scale * height
+        for rect in ((left, top - h, w, h), (1.0 - left - w, INSET_RIGHT_TOP - h, w, h)):
+            if rect[1] > 0.0 and not _crossed(_box_px(rect), points):
+                return rect
+    return INSET
 
 
 def pixel(view: tuple[float, float, float, float], point: np.ndarray) -> tuple[float, float]:
@@ -285,7 +341,7 @@ class _Drawing:
             ax.spines[side].set_visible(False)
         ax.spines["bottom"].set_position(("data", -design.machine.pivot_height))
         ax.spines["bottom"].set_color("#5a4a3a")
-        ax.tick_params(axis="x", direction="inout", pad=-14, labelsize=8, colors="#5a4a3a")
+        ax.tick_params(axis="x", direction="inout", pad=2, labelsize=8, colors="#5a4a3a")
         ax.tick_params(axis="y", left=False, labelleft=False)
         per_m, unit = display(1.0, "m", units)
         if per_m != 1.0:   # ticks at round numbers of the shown unit (analytic.plot_units)
@@ -303,7 +359,7 @@ class _Drawing:
                             transform=ax.transAxes, va="top", ha="right", family="monospace", fontsize=11)
         self.summary = ax.text(0.5, 0.55, "", transform=ax.transAxes, va="center", ha="center",
                                family="monospace", fontsize=12, zorder=7,
-                               bbox=dict(boxstyle="round", facecolor="white", edgecolor="#808080", alpha=0.9))
+                               bbox=dict(boxstyle="round", facecolor="white", edgecolor="#808080", linewidth=1.5))
         self.inset = None
         if inset:
             inset_ax = self.figure.add_axes(INSET)
@@ -312,8 +368,8 @@ class _Drawing:
             for spine in inset_ax.spines.values():
                 spine.set_color("#a0a0a0")
             # The inset's title belongs to the figure, so that it stays in the still background.
-            self.figure.text(INSET[0], INSET[1] + INSET[3] + 0.01, "the machine, close up", fontsize=9,
-                             ha="left", va="bottom")
+            self.inset_title = self.figure.text(INSET[0], INSET[1] + INSET[3] + 0.01, "the machine, close up",
+                                                fontsize=9, ha="left", va="bottom")
             self.inset = _Machine(inset_ax, design, 0.6 * PROJECTILE_MARKER_PX)
             self.inset_view = machine_view(design)
             inset_ax.set_animated(True)
@@ -323,6 +379,37 @@ class _Drawing:
         for artist in self._moving:
             artist.set_animated(True)
         self._background, self._background_view = None, None
+
+    def layout(self, view: tuple[float, float, float, float], trace: np.ndarray) -> None:
+        """Size the close-up to the space ``trace`` ((k, 2), m: the whole shot's) leaves in ``view``."""
+        if self.inset is None:
+            return
+        rect = inset_rect(view, trace)
+        self.inset.ax.set_position(rect)
+        self.inset_title.set_position((rect[0], rect[1] + rect[3] + 0.01))
+        self.inset_view = machine_view(self.design, rect)
+        self._background = None
+
+    def _place_summary(self, state: FrameState, view: tuple[float, float, float, float]) -> None:
+        """Put the summary box at the first of ``SUMMARY_PLACES`` clear of the trajectory, the close-up
+        and the header; where none is, at the one the trajectory crosses least."""
+        renderer = self.figure.canvas.get_renderer()
+        points = np.array([pixel(view, point) for point in state.trace])
+        blocked = [(0.55 * FRAME_SIZE[0], 0.0, FRAME_SIZE[0], 0.1 * FRAME_SIZE[1])]   # the header, top right
+        if self.inset is not None:
+            rect = self.inset.ax.get_position().bounds
+            blocked.append(_box_px((rect[0], rect[1], rect[2], rect[3] + 0.05)))
+        best = None
+        for x, y in SUMMARY_PLACES:
+            self.summary.set_position((x, y))
+            extent = self.summary.get_window_extent(renderer)
+            box = (extent.x0, FRAME_SIZE[1] - extent.y1, extent.x1, FRAME_SIZE[1] - extent.y0)
+            cost = _crossed(box, points) + 10_000 * any(_overlap(box, b) for b in blocked)
+            if best is None or cost < best[0]:
+                best = (cost, (x, y))
+            if cost == 0:
+                return
+        self.summary.set_position(best[1])
 
     def draw(self, state: FrameState, view: tuple[float, float, float, float], speed: float | None = None,
              shot: Shot | None = None) -> None:
@@ -342,6 +429,7 @@ class _Drawing:
             self.landing_text.set_text("{:.1f} {}".format(*display(shot.range, "m", self.units)))
             self.summary.set_text(summary(shot, self.units))
             self.summary.set_visible(True)
+            self._place_summary(state, view)
         else:
             self.landing.set_data([], [])
             self.landing_text.set_text("")
@@ -425,8 +513,10 @@ def render_shot(shot: Shot, out_dir: str | Path, *, fps: float = DEFAULT_FPS,
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     times, speeds = frame_times(shot, fps, swing_slow_motion, flight_speed)
-    view = camera(shot.design, frame_state(shot, float(times[-1])))
+    last = frame_state(shot, float(times[-1]))
+    view = camera(shot.design, last)
     drawing = _Drawing(shot.design, units=units)
+    drawing.layout(view, last.trace)
     paths, frames = [], []
     for i, (time, speed) in enumerate(progress_bar(list(zip(times, speeds)), desc="frames", unit="frame",
                                            disable=not progress, file=sys.stderr)):

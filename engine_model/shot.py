@@ -35,7 +35,7 @@ from engine_model.flight import FLIGHT_STEP_LIMIT, FLIGHT_STEP_MULTIPLE, fly
 
 
 def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAULT_ITERATIONS,
-             sling: str = "rigid") -> Shot:
+             sling: str = "rigid", machine_after_release: bool = False) -> Shot:
     """Simulate a shot of ``design`` in pymunk through all three stages.
 
     A valid design that fails to throw is not an error: ``Shot.status`` names
@@ -52,6 +52,9 @@ def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAU
         is kept whatever it costs (up to ``stepping.MACHINE_STEP_LIMIT`` steps).
     iterations : pymunk solver iterations per step (at least about 20).
     sling : ``"rigid"`` (PinJoint) or ``"rope"`` (SlideJoint, pulls only).
+    machine_after_release : also step a fixed frame's machine on from release to landing (a
+        rolling one's always is) and keep its motion in ``history.machine_t``, ``machine_q`` and
+        ``machine_frame_x``, for drawing it swinging on (``engine_model.render``).
 
     Returns
     -------
@@ -150,6 +153,11 @@ def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAU
     elif shot.landing_time is not None:
         if not design.base.rolling:
             shot = dataclasses.replace(shot, frame_landing_displacement=0.0, frame_landing_velocity=0.0)
+            if machine_after_release:
+                after_dt = after_release_step(dt, shot.release_time, shot.landing_time, len(raw), discarded)
+                after = run_after_release(design, shot.release_time, release_state, shot.landing_time, after_dt,
+                                          iterations, stepping.STARTUP_ITERATIONS)
+                shot = _with_machine_after_release(shot, after, design)
         else:
             # The machine was trusted up to release; only then is it worth stepping on.
             after = run_after_release(design, shot.release_time, release_state, shot.landing_time, after_dt,
@@ -161,10 +169,20 @@ def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAU
                 max_frame_speed=max(shot.max_frame_speed,
                                     largest_speed(kin.column(after.states, kin.FRAME, kin.VX))))
             diagnostics = diagnose_after_release(design, after_dt, iterations, after, diagnostics)
+            if machine_after_release:
+                shot = _with_machine_after_release(shot, after, design)
     diagnostics = dataclasses.replace(diagnostics, friction_steps=_friction_steps(run, dt),
                                       after_release_dt=float(after_dt) if after_steps else 0.0,
                                       discarded_steps=discarded if budget else 0)
     return dataclasses.replace(shot, diagnostics=diagnostics)
+
+
+def _with_machine_after_release(shot: Shot, after, design: Design) -> Shot:
+    """``shot`` with the machine's motion after release (``AfterRelease``) in its history."""
+    q = kin.coordinates(after.states, design, shot.history.q[-1])[0]
+    history = dataclasses.replace(shot.history, machine_t=after.t, machine_q=q[:, :2],
+                                  machine_frame_x=kin.column(after.states, kin.FRAME, kin.X).copy())
+    return dataclasses.replace(shot, history=history)
 
 
 def _peaks(loads: np.ndarray, times: np.ndarray, run: stepping.Run) -> dict[str, float]:

@@ -198,11 +198,14 @@ def test_axle_friction_is_recovered_within_its_stated_uncertainty(tmp_path):
 
 def test_the_prototype_calibration_meets_its_measured_range():
     """One shot, one parameter: the fitted axle friction reproduces 26.8 m (to the fit's tolerance)
-    with a positive coefficient, since the ideal machine throws farther (29.39 m)."""
+    with a positive coefficient, since the ideal machine throws farther (29.39 m). Axle friction
+    alone on the assumed 6.4 mm axle must take 2.6 m, which needs a coefficient beyond any real
+    bearing's (above 1), and the fit says so: its only warning."""
     spec = load_calibration(PROTOTYPE_CALIBRATION)
     assert [p.name for p in spec.parameters] == ["losses.axle_friction"]
     result = calibrate(spec)
-    assert result.converged and not result.warnings, result.warnings
+    assert result.converged
+    assert result.values[0] > 1.0 and len(result.warnings) == 1 and "plausible range" in result.warnings[0]
     assert result.fitted[0].values["range"] == pytest.approx(PROTOTYPE_RANGE, abs=1e-4)
     assert result.values[0] > 0.0 and 0.0 < result.uncertainties[0] < result.values[0]
 
@@ -367,11 +370,15 @@ def test_out_writes_report_plot_json_and_fitted_designs(prototype_shots, capsys)
     factor = result["parameters"]["drag_factor"]["value"]
     offset = result["parameters"]["release_angle_offset"]["value"]
     fitted = load_design(out / FITTED_FOLDER / "p61.toml")
-    assert fitted.projectile.drag_factor == factor
-    assert math.degrees(fitted.machine.release_angle) == pytest.approx(61.0 + offset, abs=1e-9)
-    # The fitted design throws what the report predicted.
+    # Rounded to two significant figures of each uncertainty: within half a unit of that place.
+    for value, written, name in ((factor, fitted.projectile.drag_factor, "drag_factor"),
+                                 (61.0 + offset, math.degrees(fitted.machine.release_angle), "release_angle_offset")):
+        place = 10.0 ** (math.floor(math.log10(result["parameters"][name]["uncertainty"])) - 1)
+        assert abs(written - value) <= 0.5 * place + 1e-12, (name, written, value)
+    # The fitted design throws what the report predicted, to what the rounding moves (each value by
+    # at most 1/20 of its sd, so the range by well under a tenth of its measurement's sd).
     assert simulate(fitted, histories=False, loads=False).range == pytest.approx(
-        result["shots"][0]["predicted"], abs=1e-9)
+        result["shots"][0]["predicted"], abs=0.1 * shots[0]["range_uncertainty"])
 
 
 def _bad_cases():

@@ -116,3 +116,35 @@ def test_an_axis_names_its_field_and_a_unit_only_where_there_is_one(table3, spec
     assert line.axes[2].get_xlabel() == label
     grid = chart_figure(chart(bearing, [vary("projectile.mass", 0.04, 0.05, 2), vary(spec, start, 1.1 * start, 2)]))
     assert {ax.get_xlabel() for ax in grid.axes if ax.get_visible() and ax.get_xlabel()} == {label}
+
+
+def _map_panels(figure):
+    """The visible map panels (not colour bars), by title."""
+    return {ax.get_title(): ax for ax in figure.axes if ax.get_visible() and ax.get_title()}
+
+
+def test_a_map_draws_tension_and_acceleration_once_where_they_are_proportional(table3):
+    """With the projectile's weight fixed, peak sling tension / (m g) is the peak acceleration in g
+    (after lift-off the sling's is the only pull on it): one panel, both scales on its colour bar;
+    and every panel's contours are labelled."""
+    result = chart(table3, [vary("counterweight_mass", 2.0, 8.0, 8), vary("sling_length", 0.4, 1.0, 8)])
+    tension, acceleration = result.loads["peak_sling_tension"], result.loads["peak_projectile_acceleration"]
+    np.testing.assert_allclose(tension / table3.projectile.mass, acceleration, rtol=1e-9)
+    panels = _map_panels(chart_figure(result))
+    assert not [title for title in panels if title.startswith("peak projectile acceleration")]
+    (sling,) = [ax for title, ax in panels.items() if title.startswith("peak sling tension")]
+    assert "acceleration" in sling.get_title()
+    for title, ax in panels.items():
+        if title != "outcome":
+            assert ax.texts, f"{title}: contours without labels"
+
+
+def test_a_map_over_the_projectile_mass_keeps_the_acceleration_panel(table3):
+    result = chart(table3, [vary("counterweight_mass", 2.0, 8.0, 6), vary("projectile.mass", 0.03, 0.2, 6)])
+    assert "peak projectile acceleration (g)" in _map_panels(chart_figure(result))
+
+
+def test_the_outcome_panel_is_left_out_when_every_setting_throws(table3):
+    result = chart(table3, [vary("counterweight_mass", 5.0, 7.0, 4), vary("sling_length", 0.5, 0.7, 4)])
+    assert set(result.status.tolist()) == {"ok"}
+    assert "outcome" not in _map_panels(chart_figure(result))

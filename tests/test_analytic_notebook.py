@@ -1,4 +1,5 @@
-"""The example notebook (``docs/builders.ipynb``) runs from top to bottom, and a ``Shot`` shows itself in Jupyter."""
+"""The example notebook (``docs/builders.ipynb``) runs from top to bottom and is stored with what it
+printed and drew; and a ``Shot`` shows itself in Jupyter."""
 
 from __future__ import annotations
 
@@ -16,13 +17,16 @@ CELL_TIMEOUT = 900
 
 
 @pytest.mark.slow
-def test_the_example_notebook_runs_without_errors():
+def test_the_example_notebook_runs_and_is_stored_with_its_outputs():
+    """Executed in a real kernel, checked, and written back with its outputs (no run times), so that
+    the repository's page and the documentation site (which does not execute it) show its pictures."""
     import nbclient
     import nbformat
 
     notebook = nbformat.read(NOTEBOOK, as_version=4)
     # Run from the repository's top folder, as the notebook says: the kernel imports this checkout.
-    client = nbclient.NotebookClient(notebook, timeout=CELL_TIMEOUT, kernel_name="python3",
+    client = nbclient.NotebookClient(notebook, timeout=CELL_TIMEOUT, kernel_name="python3", record_timing=False,
+                                     coalesce_streams=True,
                                      resources={"metadata": {"path": str(ROOT)}})
     client.execute()
     outputs = [output for cell in notebook.cells if cell.cell_type == "code" for output in cell.outputs]
@@ -30,7 +34,12 @@ def test_the_example_notebook_runs_without_errors():
     html = [o for o in outputs if o.output_type == "execute_result" and "text/html" in o.get("data", {})]
     assert html and "peak axle load" in html[0]["data"]["text/html"]
     images = [o for o in outputs if "image/png" in o.get("data", {})]
-    assert len(images) >= 2   # the shot's plot and the chart, inline
+    assert len(images) >= 3   # the shot's plot, the chart and the calibration, inline
+    printed = "".join(o.get("text", "") for o in outputs if o.output_type == "stream")
+    assert " ft " in printed and " lbf " in printed   # the imperial example
+    assert "drag factor" in printed and " kg: " in printed and "+-" in printed   # calibration, predictions
+    notebook.metadata.pop("widgets", None)
+    nbformat.write(notebook, NOTEBOOK)
 
 
 def test_a_shot_shows_an_html_summary(table3):

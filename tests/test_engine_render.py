@@ -161,3 +161,57 @@ def test_the_frames_are_labelled_in_the_chosen_units(shot):
     ticks = axis.get_major_locator()()
     assert all(abs(t / 0.3048 - round(t / 0.3048)) < 1e-9 for t in ticks)   # whole feet
     assert axis.get_major_formatter()(20 * 0.3048, 0) == "20 ft"
+
+
+def _colour_mask(pixels: np.ndarray, colour: str, tolerance: int = 30) -> np.ndarray:
+    rgb = np.array([int(colour[i:i + 2], 16) for i in (1, 3, 5)])
+    return np.all(np.abs(pixels[:, :, :3].astype(int) - rgb) < tolerance, axis=2)
+
+
+def test_the_summary_box_keeps_clear_of_the_trajectory(shot, tmp_path):
+    """The last frame's box (found by its grey edge, #808080) holds no point of the trajectory,
+    placed in pixels here from the shot's own path and the frames' view (the box is opaque, so
+    the drawn trajectory could hide under it)."""
+    from PIL import Image
+
+    paths = render_shot(shot, tmp_path, fps=2.0, progress=False)
+    with Image.open(paths[-1]) as last:
+        pixels = np.asarray(last)
+    grey = _colour_mask(pixels, "#808080", 12)
+    # The box's edges are the long straight runs of its grey: rows and columns with many of them.
+    rows, cols = np.flatnonzero(grey.sum(axis=1) > 150), np.flatnonzero(grey.sum(axis=0) > 60)
+    top, bottom, left, right = rows.min(), rows.max(), cols.min(), cols.max()
+    assert bottom - top > 40 and right - left > 100, "no summary box found"
+    x_min, x_max, y_min, y_max = camera(shot.design, frame_state(shot, shot.landing_time))
+    path = np.vstack([shot.history.path, shot.history.flight_path])
+    columns = (path[:, 0] - x_min) / (x_max - x_min) * FRAME_SIZE[0]
+    rows = (y_max - path[:, 1]) / (y_max - y_min) * FRAME_SIZE[1]
+    assert not np.any((columns > left) & (columns < right) & (rows > top) & (rows < bottom))
+
+
+def test_the_ground_scale_is_labelled_under_the_ground_clear_of_the_machine(shot):
+    """The view leaves room under the ground for the scale's labels (LABEL_ROOM), and the "0 m"
+    label is drawn there, under the machine's feet rather than behind its legs."""
+    state = frame_state(shot, 0.0)
+    view = camera(shot.design, frame_state(shot, shot.landing_time))
+    pixels = draw_frame(shot.design, state, view)
+    ground_row = int(round((view[3] + shot.design.machine.pivot_height) / (view[3] - view[2]) * FRAME_SIZE[1]))
+    below = pixels[ground_row + 3:]
+    assert below.shape[0] >= 14   # a label's height at 8 pt
+    zero_column = int(round(-view[0] / (view[1] - view[0]) * FRAME_SIZE[0]))
+    assert _colour_mask(below[:, zero_column - 15:zero_column + 15], "#5a4a3a", 40).any()
+
+
+def test_the_machine_swings_on_after_release_in_the_frames():
+    """Asked for, the engine steps the fixed machine on from release to landing: its motion starts
+    where stages 1-2 left it and the frames in flight draw the arm where it has swung to, not
+    frozen at its release angle; not asked for, nothing is stepped."""
+    shot = simulate(default_design(), dt=4e-4, machine_after_release=True)
+    history = shot.history
+    assert history.machine_t[0] == pytest.approx(shot.release_time) and history.machine_t[-1] == shot.landing_time
+    assert history.machine_q[0] == pytest.approx(history.q[-1, :2], abs=1e-9)
+    at_release = frame_state(shot, shot.release_time)
+    tips = [frame_state(shot, shot.release_time + dt).long_tip for dt in (0.1, 0.2, 0.4)]
+    moved = [float(np.hypot(*(tip - at_release.long_tip))) for tip in tips]
+    assert max(moved) > 0.2, moved   # the 70 cm arm's tip swings tens of centimetres on
+    assert simulate(default_design(), dt=4e-4).history.machine_t is None

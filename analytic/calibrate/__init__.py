@@ -2,8 +2,9 @@
 
 ``load_calibration(path)`` reads and checks a calibration file (``spec``);
 ``calibrate(spec)`` fits it by weighted least squares on the reference path
-(``fit``) and returns a ``Calibration``; ``report`` turns that into JSON,
-text, a measured-against-predicted plot and the fitted designs; ``cli`` is
+(``fit``) and returns a ``Calibration``; ``predict`` gives the range at new
+settings with its uncertainty; ``report`` turns them into JSON, text, a plot
+and the fitted designs (``fitted_file``); ``cli`` is
 ``python -m analytic calibrate``.
 """
 

@@ -1,13 +1,16 @@
 """The ``calibrate`` command: fit parameters to measured shots, print the result, write the report.
 
-``python -m analytic calibrate SHOTS.toml [--json] [--out DIR] [--quiet]``
+``python -m analytic calibrate SHOTS.toml [--predict FIELD=VALUE[,VALUE...]] [--json] [--out DIR] [--quiet]``
+
+``--predict`` gives the range at each setting of one design field, with its
+one standard deviation from the fit (``analytic.calibrate.predict``).
 
 Everything is checked before the first shot (the calibration file, every
 design, every parameter, ``--out``); a bad input is exit 2 with one line
 naming the field, its value and the reason, and nothing is written. A shot
 that does not throw at the starting parameters is exit 3 (nothing written).
 With ``--out``: ``report.txt``, ``calibration.json``, ``calibration.png``
-and ``fitted/<design>.toml`` (each shot's design at the fitted parameters).
+and ``fitted/<setting>.toml`` (each shot's design at the fitted parameters, named after its setting).
 """
 
 from __future__ import annotations
@@ -31,6 +34,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     units_argument(parser, "the printed report (report.txt stays metric)",
                    default="the units the calibration file is mostly written in, else metric")
+    parser.add_argument("--predict", metavar="FIELD=VALUE[,VALUE...]",
+                        help="predicted range, with its one-sd band, at each setting of one design field of the "
+                             "first shot's design (e.g. machine.counterweight_mass=5,6.5,8 or =\"12 lb,15 lb\")")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -38,6 +44,7 @@ def run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     from analytic.calibrate.fit import CalibrationError, calibrate
+    from analytic.calibrate.predict import check_settings, parse_predict, predict_ranges
     from analytic.calibrate.report import format_report, to_json, write
     from analytic.calibrate.spec import load_calibration
 
@@ -47,6 +54,9 @@ def run(args: argparse.Namespace) -> int:
         return EXIT_INVALID
     try:
         spec = load_calibration(args.shots)
+        settings = None if args.predict is None else parse_predict(args.predict)
+        if settings is not None:
+            check_settings(spec, *settings)
     except DesignError as error:
         print(f"invalid input: {error}", file=sys.stderr)
         return EXIT_INVALID
@@ -64,12 +74,13 @@ def run(args: argparse.Namespace) -> int:
         if created and out is not None and not any(out.iterdir()):
             out.rmdir()   # made by the check before work, and nothing was written into it
         return EXIT_NO_THROW
+    predictions = () if settings is None else predict_ranges(result, *settings)
     if args.json:
-        print(json.dumps(with_units(to_json(result), units), indent=2))
+        print(json.dumps(with_units(to_json(result, predictions), units), indent=2))
     else:
-        print(format_report(result, units))
+        print(format_report(result, units, predictions))
     if out is not None:
-        written = write(result, out)
+        written = write(result, out, predictions)
         if not args.json:
             print(f"written {', '.join(str(p) for p in written)}")
     for line in result.warnings:

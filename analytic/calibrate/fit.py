@@ -59,6 +59,9 @@ MAX_EVALUATIONS = 200
 #: 1e-8 in the parameters or the chi-square are far below any a measurement can see (a
 #: parameter's uncertainty is rarely under 1e-4 of it) and far above the integrator's noise.
 TOLERANCE = 1e-8
+#: Two fitted parameters whose correlation passes this (in size) are reported: the data fix
+#: mostly one combination of them, and each alone is known far less well than the pair.
+HIGH_CORRELATION = 0.9
 
 
 class CalibrationError(RuntimeError):
@@ -317,9 +320,32 @@ def calibrate(spec: CalibrationSpec, *, progress: bool = False) -> Calibration:
                         f"the uncertainty uses the slope on its own side")
     with np.errstate(invalid="ignore"):
         uncertainties = np.sqrt(np.diag(covariance))
+    warnings += _plausibility_warnings(spec, values, covariance)
     return Calibration(spec, values, uncertainties, covariance, start, fitted, initial, residuals, chi_square, dof,
                        at_bound, singular, tuple(warnings), len(model.cache), model.shots, model.failed_shots, result.message,
                        bool(result.success), time.perf_counter() - began)
+
+
+def _plausibility_warnings(spec: CalibrationSpec, values: np.ndarray, covariance: np.ndarray) -> list[str]:
+    """A fitted value outside its plausible range (``analytic.plausibility.FITTED_RANGES``), and
+    each pair of parameters correlated beyond ``HIGH_CORRELATION``, with what it probably means."""
+    from analytic.plausibility import fitted_value_warning
+
+    lines = [line for p, v in zip(spec.parameters, values, strict=True)
+             if (line := fitted_value_warning(p.name, float(v))) is not None]
+    sd = np.sqrt(np.abs(np.diag(covariance)))
+    for i, first in enumerate(spec.parameters):
+        for j in range(i + 1, len(spec.parameters)):
+            r = covariance[i, j] / (sd[i] * sd[j]) if sd[i] > 0.0 and sd[j] > 0.0 else math.nan
+            if math.isfinite(r) and abs(r) > HIGH_CORRELATION:
+                second = spec.parameters[j].name
+                lines.append(f"{first.name} and {second} correlate at {r:+.2f}: the shots fix mostly one "
+                             f"combination of them ({'more of one with less of the other' if r < 0 else 'both up or both down'} "
+                             f"throws the same), so each alone is uncertain and neither value should be read on "
+                             f"its own; predictions carry the correlation and stay usable near the measured "
+                             f"settings; shots that tell them apart (another setting, a measured release angle "
+                             f"or time) would separate them")
+    return lines
 
 
 def _measurement_labels(spec: CalibrationSpec) -> list[str]:

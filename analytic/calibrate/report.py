@@ -1,4 +1,4 @@
-"""A calibration's report: its JSON, its text, the measured-against-predicted plot, the fitted designs.
+"""A calibration's report: its JSON, its text, its plot, the fitted designs.
 
 JSON (``calibrate --json``, and ``calibration.json`` beside the report)::
 
@@ -8,13 +8,23 @@ JSON (``calibrate --json``, and ``calibration.json`` beside the report)::
                 "uncertainty", "predicted", "residual", "weighted_residual", "unit"}}}],
      "chi_square", "degrees_of_freedom", "reduced_chi_square", "p_value",
      "correlation", "uncertainty_definition", "converged", "message", "warnings",
-     "evaluations", "shots_simulated", "shots_failed", "seconds"}
+     "evaluations", "shots_simulated", "shots_failed", "seconds",
+     "predictions": [{"field", "value", "range", "range_sd"}]}
 
 Every shot measures its range, so a shot's ``measured``, ``predicted`` and
 ``residual`` (predicted - measured, m) are its range's; every measured
 quantity, range included, is in its ``quantities`` with its own. Values are
 in file units (m, s, deg); a quantity a shot did not reach is ``null``, as is
-the uncertainty of a parameter the data cannot fix.
+the uncertainty of a parameter the data cannot fix. ``predictions`` (``--predict``,
+``analytic.calibrate.predict``) are SI: the setting in the field's SI unit (radians
+for an angle), the range and its one standard deviation in m, ``null`` where the
+design does not throw.
+
+The plot, where the shots differ in one design field (their settings) or
+predictions are asked for, shows the range against that field: the measured
+ranges with their error bars, the fitted curve with its one-sd band, and the
+predictions; otherwise measured against predicted. A panel for each other
+quantity measured, and the weighted residuals, follow.
 """
 
 from __future__ import annotations
@@ -26,6 +36,7 @@ import numpy as np
 
 from analytic.calibrate.fit import Calibration, Prediction
 from analytic.calibrate.spec import QUANTITIES
+from analytic.fields import axis_label, field
 
 #: What the uncertainties are, in the JSON and the report.
 UNCERTAINTY_DEFINITION = ("one standard deviation, sqrt of the diagonal of (J^T J)^-1 with J the Jacobian of the "
@@ -47,8 +58,8 @@ def _quantity(measurement, prediction: Prediction) -> dict:
             "unit": measurement.unit}
 
 
-def to_json(result: Calibration) -> dict:
-    """The ``calibrate --json`` object (module docstring)."""
+def to_json(result: Calibration, predictions=()) -> dict:
+    """The ``calibrate --json`` object (module docstring); ``predictions``: ``RangePrediction``s."""
     spec = result.spec
     parameters = {p.name: {"value": float(result.values[j]), "uncertainty": _number(result.uncertainties[j]),
                            "unit": p.unit, "start": p.start, "lower": p.lower, "upper": p.upper,
@@ -68,16 +79,17 @@ def to_json(result: Calibration) -> dict:
             "p_value": result.p_value, "correlation": correlation,
             "uncertainty_definition": UNCERTAINTY_DEFINITION, "converged": result.converged,
             "message": result.message, "warnings": list(result.warnings), "evaluations": result.evaluations,
-            "shots_simulated": result.shots, "shots_failed": result.failed_shots, "seconds": result.seconds}
+            "shots_simulated": result.shots, "shots_failed": result.failed_shots, "seconds": result.seconds,
+            "predictions": [p.to_json() for p in predictions]}
 
 
 def _format(value: float | None, digits: int = 4) -> str:
     return "-" if value is None or not math.isfinite(value) else f"{value:.{digits}f}"
 
 
-def format_report(result: Calibration, system: str = "metric") -> str:
-    """The result as text: parameters, fit quality, every shot's measurements, warnings; lengths and
-    masses in ``system``'s units (``analytic.units.display``)."""
+def format_report(result: Calibration, system: str = "metric", predictions=()) -> str:
+    """The result as text: parameters, fit quality, every shot's measurements, predictions, warnings;
+    lengths and masses in ``system``'s units (``analytic.units.display``)."""
     from analytic.units import display
 
     spec = result.spec
@@ -119,23 +131,39 @@ def format_report(result: Calibration, system: str = "metric") -> str:
             lines.append(f"    {m.quantity:<14} measured {m.value * scale:.4f} +- {m.uncertainty * scale:.4g} "
                          f"{unit:<3}  predicted {shown(q['predicted'])} {unit} (at start {shown(before)})  "
                          f"residual {shown(q['residual'])} {unit} ({_format(q['weighted_residual'], 2)} sd)")
+    if predictions:
+        scale, unit = display(1.0, "m", system)
+        lines += ["", "predicted range (one standard deviation from the fit's covariance, delta method):"]
+        for p in predictions:
+            at = f"{p.field} = {p.value:g} {field(p.field).unit}".rstrip()
+            lines.append(f"  {at}: " + (f"{p.range * scale:.2f} +- {p.range_sd * scale:.2f} {unit}"
+                                        if p.range_sd is not None
+                                        else f"{p.range * scale:.2f} {unit} (uncertainty undefined)"
+                                        if p.range is not None else f"no throw ({p.message})"))
     if result.warnings:
         lines += ["", "warnings:"] + [f"  {w}" for w in result.warnings]
     return "\n".join(lines)
 
 
-def calibration_figure(result: Calibration):
-    """Measured against predicted, one panel per quantity measured (error bars: one standard
-    deviation), at the start (open) and at the fit (filled), and every weighted residual."""
+def calibration_figure(result: Calibration, predictions=()):
+    """The plot (module docstring): range against the varied field where there is one, measured
+    against predicted for each other quantity (error bars: one standard deviation; at the start
+    open, at the fit filled), and every weighted residual."""
     from matplotlib.figure import Figure
 
+    from analytic.calibrate.predict import varied_field
+
     spec = result.spec
+    target = field(predictions[0].field) if predictions else varied_field(spec)
     measured = [q for q in QUANTITIES if any(m.quantity == q for s in spec.shots for m in s.measurements)]
-    fig = Figure(figsize=(4.2 * (len(measured) + 1), 4.4), layout="constrained")
+    fig = Figure(figsize=(min(4.8 * (len(measured) + 1), 14.0), 4.8), layout="constrained")
     axes = fig.subplots(1, len(measured) + 1, squeeze=False)[0]
     fitted_at = ", ".join(f"{p.name} = {v:.4g}" for p, v in zip(spec.parameters, result.values, strict=True))
-    fig.suptitle(f"{spec.path.name}: measured against predicted ({fitted_at})", fontsize=10)
-    for ax, quantity in zip(axes, measured, strict=False):
+    fig.suptitle(f"{spec.path.name}: fitted {fitted_at}", fontsize=10)
+    if target is not None:
+        _range_against(axes[0], result, target, predictions)
+    for ax, quantity in zip(axes[1:] if target is not None else axes, measured[1:] if target is not None
+                            else measured, strict=False):
         unit = QUANTITIES[quantity][1]
         xs, sds, starts, fits, numbers = [], [], [], [], []
         for shot, start, fitted in zip(spec.shots, result.initial, result.fitted, strict=True):
@@ -179,32 +207,57 @@ def calibration_figure(result: Calibration):
     return fig
 
 
-def write(result: Calibration, out: str | Path) -> list[Path]:
-    """Write the report, the JSON, the plot and each distinct design at the fitted parameters
-    (design TOML, ``FITTED_FOLDER/<design file's name>``) into ``out``; the paths written."""
+def _range_against(ax, result: Calibration, target, predictions) -> None:
+    """Measured ranges against ``target``'s setting, the fitted curve and its one-sd band, the predictions."""
+    from analytic.calibrate.predict import fitted_curve
+
+    curve = [c for c in fitted_curve(result, target, [p.value for p in predictions]) if c.range is not None]
+    xs = np.array([c.value for c in curve])
+    ys = np.array([c.range for c in curve])
+    sds = np.array([c.range_sd if c.range_sd is not None else math.nan for c in curve])
+    ax.fill_between(xs, ys - sds, ys + sds, color="tab:blue", alpha=0.2, lw=0, label="fit +- one sd")
+    ax.plot(xs, ys, "-", color="tab:blue", lw=1.5, label="fitted model")
+    for shot in result.spec.shots:
+        for m in shot.measurements:
+            if m.quantity == "range":
+                ax.errorbar(target.get(shot.design), m.value, yerr=m.uncertainty, fmt="o", color="k", ms=5,
+                            capsize=3, label="measured" if shot.number == 1 else None)
+    for i, p in enumerate(q for q in predictions if q.range is not None):
+        ax.errorbar(p.value, p.range, yerr=p.range_sd or 0.0, fmt="D", color="tab:red", ms=7, capsize=4,
+                    label="predicted" if i == 0 else None)
+        ax.annotate(f"{p.range:.1f} +- {p.range_sd or math.nan:.1f} m", (p.value, p.range),
+                    textcoords="offset points", xytext=(6, -12), fontsize=8, color="tab:red")
+    ax.set(xlabel=target.label, ylabel="range (m)", title=f"range against {target.key.replace('_', ' ')}")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+
+
+def write(result: Calibration, out: str | Path, predictions=()) -> list[Path]:
+    """Write the report, the JSON, the plot and each distinct setting's design at the fitted
+    parameters (``FITTED_FOLDER/<setting>.toml``, ``analytic.calibrate.fitted_file``) into
+    ``out``; the paths written."""
     import json
 
-    from analytic.design_file import save_design
+    from analytic.calibrate.fitted_file import fitted_text, setting_name
     from analytic.plot import save_figure
 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     written = [out / REPORT_FILE, out / JSON_FILE, out / PLOT_FILE]
-    written[0].write_text(format_report(result) + "\n")
-    written[1].write_text(json.dumps(to_json(result), indent=2) + "\n")
-    save_figure(calibration_figure(result), written[2])
+    written[0].write_text(format_report(result, predictions=predictions) + "\n")
+    written[1].write_text(json.dumps(to_json(result, predictions), indent=2) + "\n")
+    save_figure(calibration_figure(result, predictions), written[2])
     folder = out / FITTED_FOLDER
     folder.mkdir(exist_ok=True)
-    names: dict[str, Path] = {}
+    names: dict[str, tuple] = {}   # file name -> the design file and settings it was written for
     for shot in result.spec.shots:
-        if shot.design_file in names:
-            continue
-        stem = Path(shot.design_file).stem
-        name = f"{stem}.toml" if all(p.name != f"{stem}.toml" for p in names.values()) else \
-            f"{stem}-shot{shot.number}.toml"
-        path = folder / name
-        design = result.spec.design_at(shot, result.values)
-        save_design(design, path)
-        names[shot.design_file] = path
+        name, setting = setting_name(shot), (shot.design_file, tuple(shot.settings.items()))
+        if names.get(name) == setting:
+            continue   # the same design at the same setting: one file
+        if name in names:   # another design file of the same name, or settings that print alike
+            name = f"{name}-shot{shot.number}"
+        names[name] = setting
+        path = folder / f"{name}.toml"
+        path.write_text(fitted_text(result, shot))
         written.append(path)
     return written

@@ -2,10 +2,12 @@
 
 ```toml
 fit = ["losses.axle_friction"]          # dotted design fields, or drag_factor, release_angle_offset
+design = "prototype-61.toml"            # optional: the design of every shot that names none
 [[shot]]
-design = "prototype-61.toml"            # relative to this file
+design = "prototype-61.toml"            # optional with the shared design above; relative to this file
 range = 26.8                            # m
 range_uncertainty = 0.5                 # m, one standard deviation
+"machine.counterweight_mass" = "6 kg"   # optional: this shot's setting of any design field
 # release_time, liftoff_time (s), release_angle (deg): optional, each with its _uncertainty
 [given]                                 # optional: fields set on every shot's design, not fitted
 "losses.axle_radius" = 0.0064
@@ -15,7 +17,8 @@ range_uncertainty = 0.5                 # m, one standard deviation
 "losses.axle_friction" = [0.0, 1.0]
 ```
 
-One set of parameters applies to every shot; each shot's own design file
+One set of parameters applies to every shot; each shot's design file, with
+the shot's own settings (dotted field names, quoted or as sub-tables) on top,
 gives everything else. Values are in design-file units (SI, degrees), bare
 or as texts with units (``"26.8 m"``, ``"350 ms"``, ``"61 deg"``). Every
 error is a ``DesignError`` naming the field (``shot[2].range_uncertainty``,
@@ -61,7 +64,7 @@ QUANTITIES: dict[str, tuple[Kind, str]] = {"range": (LENGTH, "m"), "release_time
 #: ``drag_factor`` is ``projectile.drag_factor`` (every drag model's force times it);
 #: ``release_angle_offset`` is added to every shot's ``machine.release_angle``.
 DRAG_FACTOR, RELEASE_ANGLE_OFFSET = "drag_factor", "release_angle_offset"
-_TOP_KEYS = ("fit", "shot", "given", "start", "bounds")
+_TOP_KEYS = ("fit", "design", "shot", "given", "start", "bounds")
 #: Where a loss coefficient starts when every design leaves it at 0: a middling Coulomb
 #: coefficient (greased steel 0.05-0.15, dry wood on wood 0.25-0.5).
 DEFAULT_LOSS_START = 0.1
@@ -111,12 +114,16 @@ class Measurement:
 
 @dataclass(frozen=True)
 class ShotSpec:
-    """One measured shot: its design (as read, before ``given`` and the parameters) and measurements."""
+    """One measured shot: its design (as read, with the shot's settings, before ``given`` and the
+    parameters), its measurements, and its settings (field name -> file units; ``written``: the
+    same as the file wrote them, for names and fitted files)."""
 
     number: int
     design_file: str
     design: Design
     measurements: tuple[Measurement, ...]
+    settings: dict[str, float] = dataclasses.field(default_factory=dict)
+    written: dict[str, Any] = dataclasses.field(default_factory=dict)
 
     @property
     def label(self) -> str:
@@ -204,15 +211,22 @@ def load_calibration(path: str | Path) -> CalibrationSpec:
         raise DesignError("shot", None, "no shots: give at least one [[shot]] table")
     if not isinstance(raw_shots, list) or not all(isinstance(s, dict) for s in raw_shots) or not raw_shots:
         raise DesignError("shot", raw_shots, "must be [[shot]] tables, at least one")
-    shots = tuple(_shot(i, raw, path.parent) for i, raw in enumerate(raw_shots, 1))
+    shared = data.get("design")
+    if shared is not None and (not isinstance(shared, str) or not shared):
+        raise DesignError("design", shared, "must be a file name (text), relative to this file")
+    fitted = {_target_of(n) for n in names}
+    shots = tuple(_shot(i, raw, path.parent, shared, fitted) for i, raw in enumerate(raw_shots, 1))
     given = {}
-    for name, value in _dotted("given", data.get("given")).items():
+    for name, value in dotted_table("given", data.get("given")).items():
         target = field(name)
         if any(_target_of(n) == target.name for n in names):
             raise DesignError(f"given.{name}", value, "is also fitted: give it in [start] instead")
+        for shot in shots:
+            if target.name in shot.settings:
+                raise DesignError(f"given.{name}", value, f"{shot.label} sets it too: give it in one place")
         given[name] = require_number(f"given.{name}", _value(f"given.{name}", value, target.kind))
-    starts = _dotted("start", data.get("start"))
-    bounds = _dotted("bounds", data.get("bounds"))
+    starts = dotted_table("start", data.get("start"))
+    bounds = dotted_table("bounds", data.get("bounds"))
     for table, entries in (("start", starts), ("bounds", bounds)):
         for name in entries:
             if name not in names:
@@ -258,7 +272,7 @@ def _target_of(name: str) -> str:
     return field(name).name
 
 
-def _dotted(table: str, value: Any) -> dict[str, Any]:
+def dotted_table(table: str, value: Any) -> dict[str, Any]:
     """A table keyed by dotted field names, quoted (``"losses.axle_radius" = ..``) or nested
     (``losses.axle_radius = ..``, which TOML reads as a sub-table)."""
     entries: dict[str, Any] = {}
@@ -284,13 +298,16 @@ def _value(name: str, value: Any, kind: Kind) -> Any:
     return value
 
 
-def _shot(number: int, raw: dict, folder: Path) -> ShotSpec:
+def _shot(number: int, raw: dict, folder: Path, shared: str | None, fitted: set[str]) -> ShotSpec:
     label = f"shot[{number}]"
     allowed = ("design",) + tuple(k for q in QUANTITIES for k in (q, f"{q}_uncertainty"))
-    reject_unknown_keys(label, raw, allowed)
-    design_file = raw.get("design")
+    written = {name: value for name, value in dotted_table(label, {k: v for k, v in raw.items() if k not in allowed
+                                                              and ("." in k or isinstance(v, dict))}).items()}
+    reject_unknown_keys(label, {k: v for k, v in raw.items() if "." not in k and not isinstance(v, dict)}, allowed)
+    design_file = raw.get("design", shared)
     if design_file is None:
-        raise DesignError(f"{label}.design", None, "required: the shot's design file (relative to this file)")
+        raise DesignError(f"{label}.design", None, "required: the shot's design file (relative to this file), "
+                                                   "or one design for every shot at the top of the file")
     if not isinstance(design_file, str) or not design_file:
         raise DesignError(f"{label}.design", design_file, "must be a file name (text)")
     design_path = folder / design_file
@@ -300,6 +317,22 @@ def _shot(number: int, raw: dict, folder: Path) -> ShotSpec:
         design = load_design(design_path)
     except DesignError as error:
         raise DesignError(f"{label}.design", design_file, f"cannot be built: {error}") from None
+    settings = {}
+    for name, value in written.items():
+        try:
+            target = field(name)
+        except DesignError as error:
+            raise DesignError(f"{label}.{name}", value, error.reason) from None
+        if target.name in fitted:
+            raise DesignError(f"{label}.{name}", value, "is also fitted: a shot cannot set a fitted parameter")
+        settings[target.name] = float(require_number(f"{label}.{name}", _value(f"{label}.{name}", value,
+                                                                                  target.kind)))
+    written = {field(name).name: value for name, value in written.items()}
+    try:
+        design = with_fields(design, settings)
+    except DesignError as error:
+        raise DesignError(f"{label}.{error.field}", error.value, f"{error.reason} (with the shot's settings "
+                                                                 f"on {design_file})") from None
     measurements = []
     for quantity, (kind, unit) in QUANTITIES.items():
         key, sd_key = quantity, f"{quantity}_uncertainty"
@@ -320,7 +353,7 @@ def _shot(number: int, raw: dict, folder: Path) -> ShotSpec:
         measurements.append(Measurement(quantity, float(value), float(sd)))
     if "range" not in raw:
         raise DesignError(f"{label}.range", None, "required: the measured range (m) with range_uncertainty")
-    return ShotSpec(number, design_file, design, tuple(measurements))
+    return ShotSpec(number, design_file, design, tuple(measurements), settings, written)
 
 
 def _build(spec: CalibrationSpec, shot: ShotSpec, values, where: str) -> Design:

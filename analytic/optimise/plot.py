@@ -16,6 +16,8 @@ from analytic.optimise.search import Optimum
 from analytic.optimise.sensitivity import Sensitivity
 
 #: Axis labels and display scale of each variable (SI -> cm or deg).
+#: m: slings shorter than this throw ranges that oscillate with their length (``sensitivity.DEFAULT_POINTS``).
+SHORT_SLING = 0.1
 _LABELS = {"arm_short": ("short arm $L_{As}$", "cm"), "counterweight_link": ("weight link $L_W$", "cm"),
            "clearance": ("clearance", "cm"), "sling_length": ("sling $L_S$", "cm"),
            "starting_angle": (r"starting angle $\theta_0$", "deg"),
@@ -82,7 +84,7 @@ def sensitivity_figure(problem: Problem, sensitivity: Sensitivity, title: str) -
         y = sensitivity.scores[row]
         ax.plot(x, y, "-", color="C0")
         infeasible = ~sensitivity.feasible[row]
-        ax.plot(x[infeasible], y[infeasible], "x", color="C3", ms=4, label="violates a constraint")
+        ax.plot(x[infeasible], y[infeasible], "x", color="C3", ms=3, markevery=4, label="violates a constraint")
         for start, stop in _runs(infeasible):
             ax.axvspan(x[start], x[stop], color="C3", alpha=0.12, lw=0)
             violated = np.any(sensitivity.margins[row, start:stop + 1] < -FEASIBILITY_TOLERANCE, axis=0)
@@ -96,6 +98,10 @@ def sensitivity_figure(problem: Problem, sensitivity: Sensitivity, title: str) -
         ax.plot(display(name, sensitivity.optimum[index]), sensitivity.score, "o", color="C2", label="optimum")
         text, unit = _LABELS[name]
         ax.set(xlabel=f"{text} ({unit})", ylabel=label)
+        if name == "sling_length" and sensitivity.grid[row][0] < SHORT_SLING:
+            ax.text(0.03, 0.97, f"under {SHORT_SLING * 100:g} cm the range oscillates: the short sling\n"
+                                f"wobbles about the arm's tip, and release falls on\none wobble or the next "
+                                f"(both models agree)", transform=ax.transAxes, va="top", fontsize=7, color="0.3")
         ax.grid(True, alpha=0.3)
     for ax in axes[count:]:
         ax.set_visible(False)

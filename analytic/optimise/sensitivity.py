@@ -12,8 +12,14 @@ from analytic.optimise.evaluate import NO_SCATTER, Evaluator
 from analytic.design_space import Problem, design_at
 from analytic.optimise.robust import Scatter, expected
 
-#: Grid points per variable across its bounds (plus the optimum itself).
-DEFAULT_POINTS = 25
+#: Grid points per variable across its bounds (plus the optimum itself). Dense enough to draw
+#: the range's real oscillation for slings under about 10 cm (peaks 2-5 cm apart on Table III's
+#: design and on the paper's optimum: a short sling wobbles about the arm's tip, and the release rule's first crossing of
+#: the release angle falls on one wobble or the next, at release speeds from 7.5 to 12 m/s on Table III's design;
+#: the engine model throws the same ranges, and the integrator's tolerance does not move them,
+#: see docs/guide/optimiser.md). 25 points, 2.5 cm apart, drew it as spikes. 6 x 101 shots
+#: take well under a second on the fast path.
+DEFAULT_POINTS = 101
 
 
 @dataclass(frozen=True)
