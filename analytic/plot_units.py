@@ -58,6 +58,8 @@ def in_units(figure, system: str):
             axis.set_major_formatter(FuncFormatter(lambda value, _, f=factor: f"{value * f:.6g}"))
             axis.set_label_text(axis.get_label_text()[:match.start()] + f"({shown})")
         ax.set_title(shown_text(ax.get_title(), system))
+        for text in ax.texts:   # labels and annotations on the axes (a peak's value)
+            text.set_text(shown_text(text.get_text(), system))
         for text in ax.get_legend().get_texts() if ax.get_legend() is not None else ():
             text.set_text(shown_text(text.get_text(), system))
             match = _LABEL_UNIT.search(text.get_text())

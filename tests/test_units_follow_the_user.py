@@ -11,6 +11,7 @@ from __future__ import annotations
 import csv
 import json
 import math
+import re
 
 import pytest
 
@@ -87,6 +88,10 @@ def test_the_shot_plot_is_shown_in_the_chosen_units():
     shown = title.split("range ")[1].split(" ft")[0]
     assert len(shown.replace(".", "")) == 4 and float(shown) == pytest.approx(shot.range / FOOT, abs=0.067)
     assert all(tick % 1 == 0 for tick in flight.xaxis.get_major_locator()() / FOOT * 1e6 // 1e6)
+    # the peaks' annotations too: no figure in newtons or metres is left on an imperial plot
+    annotations = [text.get_text() for ax in figure.axes for text in ax.texts]
+    assert any("lbf" in text for text in annotations)
+    assert not any(re.search(r"\d (N|m)\b", text) for text in annotations)
 
 
 def test_chart_reads_bare_settings_in_the_chosen_units_and_keeps_its_csv_si(tmp_path, capsys):
