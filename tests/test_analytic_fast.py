@@ -461,12 +461,18 @@ def test_bench_exits_1_when_the_paths_end_differently_on_any_set_of_designs(key,
     assert bench_main(["--json", "--quiet", "--sweep-shots", "0"]) == 0
 
 
-def test_compile_progress_counts_names_the_last_step_and_clears_itself(capsys):
+@pytest.mark.parametrize("terminal", [True, False], ids=["terminal", "log"])
+def test_compile_progress_counts_names_the_last_step_and_clears_itself(capsys, monkeypatch, terminal):
     # A cold compile says what it is doing, counts the functions, names the last
     # seconds (the entry point's machine code) and leaves no bar behind for the caller's
-    # "ready" line. A throwaway function named as the kernel's entry point stands in for it
+    # "ready" line; written to a file or pipe, it is whole lines instead (cli_shared.progress_bar).
+    # A throwaway function named as the kernel's entry point stands in for it
     # (compiled in milliseconds, not tens of seconds).
     import numba
+
+    from analytic import cli_shared
+
+    monkeypatch.setattr(cli_shared, "_is_terminal", lambda stream: terminal)
 
     def shots(x):
         return x + 1.0
@@ -476,8 +482,12 @@ def test_compile_progress_counts_names_the_last_step_and_clears_itself(capsys):
         assert numba.njit(shots)(1.0) == 2.0
     err = capsys.readouterr().err
     assert err.startswith("compiling the fast path once")
-    assert "\rcompiling: " in err and "the whole kernel's machine code" in err
-    assert err.rsplit("\r", 1)[-1].strip() == ""    # the bar is gone (tqdm leave=False)
+    assert "compiling: " in err and "the whole kernel's machine code" in err
+    if terminal:
+        assert "\rcompiling: " in err
+        assert err.rsplit("\r", 1)[-1].strip() == ""    # the bar is gone (tqdm leave=False)
+    else:
+        assert "\r" not in err and err.endswith("\n")   # a log of whole lines
 
 
 def test_a_batch_finds_the_peak_loads_only_when_asked():

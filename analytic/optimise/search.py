@@ -233,8 +233,11 @@ def _local_stage(problem, evaluator, settings, scatter, unit, record, bar):
     scale = max(abs(score(unit)), 1.0)   # SLSQP's tolerances are absolute: make the objective O(1)
     record("local", score(unit))
 
+    visited = [unit]   # SLSQP's iterates: the best feasible one is kept if it ends on a worse point
+
     def callback(u: np.ndarray) -> None:
         record("local", score(u))
+        visited.append(np.clip(u, 0.0, 1.0))
         bar.update()
 
     constraints = [{"type": "ineq", "fun": lambda u: unit_constraints(problem, u),
@@ -254,9 +257,14 @@ def _local_stage(problem, evaluator, settings, scatter, unit, record, bar):
                           options={"maxiter": settings.local_maxiter, "ftol": LOCAL_FTOL})
     best = np.clip(result.x, 0.0, 1.0)
     message = str(result.message)
-    # SLSQP may end on a worse or infeasible point after a failed line search; from an
-    # infeasible start (the global stage found nothing feasible) any feasible point is better.
-    if not feasible(best) or (feasible(unit) and score(best) < score(unit)):
-        best, message = unit, f"{message} (kept the starting point)"
+    # SLSQP may end on a worse or infeasible point after a failed line search or at its
+    # iteration limit; then the best feasible point it passed (its start included) is kept.
+    # From an infeasible start (the global stage found nothing feasible) any feasible point is better.
+    candidates = [u for u in [best, *visited] if feasible(u)]   # SLSQP's end first: it wins a tie
+    if candidates:
+        kept = max(candidates, key=score)
+        if kept is not best:
+            best = kept
+            message += " (kept the starting point)" if kept is unit else " (kept the best feasible iterate)"
     outcomes = differentiated(best)[2:] if with_outcomes else (None, None)
     return best, message, score(best), gradient(best), outcomes
