@@ -259,12 +259,15 @@ def _local_stage(problem, evaluator, settings, scatter, unit, record, bar):
     message = str(result.message)
     # SLSQP may end on a worse or infeasible point after a failed line search or at its
     # iteration limit; then the best feasible point it passed (its start included) is kept.
-    # From an infeasible start (the global stage found nothing feasible) any feasible point is better.
-    candidates = [u for u in [best, *visited] if feasible(u)]   # SLSQP's end first: it wins a tie
+    # A converged end is kept unless it is infeasible or worse than the start; from an
+    # infeasible start (the global stage found nothing feasible) any feasible point is better.
+    candidates = [] if result.success else [u for u in [best, *visited] if feasible(u)]   # the end wins a tie
     if candidates:
         kept = max(candidates, key=score)
         if kept is not best:
             best = kept
             message += " (kept the starting point)" if kept is unit else " (kept the best feasible iterate)"
+    elif not feasible(best) or (feasible(unit) and score(best) < score(unit)):
+        best, message = unit, f"{message} (kept the starting point)"
     outcomes = differentiated(best)[2:] if with_outcomes else (None, None)
     return best, message, score(best), gradient(best), outcomes
