@@ -62,11 +62,11 @@ OPTIONS = dict(nogil=True, error_model="numpy")
 #: ``_nrt=False``: no reference counting of the arrays they are handed. numba
 #: counts a reference to every array argument a function keeps in a variable,
 #: and to every view (``K[s]``), with an atomic add and subtract per call that
-#: LLVM cannot prove away; in the right-hand side's callers that was a quarter
-#: of a shot's time (perf: ``NRT_incref``/``NRT_decref`` 26 % of the samples of
-#: a batch). These functions allocate nothing and return no array, and their
-#: callers hold every array they are given for the whole call, so the counts
-#: were never needed. A function that allocates is declared with
+#: LLVM cannot prove away; in the right-hand side's callers that would be a
+#: quarter of a shot's time (perf: ``NRT_incref``/``NRT_decref`` 26 % of the
+#: samples of a batch with them). These functions allocate nothing and return
+#: no array, and their callers hold every array they are given for the whole
+#: call, so the counts are not needed. A function that allocates is declared with
 #: ``internal(allocates=True)`` and counts as usual; numba refuses to compile
 #: an allocation in one that is not.
 INTERNAL = dict(OPTIONS, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)

@@ -72,8 +72,8 @@ def search_around(t_before, before, t_peak, peak, t_after, after):
 
     The three samples are the search's first three points (Brent's x, w, v), so that its first
     step is the vertex of the parabola through them; the bracket is the two steps beside the
-    sample. On the benchmark's designs a search takes 7.5 evaluations where the search of each
-    step on its own from its golden section point took 2 x 24, to the same tolerance.
+    sample. On the benchmark's designs a search takes 7.5 evaluations, against 2 x 24 for a
+    search of each step on its own from its golden section point, to the same tolerance.
     """
     if before >= after:
         return Search(t_before, t_after, t_peak, t_before, t_after, -peak, -before, -after, 0.0, t_after - t_before,
