@@ -33,6 +33,11 @@ from analytic.aero import DRAG_MODELS
 from analytic.geometry import RELEASE_RULES
 
 
+#: The machine kinds (``Machine.kind``): the counterweight hinged, bolted to the arm, or on a floating arm.
+KINDS = ("hinged", "fixed", "floating-arm")
+#: The kinds both models simulate today (each kind joins when the analytic model and the engine have it).
+BUILT_KINDS = ("hinged",)
+
 #: Largest ``|release angle|`` for the ``velocity`` rule: the velocity must point forward.
 MAX_VELOCITY_RELEASE_ANGLE = math.radians(90.0)
 #: Largest ``|release angle|`` for the ``sling`` rule (sling-to-arm angle).
@@ -106,6 +111,11 @@ class Machine:
         ``velocity``) or the sling-to-arm angle (rule ``sling``, see
         ``analytic.geometry.sling_arm_angle``).
     release_rule : ``"velocity"`` or ``"sling"``.
+    kind : ``"hinged"`` (the counterweight hangs from a hinge at the short
+        arm's tip, the default), ``"fixed"`` (bolted: rigid on the arm, its
+        centre at ``arm_short`` on the arm's axis) or ``"floating-arm"``
+        (the axle rides a horizontal track and the counterweight a vertical
+        guide). ``counterweight_link`` is 0 unless the kind is hinged.
     """
 
     pivot_height: float
@@ -120,11 +130,23 @@ class Machine:
     sling_length: float
     release_angle: float
     release_rule: str = "velocity"
+    kind: str = "hinged"
 
     def __post_init__(self) -> None:
+        require_choice("machine.kind", self.kind, KINDS)
+        if self.kind not in BUILT_KINDS:
+            raise DesignError("machine.kind", self.kind,
+                              f"both models simulate {', '.join(BUILT_KINDS)} machines so far; the "
+                              f"{self.kind} machine is being built")
         for name in ("pivot_height", "arm_long", "arm_short", "arm_mass",
-                     "counterweight_mass", "counterweight_link", "sling_length"):
+                     "counterweight_mass", "sling_length"):
             require_positive(f"machine.{name}", getattr(self, name))
+        if self.kind == "hinged":
+            require_positive("machine.counterweight_link", self.counterweight_link)
+        elif require_number("machine.counterweight_link", self.counterweight_link) != 0.0:
+            raise DesignError("machine.counterweight_link", self.counterweight_link,
+                              f"a {self.kind} machine has no link: its counterweight is rigid on the "
+                              f"arm; leave counterweight_link out (or 0)")
         for name in ("arm_inertia", "counterweight_inertia"):
             require_non_negative(f"machine.{name}", getattr(self, name))
         require_number("machine.arm_cg", self.arm_cg)
@@ -142,6 +164,10 @@ class Machine:
             raise DesignError("machine.sling_length", self.sling_length,
                               f"shorter than {MIN_SLING_FRACTION:g} of arm_long ({self.arm_long:g} m): the "
                               f"sling's angle at rest would be set by rounding")
+        if self.kind != "hinged" and self.arm_short >= self.pivot_height:
+            raise DesignError("machine.arm_short", self.arm_short,
+                              f"the counterweight would strike the base: on a {self.kind} machine "
+                              f"arm_short must be less than pivot_height ({self.pivot_height:g} m)")
         if self.arm_short + self.counterweight_link >= self.pivot_height:
             raise DesignError("machine.counterweight_link", self.counterweight_link,
                               f"the counterweight would strike the base: arm_short + "

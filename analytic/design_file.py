@@ -16,7 +16,7 @@ from analytic.suggest import did_you_mean
 from analytic.units import (ANGLE, FIELD_KINDS, SYSTEM_KINDS, Written, from_file, kind_of, to_file_text,
                             written_system)
 
-_MACHINE_NUMBERS = tuple(f.name for f in dataclasses.fields(Machine) if f.name != "release_rule")
+_MACHINE_NUMBERS = tuple(f.name for f in dataclasses.fields(Machine) if f.name not in ("release_rule", "kind"))
 _ENVIRONMENT_KEYS = tuple(f.name for f in dataclasses.fields(Environment))
 _BEAM_KEYS = tuple(f.name for f in dataclasses.fields(BeamArm))
 _ANGLE_KEYS = ("release_angle", "starting_angle")  # degrees in files
@@ -118,8 +118,10 @@ def machine_from_dict(data: Any) -> Machine:
     table = "machine"
     values = dict(require_table(table, data))
     beam_data = values.pop("arm_beam", None)
-    values = read_values(table, values, numbers=_MACHINE_NUMBERS + _PAPER_KEYS, texts=("release_rule",),
+    values = read_values(table, values, numbers=_MACHINE_NUMBERS + _PAPER_KEYS, texts=("release_rule", "kind"),
                          also_allowed=("arm_beam",))
+    if values.get("kind", "hinged") != "hinged":
+        values.setdefault("counterweight_link", 0.0)   # no link: the counterweight is rigid on the arm
     for key in _ANGLE_KEYS:
         if key in values:
             values[key] = math.radians(values[key])
@@ -210,6 +212,10 @@ def design_to_dict(design: Design, units: dict[str, str] | None = None) -> dict[
     """
     machine = dataclasses.asdict(design.machine)
     machine["release_angle"] = math.degrees(machine["release_angle"])
+    if machine["kind"] == "hinged":   # the default: left out, so files read as they were written
+        del machine["kind"]
+    else:   # no link on a rigid counterweight
+        del machine["counterweight_link"]
     projectile = {k: v for k, v in dataclasses.asdict(design.projectile).items() if v is not None}
     if projectile["drag_factor"] == 1.0:   # the default: left out, so files read as they were written
         del projectile["drag_factor"]

@@ -60,6 +60,7 @@ def test_start_state_puts_tip_and_projectile_on_the_base(table3):
     ("counterweight_link", 0.4, "would strike the base"),
     ("arm_cg", 0.9, "must lie on the arm"),
     ("release_rule", "pin", "must be one of"),
+    ("kind", "hinge", "must be one of hinged, fixed, floating-arm"),
 ], ids=lambda v: str(v))
 def test_invalid_machine_names_field_value_and_reason(table3, field, value, reason):
     with _raises(f"machine.{field}", reason):
@@ -90,6 +91,21 @@ def test_toml_round_trip(tmp_path, table3):
     again = load_design(path)
     assert again.machine == table3.machine
     assert again.projectile == table3.projectile and again.environment == table3.environment
+
+
+def test_a_hinged_machine_is_the_default_and_is_written_as_before(table3):
+    assert table3.machine.kind == "hinged"
+    assert "kind" not in design_to_dict(table3)["machine"]   # files read as they were written
+
+
+@pytest.mark.parametrize("kind", ["fixed", "floating-arm"])
+def test_a_kind_not_yet_built_is_refused_with_its_reason(kind):
+    data = table3_file()
+    data["machine"]["kind"] = kind
+    del data["machine"]["counterweight_link"]
+    with pytest.raises(DesignError, match=rf"^machine\.kind = '{kind}': both models simulate hinged machines "
+                                          rf"so far; the {kind} machine is being built$"):
+        design_from_dict(data)
 
 
 def test_toml_accepts_the_papers_variables_and_a_beam():
@@ -201,7 +217,8 @@ def test_drag_coefficient_of_the_wrong_kind_is_refused():
 
 
 @pytest.mark.parametrize("kind", NOT_CHOICES)
-@pytest.mark.parametrize("path", [("machine", "release_rule"), ("projectile", "drag")], ids=".".join)
+@pytest.mark.parametrize("path", [("machine", "release_rule"), ("machine", "kind"), ("projectile", "drag")],
+                         ids=".".join)
 def test_a_choice_of_the_wrong_kind_is_refused(path, kind):
     value = NOT_CHOICES[kind]
     with pytest.raises(DesignError, match=rf"^{re.escape('.'.join(path))} = .*: must be one of "):
