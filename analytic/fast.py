@@ -70,7 +70,7 @@ def pack_many(designs: Sequence[Design]) -> np.ndarray:
     return rows
 
 
-def _check_tolerances(rtol: float, atol: float) -> None:
+def check_tolerances(rtol: float, atol: float) -> None:
     for name, value in (("rtol", rtol), ("atol", atol)):
         if not (0.0 < value < 1.0):
             raise ValueError(f"{name} = {value!r}: the integrator tolerance must lie in (0, 1)")
@@ -81,6 +81,9 @@ def _check_tolerances(rtol: float, atol: float) -> None:
 # --------------------------------------------------------------------------- #
 
 _compile_seconds: float | None = None
+#: ``kernel.shots``' recording arguments when it records nothing.
+_NO_RECORDING = np.empty(0)
+_NO_SAMPLES = np.empty((0, kernel.SAMPLE_WIDTH))
 
 
 def _entry_signature() -> tuple:
@@ -88,7 +91,7 @@ def _entry_signature() -> tuple:
     rows = np.zeros((1, N_PARAMS))
     out = np.empty((1, kernel.N_RESULT))
     return tuple(numba.typeof(a) for a in (rows, 0, 1, DRAG_TABLE, COEFFICIENTS, DEFAULT_RTOL,
-                                           DEFAULT_ATOL, True, out))
+                                           DEFAULT_ATOL, True, out, _NO_RECORDING, _NO_SAMPLES))
 
 
 @contextlib.contextmanager
@@ -201,11 +204,19 @@ def simulate_fast(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = D
         that does not throw is a ``Shot`` with its failure's status, never an
         exception.
     """
-    _check_tolerances(rtol, atol)
+    check_tolerances(rtol, atol)
+    return to_shot(design, shoot_one(design, rtol, atol, loads))
+
+
+def shoot_one(design: Design, rtol: float, atol: float, loads: bool, rec: np.ndarray = None,
+              samples: np.ndarray = None) -> np.ndarray:
+    """The kernel's result row (N_RESULT,) of one design; ``rec`` and ``samples`` record its motion
+    (``analytic.kernel.shot``; None: not recorded)."""
     compile()
     out = np.empty((1, kernel.N_RESULT))
-    kernel.shots(pack(design)[np.newaxis], 0, 1, DRAG_TABLE, COEFFICIENTS, rtol, atol, bool(loads), out)
-    return to_shot(design, out[0])
+    kernel.shots(pack(design)[np.newaxis], 0, 1, DRAG_TABLE, COEFFICIENTS, rtol, atol, bool(loads), out,
+                 _NO_RECORDING if rec is None else rec, _NO_SAMPLES if samples is None else samples)
+    return out[0]
 
 
 def to_shot(design: Design, out: np.ndarray) -> Shot:
@@ -264,7 +275,7 @@ def default_threads() -> int:
 def _shoot_rows(rows: np.ndarray, rtol: float, atol: float, threads: int | None,
                 loads: bool = True) -> np.ndarray:
     """The kernel's result rows (S, N_RESULT) for design rows (S, N_PARAMS), on ``threads`` threads."""
-    _check_tolerances(rtol, atol)
+    check_tolerances(rtol, atol)
     rows = np.ascontiguousarray(rows, dtype=np.float64)
     if rows.ndim != 2 or rows.shape[1] != N_PARAMS:
         raise ValueError(f"designs: expected rows of shape (S, {N_PARAMS}), got {rows.shape}")
@@ -277,7 +288,7 @@ def _shoot_rows(rows: np.ndarray, rtol: float, atol: float, threads: int | None,
     out = np.empty((n, kernel.N_RESULT))
     threads = min(threads, -(-n // BATCH_CHUNK))
     if threads <= 1:
-        kernel.shots(rows, 0, n, DRAG_TABLE, COEFFICIENTS, rtol, atol, loads, out)
+        kernel.shots(rows, 0, n, DRAG_TABLE, COEFFICIENTS, rtol, atol, loads, out, _NO_RECORDING, _NO_SAMPLES)
         return out
     # Shots differ in cost (by 10x over the paper's bounds): each thread takes
     # the next few rows when it is done, rather than one block per thread.
@@ -289,7 +300,7 @@ def _shoot_rows(rows: np.ndarray, rtol: float, atol: float, threads: int | None,
             if start >= n:
                 return
             kernel.shots(rows, start, min(start + BATCH_CHUNK, n), DRAG_TABLE, COEFFICIENTS, rtol, atol, loads,
-                         out)
+                         out, _NO_RECORDING, _NO_SAMPLES)
 
     with ThreadPoolExecutor(threads) as pool:
         for done in [pool.submit(work) for _ in range(threads)]:

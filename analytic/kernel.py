@@ -71,8 +71,46 @@ N_RESULT = PEAKS + 2 * N_LOADS
 # (NaN for a machine that never fires, or a step failure).
 
 
+# Layout of ``rec``, the state of a recording (``shots``' motion): the next sample's time, the
+# rows written so far (-1: the buffer ran out), the spacing of stages 1-2's and the flight's
+# samples, and the most samples a flight gets (its spacing widens to keep within them). A row
+# of ``motion`` is the time, the stage, then the stage's state (``MAX_STATE``).
+NEXT_SAMPLE, ROWS, SPACING, FLIGHT_SPACING, SAMPLE_LIMIT = range(5)
+#: Columns of a recorded sample: time, stage, and the longest state (stage 2 with friction).
+MAX_STATE = 12
+SAMPLE_WIDTH = 2 + MAX_STATE
+
+
+@internal
+def record_row(t, stage, y, rec, motion):
+    """Append the sample (t, stage, y) to ``motion``; past its end mark the recording lost (ROWS -1)."""
+    row = int(rec[ROWS])
+    if row < 0:
+        return
+    if row >= motion.shape[0] or y.shape[0] > MAX_STATE:
+        rec[ROWS] = -1.0
+        return
+    motion[row, 0], motion[row, 1] = t, stage
+    for j in range(y.shape[0]):
+        motion[row, 2 + j] = y[j]
+    for j in range(y.shape[0], MAX_STATE):
+        motion[row, 2 + j] = math.nan
+    rec[ROWS] = row + 1.0
+
+
+@internal
+def record_step(stage, t_end, t_old, h, y_old, F, tmp, rec, motion):
+    """Record the samples of the grid (``rec[NEXT_SAMPLE]``, spaced by the stage's spacing) up to
+    ``t_end`` on the step's interpolant (``F``, prepared)."""
+    spacing = rec[FLIGHT_SPACING] if stage == FLIGHT else rec[SPACING]
+    while rec[NEXT_SAMPLE] <= t_end:
+        dense_eval(rec[NEXT_SAMPLE], t_old, h, y_old, F, tmp)
+        record_row(rec[NEXT_SAMPLE], stage, tmp, rec, motion)
+        rec[NEXT_SAMPLE] += spacing
+
+
 @internal(allocates=True)
-def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks, track_loads):
+def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks, track_loads, rec, motion):
     """Integrate ``stage`` from (t0, y0) until a terminal event or ``t_bound``.
 
     Returns ``(code, t_end, y_end, apex)``: code is the index of the terminal
@@ -80,6 +118,9 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
     or a non-finite state) or ``OUT_OF_STEPS`` (the stage's ``STAGE_STEP_LIMITS``
     accepted steps without reaching ``t_bound``); apex is the largest y[1] at a counted apex root
     (flight only; -inf if none). ``counts`` accumulates [steps, evaluations].
+    A non-empty ``rec`` records the motion into ``motion``: the start, then a grid from it,
+    each sample read off its step's interpolant (``record_step``; the stage's last is
+    ``shot``'s). The grids are ``analytic.reference``'s: each stretch starts its own.
     In stages 1 and 2 with ``track_loads``, ``peaks`` (N_LOADS, 2) gets the
     largest of each load (``stages.loads_at``) and its time, where this stretch
     beats it: sampled at every step's end and refined on the interpolants
@@ -87,6 +128,9 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
     """
     n = y0.shape[0]
     ne = event_count(stage, p)
+    if rec.shape[0] > 0:   # (a stage's first stretch after another stage: lift-off again, which the reader drops)
+        record_row(t0, stage, y0, rec, motion)
+        rec[NEXT_SAMPLE] = t0 + (rec[FLIGHT_SPACING] if stage == FLIGHT else rec[SPACING])
     K2 = np.empty((2, N_STAGES + 4, n))   # the last two steps' stages, alternately
     K = K2[0]
     F = np.empty((7, n))
@@ -217,6 +261,8 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
         if hit_k >= 0:
             y_hit = np.empty(n)
             dense_eval(hit_t, t_old, h, y, F, y_hit)
+            if rec.shape[0] > 0:
+                record_step(stage, hit_t, t_old, h, y, F, tmp, rec, motion)
             if track:
                 keep_step(buffer, t_old, h, hit_t, y, y_new, live_y, live_t)
                 sample_loads(hit_t, loads_at(stage, y_hit, p), buffer, samples, sides, pending, last, True)
@@ -224,6 +270,11 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
                 finish_peaks(stage, samples, sides, K2, live_y, live_t, pool_k, pool_y, pool_t, peaks, coef, p,
                               table, counts)
             return hit_k, hit_t, y_hit, apex
+        if rec.shape[0] > 0 and rec[NEXT_SAMPLE] <= t_new:
+            if not dense_ready:
+                dense_prepare(stage, t_old, h, y, y_new, f_new, coef, K, F, tmp, p, table)
+                counts[1] += 3
+            record_step(stage, t_new, t_old, h, y, F, tmp, rec, motion)
         if track:   # at the step's end the derivative is known (f_new): stage 2 reads the accelerations
             keep_step(buffer, t_old, h, t_new, y, y_new, live_y, live_t)
             sample_loads(t_new, loads_after_step(stage, y_new, f_new, p), buffer, samples, sides, pending, last,
@@ -258,28 +309,32 @@ def _step_failed(out, code, stage):
 
 
 @internal(allocates=True)
-def _run_stage(stage, t, y, switches, coef, rtol, atol, p, table, counts, peaks, track_loads, out):
+def _run_stage(stage, t, y, switches, coef, rtol, atol, p, table, counts, peaks, track_loads, out, rec, motion):
     """Integrate ``stage`` from (t, y) in stretches, switching the friction modes between them,
     until ``analytic.sequence.stretch_end`` says the stage is over.
 
     Returns ``(action, status, detail, switches, t, y)`` at its end (``out[END_T]``); a step
-    failure is recorded in ``out`` (``_step_failed``).
+    failure is recorded in ``out`` (``_step_failed``). A recording (``rec``) gets each
+    stretch's samples (``integrate``) and the stage's last.
     """
     while True:
-        code, t, y, _ = integrate(stage, t, y, p.t_limit, coef, rtol, atol, p, table, counts, peaks, track_loads)
+        code, t, y, _ = integrate(stage, t, y, p.t_limit, coef, rtol, atol, p, table, counts, peaks, track_loads,
+                                  rec, motion)
         action, status, detail = stretch_end(stage, code, switches)
         if action != SWITCH_MODE:
             break
         switches += 1
         switch_mode(stage, code, y, p)
     out[END_T] = t
+    if rec.shape[0] > 0 and rec[ROWS] > 0 and motion[int(rec[ROWS]) - 1, 0] < t:
+        record_row(t, stage, y, rec, motion)
     if status == STEP_FAILED:
         _step_failed(out, code, stage)
     return action, status, detail, switches, t, y
 
 
 @internal(inline="always", allocates=True)
-def shot(P, table, coef, rtol, atol, track_loads, out):
+def shot(P, table, coef, rtol, atol, track_loads, out, rec, motion):
     """Simulate the design row ``P`` through all three stages into the result row ``out``.
 
     Not compiled by itself: ``shots`` is the one entry point, and this is
@@ -288,7 +343,8 @@ def shot(P, table, coef, rtol, atol, track_loads, out):
     The stages and their ends are those of ``analytic.reference.simulate``;
     ``out[STATUS]`` names how it ended and the other entries hold what was
     reached (NaN otherwise). ``track_loads`` False leaves the peak loads NaN
-    (the benchmark measures what finding them costs).
+    (the benchmark measures what finding them costs). A non-empty ``rec`` records the
+    motion into ``motion`` (``integrate``; ``analytic.motion.simulate_motion`` reads it).
     """
     for i in range(N_RESULT):
         out[i] = math.nan
@@ -314,15 +370,19 @@ def shot(P, table, coef, rtol, atol, track_loads, out):
     y1 = np.empty(state_size(SLIDE, p))
     slide_start(p, y1)
     switches, action, status, detail, t1, t2, y2 = 0, NEXT_STAGE, 0, 0, 0.0, 0.0, y1
+    if normal0 <= 0.0 and rec.shape[0] > 0:   # the sling already pulls harder than the projectile's weight
+        record_row(0.0, SLIDE, y1, rec, motion)
     if normal0 > 0.0:   # else the sling already pulls harder than the projectile's weight
         action, status, detail, switches, t1, y1 = _run_stage(SLIDE, 0.0, y1, switches, coef, rtol, atol, p, table,
-                                                              counts, peaks, track_loads, out)
+                                                              counts, peaks, track_loads, out, rec,
+                                                              motion)
     if action == NEXT_STAGE:
         out[LIFTOFF_T] = t1
         y2 = np.empty(state_size(SWING, p))
         swing_start(y1, p, y2)
         action, status, detail, switches, t2, y2 = _run_stage(SWING, t1, y2, switches, coef, rtol, atol, p, table,
-                                                              counts, peaks, track_loads, out)
+                                                              counts, peaks, track_loads, out, rec,
+                                                              motion)
     out[STEPS], out[EVALS] = counts[0], counts[1]
     if action == FINISHED:
         if status != STEP_FAILED:   # (a step failure is recorded by _run_stage)
@@ -343,8 +403,12 @@ def shot(P, table, coef, rtol, atol, track_loads, out):
     t_max = t2 + flight_time_limit(y + p.h, vy, p.g)
     y_release = np.empty(4)
     y_release[0], y_release[1], y_release[2], y_release[3] = x, y, vx, vy
+    if rec.shape[0] > 0:
+        rec[FLIGHT_SPACING] = max(rec[FLIGHT_SPACING], (t_max - t2) / rec[SAMPLE_LIMIT])
     code, t3, y3, apex = integrate(FLIGHT, t2, y_release, t_max, coef, rtol, atol,
-                                   p, table, counts, peaks, False)
+                                   p, table, counts, peaks, False, rec, motion)
+    if rec.shape[0] > 0 and rec[ROWS] > 0 and motion[int(rec[ROWS]) - 1, 0] < t3:
+        record_row(t3, FLIGHT, y3, rec, motion)
     out[STEPS], out[EVALS], out[END_T] = counts[0], counts[1], t3
     _, status, _ = stretch_end(FLIGHT, code, switches)
     if status == STEP_FAILED:
@@ -363,12 +427,13 @@ def _write_peaks(peaks, out):
 
 
 @numba.njit(**CALLABLE)
-def shots(designs, start, stop, table, coef, rtol, atol, track_loads, out):
+def shots(designs, start, stop, table, coef, rtol, atol, track_loads, out, rec, motion):
     """``shot`` for rows ``start:stop`` of ``designs`` (S, N_PARAMS) into those of ``out`` (S, N_RESULT).
 
     The one compiled entry point. It releases the GIL (``nogil``), so
     ``analytic.fast`` runs several calls at once on Python threads, each on
-    its own rows. ``track_loads`` False leaves the peak loads NaN.
+    its own rows. ``track_loads`` False leaves the peak loads NaN. ``rec`` and
+    ``motion`` record one shot's motion (``shot``; empty: none).
     """
     for i in range(start, stop):
-        shot(designs[i], table, coef, rtol, atol, track_loads, out[i])
+        shot(designs[i], table, coef, rtol, atol, track_loads, out[i], rec, motion)

@@ -86,8 +86,8 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
         flight's steps), with histories or without; with histories
         ``energy.dissipated`` holds the friction's on every sample.
     """
-    swing_spacing = _spacing("sample_step", sample_step, SWING_OUTPUT_STEP)
-    flight_spacing = _spacing("flight_sample_step", flight_sample_step, FLIGHT_OUTPUT_STEP)
+    swing_spacing = spacing_argument("sample_step", sample_step, SWING_OUTPUT_STEP)
+    flight_spacing = spacing_argument("flight_sample_step", flight_sample_step, FLIGHT_OUTPUT_STEP)
     p = params(design)
     output_step = max(swing_spacing, p.t_limit / HISTORY_SAMPLE_LIMIT) if histories else None
     finish = functools.partial(_finish_shot, sampled_loads=sampled_loads)
@@ -198,7 +198,7 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
                    flight_t=flight.t, flight_path=flight.y[:, :2])
 
 
-def _spacing(name: str, value: float | None, default: float) -> float:
+def spacing_argument(name: str, value: float | None, default: float) -> float:
     """A history spacing argument of ``simulate``, s: ``default`` for None, else a positive number."""
     if value is None:
         return default
@@ -443,6 +443,7 @@ def _finish_shot(design: Design, p: Params, history, segments, status: Status, m
     released = None
     if fields.get("release_time") is not None:
         released = v_machine0 - eom.potential_energy(*states[-1, :3], p)[0]
+        fields["projectile_energy_at_release"] = float(budget[-1, 1])
     history = History(t=t, stage=stage, q=states[:, :3], qdot=states[:, 3:], path=path,
                       sling_tension=tension, energy=energy, frame_x=frame_x if p.rolling else np.empty(0),
                       flight_t=fields.pop("flight_t", np.empty(0)),

@@ -126,6 +126,8 @@ class Shot:
         recorded (the fast path, ``simulate(histories=False)``).
     counterweight_energy_released : J, potential energy given up by counterweight
         and arm between firing and release.
+    projectile_energy_at_release : J, the projectile's kinetic and potential energy at
+        release over its energy at rest (None where not computed: the fast path's summary).
     frame_release_displacement, frame_release_velocity : the frame's X (m) and X' (m/s)
         at release: 0 for a fixed frame, None if not released.
     frame_landing_displacement, frame_landing_velocity : the same at the projectile's landing
@@ -169,6 +171,7 @@ class Shot:
     min_sling_tension: float | None = None
     energy_dissipated: dict[str, float] | None = None
     counterweight_energy_released: float | None = None
+    projectile_energy_at_release: float | None = None
     frame_release_displacement: float | None = None
     frame_release_velocity: float | None = None
     frame_landing_displacement: float | None = None
@@ -272,9 +275,10 @@ class Shot:
     @property
     def energy_efficiency(self) -> float | None:
         """Projectile energy at release / potential energy released by counterweight and arm."""
-        if self.history is None or self.release_time is None or not self.counterweight_energy_released:
+        if (self.projectile_energy_at_release is None or self.release_time is None
+                or not self.counterweight_energy_released):
             return None
-        return float(self.history.energy.projectile[-1] / self.counterweight_energy_released)
+        return float(self.projectile_energy_at_release / self.counterweight_energy_released)
 
     @property
     def range_efficiency(self) -> float | None:

@@ -238,6 +238,7 @@ def _assemble(design: Design, run: stepping.Run, times: np.ndarray, sync: np.nda
     if "release_time" in fields:
         potential = kin.potential_energies(sync[[0, -1]], design)[0]
         released = float(potential[0] - potential[1])
+        fields["projectile_energy_at_release"] = float(projectile_energy[-1])
     history = History(t=times, stage=stage.astype(int), q=q, qdot=qdot, path=kin.position(sync, kin.PROJECTILE).copy(),
                       sling_tension=tension, energy=energy, frame_x=kin.column(sync, kin.FRAME, kin.X).copy(),
                       flight_t=fields.pop("flight_t", np.empty(0)), flight_path=fields.pop("flight_path", np.empty((0, 2))))

@@ -42,7 +42,7 @@ ANALYTIC_LAYERS = {
               # the exit codes and checks every command line shares: it imports nothing
               "analytic.cli_shared"},
     "paths": {"analytic.reference", "analytic.reference_loads", "analytic.integrate", "analytic.compiled", "analytic.kernel", "analytic.fast",
-              "analytic.dop853", "analytic.kernel_loads",
+              "analytic.dop853", "analytic.kernel_loads", "analytic.motion",
               # the public names, loaded on first use from the model and the paths
               "analytic"},
     "tools": {"analytic.aim", "analytic.chart", "analytic.plot", "analytic.plot_units", "analytic.report", "analytic.calibrate*",

@@ -9,8 +9,9 @@ import numpy as np
 from analytic.design import Design
 from analytic.fast import simulate_fast
 from analytic.geometry import machine_points
-from analytic.reference import FLIGHT_OUTPUT_STEP, SWING_OUTPUT_STEP, simulate
-from analytic.result import Shot
+from analytic.motion import Motion, simulate_motion
+from analytic.reference import FLIGHT_OUTPUT_STEP, SWING_OUTPUT_STEP
+from analytic.result import History, Shot
 
 #: Decimals kept of a position (m) and a time (s) in ``history``: 10 um and 1 us, far below a
 #: pixel of the stage at any preset's scale, and a third of the digits of a full float.
@@ -37,12 +38,15 @@ SAMPLE_STEP_BOUNDS = {"sample_step": (SWING_OUTPUT_STEP, 0.02), "flight_sample_s
 def shot_json(design: Design, sample_step: float | None = None,
               flight_sample_step: float | None = None) -> dict[str, Any]:
     """The answer of ``POST /api/shot``: the keys of ``python -m analytic simulate --json``
-    (``Shot.to_json`` of the same reference shot) and ``history`` (``history_json``), its
-    samples ``sample_step`` and ``flight_sample_step`` apart (None: the reference path's own).
+    and ``history`` (``history_json``), its samples ``sample_step`` and ``flight_sample_step``
+    apart (None: the reference path's own).
 
-    The per-sample load histories are not computed: ``history_json`` does not send them."""
-    shot = simulate(design, sample_step=sample_step, flight_sample_step=flight_sample_step, sampled_loads=False)
-    return {**shot.to_json(), "history": history_json(shot)}
+    From the compiled path with its motion recorded (``analytic.motion.simulate_motion``): the
+    same numbers and samples as the reference shot to round-off, but for ``min_sling_tension``,
+    ``min_ground_force``, ``max_frame_speed`` and a rolling frame's place at landing, which it
+    does not sample (null), at about a thirtieth of the reference's time."""
+    shot, motion = simulate_motion(design, sample_step=sample_step, flight_sample_step=flight_sample_step)
+    return {**shot.to_json(), "history": history_json(shot, motion=motion)}
 
 
 def summary_json(design: Design) -> dict[str, Any]:
@@ -64,8 +68,8 @@ def _every(t: np.ndarray, step: float | None) -> np.ndarray | slice:
     return np.unique(np.concatenate([[0], starts, [len(t) - 1]]))
 
 
-def history_json(shot: Shot, sample_step: float | None = None,
-                 flight_sample_step: float | None = None) -> dict[str, Any] | None:
+def history_json(shot: Shot, sample_step: float | None = None, flight_sample_step: float | None = None, *,
+                 motion: Motion | None = None) -> dict[str, Any] | None:
     """The sampled motion in ground coordinates (m from the pivot at rest, s from firing),
     thinned to about ``sample_step`` and ``flight_sample_step`` (s; None: every sample), for a
     shot sampled finely (the engine model's, on each of its steps).
@@ -75,8 +79,9 @@ def history_json(shot: Shot, sample_step: float | None = None,
     ``flight_path`` (k, 2); ``energy`` (J): ``released``, the potential energy counterweight and
     arm gave up by release, and of it ``projectile`` (the projectile's energy at release) and
     ``kept`` (the arm's and counterweight's motion then); None where the shot did not release.
+    The samples are ``motion``'s if given, else ``shot.history``'s.
     """
-    history = shot.history
+    history = shot.history if motion is None else motion
     if history is None:
         return None
     keep, flown = _every(history.t, sample_step), _every(history.flight_t, flight_sample_step)
@@ -92,8 +97,13 @@ def history_json(shot: Shot, sample_step: float | None = None,
         "flight_path": _rounded(history.flight_path[flown], POSITION_DECIMALS),
         "energy": {
             "released": shot.counterweight_energy_released,
-            "projectile": float(history.energy.projectile[-1]) if released else None,
-            # ``machine`` counts from the start: its motion at release less the energy given up.
-            "kept": float(history.energy.machine[-1] + shot.counterweight_energy_released) if released else None,
+            "projectile": shot.projectile_energy_at_release if released else None,
+            # the machine's energy counts from the start: its motion at release less the energy given up.
+            "kept": float(_machine_energy(history) + shot.counterweight_energy_released) if released else None,
         },
     }
+
+
+def _machine_energy(history: History | Motion) -> float:
+    """The machine's energy at release over its energy at rest, J (the last sample's)."""
+    return history.machine_energy_at_release if isinstance(history, Motion) else history.energy.machine[-1]

@@ -14,12 +14,11 @@ export function show(value, kind, digits = 2) {
   return `${shown.toFixed(digits)} ${unitLabel(state.meta.units, kind, state.system)}`;
 }
 
-// ---- shots: on each of two channels one request in flight, the latest design next (never a backlog) --
-// The summary (the compiled fast path, a few ms) updates the readouts while a slider moves; the
-// shot with its histories (the reference path) then redraws the stage and completes them.
+// ---- shots: one request in flight, the latest design next (never a backlog) --------------------
+// The shot with its motion (the compiled path, a few ms on the server) updates the readouts and
+// redraws the stage together, while a slider moves.
 export const timings = [];
 export const latencies = [];
-export const readoutLatencies = [];
 let version = 0, shownVersion = 0;
 
 // ``extra``: () => more keys of the request body.
@@ -38,12 +37,6 @@ function channel(url, onAnswer, extra = () => ({})) {
   return send;
 }
 
-const sendSummary = channel("/api/summary", (response, data, mine) => {
-  if (!response.ok || mine <= shownVersion || mine !== version) return;
-  readouts(data, true);
-  if (state.inputAt !== undefined) readoutLatencies.push(performance.now() - state.inputAt);
-});
-
 const sendShot = channel("/api/shot", (response, data, mine, started) => {
   if (mine < shownVersion) return;
   if (response.ok) {
@@ -57,12 +50,9 @@ const sendShot = channel("/api/shot", (response, data, mine, started) => {
   }
 }, () => state.meta.sampling);   // the history spaced for drawing (the server says why)
 
-// The shot is asked for once the summary is in: the server would otherwise hold the summary
-// behind the shot's Python work (one interpreter lock), several ms for each switch.
-export function requestShot(live = false) {
+export function requestShot() {
   version += 1;
-  const summary = live ? sendSummary() : null;
-  if (summary) summary.finally(sendShot); else sendShot();
+  sendShot();
 }
 
 export function fieldError(data) {
@@ -74,7 +64,7 @@ export function fieldError(data) {
 function adopt(shot) {
   state.shot = shot;
   state.t = state.playing ? 0 : duration(shot);
-  readouts(shot, false);
+  readouts(shot);
   draw();
   // From the input that changed the design to this shot drawn (the latency the bench reports).
   if (state.inputAt !== undefined) latencies.push(performance.now() - state.inputAt);
@@ -82,15 +72,13 @@ function adopt(shot) {
 }
 
 // ---- readouts ----------------------------------------------------------------------------------
-// ``summary``: the fast path's (no histories): the efficiencies and the energy bar wait for the shot.
-function readouts(s, summary) {
+function readouts(s) {
   $("range").textContent = s.range === null ? "–" : show(s.range, "length");
   $("status").textContent = s.status;
   $("status").className = s.status === "ok" ? "ok" : "failed";
   $("message").textContent = s.message;
-  $("readouts").classList.toggle("pending", summary);
   const g = state.design.environment?.gravity ?? 9.81;
-  const percent = (value) => (summary ? "…" : value === null ? "–" : `${(100 * value).toFixed(1)} %`);
+  const percent = (value) => (value === null ? "–" : `${(100 * value).toFixed(1)} %`);
   const rows = [
     ["release speed", show(s.release_speed, "speed")],
     ["launch angle", s.launch_angle === null ? "–" : `${s.launch_angle.toFixed(1)} deg`],
@@ -107,7 +95,7 @@ function readouts(s, summary) {
   $("numbers").innerHTML = rows.map(([k, v]) => `<dt>${k}</dt><dd>${v}</dd>`).join("");
   $("warnings").innerHTML = "";
   for (const w of s.warnings) { const li = document.createElement("li"); li.textContent = w; $("warnings").append(li); }
-  if (!summary) energyBar(s);
+  energyBar(s);
 }
 
 function energyBar(s) {
@@ -180,7 +168,7 @@ function onField(name, value) {
   state.inputAt = performance.now();
   state.twin = null;
   setValue(state.design, name, value);
-  requestShot(true);
+  requestShot();
 }
 
 async function download() {
@@ -230,7 +218,7 @@ async function start() {
   $("units").addEventListener("change", (e) => {
     setSystem(e.target.value);
     fillForm($("fields"), state.design, state.meta.units, state.system);
-    if (state.shot) { readouts(state.shot, false); draw(); }
+    if (state.shot) { readouts(state.shot); draw(); }
   });
   $("play").addEventListener("click", () => {
     if (!state.playing && state.t >= duration(state.shot)) state.t = 0;
@@ -252,4 +240,4 @@ async function start() {
 }
 
 start();
-window.workbench = {state, timings, latencies, readoutLatencies, draw};
+window.workbench = {state, timings, latencies, draw};

@@ -1,0 +1,146 @@
+"""A shot's motion from the compiled path: ``simulate_fast``'s summary with the motion sampled to draw it.
+
+The compiled shot (``analytic.kernel``) records its state on a grid of times
+as it integrates: each sample read off the integrator's own interpolant of
+the step that holds it, as the reference path samples its histories
+(``analytic.reference.simulate``: the same DOP853 steps, the same
+interpolants). This module turns those samples into a ``Motion``, the
+coordinates a picture needs, and completes the summary with what the samples
+give: the energy the counterweight and arm released and how it was shared,
+and each loss's work.
+
+For a caller that draws the shot (the workbench's stage) at a fraction of the
+reference path's cost. The sling tension, the ground's push and the loads are
+not sampled (the reference path's ``History`` holds them), and a rolling
+frame's place at landing (stage 4) is not computed.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from analytic import eom, fast, kernel, stages
+from analytic.design import Design
+from analytic.friction import lossy
+from analytic.limits import DEFAULT_ATOL, DEFAULT_RTOL
+from analytic.parameters import params
+from analytic.reference import FLIGHT_OUTPUT_STEP, HISTORY_SAMPLE_LIMIT, SWING_OUTPUT_STEP, spacing_argument
+from analytic.result import LOSS_NAMES, Shot
+from analytic.stages import FLIGHT, SLIDE, STATE_SIZE, SWING
+
+#: Rows of a recording beyond its grids': each stage's first and last sample.
+_EDGE_ROWS = 8
+
+
+@dataclass(frozen=True)
+class Motion:
+    """A shot's motion sampled through stages 1-2 and its flight, for drawing.
+
+    Positions are in ground coordinates, m from the pivot's position at rest, as
+    ``Shot``'s and ``History``'s: the same samples ``History`` holds on the same grid.
+
+    Attributes
+    ----------
+    t : (n,) sample times through stages 1-2, s from firing; the last is the release
+        instant, or the failure's.
+    stage : (n,) int, the ``Stage`` of each sample (1 or 2).
+    q, qdot : (n, 3) coordinates [theta, phi, psi] (rad) and their rates (rad/s).
+    frame_x : (n,) the frame's X, m (zeros for a fixed frame).
+    flight_t : (k,) flight sample times, s from firing; (0,) if the projectile never flew.
+    flight_path : (k, 2) projectile centre in flight, m.
+    machine_energy_at_release : J, the arm's, counterweight's (and a rolling frame's) kinetic
+        and potential energy at release over their energy at rest (``History.energy.machine``'s
+        last sample); None if not released.
+    """
+
+    t: np.ndarray
+    stage: np.ndarray
+    q: np.ndarray
+    qdot: np.ndarray
+    frame_x: np.ndarray
+    flight_t: np.ndarray
+    flight_path: np.ndarray
+    machine_energy_at_release: float | None = None
+
+
+def simulate_motion(design: Design, *, sample_step: float | None = None, flight_sample_step: float | None = None,
+                    rtol: float = DEFAULT_RTOL, atol: float = DEFAULT_ATOL, loads: bool = True) -> tuple[Shot, Motion]:
+    """The compiled shot of ``design`` and its motion sampled ``sample_step`` (stages 1-2) and
+    ``flight_sample_step`` (flight) apart, s (None: the reference path's ``SWING_OUTPUT_STEP`` and
+    ``FLIGHT_OUTPUT_STEP``; widened, as there, to keep within ``HISTORY_SAMPLE_LIMIT`` samples).
+
+    Returns
+    -------
+    (Shot, Motion)
+        ``simulate_fast``'s shot (the same numbers) with ``counterweight_energy_released``,
+        ``projectile_energy_at_release`` and ``energy_dissipated`` filled in (the drag's work from
+        the projectile's energy at release and at landing, which ``analytic.reference.drag_work``
+        integrates step by step: they agree to the integrator's tolerance), and the ``Motion``.
+    """
+    spacing = spacing_argument("sample_step", sample_step, SWING_OUTPUT_STEP)
+    flight_spacing = spacing_argument("flight_sample_step", flight_sample_step, FLIGHT_OUTPUT_STEP)
+    fast.check_tolerances(rtol, atol)
+    p = params(design)
+    spacing = max(spacing, p.t_limit / HISTORY_SAMPLE_LIMIT)
+    rec = np.array([0.0, 0.0, spacing, flight_spacing, HISTORY_SAMPLE_LIMIT])
+    samples = np.empty((int(p.t_limit / spacing) + HISTORY_SAMPLE_LIMIT + _EDGE_ROWS, kernel.SAMPLE_WIDTH))
+    out = fast.shoot_one(design, rtol, atol, loads, rec, samples)
+    rows = int(rec[kernel.ROWS])
+    if rows < 0:   # the buffer holds every grid the kernel can ask for: a fault, not a design's failure
+        raise RuntimeError(f"the compiled shot's recording of {design.name!r} ran out of rows")
+    if rows == 0:   # it never moved (it never fires, or its equations fail at rest): the state at rest
+        stages.slide_start(p, samples[0, 2:2 + stages.state_size(SLIDE, p)])
+        samples[0, :2] = 0.0, SLIDE
+        rows = 1
+    shot = fast.to_shot(design, out)
+    motion = _motion(samples[:rows], p, shot.ok)
+    shot = _completed(shot, motion, samples[:rows], p)
+    if shot.release_time is not None:
+        moving, _ = eom.kinetic_energy(*motion.q[-1], *motion.qdot[-1], p)
+        motion = dataclasses.replace(motion, machine_energy_at_release=moving - shot.counterweight_energy_released)
+    return shot, motion
+
+
+def _motion(samples: np.ndarray, p, landed: bool) -> Motion:
+    """The ``Motion`` of a recording's rows (``analytic.kernel``'s layout); the flight's only if it
+    ``landed`` (as the reference path's ``History``)."""
+    lifted = (samples[1:, 1] == SWING) & (samples[:-1, 1] == SLIDE) & (samples[1:, 0] == samples[:-1, 0])
+    samples = samples[np.concatenate([[True], ~lifted])]   # lift-off once, as the slide's last
+    stage = samples[:, 1].astype(int)
+    swing, flight = samples[stage != FLIGHT], samples[(stage == FLIGHT) & landed]
+    states = np.array([eom.slide_state(*y[2:2 + STATE_SIZE[SLIDE]], p) if k == SLIDE
+                       else y[2:2 + STATE_SIZE[k]] for k, y in zip(stage[stage != FLIGHT], swing, strict=True)])
+    frame_x = (np.array([eom.frame_displacement(*q, p) for q in states[:, :3]]) if p.rolling
+               else np.zeros(len(swing)))
+    return Motion(t=swing[:, 0].copy(), stage=stage[stage != FLIGHT], q=states[:, :3], qdot=states[:, 3:],
+                  frame_x=frame_x, flight_t=flight[:, 0].copy(), flight_path=flight[:, 2:4].copy())
+
+
+def _completed(shot: Shot, motion: Motion, samples: np.ndarray, p) -> Shot:
+    """``shot`` with the energies its recording gives (``simulate_motion``)."""
+    last = samples[samples[:, 1] != FLIGHT][-1]
+    core = STATE_SIZE[int(last[1])]
+    work = tuple(float(w) for w in last[2 + core:2 + core + 3]) if lossy(p) else (0.0, 0.0, 0.0)
+    fields = {}
+    drag = 0.0
+    if shot.release_time is not None:
+        machine0, projectile0 = eom.potential_energy(*motion.q[0], p)
+        machine, projectile = eom.potential_energy(*motion.q[-1], p)
+        _, moving = eom.kinetic_energy(*motion.q[-1], *motion.qdot[-1], p)
+        fields.update(counterweight_energy_released=machine0 - machine,
+                      projectile_energy_at_release=moving + projectile - projectile0)
+        if samples[-1, 1] == FLIGHT:   # the drag's work: the projectile's energy lost over the flight
+            drag = _flight_energy(samples[-1, 2:6], p) - _flight_energy(samples[samples[:, 1] == FLIGHT][0, 2:6], p)
+            drag = -float(drag)
+    if shot.ok and not p.rolling:
+        fields.update(frame_landing_displacement=0.0, frame_landing_velocity=0.0)
+    return dataclasses.replace(shot, energy_dissipated=dict(zip(LOSS_NAMES, (*work, drag), strict=True)), **fields)
+
+
+def _flight_energy(y: np.ndarray, p) -> float:
+    """The projectile's kinetic and potential energy in flight state ``y`` (x, y, vx, vy), J."""
+    return 0.5 * p.mP * (y[2] * y[2] + y[3] * y[3]) + p.mP * p.g * y[1]

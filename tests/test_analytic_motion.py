@@ -1,0 +1,122 @@
+"""The compiled path's recorded motion (``analytic.motion``) against the reference path's histories.
+
+Both paths take the same DOP853 steps (``tests/test_analytic_fast.py``) and read
+their samples off the same interpolants, so the samples agree to round-off in
+stages 1-2. The flight's agree as closely as the two paths' ranges do
+(``RANGE_REL``), since its positions grow to tens of metres.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from analytic import fast, kernel
+from analytic.design import Base
+from analytic.motion import simulate_motion
+from analytic.reference import simulate
+from analytic.result import Status
+from benchmarks.designs import ROLLING_FRAME, TYPICAL_LOSSES
+from support import failure_designs, table3_variants, table_ii_sample
+
+#: The fast and reference paths' agreement on the range (``tests/test_analytic_fast.py``).
+RANGE_REL = 1e-7
+#: Stages 1-2 samples, rad and rad/s: round-off of the same arithmetic in two orders (observed 1e-14
+#: and 3e-13 on the paper's design; a thousand times that leaves room for other CPUs' last bits).
+ANGLE_ABS, RATE_ABS = 1e-11, 1e-9
+#: The page's spacings (``workbench.shot``), and the reference's own (None).
+SPACINGS = [(2e-3, 2e-2), (None, None)]
+
+
+def _designs():
+    t3 = table3_variants()
+    designs = [t3["table3"], t3["sling-rule-ahead"], t3["golf-ball-headwind"]]
+    designs += [dataclasses.replace(t3["table3"], name="lossy", losses=TYPICAL_LOSSES),
+                dataclasses.replace(t3["table3"], name="rolling", base=ROLLING_FRAME),
+                dataclasses.replace(t3["table3"], name="lossy-rolling", losses=TYPICAL_LOSSES, base=ROLLING_FRAME)]
+    designs += table_ii_sample(4, 3)
+    designs += list(failure_designs().values())
+    return designs
+
+
+@pytest.mark.parametrize("spacing, flight_spacing", SPACINGS)
+@pytest.mark.parametrize("design", _designs(), ids=lambda d: d.name)
+def test_the_recorded_motion_is_the_reference_history(design, spacing, flight_spacing):
+    shot, motion = simulate_motion(design, sample_step=spacing, flight_sample_step=flight_spacing)
+    reference = simulate(design, sample_step=spacing, flight_sample_step=flight_spacing, sampled_loads=False)
+    history = reference.history
+    assert shot.status is reference.status
+    np.testing.assert_array_equal(motion.stage, history.stage)
+    np.testing.assert_allclose(motion.t, history.t, rtol=0.0, atol=1e-12)
+    np.testing.assert_allclose(motion.q, history.q, rtol=0.0, atol=ANGLE_ABS)
+    np.testing.assert_allclose(motion.qdot, history.qdot, rtol=0.0, atol=RATE_ABS)
+    frame_x = history.frame_x if len(history.frame_x) else np.zeros(len(history.t))
+    np.testing.assert_allclose(motion.frame_x, frame_x, rtol=0.0, atol=1e-12)
+    assert len(motion.flight_t) == len(history.flight_t)
+    if len(history.flight_t):
+        scale = np.abs(history.flight_path).max()
+        np.testing.assert_allclose(motion.flight_path, history.flight_path, rtol=0.0, atol=RANGE_REL * scale)
+        np.testing.assert_allclose(motion.flight_t[1:], history.flight_t[1:], rtol=RANGE_REL)
+
+
+@pytest.mark.parametrize("design", _designs(), ids=lambda d: d.name)
+def test_the_energies_are_the_reference_paths(design):
+    shot, motion = simulate_motion(design)
+    reference = simulate(design, sampled_loads=False)
+    for name in ("counterweight_energy_released", "projectile_energy_at_release", "energy_efficiency"):
+        assert (getattr(shot, name) is None) == (getattr(reference, name) is None), name
+        if getattr(reference, name) is not None:
+            assert getattr(shot, name) == pytest.approx(getattr(reference, name), rel=1e-10), name
+    if reference.release_time is not None:
+        assert motion.machine_energy_at_release == pytest.approx(reference.history.energy.machine[-1], rel=1e-9,
+                                                                 abs=1e-9 * reference.counterweight_energy_released)
+    # Friction's work is integrated with the motion on both paths; the drag's is the reference's
+    # Gauss rule on each flight step against the recording's energy balance over the flight: they
+    # agree to the integrator's tolerance, relative to the energy the projectile carries.
+    scale = reference.projectile_energy_at_release or 1.0
+    for loss, work in reference.energy_dissipated.items():
+        assert shot.energy_dissipated[loss] == pytest.approx(work, abs=1e-8 * scale), loss
+
+
+def test_recording_changes_nothing_the_summary_holds():
+    """The result rows with and without the recording are the same to the bit, but for the
+    evaluations the recording's interpolants add."""
+    for design in _designs():
+        plain = fast.shoot_one(design, 1e-10, 1e-10, True)
+        rec = np.array([0.0, 0.0, 2e-3, 2e-2, 1e5])
+        recorded = fast.shoot_one(design, 1e-10, 1e-10, True, rec, np.empty((200_000, kernel.SAMPLE_WIDTH)))
+        same = np.ones(kernel.N_RESULT, dtype=bool)
+        same[kernel.EVALS] = False
+        np.testing.assert_array_equal(recorded[same], plain[same], err_msg=design.name)
+        assert recorded[kernel.EVALS] >= plain[kernel.EVALS]
+
+
+def test_a_machine_that_never_moves_is_drawn_at_rest():
+    design = failure_designs()[Status.NEVER_FIRES]
+    shot, motion = simulate_motion(design)
+    assert shot.status is Status.NEVER_FIRES
+    assert motion.t.tolist() == [0.0] and len(motion.flight_t) == 0
+    assert motion.q[0].tolist() == pytest.approx(simulate(design).history.q[0].tolist(), abs=1e-15)
+
+
+def test_a_buffer_too_small_is_reported_not_overrun():
+    design = table3_variants()["table3"]
+    rec = np.array([0.0, 0.0, 1e-3, 1e-2, 1e5])
+    samples = np.full((10, kernel.SAMPLE_WIDTH), -7.0)
+    fast.shoot_one(design, 1e-10, 1e-10, False, rec, samples)
+    assert rec[kernel.ROWS] == -1.0
+    assert samples[:, 0].tolist() == pytest.approx([1e-3 * i for i in range(10)], abs=1e-12)
+
+
+@pytest.mark.parametrize("value", [0.0, -1e-3, float("nan"), "2 ms"])
+def test_a_spacing_must_be_a_positive_number(value):
+    with pytest.raises(ValueError, match="sample_step = .*: must be a positive number of seconds"):
+        simulate_motion(table3_variants()["table3"], sample_step=value)
+
+
+def test_a_rolling_frame_moves_in_the_motion():
+    design = dataclasses.replace(table3_variants()["table3"], base=Base("rolling", 20.0))
+    _, motion = simulate_motion(design)
+    assert np.abs(motion.frame_x).max() > 1e-3
