@@ -83,7 +83,7 @@ CALLABLE = dict(OPTIONS, cache=True)
 #: each callee at every call site: it made a cold compile 1.2x-1.6x as long.
 INLINE = {"eom": ("terms", "slide_constraint", "slide_system", "slide_accelerations", "swing_accelerations",
                   "joint_forces", "joint_forces_sliding", "joint_forces_in_gravity", "frame_acceleration",
-                  "frame_coupling", "total_mass"),
+                  "frame_coupling", "total_mass", "solve_symmetric", "symmetric_cofactors"),
           "friction": ("_force_response", "_joints", "swing_friction", "slide_friction"),
           "stages": ("derivative",)}
 _HERE = Path(__file__).parent

@@ -94,15 +94,21 @@ def swing_accelerations(theta, phi, psi, dtheta, dphi, dpsi, p):
 def solve_symmetric(a11, a12, a13, a22, a23, a33, r1, r2, r3):
     """``x`` with ``A x = r`` for the symmetric positive definite 3x3 ``A`` (cofactors; A is well
     conditioned here: a mass matrix restricted to motions of zero momentum)."""
+    c11, c12, c13, c22, c23, c33, det = symmetric_cofactors(a11, a12, a13, a22, a23, a33)
+    return ((c11 * r1 + c12 * r2 + c13 * r3) / det, (c12 * r1 + c22 * r2 + c23 * r3) / det,
+            (c13 * r1 + c23 * r2 + c33 * r3) / det)
+
+
+def symmetric_cofactors(a11, a12, a13, a22, a23, a33):
+    """The cofactors ``(c11, c12, c13, c22, c23, c33)`` and the determinant of the symmetric 3x3 ``A``:
+    ``A^-1 = C / det``, so its columns are the solutions for the unit vectors."""
     c11 = a22 * a33 - a23 * a23
     c12 = a13 * a23 - a12 * a33
     c13 = a12 * a23 - a13 * a22
     c22 = a11 * a33 - a13 * a13
     c23 = a12 * a13 - a11 * a23
     c33 = a11 * a22 - a12 * a12
-    det = a11 * c11 + a12 * c12 + a13 * c13
-    return ((c11 * r1 + c12 * r2 + c13 * r3) / det, (c12 * r1 + c22 * r2 + c23 * r3) / det,
-            (c13 * r1 + c23 * r2 + c33 * r3) / det)
+    return c11, c12, c13, c22, c23, c33, a11 * c11 + a12 * c12 + a13 * c13
 
 
 # --------------------------------------------------------------------------- #

@@ -36,7 +36,8 @@ from __future__ import annotations
 import math
 
 from analytic.eom import (joint_forces, joint_forces_in_gravity, joint_forces_sliding, machine_terms,
-                          rolling_terms, slide_constraint, slide_system, solve_pair, solve_symmetric, terms)
+                          rolling_terms, slide_constraint, slide_system, solve_pair, solve_symmetric,
+                          symmetric_cofactors, terms)
 
 
 # Coulomb friction at the axle (torque ta on the arm, relative rate theta'),
@@ -90,6 +91,13 @@ def _solve3(a11, a12, a13, a21, a22, a23, a31, a32, a33, r1, r2, r3):
     return x1, x2, x3
 
 
+def _solve2(a11, a12, a21, a22, r1, r2):
+    """``x`` with ``A x = r`` for a general 2x2 ``A``: ``_solve3``'s arithmetic with the third row and
+    column those of the identity and ``r3 = 0``, term for term, so the same bits."""
+    det = a11 * a22 - a12 * a21
+    return (r1 * a22 - a12 * r2) / det, (a11 * r2 - r1 * a21) / det
+
+
 def _force_response(theta, phi, psi, ddtheta, ddphi, ddpsi, normal, base_force, p):
     """The part of ``joint_forces_sliding`` linear in (accelerations, N, F): the forces at zero
     rates and without gravity. Returns ``(axle_x, axle_y, hinge_x, hinge_y)``."""
@@ -116,6 +124,7 @@ def friction_newton(base, unit_a, unit_h, unit_b, sa, sh, sb, p):
     ka, kh = kinetic_arm(0, p), kinetic_arm(1, p)
     stuck_a = sa == 0.0 and static_arm(0, p) > 0.0
     stuck_h = sh == 0.0 and static_arm(1, p) > 0.0
+    on_base = p.mub > 0.0 and sb != 0.0
     ta, th, fb = 0.0, 0.0, 0.0
     for _ in range(FRICTION_ITERATIONS):
         ax = base[0] + ta * unit_a[0] + th * unit_h[0] + fb * unit_b[0]
@@ -146,13 +155,14 @@ def friction_newton(base, unit_a, unit_h, unit_b, sa, sh, sb, p):
             j23 = g * (hx * unit_b[2] + hy * unit_b[3])
         else:
             r2, j21, j22, j23 = th, 0.0, 1.0, 0.0
-        if p.mub > 0.0 and sb != 0.0:
+        if on_base:
             normal = base[4] + ta * unit_a[4] + th * unit_h[4] + fb * unit_b[4]
             r3 = fb + p.mub * sb * normal
             j31, j32, j33 = p.mub * sb * unit_a[4], p.mub * sb * unit_h[4], 1.0 + p.mub * sb * unit_b[4]
-        else:
-            r3, j31, j32, j33 = fb, 0.0, 0.0, 1.0
-        da, dh, db = _solve3(j11, j12, j13, j21, j22, j23, j31, j32, j33, r1, r2, r3)
+            da, dh, db = _solve3(j11, j12, j13, j21, j22, j23, j31, j32, j33, r1, r2, r3)
+        else:   # F = 0: _solve3 with the row (0, 0, 1) and r3 = 0, term for term (the same bits)
+            da, dh = _solve2(j11, j12, j21, j22, r1, r2)
+            db = 0.0
         ta, th, fb = ta - da, th - dh, fb - db
         if abs(da) + abs(dh) + abs(db) <= FRICTION_STEP_TOLERANCE * (abs(ta) + abs(th) + abs(fb)):
             break
@@ -181,8 +191,10 @@ def swing_friction(theta, phi, psi, dtheta, dphi, dpsi, sa, sh, p):
         m11, m12, m13, m22, m33, f1, f2, f3 = terms(theta, phi, psi, dtheta, dphi, dpsi, p)
         m23 = 0.0
     a1, a2, a3 = solve_symmetric(m11, m12, m13, m22, m23, m33, f1, f2, f3)
-    ua1, ua2, ua3 = solve_symmetric(m11, m12, m13, m22, m23, m33, 1.0, 0.0, 0.0)
-    uh1, uh2, uh3 = solve_symmetric(m11, m12, m13, m22, m23, m33, 0.0, 1.0, 0.0)
+    # The responses to a unit torque at the axle and at the hinge: M^-1's first two columns.
+    c11, c12, c13, c22, c23, _, det = symmetric_cofactors(m11, m12, m13, m22, m23, m33)
+    ua1, ua2, ua3 = c11 / det, c12 / det, c13 / det
+    uh1, uh2, uh3 = c12 / det, c22 / det, c23 / det
     return _joints(theta, phi, psi, dtheta, dphi, dpsi, a1, a2, a3, ua1, ua2, ua3, uh1, uh2, uh3, sa, sh, p)
 
 
