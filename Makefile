@@ -6,7 +6,7 @@ PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed-stamp
 OUT    ?= out
 
-.PHONY: run test install compile clean crosscheck run-shot run-crosscheck run-frames docs serve browser
+.PHONY: run test install compile clean crosscheck run-shot run-crosscheck run-frames docs serve browser notebook
 
 # uv (from PyPI, into the environment) installs the dependencies in parallel:
 # 26 s from an empty cache where pip took 52-115 s on the same machine. It
@@ -79,6 +79,11 @@ browser:
 docs: $(STAMP)
 	@$(PY) -m sphinx -b html -E -W --keep-going -q docs docs/_build/html
 	@echo "docs: docs/_build/html/index.html"
+
+# The example notebook run from top to bottom and stored with its outputs (the tests run it
+# on a copy and never write it).
+notebook: compile
+	@$(PY) docs/execute_notebook.py
 
 clean:
 	rm -rf $(VENV) $(OUT) .pytest_cache .hypothesis build *.egg-info docs/_build
