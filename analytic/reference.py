@@ -353,9 +353,9 @@ def _events(stage: Stage, p: Params) -> tuple[Event, ...]:
     """The stage's events (``analytic.stages``) as the integrator's ``Event`` objects, in order."""
     def event(k: int, name: str) -> Event:
         # A value or condition Python cannot compute is NaN or false, as compiled: no root there.
-        return Event(name, lambda t, y: quietly(stages.event_value, stage, k, y, p, otherwise=math.nan),
+        return Event(name, lambda t, y: quietly(stages.event_value, stage, k, y.tolist(), p, otherwise=math.nan),
                      direction=stages.event_direction(stage, k),
-                     armed=lambda t, y: quietly(stages.event_armed, stage, k, y, p, otherwise=False),
+                     armed=lambda t, y: quietly(stages.event_armed, stage, k, y.tolist(), p, otherwise=False),
                      terminal=stages.event_terminal(stage, k))
 
     names = stages.EVENT_NAMES[stage][:stages.event_count(stage, p)]   # friction's only with friction
