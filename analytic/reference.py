@@ -374,7 +374,7 @@ def _history(stage: Stage, segment: Segment, p: Params):
     lossy = friction.lossy(p)
     return [(t, stage, full(y), sling_tension_at(stage, y, p),
              tuple(y[core:core + 3]) if lossy else (0.0, 0.0, 0.0), y)
-            for t, y in zip(segment.t, segment.y, strict=True)]
+            for t, y in zip(segment.t.tolist(), segment.y.tolist(), strict=True)]   # Python floats: see stage_rhs
 
 
 def jump_warning(force: float, time: float, gravity: float) -> str:
@@ -414,11 +414,12 @@ def _finish_shot(design: Design, p: Params, history, segments, status: Status, m
     tension = np.array([row[3] for row in rows])
     work = np.array([row[4] for row in rows])        # (n, 3): axle, hinge, base
     raw = [row[5] for row in rows]                   # each stage's own state
+    state_rows = states.tolist()                     # Python floats for the model (see stage_rhs)
 
-    v_machine0, v_projectile0 = eom.potential_energy(*states[0, :3], p)
+    v_machine0, v_projectile0 = eom.potential_energy(*state_rows[0][:3], p)
     budget = np.empty((len(t), 2))
     path = np.empty((len(t), 2))
-    for i, (theta, phi, psi, dtheta, dphi, dpsi) in enumerate(states):
+    for i, (theta, phi, psi, dtheta, dphi, dpsi) in enumerate(state_rows):
         v_m, v_p = eom.potential_energy(theta, phi, psi, p)
         k_m, k_p = eom.kinetic_energy(theta, phi, psi, dtheta, dphi, dpsi, p)
         budget[i] = (k_m + v_m - v_machine0, k_p + v_p - v_projectile0)
@@ -428,21 +429,21 @@ def _finish_shot(design: Design, p: Params, history, segments, status: Status, m
                           dissipated={name: work[:, i] for i, name in enumerate(LOSS_NAMES[:3])})
     fields["energy_dissipated"] = dict(zip(LOSS_NAMES, (*(float(w) for w in work[-1]),
                                                           fields.pop("drag_work", 0.0)), strict=True))
-    frame_x = np.array([eom.frame_displacement(*state[:3], p) for state in states])
+    frame_x = np.array([eom.frame_displacement(*state[:3], p) for state in state_rows])
     ground = np.array([eom.ground_force(*state, *stages.accelerations(int(k), y, p), p)
-                       for k, state, y in zip(stage, states, raw, strict=True)])
+                       for k, state, y in zip(stage.tolist(), state_rows, raw, strict=True)])
     fields["min_ground_force"] = float(ground.min())
-    loads = (np.array([stages.loads_at(int(k), y, p) for k, y in zip(stage, raw, strict=True)])   # (n, N_LOADS)
+    loads = (np.array([stages.loads_at(k, y, p) for k, y in zip(stage.tolist(), raw, strict=True)])   # (n, N_LOADS)
              if sampled_loads else None)
     if p.rolling and ground.min() < 0.0:
         warnings = (jump_warning(float(ground.min()), float(t[int(np.argmin(ground))]), p.g), *warnings)
     fields["warnings"] = warnings
-    frame_speed = max(abs(eom.frame_velocity(*state, p)) for state in states)
+    frame_speed = max(abs(eom.frame_velocity(*state, p)) for state in state_rows)
     if status is Status.OK and after_release is not None:
         fields["max_frame_speed"] = max(frame_speed, after_release)
     released = None
     if fields.get("release_time") is not None:
-        released = v_machine0 - eom.potential_energy(*states[-1, :3], p)[0]
+        released = v_machine0 - eom.potential_energy(*state_rows[-1][:3], p)[0]
         fields["projectile_energy_at_release"] = float(budget[-1, 1])
     history = History(t=t, stage=stage, q=states[:, :3], qdot=states[:, 3:], path=path,
                       sling_tension=tension, energy=energy, frame_x=frame_x if p.rolling else np.empty(0),
