@@ -133,7 +133,7 @@ def fixed_arm_properties(design: Design) -> tuple[float, float, float]:
 
     The counterweight's centre is at ``-arm_short`` on the arm's axis and its
     ``counterweight_inertia`` about that centre; parallel axes give the whole
-    body's moment about the joint centre of gravity. Never zero: the counterweight
+    body's moment about their common centre of gravity. Never zero: the counterweight
     has mass and sits off the pivot.
     """
     m = design.machine
@@ -266,9 +266,6 @@ def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITE
         frame, rail = space.static_body, None
 
     fixed = m.kind == "fixed"
-    if fixed and design.losses.static("hinge") > 0.0:
-        raise EngineError("a fixed machine has no hinge: its losses.hinge_friction and "
-                          "losses.hinge_static_friction must be 0")
     arm_mass, arm_cg, arm_moment = fixed_arm_properties(design) if fixed else arm_body_properties(design)
     arm = pymunk.Body(arm_mass, arm_moment)
     # pymunk keeps the centre of gravity fixed when the angle is set: set the

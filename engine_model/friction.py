@@ -30,6 +30,10 @@ applied its whole limit (saturated) slips (``slipping``):
   far coarser than the joints' (``error_bias = 0``); the slide groove and
   its lift-off test stay as they are.
 
+A fixed machine (its counterweight part of the arm's body) has no hinge,
+and a fixed design with hinge friction is refused when it is made: it gets
+the axle's and the base's.
+
 The friction constraints correct no position error (``max_bias = 0``): they
 act on velocities alone, as a bearing does. An ideal design gets none of
 them: its space is exactly what it was before friction existed.

@@ -31,8 +31,8 @@ def test_the_fixed_group_holds_the_paper_machine_samples_and_a_large_one_and_is_
     by_name = {case.name: case.design for case in cases}
     paper = by_name["paper-table3-fixed"].machine
     # The paper's Table III machine (data/paper_table3.toml), its counterweight bolted: all else the same.
-    assert dataclasses.replace(paper, kind="hinged", counterweight_link=paper_cases()[0].design.machine.counterweight_link) \
-        == paper_cases()[0].design.machine
+    hinged = paper_cases()[0].design.machine
+    assert dataclasses.replace(paper, kind="hinged", counterweight_link=hinged.counterweight_link) == hinged
     assert len([name for name in by_name if name.startswith("sample-")]) >= FIXED_SAMPLE >= 3
     large = by_name["large-fixed"].machine
     assert large.arm_long + large.arm_short == pytest.approx(3.0) and large.counterweight_mass == 200.0

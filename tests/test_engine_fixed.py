@@ -45,7 +45,8 @@ def test_the_counterweight_is_part_of_the_arms_body_with_its_inertia_about_the_p
     assert rig.counterweight is None and rig.hinge is None and rig.mount == (0.0, -m.arm_short)
     assert len(rig.space.bodies) == 2 and len(rig.space.constraints) == 3   # arm, projectile; pivot, sling, base
     # docs/derivation.md (11.2): the machine's kinetic energy is 1/2 (IA + mA d^2 + IW + mW Lb^2) theta'^2.
-    about_pivot = m.arm_inertia + m.arm_mass * m.arm_cg**2 + m.counterweight_inertia + m.counterweight_mass * m.arm_short**2
+    about_pivot = (m.arm_inertia + m.arm_mass * m.arm_cg**2
+                   + m.counterweight_inertia + m.counterweight_mass * m.arm_short**2)
     cg = rig.arm.center_of_gravity.y
     assert rig.arm.mass == pytest.approx(m.arm_mass + m.counterweight_mass, rel=1e-15)
     assert rig.arm.moment + rig.arm.mass * cg**2 == pytest.approx(about_pivot, rel=1e-12)

@@ -11,7 +11,8 @@ import pytest
 from analytic.design import Base
 from analytic.design_file import default_design
 from engine_model.render import (BOX_ASPECT, BOX_MIN_DEPTH, FINAL_HOLD, FRAME_SIZE, PROJECTILE_COLOUR,
-                                 WHEEL_RADIUS_FRACTION, FrameState, camera, draw_frame, frame_state, frame_times, render_shot, summary)
+                                 WHEEL_RADIUS_FRACTION, FrameState, camera, draw_frame, frame_state, frame_times,
+                                 render_shot, summary)
 from analytic.geometry import machine_points
 from engine_model import simulate
 
