@@ -239,6 +239,9 @@ def large_design(kind: str) -> Design:
                     projectile=LARGE_PROJECTILE)
 
 
+#: A counterweight the paper's fixed machine cannot fire with, kg: its weight's torque about the
+#: pivot at rest (0.2 kg at 0.2405 m: 0.048 kg m) is less than the arm's (0.306 kg at 0.230 m: 0.070 kg m).
+FIXED_UNFIRED_COUNTERWEIGHT = 0.2
 #: ``REALISTIC_LOSSES`` that a fixed machine has: it has no hinge.
 FIXED_LOSSES = dataclasses.replace(REALISTIC_LOSSES, hinge_friction=0.0, hinge_radius=0.0)
 
@@ -246,16 +249,21 @@ FIXED_LOSSES = dataclasses.replace(REALISTIC_LOSSES, hinge_friction=0.0, hinge_r
 def fixed_cases(sample: int = FIXED_SAMPLE, seed: int = 0) -> list[Case]:
     """The fixed (bolted counterweight) machines: the paper's (``data/paper_table3_fixed.toml``), with
     the axle's and the base's friction (``FIXED_LOSSES``) and on a ``ROLLING_SAMPLE_FRAME_MASS`` frame
-    with them, the first ``sample`` designs of ``sample_cases(sample, seed)`` with their counterweight
-    bolted, and the large machine (``large_design``)."""
+    with them, released by the sling rule, the first ``sample`` designs of ``sample_cases(sample, seed)``
+    with their counterweight bolted, the large machine (``large_design``), and the paper's on a
+    counterweight too light to fire it (``never_fires``)."""
     paper = load_design(Path(analytic.__file__).with_name("data") / "paper_table3_fixed.toml")
     lossy = dataclasses.replace(paper, name=f"{paper.name}-all-losses", losses=FIXED_LOSSES)
     rolling = dataclasses.replace(lossy, name=f"{paper.name}-rolling-{ROLLING_SAMPLE_FRAME_MASS:g}kg-all-losses",
                                   base=Base("rolling", ROLLING_SAMPLE_FRAME_MASS))
-    designs = [paper, lossy, rolling]
+    sling_rule = _variant(paper, f"{paper.name}-sling-rule", machine={"release_rule": "sling",
+                                                                       "release_angle": math.radians(-40.0)})
+    designs = [paper, lossy, rolling, sling_rule]
     designs += [fixed_design(case.design, f"{case.name}-fixed") for case in sample_cases(sample, seed)]
     designs.append(large_design("fixed"))
-    return [Case(design.name, design, "fixed") for design in designs]
+    unfired = _variant(paper, f"{paper.name}-never-fires", machine={"counterweight_mass": FIXED_UNFIRED_COUNTERWEIGHT})
+    return [Case(design.name, design, "fixed") for design in designs] + [
+        Case(unfired.name, unfired, "fixed", "never_fires")]
 
 
 def file_cases(paths: list[str]) -> list[Case]:
