@@ -191,3 +191,59 @@ def test_axle_friction_is_coulombs_law_and_the_motion_the_lagrangians(bolted, sa
         assert ddtheta == 0.0
     else:
         _close(ta, -mode * p.mua * p.ra * axle, "ta", abs(ta))
+
+
+# --------------------------------------------------------------------------- #
+# Whole shots (the paths' agreement on fixed designs: tests/test_analytic_fast.py, test_analytic_loads.py)
+# --------------------------------------------------------------------------- #
+
+#: The ideal machine's energy is conserved through stages 1-2 to the integrator's error, relative to
+#: the counterweight's released energy (as tests/test_analytic_physics.py holds the hinged one).
+ENERGY_DRIFT = 1e-8
+#: The energy audit (friction's work + the machine's energy change) closes to this, relative
+#: (as tests/test_analytic_friction.py's AUDIT_TOL).
+AUDIT_TOL = 1e-8
+
+
+def test_an_ideal_fixed_shot_conserves_energy_and_holds_phi():
+    from analytic.reference import simulate
+
+    from support import with_environment
+
+    design = with_environment(load_design(FIXED_FILE), air_density=0.0)
+    shot = simulate(design)
+    assert shot.ok
+    assert np.max(np.abs(shot.history.energy.total)) <= ENERGY_DRIFT * shot.counterweight_energy_released
+    theta0, phi0 = params(design).theta0, params(design).phi0
+    assert np.all(shot.history.q[:, 1] == phi0) and np.all(shot.history.qdot[:, 1] == 0.0)
+    assert shot.history.q[0, 0] == theta0
+
+
+@pytest.mark.parametrize("name", ["fixed-lossy", "fixed-rolling-lossy"])
+def test_the_energy_audit_closes_and_no_hinge_dissipates(name):
+    from analytic.reference import simulate
+
+    from support import fixed_designs
+
+    shot = simulate(fixed_designs()[name])
+    assert shot.ok
+    e = shot.history.energy
+    assert np.max(np.abs(e.total + e.lost)) <= AUDIT_TOL * shot.counterweight_energy_released
+    assert shot.energy_dissipated["axle"] > 0.0 and shot.energy_dissipated["base"] > 0.0
+    assert shot.energy_dissipated["hinge"] == 0.0
+
+
+def test_simulate_json_of_a_fixed_design_has_the_hinged_keys_and_no_nan(capsys):
+    import json
+
+    from analytic.cli import EXIT_OK, main
+
+    assert main(["simulate", "--json"]) == EXIT_OK
+    hinged = json.loads(capsys.readouterr().out)
+    assert main(["simulate", "--json", FIXED_FILE]) == EXIT_OK
+    fixed = json.loads(capsys.readouterr().out)
+    assert set(fixed) == set(hinged) and fixed["design"] == "paper-table3-fixed" and fixed["status"] == "ok"
+    numbers = [v for v in fixed.values() if isinstance(v, float)]
+    assert numbers and all(math.isfinite(v) for v in numbers)
+    # The mount's load holds at least the counterweight's weight at some instant (it starts at rest).
+    assert fixed["peak_hinge_load"] >= 6.5 * 9.81
