@@ -1,5 +1,6 @@
-"""The cross-check's fixed group: which machines it holds, that both models agree on them, that a bolted
-counterweight modelled wrong is caught, and that ``--json`` names every row's machine kind."""
+"""The cross-check's fixed group: which machines it holds, that both models agree on them and on a fixed
+machine's every failure, that a bolted counterweight modelled wrong is caught, and that ``--json`` names
+every row's machine kind."""
 
 from __future__ import annotations
 
@@ -13,6 +14,7 @@ from analytic.design_file import save_design
 from crosscheck.cases import FIXED_SAMPLE, Case, default_suite, fixed_cases, paper_cases
 from crosscheck.cli import EXIT_AGREE, main
 from crosscheck.comparison import compare, engine_simulate
+from support import fixed_failure_designs
 
 #: The group's rolling machine steps on through the whole flight (``engine_model.after_release``):
 #: seconds, where the others take under one.
@@ -46,6 +48,14 @@ def test_models_agree_on_the_fixed_machines(case):
     failing = [(r.quantity, r.analytic, r.engine, r.tolerance) for r in result.rows if not r.ok]
     assert result.agree, f"{case.name}: {result.error or failing}"
     assert result.analytic_status == (case.expected or "ok") and result.kind == "fixed"
+
+
+@pytest.mark.parametrize("status", list(fixed_failure_designs()), ids=lambda status: status.value)
+def test_both_models_end_a_fixed_machine_in_each_failure_alike(status):
+    # One fixed design per failure status (tests/support.py says how each was found).
+    result = compare(Case(status.value, fixed_failure_designs()[status], "fixed"))
+    assert result.agree, f"{status.value}: {result.error or [r for r in result.rows if not r.ok]}"
+    assert result.analytic_status == result.engine_status == status.value
 
 
 def test_a_bolted_counterweight_without_its_own_inertia_is_a_disagreement():
