@@ -257,3 +257,10 @@ def test_the_table_calls_a_fixed_machines_hinge_load_its_mount_load(capsys):
     assert "peak mount load" in table and "hinge" not in table
     assert main(["simulate"]) == EXIT_OK
     assert "peak hinge load" in capsys.readouterr().out
+
+
+def test_the_html_table_calls_it_the_mount_load_too():
+    from analytic.reference import simulate
+
+    html = simulate(load_design(FIXED_FILE), histories=False)._repr_html_()
+    assert "peak mount load" in html and "hinge" not in html
