@@ -1,4 +1,4 @@
-"""The floating-arm trebuchet's swing equations ``M(q) q'' = f(q, q')``, q = (theta, psi) (derivation section 12).
+"""The floating-arm trebuchet's swing equations ``M(q) q'' = f(q, q')``, q = (theta, psi), and its supports' forces (derivation section 12).
 
 Derived and checked against the sympy Lagrangian (``tests/test_analytic_floating_arm.py``), not yet
 a machine either path simulates: ``analytic.design.BUILT_KINDS`` refuses the kind. Plain ``math``
@@ -45,3 +45,26 @@ def swing_accelerations(theta, psi, dtheta, dpsi, p):
     m11, m13, m33, f1, f3 = terms(theta, psi, dtheta, dpsi, p)
     ddtheta = (f1 - m13 * f3 / m33) / (m11 - m13 * m13 / m33)
     return ddtheta, (f3 - m13 * ddtheta) / m33
+
+
+def support_forces(theta, psi, dtheta, dpsi, ddtheta, ddpsi, normal, p):
+    """The track's vertical push on the axle and the guide's horizontal push on the counterweight, N
+    (eq. 12.6): ``(track_y, guide_x)``, given the motion and the base's push ``normal`` on the
+    projectile (0 off the base).
+
+    The track and the guide are the only supports besides the base (the sling is internal), so
+    the whole machine's momentum changes by them and gravity:
+    ``guide_x = sum m a_x``, ``track_y = sum m (a_y + g) - normal``.
+    """
+    s_th, c_th = math.sin(theta), math.cos(theta)
+    beta = theta + psi
+    s_b, c_b = math.sin(beta), math.cos(beta)
+    dbeta, ddbeta = dtheta + dpsi, ddtheta + ddpsi
+    turn_x = c_th * ddtheta - s_th * dtheta * dtheta        # d2/dt2 of sin(theta)
+    turn_y = s_th * ddtheta + c_th * dtheta * dtheta        # -d2/dt2 of cos(theta)
+    sling_x = c_b * ddbeta - s_b * dbeta * dbeta
+    sling_y = s_b * ddbeta + c_b * dbeta * dbeta
+    guide_x = (-p.mA * (p.Lb + p.d) * turn_x
+               - p.mP * ((p.La + p.Lb) * turn_x + p.Ls * sling_x))
+    lift = -p.mA * p.d * turn_y + p.mW * p.Lb * turn_y - p.mP * (p.La * turn_y + p.Ls * sling_y)
+    return lift + (p.mA + p.mW + p.mP) * p.g - normal, guide_x

@@ -73,3 +73,24 @@ def test_the_base_constraint_is_the_hinged_machines(floating, i):
         pytest.skip("out of the sling's reach")
     position, velocity = floating.projectile(p, (theta, 0.0, psi), (qd[0], 0.0, dpsi))
     assert abs(position[1] + p.h) <= REL_TOL * p.La and abs(velocity[1]) <= REL_TOL * p.La * abs(qd[0])
+
+
+@pytest.mark.parametrize("i", range(len(SAMPLES)))
+def test_the_track_and_guide_forces_are_the_machines_momentum_change(floating, i):
+    """In the swing (sympy's accelerations) and on the base (its accelerations and push N): the guide
+    gives sum m a_x, the track sum m (a_y + g) - N, with the accelerations sympy differentiates."""
+    p, q, qd = SAMPLES[i]
+    q, qd = (q[0], 0.0, q[2]), (qd[0], 0.0, qd[2])
+    states = [(q, qd, floating.accelerations(p, q, qd), 0.0)]
+    theta = math.acos(-p.h / p.La) - 0.2
+    psi, dpsi, _, _, _ = eom.slide_constraint(theta, qd[0], p)
+    if not math.isnan(psi):
+        on_base = ((theta, 0.0, psi), (qd[0], 0.0, dpsi))
+        states.append((*on_base, *floating.on_base(p, *on_base)))
+    for q, qd, acc, normal in states:
+        rate = floating.momentum_rate(p, q, qd, acc)
+        weight = (p.mA + p.mW + p.mP) * p.g
+        expected = [rate[1] + weight - normal, rate[0]]
+        got = floating_arm.support_forces(q[0], q[2], qd[0], qd[2], acc[0], acc[2], normal, p)
+        scale = max(float(np.max(np.abs(rate))), weight)
+        assert np.max(np.abs(np.subtract(got, expected))) <= REL_TOL * scale, (got, expected)
