@@ -1,4 +1,4 @@
-"""The floating-arm trebuchet's swing equations ``M(q) q'' = f(q, q')``, q = (theta, psi), and its supports' forces (derivation section 12).
+"""The floating-arm trebuchet's swing equations over (theta, psi) and its supports' forces (derivation section 12).
 
 Derived and checked against the sympy Lagrangian (``tests/test_analytic_floating_arm.py``), not yet
 a machine either path simulates: ``analytic.design.BUILT_KINDS`` refuses the kind. Plain ``math``
