@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from analytic.result import LOSS_NAMES, Shot
+from analytic.result import LOSS_NAMES, Shot, hinge_load_label
 from analytic.units import display
 
 
@@ -52,7 +52,7 @@ def format_shot(shot: Shot, units: str = "metric") -> str:
         " (negative: the rigid sling pushed)" if pushed else "")
     row("peak sling tension", shot.peak_sling_tension, "N", ".3f", at("peak_sling_tension"))
     row("peak axle load", shot.peak_axle_load, "N", ".3f", at("peak_axle_load"))
-    row("peak hinge load", shot.peak_hinge_load, "N", ".3f", at("peak_hinge_load"))
+    row(hinge_load_label(shot.design), shot.peak_hinge_load, "N", ".3f", at("peak_hinge_load"))
     if shot.peak_projectile_acceleration is not None:
         rows.append(("peak projectile accel.", f"{shot.peak_projectile_acceleration / shot.design.environment.gravity:.2f}",
                      f"g{at('peak_projectile_acceleration')}"))

@@ -218,7 +218,7 @@ class Shot:
         add("apex height", self.apex_height, ".3f", "m above the base")
         add("peak sling tension", self.peak_sling_tension, ".2f", "N", self.peak_sling_tension_time)
         add("peak axle load", self.peak_axle_load, ".2f", "N", self.peak_axle_load_time)
-        add("peak hinge load", self.peak_hinge_load, ".2f", "N", self.peak_hinge_load_time)
+        add(hinge_load_label(self.design), self.peak_hinge_load, ".2f", "N", self.peak_hinge_load_time)
         add("peak projectile acceleration",
             None if self.peak_projectile_acceleration is None else self.peak_projectile_acceleration / g,
             ".1f", "g", self.peak_projectile_acceleration_time)
@@ -326,6 +326,12 @@ class Shot:
                                   else {name: float(self.energy_dissipated[name]) for name in LOSS_NAMES}),
             "warnings": list(self.warnings),
         }
+
+
+def hinge_load_label(design: Design) -> str:
+    """What a table calls ``peak_hinge_load``: a fixed machine has no hinge, and the force is its
+    counterweight's mount's."""
+    return "peak hinge load" if design.machine.kind == "hinged" else "peak mount load"
 
 
 def ideal_range(design: Design) -> float:

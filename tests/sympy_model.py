@@ -8,7 +8,10 @@ displacement X (the pivot is at ``(X, 0)``, the base at ``y = -h``). On a fixed 
 at 0 and only the first three coordinates move; on a rolling one the frame of mass ``Mf`` is a
 fourth body. ``machine("fixed")`` is the bolted counterweight's (``docs/derivation.md`` section 11):
 the counterweight's centre at ``Lb`` on the arm's short side and its spin the arm's, so phi appears
-nowhere (its row and column of M are 0 and it is not solved for). From the parts' positions:
+nowhere (its row and column of M are 0 and it is not solved for). ``machine("floating-arm")``
+(section 12): the axle at ``(X - Lb sin theta, 0)`` on its track, the counterweight bolted to the
+short end, which puts it at ``(X, -Lb cos theta)`` on its guide; no phi either, and X is the guide's
+place (the machine's frame is not rolled: ``p.rolling`` 0). From the parts' positions:
 
 * velocities and accelerations by differentiation, ``T`` and ``V``, and Lagrange's equations in
   mass-matrix form ``M(q) q'' = f(q, q')`` with ``f = -(dM/dt) q' + dT/dq - dV/dq``;
@@ -65,10 +68,13 @@ class Symbols:
         theta, phi, psi, x = self.q
         qv, qdv, qddv = sp.Matrix(self.q), sp.Matrix(self.qd), sp.Matrix(self.qdd)
 
-        pivot = sp.Matrix([x, 0])
         along_arm = sp.Matrix([-sp.sin(theta), sp.cos(theta)])
+        # The axle: on a floating arm it rides the track y = 0, at x_A = -Lb sin(theta) (derivation 12.1).
+        pivot = sp.Matrix([x - Lb * sp.sin(theta), 0]) if kind == "floating-arm" else sp.Matrix([x, 0])
         self.arm = pivot + d * along_arm
         if kind == "fixed":   # bolted on the arm's axis, turning with the arm (derivation 11.1)
+            self.weight = pivot - Lb * along_arm
+        elif kind == "floating-arm":   # on the short end, held to the guide x = 0 (so x = X here)
             self.weight = pivot - Lb * along_arm
         else:
             self.weight = pivot - Lb * along_arm + Lw * sp.Matrix([sp.sin(theta + phi), -sp.cos(theta + phi)])
@@ -87,7 +93,7 @@ class Symbols:
             return m * v.dot(v) / 2
 
         w_arm, dx = self.qd[0], self.qd[3]
-        w_link = w_arm if kind == "fixed" else self.qd[0] + self.qd[1]
+        w_link = self.qd[0] + self.qd[1] if kind == "hinged" else w_arm
         self.kinetic_machine = (Mf * dx**2 / 2 + half_m_v2(mA, self.arm) + IA * w_arm**2 / 2
                                 + half_m_v2(mW, self.weight) + IW * w_link**2 / 2)
         self.kinetic_projectile = half_m_v2(mP, self.projectile)
@@ -131,7 +137,7 @@ class Machine:
     def __init__(self, kind: str = "hinged") -> None:
         s = self.symbols = Symbols(kind)
         # The coordinates that move: a fixed machine has no phi (its M's phi row and column are 0).
-        self.free = (0, 2, 3) if kind == "fixed" else (0, 1, 2, 3)
+        self.free = (0, 1, 2, 3) if kind == "hinged" else (0, 2, 3)
         state = (s.q, s.qd, s.prm)
         with_accelerations = (s.q, s.qd, s.qdd, s.prm)
 
@@ -275,8 +281,8 @@ class Machine:
         return out
 
 
-@lru_cache(maxsize=2)
+@lru_cache(maxsize=3)
 def machine(kind: str = "hinged") -> Machine:
-    """The Lagrangian of a ``kind`` machine (``"hinged"`` or ``"fixed"``), derived and lambdified once
-    per process."""
+    """The Lagrangian of a ``kind`` machine (``"hinged"``, ``"fixed"`` or ``"floating-arm"``), derived and
+    lambdified once per process."""
     return Machine(kind)

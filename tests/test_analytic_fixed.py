@@ -247,3 +247,20 @@ def test_simulate_json_of_a_fixed_design_has_the_hinged_keys_and_no_nan(capsys):
     assert numbers and all(math.isfinite(v) for v in numbers)
     # The mount's load holds at least the counterweight's weight at some instant (it starts at rest).
     assert fixed["peak_hinge_load"] >= 6.5 * 9.81
+
+
+def test_the_table_calls_a_fixed_machines_hinge_load_its_mount_load(capsys):
+    from analytic.cli import EXIT_OK, main
+
+    assert main(["simulate", FIXED_FILE]) == EXIT_OK
+    table = capsys.readouterr().out
+    assert "peak mount load" in table and "hinge" not in table
+    assert main(["simulate"]) == EXIT_OK
+    assert "peak hinge load" in capsys.readouterr().out
+
+
+def test_the_html_table_calls_it_the_mount_load_too():
+    from analytic.reference import simulate
+
+    html = simulate(load_design(FIXED_FILE), histories=False)._repr_html_()
+    assert "peak mount load" in html and "hinge" not in html
