@@ -20,7 +20,7 @@ _FIELDS = (
     ("landed_behind_pivot", "landed behind pivot", "", "{}"),
     ("energy_efficiency", "energy efficiency", "", "{:.2%}"),
     ("range_efficiency", "range efficiency", "", "{:.2%}"),
-    ("min_sling_tension", "min sling tension", "N (< 0: sling pushed)", "{:.4f}"),
+    ("min_sling_tension", "min sling tension", "N", "{:.4f}"),
 )
 #: (Shot attribute, label, unit, format): a rolling frame's motion, printed for rolling frames only.
 _FRAME_FIELDS = (
@@ -54,6 +54,9 @@ def format_shot(shot: Shot, units: str = "metric") -> str:
         return label, fmt.format(number), shown
 
     rows += [row(label, data[key], unit, fmt) for key, label, unit, fmt in _FIELDS if data[key] is not None]
+    if shot.min_sling_tension is not None and shot.min_sling_tension < 0.0:   # said only where it is so
+        rows = [(label, value, f"{unit} (negative: the rigid sling pushed)" if label == "min sling tension"
+                 else unit) for label, value, unit in rows]
     if shot.design.base.rolling:
         rows += [row(label, getattr(shot, name), unit, fmt)
                  for name, label, unit, fmt in _FRAME_FIELDS if getattr(shot, name) is not None]

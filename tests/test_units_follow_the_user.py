@@ -158,3 +158,23 @@ def test_a_refused_option_is_echoed_as_typed(capsys):
     code = main(["aim", str(TABLE3_FILE), "--target", "30", "--bounds", "20lb:2lb", "--adjust", "counterweight_mass"])
     assert code == EXIT_INVALID
     assert f'bounds = "20lb:2lb" ({20 * POUND:.6g}, {2 * POUND:.6g} kg): inverted' in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("units", ["metric", "imperial"])
+def test_the_shot_plots_labels_stay_inside_their_panels(units):
+    """Every label on the shot figure's panels (the peaks' "hinge 356.8 lbf", longer in lbf than in N)
+    lies inside its panel, clear of the frame's sides by a few pixels."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from analytic.plot import shot_figure
+    from analytic.reference import simulate
+
+    figure = shot_figure(simulate(default_design()), units)
+    FigureCanvasAgg(figure).draw()
+    renderer = figure.canvas.get_renderer()
+    for ax in figure.axes:
+        panel = ax.get_window_extent(renderer)
+        for text in ax.texts:
+            box = text.get_window_extent(renderer)
+            assert panel.x0 + 2 <= box.x0 and box.x1 <= panel.x1 - 2, (text.get_text(), box, panel)
+            assert panel.y0 <= box.y0 and box.y1 <= panel.y1 + 0.5, (text.get_text(), box, panel)
