@@ -64,9 +64,10 @@ def format_shot(shot: Shot, units: str = "metric") -> str:
         rows += [row(f"{name} {'friction' if name != 'drag' else 'in flight'}", shot.energy_dissipated[name],
                      "J dissipated", "{:.4f}") for name in LOSS_NAMES]
     diagnostics = shot.diagnostics
+    drift, drift_unit = _shown(diagnostics.max_joint_drift, "m", units)
     rows += [("engine", f"dt {diagnostics.dt:g} s, {diagnostics.iterations} iterations",
               f"{diagnostics.sling} sling"),
-             ("max joint drift", f"{diagnostics.max_joint_drift:.3g}", "m"),
+             ("max joint drift", f"{drift:.3g}", drift_unit),
              ("energy error", f"{diagnostics.energy_error:.3g}", "of the counterweight's available energy")]
     if diagnostics.discarded_steps or diagnostics.after_release_dt > diagnostics.dt:
         rows.append(("step budget", _budget_note(diagnostics), ""))

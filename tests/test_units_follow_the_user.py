@@ -264,3 +264,18 @@ def test_calibrates_report_and_plot_are_written_in_the_chosen_units(tmp_path, mo
     assert label == prediction.split(": ")[1], (label, prediction)
     data = json.loads((out / "calibration.json").read_text())
     assert data["predictions"][0]["value"] == pytest.approx(7.0, rel=CONVERSION_REL)   # kg
+
+
+def test_no_metric_unit_is_left_in_the_engines_imperial_table(capsys):
+    """Every row of ``python -m engine_model simulate --units imperial``, its diagnostics too (the
+    joints' drift), in ft, lb, lbf or ft lbf; the drift is the JSON's max_joint_drift (m) in ft."""
+    from engine_model.cli import main as engine_main
+
+    assert engine_main(["simulate", "--units", "imperial", "--dt", "4e-4"]) == EXIT_OK
+    table = capsys.readouterr().out
+    left = [line for line in table.splitlines() if re.search(r"\s(m|kg|N|J|m/s)(\s|$)", line)]
+    assert not left, left
+    assert engine_main(["simulate", "--json", "--dt", "4e-4"]) == EXIT_OK
+    drift = json.loads(capsys.readouterr().out)["max_joint_drift"]
+    line = next(line for line in table.splitlines() if line.startswith("max joint drift"))
+    assert line.endswith(" ft") and float(line.split()[-2]) == pytest.approx(drift / FOOT, rel=5e-3)   # 3 digits
