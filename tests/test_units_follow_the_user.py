@@ -13,6 +13,7 @@ import json
 import math
 import re
 
+import numpy as np
 import pytest
 
 from analytic.cli import EXIT_INVALID, EXIT_OK, main
@@ -279,3 +280,23 @@ def test_no_metric_unit_is_left_in_the_engines_imperial_table(capsys):
     drift = json.loads(capsys.readouterr().out)["max_joint_drift"]
     line = next(line for line in table.splitlines() if line.startswith("max joint drift"))
     assert line.endswith(" ft") and float(line.split()[-2]) == pytest.approx(drift / FOOT, rel=5e-3)   # 3 digits
+
+
+def test_the_charts_maps_are_coloured_and_labelled_in_the_chosen_units():
+    """A two-field chart under imperial: every panel's title, colours, colour bar and contour labels
+    in ft or lbf (the axes too, through in_units), none left in m or N; metric as it was."""
+    from analytic.chart import chart, chart_figure, vary
+    from analytic.plot_units import in_units
+
+    result = chart(default_design(), [vary("counterweight_mass", 4.0, 8.0, 4), vary("sling_length", 0.4, 1.0, 4)])
+    figure = in_units(chart_figure(result, "imperial"), "imperial")
+    assert not _metric_left(figure), _metric_left(figure)
+    panels = {ax.get_title(): ax for ax in figure.axes if ax.get_visible() and ax.get_title()}
+    assert {"range (ft)", "peak axle load (lbf)", "peak hinge load (lbf)"} <= set(panels)
+    colours = panels["range (ft)"].collections[0].get_array()
+    np.testing.assert_allclose(colours.ravel(), result.range / FOOT, rtol=1e-12)
+    lbf = 4.4482216152605   # N, by definition (1 lbf = 1 lb x 9.80665 m/s^2)
+    axle = panels["peak axle load (lbf)"].collections[0].get_array()
+    np.testing.assert_allclose(axle.ravel(), result.loads["peak_axle_load"] / lbf, rtol=1e-9)
+    metric = {ax.get_title() for ax in chart_figure(result).axes if ax.get_visible() and ax.get_title()}
+    assert {"range (m)", "peak axle load (N)"} <= metric
