@@ -36,7 +36,7 @@ from analytic.geometry import RELEASE_RULES
 #: The machine kinds (``Machine.kind``): the counterweight hinged, bolted to the arm, or on a floating arm.
 KINDS = ("hinged", "fixed", "floating-arm")
 #: The kinds both models simulate today (each kind joins when the analytic model and the engine have it).
-BUILT_KINDS = ("hinged",)
+BUILT_KINDS = ("hinged", "fixed")
 
 #: Largest ``|release angle|`` for the ``velocity`` rule: the velocity must point forward.
 MAX_VELOCITY_RELEASE_ANGLE = math.radians(90.0)
@@ -375,6 +375,13 @@ class Design:
             raise DesignError("base", self.base, "must be a Base")
         if not isinstance(self.losses, Losses):
             raise DesignError("losses", self.losses, "must be a Losses")
+        if isinstance(self.machine, Machine) and self.machine.kind != "hinged":
+            for name in ("hinge_friction", "hinge_static_friction"):
+                value = getattr(self.losses, name)
+                if value is not None and value > 0.0:
+                    raise DesignError(f"losses.{name}", value,
+                                      f"a {self.machine.kind} machine has no hinge: its counterweight is rigid "
+                                      f"on the arm; leave losses.{name} out (or 0)")
 
 
 # --------------------------------------------------------------------------- #

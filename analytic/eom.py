@@ -27,6 +27,8 @@ mub        base's Coulomb coefficient (stage 1) [10]           losses.base_frict
 ta, th, F  friction torques on the arm (axle) and the link     --
            (hinge), the base's friction force on the
            projectile along x [10.1]
+kind       the machine's kind code; ``FIXED``: the             machine.kind
+           counterweight bolted to the arm (Lw = 0) [11]
 =========  =================================================  ============
 
 (the full table of ``Params`` is in ``analytic.parameters``).
@@ -40,11 +42,19 @@ joints (axle, hinge, sling) follow from the motion by Newton's law for each
 body [9] (``joint_forces``, ``loads``). Friction [10] (``analytic.friction``)
 makes the equations implicit, ``M q'' = f + Q(q'')``; the forces here take
 the base's friction force (``joint_forces_sliding``, ``loads_sliding``).
+A fixed machine [11] (the counterweight bolted to the arm, ``p.kind == FIXED``,
+``Lw = 0``) is the hinged one with phi held at rest: ``terms`` gives its phi row
+as ``phi'' = 0``, uncoupled, and every function here and in ``analytic.friction``
+then moves theta and psi by the fixed machine's equations; the "hinge" force is
+the counterweight's mount's.
 """
 
 from __future__ import annotations
 
 import math
+
+#: ``Params.kind`` of a machine whose counterweight is bolted to the arm (``design.KINDS.index("fixed")``).
+FIXED = 1.0
 
 # --------------------------------------------------------------------------- #
 # Stage 2: three degrees of freedom [3]
@@ -54,7 +64,8 @@ import math
 def terms(theta, phi, psi, dtheta, dphi, dpsi, p):
     """Entries of M (M23 = 0) and f = -(dM/dt) q' + dT/dq - dV/dq, eqs. (3.3)-(3.4).
 
-    Returns ``(m11, m12, m13, m22, m33, f1, f2, f3)``.
+    Returns ``(m11, m12, m13, m22, m33, f1, f2, f3)``; for a fixed machine ``m12 = 0``, ``m22 = 1``
+    (eq. 11.4).
     """
     s_phi, c_phi = math.sin(phi), math.cos(phi)
     s_psi, c_psi = math.sin(psi), math.cos(psi)
@@ -64,6 +75,9 @@ def terms(theta, phi, psi, dtheta, dphi, dpsi, p):
     m12 = p.IW + p.mW * (p.Lw * p.Lw + p.Lb * p.Lw * c_phi)
     m13 = p.mP * (p.Ls * p.Ls + p.La * p.Ls * c_psi)
     m22 = p.IW + p.mW * p.Lw * p.Lw
+    if p.kind == FIXED:
+        # Bolted (Lw = 0, so f2 = 0): phi is held at rest, its row phi'' = 0 uncoupled from the rest [11.4].
+        m12, m22 = 0.0, 1.0
     m33 = p.mP * p.Ls * p.Ls
     m11 = (p.IA + p.mA * p.d * p.d + p.IW
            + p.mW * (p.Lb * p.Lb + p.Lw * p.Lw + 2.0 * p.Lb * p.Lw * c_phi)

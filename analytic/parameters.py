@@ -36,6 +36,7 @@ mub         base's Coulomb coefficient (stage 1)                 losses.base_fri
 mua_s,      the static coefficients of the axle, the hinge and   losses.*_static_friction
 muh_s,      the base (each at least its kinetic one; the
 mub_s       kinetic one when the file does not give it)
+kind        machine kind code (``design.KINDS``; ``eom.FIXED``)  machine.kind
 ==========  ===================================================  ==========================
 """
 
@@ -45,7 +46,7 @@ import math
 from typing import NamedTuple
 
 from analytic.aero import DRAG_MODELS
-from analytic.design import initial_angles, largest_length
+from analytic.design import KINDS, initial_angles, largest_length
 from analytic.limits import swing_time_limit
 from analytic.geometry import RELEASE_RULES
 
@@ -87,6 +88,7 @@ class Params(NamedTuple):
     mua_s: float
     muh_s: float
     mub_s: float
+    kind: float
 
 
 #: Length of a design row (``Params`` in order).
@@ -110,4 +112,4 @@ def params(design) -> Params:
         t_limit=swing_time_limit(largest_length(m), env.gravity), theta0=theta0, phi0=phi0,
         mua=losses.axle_friction, ra=losses.axle_radius, muh=losses.hinge_friction, rh=losses.hinge_radius,
         mub=losses.base_friction, mua_s=losses.static("axle"), muh_s=losses.static("hinge"),
-        mub_s=losses.static("base"))
+        mub_s=losses.static("base"), kind=float(KINDS.index(m.kind)))

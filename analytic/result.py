@@ -136,8 +136,8 @@ class Shot:
         summary unless asked, ``analytic.reference.simulate``'s ``after_release``).
     max_frame_speed : largest ``|X'|`` from firing to landing, m/s (None where not computed).
     peak_axle_load, peak_hinge_load : largest force of the frame on the arm at the axle and
-        between the arm and the counterweight at the hinge, N, through stages 1-2
-        (``analytic.eom.loads``: the sizes a bearing's friction would scale with).
+        between the arm and the counterweight at the hinge (a fixed machine's: at its mount), N,
+        through stages 1-2 (``analytic.eom.loads``: the sizes a bearing's friction would scale with).
     peak_sling_tension : largest sling tension through stages 1-2, N.
     peak_projectile_acceleration : largest acceleration the projectile feels (the sling's
         and the base's force on it over its mass, gravity excluded), m/s^2.

@@ -19,7 +19,7 @@ from analytic.design_space import default_problem, sample_designs
 @dataclass(frozen=True)
 class Case:
     """One design to run through both models; ``group`` is paper, exercise, failure, sample, rolling,
-    friction, stage-1-events or file."""
+    friction, stage-1-events, fixed or file."""
 
     name: str
     design: Design
@@ -211,6 +211,61 @@ def stage1_event_cases() -> list[Case]:
     return [Case(stalls.name, stalls, "stage-1-events", "never_lifts_off"), Case(name, reverses, "stage-1-events")]
 
 
+#: The fixed group's sample: the first designs of ``sample_cases(FIXED_SAMPLE, seed)`` with their
+#: counterweight bolted (a light arm among them).
+FIXED_SAMPLE = 3
+#: A large machine (``large_design``): a 3 m pine beam (0.10 m x 0.15 m, 450 kg/m^3: 20.25 kg,
+#: its centre 0.75 m toward the long end, I = m L^2 / 12 = 15.19 kg m^2 about it) on an axle
+#: 1.8 m over the base, split 3:1 (2.25 m long, 0.75 m short), with a 200 kg counterweight (a
+#: cast-iron sphere of 7200 kg/m^3: radius 0.188 m, I = 2/5 m r^2 = 2.83 kg m^2), a 2.0 m
+#: sling and a 2 kg stone 0.12 m across.
+LARGE_MACHINE = dict(pivot_height=1.8, arm_long=2.25, arm_short=0.75, arm_mass=20.25, arm_cg=0.75,
+                     arm_inertia=15.19, counterweight_mass=200.0, counterweight_inertia=2.83,
+                     sling_length=2.0, release_angle=math.radians(45.0))
+LARGE_PROJECTILE = dict(mass=2.0, diameter=0.12, drag="smooth-sphere")
+
+
+def fixed_design(design: Design, name: str) -> Design:
+    """``design`` with its counterweight bolted to the arm: kind ``"fixed"``, no link."""
+    return _variant(design, name, machine={"kind": "fixed", "counterweight_link": 0.0})
+
+
+def large_design(kind: str) -> Design:
+    """``LARGE_MACHINE`` throwing ``LARGE_PROJECTILE``, a ``kind`` machine (``fixed``; for ``hinged``
+    the counterweight hangs on a 0.5 m link), as ``large-<kind>``."""
+    link = 0.5 if kind == "hinged" else 0.0
+    return _variant(default_design(), f"large-{kind}", machine={**LARGE_MACHINE, "kind": kind,
+                                                                "counterweight_link": link},
+                    projectile=LARGE_PROJECTILE)
+
+
+#: A counterweight the paper's fixed machine cannot fire with, kg: its weight's torque about the
+#: pivot at rest (0.2 kg at 0.2405 m: 0.048 kg m) is less than the arm's (0.306 kg at 0.230 m: 0.070 kg m).
+FIXED_UNFIRED_COUNTERWEIGHT = 0.2
+#: ``REALISTIC_LOSSES`` that a fixed machine has: it has no hinge.
+FIXED_LOSSES = dataclasses.replace(REALISTIC_LOSSES, hinge_friction=0.0, hinge_radius=0.0)
+
+
+def fixed_cases(sample: int = FIXED_SAMPLE, seed: int = 0) -> list[Case]:
+    """The fixed (bolted counterweight) machines: the paper's (``data/paper_table3_fixed.toml``), with
+    the axle's and the base's friction (``FIXED_LOSSES``) and on a ``ROLLING_SAMPLE_FRAME_MASS`` frame
+    with them, released by the sling rule, the first ``sample`` designs of ``sample_cases(sample, seed)``
+    with their counterweight bolted, the large machine (``large_design``), and the paper's on a
+    counterweight too light to fire it (``never_fires``)."""
+    paper = load_design(Path(analytic.__file__).with_name("data") / "paper_table3_fixed.toml")
+    lossy = dataclasses.replace(paper, name=f"{paper.name}-all-losses", losses=FIXED_LOSSES)
+    rolling = dataclasses.replace(lossy, name=f"{paper.name}-rolling-{ROLLING_SAMPLE_FRAME_MASS:g}kg-all-losses",
+                                  base=Base("rolling", ROLLING_SAMPLE_FRAME_MASS))
+    sling_rule = _variant(paper, f"{paper.name}-sling-rule", machine={"release_rule": "sling",
+                                                                       "release_angle": math.radians(-40.0)})
+    designs = [paper, lossy, rolling, sling_rule]
+    designs += [fixed_design(case.design, f"{case.name}-fixed") for case in sample_cases(sample, seed)]
+    designs.append(large_design("fixed"))
+    unfired = _variant(paper, f"{paper.name}-never-fires", machine={"counterweight_mass": FIXED_UNFIRED_COUNTERWEIGHT})
+    return [Case(design.name, design, "fixed") for design in designs] + [
+        Case(unfired.name, unfired, "fixed", "never_fires")]
+
+
 def file_cases(paths: list[str]) -> list[Case]:
     """Designs from the user's TOML files, each named by its own name, or by its file (the stem) where
     that name is the built-in default's or more than one file's: twelve files made from the default
@@ -226,7 +281,7 @@ def file_cases(paths: list[str]) -> list[Case]:
 def default_suite(sample: int = 24, seed: int = 0) -> list[Case]:
     """The suite ``python -m crosscheck`` runs with no design files."""
     return (paper_cases() + exercise_cases() + failure_cases() + sample_cases(sample, seed) + rolling_cases()
-            + friction_cases() + stage1_event_cases())
+            + friction_cases() + stage1_event_cases() + fixed_cases(seed=seed))
 
 
 #: The quick suite's cases, by name: the paper's design as published, at 61 deg

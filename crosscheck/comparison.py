@@ -74,17 +74,20 @@ class Comparison:
     error: str | None = None
     engine_dt: float | None = None
     engine_energy_error: float | None = None
+    kind: str = "hinged"
 
     @property
     def agree(self) -> bool:
         return self.error is None and all(row.ok for row in self.rows)
 
     def to_json(self) -> dict:
-        return {"case": self.case, "group": self.group, "agree": self.agree,
+        """The comparison as ``python -m crosscheck --json`` prints it: the machine's ``kind`` on the
+        design's record and on each of its quantity's rows."""
+        return {"case": self.case, "group": self.group, "kind": self.kind, "agree": self.agree,
                 "analytic_status": self.analytic_status, "engine_status": self.engine_status,
                 "max_joint_drift": self.max_joint_drift, "error": self.error,
                 "engine_dt": self.engine_dt, "engine_energy_error": self.engine_energy_error,
-                "rows": [row.__dict__ for row in self.rows]}
+                "rows": [{**row.__dict__, "kind": self.kind} for row in self.rows]}
 
 
 def _numeric(quantity: str, unit: str, a: float, e: float, tolerance: float) -> Row:
@@ -172,7 +175,7 @@ def compare(case: Case, dt: float = DEFAULT_DT, engine: Callable[[Design, float]
         except EngineError as error:
             if last:
                 return Comparison(case.name, case.group, a.status.value, "error", (), None,
-                                  f"{type(error).__name__}: {error}", engine_dt=step)
+                                  f"{type(error).__name__}: {error}", engine_dt=step, kind=case.design.machine.kind)
             step /= 2.0
             continue
         if e.diagnostics.energy_error <= tol.ENGINE_ENERGY_TRUST or last:
@@ -180,7 +183,7 @@ def compare(case: Case, dt: float = DEFAULT_DT, engine: Callable[[Design, float]
         step /= 2.0
     return Comparison(case.name, case.group, a.status.value, e.status.value, compare_shots(a, e),
                       float(e.diagnostics.max_joint_drift), engine_dt=step,
-                      engine_energy_error=float(e.diagnostics.energy_error))
+                      engine_energy_error=float(e.diagnostics.energy_error), kind=case.design.machine.kind)
 
 
 @dataclass(frozen=True)

@@ -33,7 +33,8 @@ from engine_model.build import Rig, build
 from engine_model.events import interpolate
 from engine_model.readout import origin_reader, stepper
 
-#: The joints that remain after release (``engine_model.kinematics.joint_drift``'s keys).
+#: The joints that remain after release (``engine_model.kinematics.joint_drift``'s keys; a fixed
+#: machine has no hinge).
 MACHINE_JOINTS = ("pivot", "hinge", "rail")
 
 
@@ -108,7 +109,8 @@ def run_after_release(design: Design, release_time: float, release_state: np.nda
     rig.space.remove(rig.sling, rig.projectile)
     bodies = _bodies(rig)
     for part, body in bodies.items():
-        place(body, release_state, part, 0.5 * dt if part != kin.PROJECTILE else 0.0)
+        if body is not None:
+            place(body, release_state, part, 0.5 * dt if part != kin.PROJECTILE else 0.0)
     friction = fr.attach(rig, design, on_base=False)
     impulses = []
     modes = []   # each step's joints' modes (``friction.steady``)
@@ -122,7 +124,7 @@ def run_after_release(design: Design, release_time: float, release_state: np.nda
     rig.space.iterations = max(startup_iterations, iterations)
     rig.space.step(0.5 * dt)
     rig.space.iterations = iterations
-    read = origin_reader(*bodies.values())
+    read = origin_reader(*bodies.values(), rig.mount)
     raw = [read()]
     if friction is not None:
         impulses.append(fr.impulses(friction, False))
@@ -177,13 +179,14 @@ def _loads(friction: fr.Friction, rig: Rig, before: tuple | None, row: tuple, de
     else:
         # The opening half step (no row before it) takes the pivot's own reading, ballast and all.
         axle = fr.impulse(rig.pivot) / step
-    hinge = fr.impulse(rig.hinge) / step
+    hinge = 0.0 if rig.hinge is None else fr.impulse(rig.hinge) / step
     if friction.point_hinge:
         hinge = math.hypot(hinge, fr.impulse(friction.hinge) / step)
     return axle, hinge, 0.0
 
 
-def _bodies(rig: Rig) -> dict[int, pymunk.Body]:
+def _bodies(rig: Rig) -> dict[int, pymunk.Body | None]:
+    """The rig's bodies by their columns in a state row (the counterweight None where bolted to the arm)."""
     return {kin.ARM: rig.arm, kin.COUNTERWEIGHT: rig.counterweight, kin.PROJECTILE: rig.projectile,
             kin.FRAME: rig.frame}
 

@@ -8,6 +8,13 @@ Body frames (pymunk rotates each body about its centre of gravity and reports
   is the design's arm angle theta (CCW from the upward vertical).
 * counterweight: origin and centre of gravity at its centre, hinge at local
   ``(0, counterweight_link)``; so ``body.angle`` is theta + phi.
+* a fixed (bolted) counterweight (``machine.kind = "fixed"``) is no body of
+  its own: it is part of the arm's body (``fixed_arm_properties``), its
+  centre at local ``(0, -arm_short)``. One rigid body is exact in pymunk,
+  where a weld (a pivot and a gear joint between two bodies) would hold the
+  two together only as well as the iterative solver converges, the error
+  growing with the counterweight-to-arm mass ratio. Its state (position,
+  velocity, angle and spin) is that point of the arm's (``engine_model.readout``).
 * projectile: origin and centre of gravity at its centre.
 * frame (rolling only): origin at the pivot, infinite moment (it never
   turns), held on a horizontal groove along the ground through the pivot's
@@ -78,34 +85,39 @@ class Rig:
     Attributes
     ----------
     space : the pymunk Space (gravity, iterations, damping 1 set).
-    arm, counterweight, projectile : the three dynamic bodies.
+    arm, counterweight, projectile : the dynamic bodies; ``counterweight`` is
+        None for a fixed machine (its counterweight is part of the arm's body).
     pivot : PivotJoint, frame to arm at the pivot.
     hinge : PivotJoint (counterweight with inertia) or PinJoint (a point
-        counterweight, inertia 0: see ``build``), arm short tip to counterweight.
+        counterweight, inertia 0: see ``build``), arm short tip to
+        counterweight; None for a fixed machine.
     sling : PinJoint (rigid) or SlideJoint (rope), long tip to projectile.
     groove : GrooveJoint holding the projectile on the base (stage 1).
     sling_kind : ``"rigid"`` or ``"rope"``.
     frame : the body carrying the pivot and the base: the space's static body
         for a fixed frame, a dynamic body that only translates for a rolling one.
     rail : GrooveJoint holding a rolling frame on the ground (None when fixed).
+    mount : a fixed machine's counterweight centre in the arm body's frame,
+        ``(0, -arm_short)``, m (None when hinged: the counterweight is a body).
     """
 
     space: pymunk.Space
     arm: pymunk.Body
-    counterweight: pymunk.Body
+    counterweight: pymunk.Body | None
     projectile: pymunk.Body
     pivot: pymunk.PivotJoint
-    hinge: pymunk.Constraint
+    hinge: pymunk.Constraint | None
     sling: pymunk.Constraint
     groove: pymunk.GrooveJoint
     sling_kind: str
     frame: pymunk.Body
     rail: pymunk.GrooveJoint | None = None
+    mount: tuple[float, float] | None = None
 
     @property
     def machine_parts(self) -> tuple:
         """Bodies and joints of the arm and counterweight (removed from the space at release)."""
-        return (self.pivot, self.hinge, self.arm, self.counterweight)
+        return tuple(part for part in (self.pivot, self.hinge, self.arm, self.counterweight) if part is not None)
 
 
 def start_positions(design: Design) -> dict[str, tuple[float, float]]:
@@ -115,9 +127,34 @@ def start_positions(design: Design) -> dict[str, tuple[float, float]]:
     return {name: (float(p[0]), float(p[1])) for name, p in points.items()}
 
 
+def fixed_arm_properties(design: Design) -> tuple[float, float, float]:
+    """Mass (kg), centre of gravity along the long arm (m) and moment about it (kg m^2) of a fixed
+    machine's arm body: the arm and the counterweight bolted to it, one rigid body.
+
+    The counterweight's centre is at ``-arm_short`` on the arm's axis and its
+    ``counterweight_inertia`` about that centre; parallel axes give the whole
+    body's moment about their common centre of gravity. Never zero: the counterweight
+    has mass and sits off the pivot.
+    """
+    m = design.machine
+    mass = m.arm_mass + m.counterweight_mass
+    cg = (m.arm_mass * m.arm_cg - m.counterweight_mass * m.arm_short) / mass
+    moment = (m.arm_inertia + m.arm_mass * (m.arm_cg - cg) ** 2
+              + m.counterweight_inertia + m.counterweight_mass * (m.arm_short + cg) ** 2)
+    return mass, cg, moment
+
+
+def ballast_mass(design: Design) -> float:
+    """Mass the engine puts at the pivot of the arm body, kg (``arm_body_properties``; 0 for a fixed
+    machine, whose arm body carries its counterweight)."""
+    if design.machine.kind == "fixed":
+        return 0.0
+    return arm_body_properties(design)[0] - design.machine.arm_mass
+
+
 def arm_body_properties(design: Design) -> tuple[float, float, float]:
     """Mass (kg), centre of gravity along the long arm (m) and moment about it (kg m^2) of the
-    pymunk arm body.
+    pymunk arm body (of a hinged machine; a fixed one's: ``fixed_arm_properties``).
 
     These are the design's own unless the arm is lighter than ``ARM_MASS_FRACTION``
     of the counterweight, or has ``arm_inertia = 0`` (pymunk needs a positive
@@ -168,7 +205,7 @@ def frame_body_mass(design: Design) -> float:
         The frame is no heavier than the ballast (a frame under a few per cent
         of the counterweight with a light arm): its body would have no mass left.
     """
-    ballast = arm_body_properties(design)[0] - design.machine.arm_mass
+    ballast = ballast_mass(design)
     mass = design.base.mass - ballast
     if not mass > 0.0:
         raise EngineError(f"base.mass = {design.base.mass:g} kg is no heavier than the {ballast:.3g} kg "
@@ -228,7 +265,8 @@ def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITE
     else:
         frame, rail = space.static_body, None
 
-    arm_mass, arm_cg, arm_moment = arm_body_properties(design)
+    fixed = m.kind == "fixed"
+    arm_mass, arm_cg, arm_moment = fixed_arm_properties(design) if fixed else arm_body_properties(design)
     arm = pymunk.Body(arm_mass, arm_moment)
     # pymunk keeps the centre of gravity fixed when the angle is set: set the
     # centre of gravity, then the angle, then the origin's position.
@@ -237,18 +275,22 @@ def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITE
     arm.position = (0.0, 0.0)
 
     point_counterweight = m.counterweight_inertia == 0.0
-    cw_moment = (placeholder_moment(m.counterweight_mass, m.counterweight_link) if point_counterweight
-                 else m.counterweight_inertia)
-    counterweight = pymunk.Body(m.counterweight_mass, cw_moment)
-    counterweight.angle = theta + phi
-    counterweight.position = start["counterweight"]
+    counterweight = None
+    if not fixed:
+        cw_moment = (placeholder_moment(m.counterweight_mass, m.counterweight_link) if point_counterweight
+                     else m.counterweight_inertia)
+        counterweight = pymunk.Body(m.counterweight_mass, cw_moment)
+        counterweight.angle = theta + phi
+        counterweight.position = start["counterweight"]
 
     radius = proj.diameter / 2.0
     projectile = pymunk.Body(proj.mass, placeholder_moment(0.4 * proj.mass, radius))  # solid sphere; decoupled
     projectile.position = start["projectile"]
 
     pivot = pymunk.PivotJoint(frame, arm, (0.0, 0.0), (0.0, 0.0))
-    if point_counterweight:
+    if fixed:
+        hinge = None
+    elif point_counterweight:
         hinge = pymunk.PinJoint(arm, counterweight, (0.0, -m.arm_short), (0.0, 0.0))
         hinge.distance = m.counterweight_link
     else:
@@ -263,16 +305,21 @@ def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITE
     groove = pymunk.GrooveJoint(frame, projectile, (-reach, -m.pivot_height),
                                 (reach, -m.pivot_height), (0.0, 0.0))
 
-    joints = [pivot, hinge, sling_joint] + ([groove] if on_base else []) + ([rail] if rail else [])
+    joints = [pivot] + ([] if hinge is None else [hinge]) + [sling_joint]
+    joints += ([groove] if on_base else []) + ([rail] if rail else [])
     for joint in joints + [groove]:
         joint.error_bias = 0.0
         joint.max_bias = math.inf
         joint.collide_bodies = False
-    bodies = [arm, counterweight, projectile] + ([frame] if rail else [])
-    for name, body in zip(("arm", "counterweight", "projectile", "frame"), bodies):
+    named = [("arm", arm), ("counterweight", counterweight), ("projectile", projectile)]
+    named += [("frame", frame)] if rail else []
+    named = [(name, body) for name, body in named if body is not None]
+    bodies = [body for _, body in named]
+    for name, body in named:
         if not (0.0 < body.mass < math.inf and body.moment > 0.0):
             raise EngineError(f"the {name}'s pymunk body would have mass {body.mass:.3g} kg and moment "
                               f"{body.moment:.3g} kg m^2: the engine needs both positive and finite "
                               f"(the design's numbers underflow or overflow them)")
     space.add(*bodies, *joints)
-    return Rig(space, arm, counterweight, projectile, pivot, hinge, sling_joint, groove, sling, frame, rail)
+    return Rig(space, arm, counterweight, projectile, pivot, hinge, sling_joint, groove, sling, frame, rail,
+               (0.0, -m.arm_short) if fixed else None)

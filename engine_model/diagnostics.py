@@ -51,7 +51,7 @@ class EngineDiagnostics:
     sling : ``"rigid"`` or ``"rope"``.
     machine_steps, flight_steps : pymunk steps in stages 1-2 and in flight.
     joint_drift : largest separation of each joint's anchors, m (keys ``pivot``,
-        ``hinge``, ``sling``, ``groove``, and ``rail`` for a rolling frame).
+        ``hinge`` (hinged machines only), ``sling``, ``groove``, and ``rail`` for a rolling frame).
     max_joint_drift : the largest of those, m.
     energy_error : largest change of mechanical energy plus the work friction
         took (``dissipated_history``) through stages 1-2, as a fraction of the
@@ -145,14 +145,14 @@ def diagnose_after_release(design: Design, dt: float, iterations: int, after: Af
     steps = np.full(len(after.raw), dt)
     steps[0] = 0.5 * dt
     residual = kin.constraint_residuals(after.raw, design, "rigid", on_base, steps)
-    miss = {name: float(residual[name].max()) for name in MACHINE_JOINTS}
+    miss = {name: float(residual[name].max()) for name in MACHINE_JOINTS if name in residual}
     _require_converged(design, miss, advice)
     kept = kin.energy_budget(after.states, design)[0] + after.dissipated.sum(axis=1)
     energy_error = float(np.abs(_relative_energy(kept, design)).max())
     _require_energy_kept(energy_error, energy_error, advice)
     drift = kin.joint_drift(after.raw, design, "rigid", on_base)
     largest = dict(diagnostics.joint_drift)
-    for name in MACHINE_JOINTS:
+    for name in (name for name in MACHINE_JOINTS if name in drift):
         largest[name] = max(largest[name], float(drift[name].max()))
     _require_together(design, largest, advice)
     return dataclasses.replace(diagnostics, joint_drift=largest, max_joint_drift=max(largest.values()),

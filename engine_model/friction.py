@@ -30,6 +30,10 @@ applied its whole limit (saturated) slips (``slipping``):
   far coarser than the joints' (``error_bias = 0``); the slide groove and
   its lift-off test stay as they are.
 
+A fixed machine (its counterweight part of the arm's body) has no hinge,
+and a fixed design with hinge friction is refused when it is made: it gets
+the axle's and the base's.
+
 The friction constraints correct no position error (``max_bias = 0``): they
 act on velocities alone, as a bearing does. An ideal design gets none of
 them: its space is exactly what it was before friction existed.
@@ -47,7 +51,7 @@ from pymunk._chipmunk import lib
 
 from analytic.design import Design
 from engine_model import kinematics as kin
-from engine_model.build import Rig, arm_body_properties
+from engine_model.build import Rig, ballast_mass
 
 #: The friction joints' names, in the order ``impulses`` and ``loads`` give them
 #: (the first three of ``analytic.result.LOSS_NAMES``).
@@ -180,7 +184,7 @@ def _add(rig: Rig, design: Design, on_base: bool) -> Friction:
     # A static coefficient is never below its kinetic one: the static ones tell which joints have friction.
     if losses.static("axle") > 0.0:
         axle = pymunk.SimpleMotor(rig.frame, rig.arm, 0.0)
-    if losses.static("hinge") > 0.0:
+    if losses.static("hinge") > 0.0 and rig.hinge is not None:
         if m.counterweight_inertia == 0.0:
             # Aimed along the link before each step (``aim``).
             hinge = pymunk.GrooveJoint(rig.arm, rig.counterweight, (0.0, -reach), (0.0, reach), (0.0, 0.0))
@@ -194,8 +198,7 @@ def _add(rig: Rig, design: Design, on_base: bool) -> Friction:
         joint.collide_bodies = False
         joint.max_force = 0.0
     rig.space.add(*added)
-    ballast = arm_body_properties(design)[0] - m.arm_mass
-    return Friction(design, axle, hinge, base, ballast)
+    return Friction(design, axle, hinge, base, ballast_mass(design))
 
 
 def static_loads(design: Design) -> tuple[float, float, float]:
@@ -353,7 +356,9 @@ def joint_rates(row: tuple, design: Design) -> tuple[float, float, float]:
     rad/s, the projectile's slide along the base, m/s."""
     m = design.machine
     arm_w = row[kin.ARM + kin.W]
-    if m.counterweight_inertia == 0.0:
+    if m.kind == "fixed":
+        hinge = 0.0
+    elif m.counterweight_inertia == 0.0:
         theta, short = row[kin.ARM + kin.ANGLE], m.arm_short
         # The hinge at (0, -arm_short) on the arm; the link's turn is the weight's motion across it.
         dx = row[kin.COUNTERWEIGHT + kin.X] - (row[kin.ARM + kin.X] + short * math.sin(theta))
@@ -423,7 +428,7 @@ def rates(sync: np.ndarray, qdot: np.ndarray, design: Design) -> np.ndarray:
     frame (rad/s), the counterweight's (for a point counterweight, its link's) on the arm (rad/s) and the
     projectile's along the base (m/s), as magnitudes. ``qdot``: (n, 3) ``kinematics.coordinates``' rates."""
     axle = np.abs(kin.column(sync, kin.ARM, kin.W) - kin.column(sync, kin.FRAME, kin.W))
-    if design.machine.counterweight_inertia == 0.0:
+    if design.machine.counterweight_inertia == 0.0 and design.machine.kind != "fixed":
         hinge = np.abs(qdot[:, 1])
     else:
         hinge = np.abs(kin.column(sync, kin.COUNTERWEIGHT, kin.W) - kin.column(sync, kin.ARM, kin.W))

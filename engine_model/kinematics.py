@@ -131,7 +131,8 @@ def coordinates(states: np.ndarray, design: Design, start: np.ndarray) -> tuple[
 
     theta is the arm body's angle; phi and psi are reconstructed from where the
     counterweight and projectile actually are (the hinge and sling directions),
-    so they mean the same for every counterweight and sling model. ``start``
+    so they mean the same for every counterweight and sling model; a fixed
+    machine's phi is constant, its value at rest. ``start``
     (shape (3,), ``analytic.design.initial_angles``) picks the 2 pi branch of
     the first row; later rows are unwrapped continuously.
     """
@@ -142,16 +143,22 @@ def coordinates(states: np.ndarray, design: Design, start: np.ndarray) -> tuple[
     tip_rate = point_velocity(states, ARM, tip)
     # The link hangs at theta + phi from the downward vertical; the sling
     # points at theta + psi from the upward vertical.
-    link, link_rate = _direction_angle_and_rate(position(states, COUNTERWEIGHT) - hinge,
-                                                velocity(states, COUNTERWEIGHT) - hinge_rate,
-                                                -0.5 * math.pi)
+    if design.machine.kind != "fixed":
+        link, link_rate = _direction_angle_and_rate(position(states, COUNTERWEIGHT) - hinge,
+                                                    velocity(states, COUNTERWEIGHT) - hinge_rate,
+                                                    -0.5 * math.pi)
     sling, sling_rate = _direction_angle_and_rate(position(states, PROJECTILE) - tip,
                                                   velocity(states, PROJECTILE) - tip_rate,
                                                   0.5 * math.pi)
-    link = _unwrap_from(link, start[0] + start[1])
     sling = _unwrap_from(sling, start[0] + start[2])
-    q = np.column_stack([theta, link - theta, sling - theta])
-    qdot = np.column_stack([theta_rate, link_rate - theta_rate, sling_rate - theta_rate])
+    if design.machine.kind == "fixed":
+        # No link: phi keeps its value at rest (``docs/derivation.md``, section 11).
+        phi, phi_rate = np.full_like(theta, start[1]), np.zeros_like(theta)
+    else:
+        phi = _unwrap_from(link, start[0] + start[1]) - theta
+        phi_rate = link_rate - theta_rate
+    q = np.column_stack([theta, phi, sling - theta])
+    qdot = np.column_stack([theta_rate, phi_rate, sling_rate - theta_rate])
     return q, qdot
 
 
@@ -166,7 +173,7 @@ def joint_drift(states: np.ndarray, design: Design, sling: str, on_base: np.ndar
 
     Returns
     -------
-    dict with ``pivot`` (arm origin from the frame's pivot), ``hinge`` (short
+    dict with ``pivot`` (arm origin from the frame's pivot), ``hinge`` (hinged machines only: short
     tip to the counterweight's hinge point, or the link's length error for a
     point counterweight), ``sling`` (length error, or stretch of a rope),
     ``groove`` (height of the projectile centre off the base, 0 off the base)
@@ -176,22 +183,29 @@ def joint_drift(states: np.ndarray, design: Design, sling: str, on_base: np.ndar
     m = design.machine
     frame_x, frame_y = column(states, FRAME, X), column(states, FRAME, Y)
     pivot = np.hypot(column(states, ARM, X) - frame_x, column(states, ARM, Y) - frame_y)
-    hinge = short_tip(states, design)
-    centre = position(states, COUNTERWEIGHT)
-    if m.counterweight_inertia == 0.0:
-        hinge_drift = np.abs(np.hypot(*(centre - hinge).T) - m.counterweight_link)
-    else:
-        beta = column(states, COUNTERWEIGHT, ANGLE)
-        hinge_point = centre + m.counterweight_link * np.column_stack([-np.sin(beta), np.cos(beta)])
-        hinge_drift = np.hypot(*(hinge_point - hinge).T)
     sling_length = np.hypot(*(position(states, PROJECTILE) - long_tip(states, design)).T)
     stretch = sling_length - m.sling_length
     sling_drift = np.maximum(stretch, 0.0) if sling == "rope" else np.abs(stretch)
     groove = np.where(on_base, np.abs(column(states, PROJECTILE, Y) - frame_y + m.pivot_height), 0.0)
-    drift = {"pivot": pivot, "hinge": hinge_drift, "sling": sling_drift, "groove": groove}
+    drift = {"pivot": pivot, "sling": sling_drift, "groove": groove}
+    if m.kind != "fixed":
+        drift["hinge"] = _hinge_drift(states, design)
     if design.base.rolling:
         drift["rail"] = np.abs(frame_y)
     return drift
+
+
+def _hinge_drift(states: np.ndarray, design: Design) -> np.ndarray:
+    """How far the hinge has come apart, m, (n,): the short tip from the counterweight's hinge point,
+    or the link's length error for a point counterweight."""
+    m = design.machine
+    hinge = short_tip(states, design)
+    centre = position(states, COUNTERWEIGHT)
+    if m.counterweight_inertia == 0.0:
+        return np.abs(np.hypot(*(centre - hinge).T) - m.counterweight_link)
+    beta = column(states, COUNTERWEIGHT, ANGLE)
+    hinge_point = centre + m.counterweight_link * np.column_stack([-np.sin(beta), np.cos(beta)])
+    return np.hypot(*(hinge_point - hinge).T)
 
 
 def potential_energies(states: np.ndarray, design: Design) -> tuple[np.ndarray, np.ndarray]:
@@ -318,25 +332,15 @@ def constraint_residuals(raw: np.ndarray, design: Design, sling: str, on_base: n
 
     Returns
     -------
-    dict with ``pivot``, ``hinge``, ``sling``, ``groove`` and, for a rolling
-    frame, ``rail`` (``joint_drift``'s keys). A rope only counts where it is
+    dict with ``pivot``, ``hinge`` (hinged machines only), ``sling``, ``groove``
+    and, for a rolling frame, ``rail`` (``joint_drift``'s keys). A rope only counts where it is
     stretched and still stretching faster than it is being pulled in.
     """
     m = design.machine
     frame_y, frame_vy = column(raw, FRAME, Y), column(raw, FRAME, VY)
     pivot = np.hypot(*(velocity(raw, ARM) - velocity(raw, FRAME)
                        + (position(raw, ARM) - position(raw, FRAME)) / steps[:, None]).T)
-    tip, short = long_tip(raw, design), short_tip(raw, design)
-    centre = position(raw, COUNTERWEIGHT)
-    if m.counterweight_inertia == 0.0:
-        hinge_miss = _distance_miss(short, point_velocity(raw, ARM, short), centre,
-                                    velocity(raw, COUNTERWEIGHT), m.counterweight_link, steps)
-        hinge_miss = np.abs(hinge_miss)
-    else:
-        beta = column(raw, COUNTERWEIGHT, ANGLE)
-        hinge_point = centre + m.counterweight_link * np.column_stack([-np.sin(beta), np.cos(beta)])
-        relative = point_velocity(raw, COUNTERWEIGHT, hinge_point) - point_velocity(raw, ARM, short)
-        hinge_miss = np.hypot(*(relative + (hinge_point - short) / steps[:, None]).T)
+    tip = long_tip(raw, design)
     projectile = position(raw, PROJECTILE)
     sling_miss = _distance_miss(tip, point_velocity(raw, ARM, tip), projectile,
                                 velocity(raw, PROJECTILE), m.sling_length, steps)
@@ -347,10 +351,26 @@ def constraint_residuals(raw: np.ndarray, design: Design, sling: str, on_base: n
         sling_miss = np.abs(sling_miss)
     height = column(raw, PROJECTILE, Y) - frame_y + m.pivot_height
     groove = np.where(on_base, np.abs(column(raw, PROJECTILE, VY) - frame_vy + height / steps), 0.0)
-    residual = {"pivot": pivot, "hinge": hinge_miss, "sling": sling_miss, "groove": groove}
+    residual = {"pivot": pivot, "sling": sling_miss, "groove": groove}
+    if m.kind != "fixed":
+        residual["hinge"] = _hinge_residual(raw, design, steps)
     if design.base.rolling:
         residual["rail"] = np.abs(frame_vy + frame_y / steps)
     return residual
+
+
+def _hinge_residual(raw: np.ndarray, design: Design, steps: np.ndarray) -> np.ndarray:
+    """The hinge's miss of its target velocity (``constraint_residuals``), m/s, (n,)."""
+    m = design.machine
+    short = short_tip(raw, design)
+    centre = position(raw, COUNTERWEIGHT)
+    if m.counterweight_inertia == 0.0:
+        return np.abs(_distance_miss(short, point_velocity(raw, ARM, short), centre,
+                                     velocity(raw, COUNTERWEIGHT), m.counterweight_link, steps))
+    beta = column(raw, COUNTERWEIGHT, ANGLE)
+    hinge_point = centre + m.counterweight_link * np.column_stack([-np.sin(beta), np.cos(beta)])
+    relative = point_velocity(raw, COUNTERWEIGHT, hinge_point) - point_velocity(raw, ARM, short)
+    return np.hypot(*(relative + (hinge_point - short) / steps[:, None]).T)
 
 
 def _distance_miss(a: np.ndarray, velocity_a: np.ndarray, b: np.ndarray, velocity_b: np.ndarray,

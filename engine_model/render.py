@@ -12,7 +12,8 @@ the range, and the last frame sums the shot up in a box placed where the
 trajectory is not. After release the machine swings on as it moved, where the
 shot kept that motion (``engine_model.simulate(..., machine_after_release=True)``,
 which the ``render`` command asks for); otherwise it is drawn as it was at
-release. A rolling frame is drawn on
+release. A fixed machine's counterweight is a box bolted across the short
+arm, turning with it, with no link. A rolling frame is drawn on
 two wheels, carried along by its displacement, the wheels turning as they
 roll. Frames are deterministic: the PNGs carry no software version or
 time stamp.
@@ -28,7 +29,7 @@ from pathlib import Path
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
-from matplotlib.patches import Circle
+from matplotlib.patches import Circle, Polygon
 from matplotlib.transforms import Affine2D
 from matplotlib.ticker import FuncFormatter
 
@@ -47,6 +48,12 @@ PROJECTILE_COLOUR = "#ff0000"
 PROJECTILE_MARKER_PX = 9.0
 #: Density used only to draw the counterweight as a sphere of its mass (cast iron), kg/m^3.
 COUNTERWEIGHT_DRAW_DENSITY = 7200.0
+#: A fixed machine's counterweight is drawn as a box of its mass at that density, this many times
+#: as wide across the arm as it is deep along it, and at least this fraction of the short arm deep
+#: (a dense weight on a long arm would be a speck); its bolts at these fractions of its depth.
+BOX_ASPECT = 2.0
+BOX_MIN_DEPTH = 0.35
+BOLTS = (-0.25, 0.25)
 #: Fraction of the view left around what must be seen.
 MARGIN = 0.06
 #: Most trace points drawn (the trace is thinned evenly beyond this).
@@ -334,8 +341,21 @@ class _Machine:
         self.sling, = ax.plot([], [], color="#404040", linewidth=1.0)
         self.link, = ax.plot([], [], color="#404040", linewidth=1.5)
         self.arm, = ax.plot([], [], color="#8b5a2b", linewidth=4.0, solid_capstyle="round")
-        radius = (3.0 * m.counterweight_mass / (4.0 * math.pi * COUNTERWEIGHT_DRAW_DENSITY)) ** (1.0 / 3.0)
-        self.counterweight = Circle((0.0, 0.0), radius, color="#303030", zorder=3)
+        self.bolted = m.kind == "fixed"
+        if self.bolted:
+            depth = max((m.counterweight_mass / (BOX_ASPECT**2 * COUNTERWEIGHT_DRAW_DENSITY)) ** (1.0 / 3.0),
+                        BOX_MIN_DEPTH * m.arm_short)
+            # Corners along the arm (toward the long tip) and across it, about the counterweight's centre.
+            self.box_shape = np.array([[-0.5, -0.5 * BOX_ASPECT], [0.5, -0.5 * BOX_ASPECT],
+                                       [0.5, 0.5 * BOX_ASPECT], [-0.5, 0.5 * BOX_ASPECT]]) * depth
+            self.bolt_shape = np.array([[f * depth, 0.0] for f in BOLTS])
+            self.counterweight = Polygon(self.box_shape, closed=True, facecolor="#303030",
+                                         edgecolor="#101010", zorder=3)
+            self.bolts, = ax.plot([], [], marker="o", linestyle="none", color="#e0e0e0", markersize=2.0,
+                                  zorder=4)
+        else:
+            radius = (3.0 * m.counterweight_mass / (4.0 * math.pi * COUNTERWEIGHT_DRAW_DENSITY)) ** (1.0 / 3.0)
+            self.counterweight = Circle((0.0, 0.0), radius, color="#303030", zorder=3)
         ax.add_patch(self.counterweight)
         self.pivot, = ax.plot([0.0], [0.0], marker="o", color="black", markersize=4, zorder=4)
         self.projectile, = ax.plot([], [], marker="o", linestyle="none", color=PROJECTILE_COLOUR,
@@ -344,7 +364,7 @@ class _Machine:
         #: What moves from frame to frame (``_Drawing`` redraws only these over a still background;
         #: the base follows the view, with which the background is drawn again).
         self.moving = [self.trace, self.sling, self.link, self.arm, self.counterweight, self.pivot,
-                       self.projectile]
+                       self.projectile] + ([self.bolts] if self.bolted else [])
         if self.wheels:
             self.moving += [self.frame_lines] + [artist for rim, spokes, *_ in self.wheels for artist in (rim, spokes)]
 
@@ -363,9 +383,12 @@ class _Machine:
                 turn = Affine2D().rotate_around(centre, axle, -x / radius).translate(x, 0.0)
                 spokes.set_transform(turn + self.ax.transData)
         self.arm.set_data([state.short_tip[0], state.long_tip[0]], [state.short_tip[1], state.long_tip[1]])
-        self.link.set_data([state.short_tip[0], state.counterweight[0]],
-                           [state.short_tip[1], state.counterweight[1]])
-        self.counterweight.center = (float(state.counterweight[0]), float(state.counterweight[1]))
+        if self.bolted:
+            self._draw_box(state)
+        else:
+            self.link.set_data([state.short_tip[0], state.counterweight[0]],
+                               [state.short_tip[1], state.counterweight[1]])
+            self.counterweight.center = (float(state.counterweight[0]), float(state.counterweight[1]))
         if state.sling_attached:
             self.sling.set_data([state.long_tip[0], state.projectile[0]], [state.long_tip[1], state.projectile[1]])
         else:
@@ -373,6 +396,17 @@ class _Machine:
         trace = state.trace[:: max(1, len(state.trace) // TRACE_POINTS)]
         self.trace.set_data(trace[:, 0], trace[:, 1])
         self.projectile.set_data([state.projectile[0]], [state.projectile[1]])
+
+
+    def _draw_box(self, state: FrameState) -> None:
+        """The bolted counterweight: its box and bolts turned with the arm, about the counterweight's centre."""
+        along = state.long_tip - state.short_tip
+        along = along / np.hypot(*along)
+        across = np.array([-along[1], along[0]])
+        turn = np.column_stack([along, across])   # local (along, across) -> world
+        self.counterweight.set_xy(state.counterweight + self.box_shape @ turn.T)
+        bolts = state.counterweight + self.bolt_shape @ turn.T
+        self.bolts.set_data(bolts[:, 0], bolts[:, 1])
 
 
 class _Drawing:

@@ -65,7 +65,7 @@ class Run:
 
 def read_state(rig: Rig) -> tuple[float, ...]:
     """The 24 numbers of a state row (``engine_model.kinematics``) read from the bodies."""
-    return rig_row(rig.arm, rig.counterweight, rig.projectile, rig.frame)
+    return rig_row(rig.arm, rig.counterweight, rig.projectile, rig.frame, rig.mount)
 
 
 def run_machine(design: Design, dt: float, iterations: int, sling: str, limit: int = MACHINE_STEP_LIMIT,
@@ -153,7 +153,7 @@ def run_machine(design: Design, dt: float, iterations: int, sling: str, limit: i
         friction = fr.renew(friction, rig)
 
     step = stepper(rig.space)
-    read = row_reader(rig.arm, rig.counterweight, rig.projectile, rig.frame)
+    read = row_reader(rig.arm, rig.counterweight, rig.projectile, rig.frame, rig.mount)
     # The loop runs up to hundreds of thousands of times: its lists' appends and the row's
     # indices are looked up once.
     keep_row, keep_on_base, keep_tension = run.raw.append, run.on_base.append, run.tension.append
@@ -285,7 +285,7 @@ def _loads(friction: fr.Friction, rig: Rig, before: tuple, row: tuple, design: D
         axle = fr.axle_load_from_momentum(before, row, design, base_force, dt)
     else:
         axle = fr.impulse(rig.pivot) / step
-    hinge = fr.impulse(rig.hinge) / step
+    hinge = 0.0 if rig.hinge is None else fr.impulse(rig.hinge) / step
     if friction.point_hinge:
         hinge = math.hypot(hinge, fr.impulse(friction.hinge) / step)
     base = fr.impulse(rig.groove) / step if friction.base is not None else 0.0

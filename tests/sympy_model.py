@@ -6,7 +6,9 @@ Built from nothing but the geometry in ``analytic.design``'s module docstring; n
 counterweight's link relative to the arm, the sling relative to the arm, and the frame's
 displacement X (the pivot is at ``(X, 0)``, the base at ``y = -h``). On a fixed frame X is held
 at 0 and only the first three coordinates move; on a rolling one the frame of mass ``Mf`` is a
-fourth body. From the parts' positions:
+fourth body. ``machine("fixed")`` is the bolted counterweight's (``docs/derivation.md`` section 11):
+the counterweight's centre at ``Lb`` on the arm's short side and its spin the arm's, so phi appears
+nowhere (its row and column of M are 0 and it is not solved for). From the parts' positions:
 
 * velocities and accelerations by differentiation, ``T`` and ``V``, and Lagrange's equations in
   mass-matrix form ``M(q) q'' = f(q, q')`` with ``f = -(dM/dt) q' + dT/dq - dV/dq``;
@@ -52,7 +54,7 @@ def _four(values) -> np.ndarray:
 class Symbols:
     """The symbols of the derivation, and the expressions derived from them."""
 
-    def __init__(self) -> None:
+    def __init__(self, kind: str = "hinged") -> None:
         self.q = sp.symbols("theta phi psi X", real=True)
         self.qd = sp.symbols("dtheta dphi dpsi dX", real=True)
         self.qdd = sp.symbols("ddtheta ddphi ddpsi ddX", real=True)
@@ -66,7 +68,10 @@ class Symbols:
         pivot = sp.Matrix([x, 0])
         along_arm = sp.Matrix([-sp.sin(theta), sp.cos(theta)])
         self.arm = pivot + d * along_arm
-        self.weight = pivot - Lb * along_arm + Lw * sp.Matrix([sp.sin(theta + phi), -sp.cos(theta + phi)])
+        if kind == "fixed":   # bolted on the arm's axis, turning with the arm (derivation 11.1)
+            self.weight = pivot - Lb * along_arm
+        else:
+            self.weight = pivot - Lb * along_arm + Lw * sp.Matrix([sp.sin(theta + phi), -sp.cos(theta + phi)])
         self.sling_unit = sp.Matrix([-sp.sin(theta + psi), sp.cos(theta + psi)])   # tip -> projectile
         self.projectile = pivot + La * along_arm + Ls * self.sling_unit
 
@@ -81,7 +86,8 @@ class Symbols:
             v = velocity(r)
             return m * v.dot(v) / 2
 
-        w_arm, w_link, dx = self.qd[0], self.qd[0] + self.qd[1], self.qd[3]
+        w_arm, dx = self.qd[0], self.qd[3]
+        w_link = w_arm if kind == "fixed" else self.qd[0] + self.qd[1]
         self.kinetic_machine = (Mf * dx**2 / 2 + half_m_v2(mA, self.arm) + IA * w_arm**2 / 2
                                 + half_m_v2(mW, self.weight) + IW * w_link**2 / 2)
         self.kinetic_projectile = half_m_v2(mP, self.projectile)
@@ -122,8 +128,10 @@ class Machine:
     docstring); arrays are float, of shape ``(4,)`` for a state's coordinates unless said.
     """
 
-    def __init__(self) -> None:
-        s = self.symbols = Symbols()
+    def __init__(self, kind: str = "hinged") -> None:
+        s = self.symbols = Symbols(kind)
+        # The coordinates that move: a fixed machine has no phi (its M's phi row and column are 0).
+        self.free = (0, 2, 3) if kind == "fixed" else (0, 1, 2, 3)
         state = (s.q, s.qd, s.prm)
         with_accelerations = (s.q, s.qd, s.qdd, s.prm)
 
@@ -204,20 +212,31 @@ class Machine:
     # -- the systems ----------------------------------------------------------- #
     def accelerations(self, p, q, qd) -> np.ndarray:
         """q'' of the free swing (stage 2): ``M q'' = f`` (on a fixed frame, its first three rows, X'' = 0)."""
-        rows = 4 if p.rolling else 3
-        m, f = self.mass(p, q, qd)[:rows, :rows], self.forcing(p, q, qd)[:rows]
-        return _four(np.linalg.solve(m, f))
+        rows = self.rows(p)
+        m, f = self.mass(p, q, qd)[np.ix_(rows, rows)], self.forcing(p, q, qd)[rows]
+        return self._spread(rows, np.linalg.solve(m, f))
+
+    def rows(self, p) -> list[int]:
+        """The coordinates solved for: the free ones, X only on a rolling frame."""
+        return [i for i in self.free if i < 3 or p.rolling]
+
+    @staticmethod
+    def _spread(rows, values) -> np.ndarray:
+        """``values`` of the coordinates ``rows`` as a state of four, 0 elsewhere."""
+        out = np.zeros(4)
+        out[rows] = values
+        return out
 
     def on_base(self, p, q, qd) -> tuple[np.ndarray, float]:
         """q'' and the base's push N with the projectile held on the base (stage 1):
         ``[[M, -J^T], [J, 0]] [q'', N] = [f, -J' q']``."""
-        rows = 4 if p.rolling else 3
+        rows = self.rows(p)
         q, qd, prm = _four(q), _four(qd), numbers(p)
-        m, f = self.mass(p, q, qd)[:rows, :rows], self.forcing(p, q, qd)[:rows]
-        jac = self.base_jacobian(p, q)[:rows]
+        m, f = self.mass(p, q, qd)[np.ix_(rows, rows)], self.forcing(p, q, qd)[rows]
+        jac = self.base_jacobian(p, q)[rows]
         system = np.block([[m, -jac[:, None]], [jac[None, :], np.zeros((1, 1))]])
         solution = np.linalg.solve(system, np.append(f, -float(self._jdot_qd(q, qd, prm))))
-        return _four(solution[:rows]), float(solution[rows])
+        return self._spread(rows, solution[:-1]), float(solution[-1])
 
     def zero_momentum_rate(self, p, q, qd3) -> float:
         """The X' that makes the horizontal momentum zero, given (theta', phi', psi')."""
@@ -256,7 +275,8 @@ class Machine:
         return out
 
 
-@lru_cache(maxsize=1)
-def machine() -> Machine:
-    """The Lagrangian, derived and lambdified once per process."""
-    return Machine()
+@lru_cache(maxsize=2)
+def machine(kind: str = "hinged") -> Machine:
+    """The Lagrangian of a ``kind`` machine (``"hinged"`` or ``"fixed"``), derived and lambdified once
+    per process."""
+    return Machine(kind)

@@ -98,14 +98,32 @@ def test_a_hinged_machine_is_the_default_and_is_written_as_before(table3):
     assert "kind" not in design_to_dict(table3)["machine"]   # files read as they were written
 
 
-@pytest.mark.parametrize("kind", ["fixed", "floating-arm"])
+@pytest.mark.parametrize("kind", ["floating-arm"])
 def test_a_kind_not_yet_built_is_refused_with_its_reason(kind):
     data = table3_file()
     data["machine"]["kind"] = kind
     del data["machine"]["counterweight_link"]
-    with pytest.raises(DesignError, match=rf"^machine\.kind = '{kind}': both models simulate hinged machines "
-                                          rf"so far; the {kind} machine is being built$"):
+    with pytest.raises(DesignError, match=rf"^machine\.kind = '{kind}': both models simulate hinged, fixed "
+                                          rf"machines so far; the {kind} machine is being built$"):
         design_from_dict(data)
+
+
+@pytest.mark.parametrize("name", ["hinge_friction", "hinge_static_friction"])
+def test_a_fixed_machine_refuses_hinge_friction(name):
+    data = table3_file()
+    data["machine"]["kind"] = "fixed"
+    del data["machine"]["counterweight_link"]
+    data["losses"] = {"hinge_radius": 0.01, name: 0.2}
+    with pytest.raises(DesignError, match=rf"^losses\.{name} = 0\.2: a fixed machine has no hinge"):
+        design_from_dict(data)
+
+
+def test_a_fixed_machine_takes_a_frictionless_hinge_radius_and_axle_friction():
+    data = table3_file()
+    data["machine"]["kind"] = "fixed"
+    del data["machine"]["counterweight_link"]
+    data["losses"] = {"hinge_radius": 0.01, "axle_friction": 0.2, "axle_radius": 0.01}
+    assert design_from_dict(data).losses.axle_friction == 0.2
 
 
 def test_toml_accepts_the_papers_variables_and_a_beam():

@@ -33,8 +33,8 @@ from benchmarks.suite import MISMATCH_KEYS
 from analytic.parameters import N_PARAMS, params
 from analytic.reference import DEFAULT_ATOL, DEFAULT_RTOL, simulate
 from analytic.result import Status
-from support import (examples, failure_designs, lossy_designs, paper_designs, table3_variants,
-                     table_ii_sample, with_environment, with_machine, with_projectile)
+from support import (examples, failure_designs, fixed_designs, fixed_failure_designs, lossy_designs, paper_designs,
+                     table3_variants, table_ii_sample, with_environment, with_machine, with_projectile)
 
 #: The agreement targets between the two paths (the fast path's specification).
 RANGE_REL = 1e-7
@@ -189,6 +189,18 @@ def test_every_input_agrees(design):
 @pytest.mark.parametrize("status", failure_designs(), ids=lambda s: s.value)
 def test_every_failure_is_the_same_failure(status):
     _, got = _assert_agree(failure_designs()[status])
+    assert got.status is status
+
+
+@pytest.mark.parametrize("name", fixed_designs())
+def test_fixed_machines_agree(name):
+    """Bolted counterweights: the sample file, lossy, rolling, every input variant, every failure."""
+    _assert_agree(fixed_designs()[name])
+
+
+@pytest.mark.parametrize("status", fixed_failure_designs(), ids=lambda s: s.value)
+def test_every_failure_is_the_same_failure_on_a_fixed_machine(status):
+    _, got = _assert_agree(fixed_failure_designs()[status])
     assert got.status is status
 
 

@@ -229,6 +229,13 @@ def test_both_paths_report_the_same_peaks_on_a_rolling_frame(mass):
     _assert_peaks_agree(_design(mass))
 
 
+@pytest.mark.parametrize("name", ["fixed", "fixed-lossy", "fixed-rolling", "fixed-rolling-lossy"])
+def test_both_paths_report_the_same_peaks_on_a_fixed_machine(name):
+    from support import fixed_designs
+
+    _assert_peaks_agree(fixed_designs()[name])
+
+
 def test_both_paths_report_the_same_peaks_over_the_benchmarks_designs():
     from benchmarks.designs import bench_designs
 

@@ -10,8 +10,9 @@ import pytest
 
 from analytic.design import Base
 from analytic.design_file import default_design
-from engine_model.render import (FINAL_HOLD, FRAME_SIZE, PROJECTILE_COLOUR, WHEEL_RADIUS_FRACTION, FrameState,
-                                 camera, draw_frame, frame_state, frame_times, render_shot, summary)
+from engine_model.render import (BOX_ASPECT, BOX_MIN_DEPTH, FINAL_HOLD, FRAME_SIZE, PROJECTILE_COLOUR,
+                                 WHEEL_RADIUS_FRACTION, FrameState, camera, draw_frame, frame_state, frame_times,
+                                 render_shot, summary)
 from analytic.geometry import machine_points
 from engine_model import simulate
 
@@ -242,3 +243,31 @@ def test_the_close_up_fills_the_empty_sky_through_the_swing_and_gives_way_to_the
         inside = ((columns > left * FRAME_SIZE[0]) & (columns < (left + width) * FRAME_SIZE[0])
                   & (rows > (1 - bottom - height) * FRAME_SIZE[1]) & (rows < (1 - bottom) * FRAME_SIZE[1]))
         assert not inside.any(), state.time
+
+
+def test_a_fixed_machines_counterweight_is_a_box_across_the_short_arm_with_no_link(shot):
+    # A view of 2 m over 960 px (480 px/m) and y 2..3.125 m, the arm level at y = 2.5 m with the
+    # counterweight's centre at x = 1.2 m: column 576, row 300. The box is BOX_MIN_DEPTH of the short
+    # arm deep along the arm (x) and BOX_ASPECT times that across it (y); nothing dark hangs below
+    # it (no link). The hinged machine's counterweight, drawn in the same place, is a round sphere.
+    design = dataclasses.replace(shot.design, machine=dataclasses.replace(
+        shot.design.machine, kind="fixed", counterweight_link=0.0))
+    depth = BOX_MIN_DEPTH * design.machine.arm_short * 480.0
+    state = FrameState(time=0.0, label="test", long_tip=np.array([0.4, 2.5]), short_tip=np.array([1.2, 2.5]),
+                       counterweight=np.array([1.2, 2.5]), projectile=np.array([0.2, 2.2]),
+                       sling_attached=False, trace=np.array([[0.2, 2.2]]))
+    view = (0.0, 2.0, 2.0, 3.125)
+
+    def dark_box(design):
+        """Width, height and centre (px) of the dark pixels within 100 px of the counterweight (the
+        header's text is elsewhere)."""
+        pixels = draw_frame(design, state, view)[200:400, 476:676, :3].astype(int)
+        rows, cols = np.nonzero(np.all(np.abs(pixels - 0x30) < 0x28, axis=2))
+        return (cols.max() - cols.min(), rows.max() - rows.min(),
+                476 + (cols.max() + cols.min()) / 2, 200 + (rows.max() + rows.min()) / 2)
+
+    width, height, column, row = dark_box(design)
+    assert (width, height) == pytest.approx((depth, BOX_ASPECT * depth), abs=3.0)
+    assert (column, row) == pytest.approx((576.0, 300.0), abs=1.5)
+    width, height, *_ = dark_box(shot.design)
+    assert width == pytest.approx(height, abs=2.0) and width < 0.8 * BOX_ASPECT * depth

@@ -439,3 +439,27 @@ def test_a_builders_session_in_feet(page, server, tmp_path):
     metres = cli_range(__import__("tomllib").loads(path.read_text()), tmp_path)
     assert metres / 0.3048 == pytest.approx(feet, abs=DISPLAY_ROUNDING)   # 1 ft = 0.3048 m exactly
     page.get_by_test_id("units").select_option("metric")
+
+
+def test_the_machine_picker_bolts_the_counterweight_and_back(page, server, tmp_path):
+    open_page(page, server)
+    hinged, _ = range_shown(page)
+    link = page.locator('.field[data-field="machine.counterweight_link"]')
+    assert link.is_visible()
+    count = shots(page)
+    page.select_option('[name="machine.kind"]', "fixed")
+    wait_for_next_shot(page, count)
+    page.wait_for_load_state("networkidle")
+    design = page.evaluate("window.workbench.state.design")
+    assert design["machine"]["kind"] == "fixed" and "counterweight_link" not in design["machine"]
+    assert link.is_hidden()
+    assert page.get_by_test_id("status").inner_text() == "ok"
+    fixed, _ = range_shown(page)
+    # The fixed machine's own range, as python -m analytic simulate --json gives it for the page's design.
+    assert fixed == pytest.approx(cli_range(design, tmp_path), abs=DISPLAY_ROUNDING)
+    assert fixed != hinged
+    count = shots(page)
+    page.select_option('[name="machine.kind"]', "hinged")
+    wait_for_next_shot(page, count)
+    page.wait_for_load_state("networkidle")
+    assert link.is_visible() and range_shown(page)[0] == hinged   # the link it had, restored

@@ -5,13 +5,15 @@ from __future__ import annotations
 from typing import Any
 
 from analytic.aero import DRAG_MODELS
-from analytic.design import MOBILITIES
+from analytic.design import BUILT_KINDS, MOBILITIES
 from analytic.geometry import RELEASE_RULES
 from analytic.units import FIELD_KINDS, registry
 
 #: Each group of fields, its table and its fields with a line a builder reads (file units: SI, degrees).
 GROUPS = (
     ("Machine", "machine", (
+        ("kind", "The machine: hinged (the counterweight hangs from a hinge on the short arm) or fixed "
+                 "(the counterweight bolted to the short arm, no link)."),
         ("pivot_height", "Height of the axle above the base."),
         ("arm_long", "Axle to the sling end of the arm (the long arm)."),
         ("arm_short", "Axle to the counterweight hinge (the short arm)."),
@@ -19,7 +21,7 @@ GROUPS = (
         ("arm_cg", "Axle to the arm's centre of mass, toward the long end (negative: on the short side)."),
         ("arm_inertia", "The arm's moment of inertia about its own centre of mass."),
         ("counterweight_mass", "Mass of the counterweight box or weight."),
-        ("counterweight_link", "Hinge to the counterweight's centre (how far it hangs)."),
+        ("counterweight_link", "Hinge to the counterweight's centre (how far it hangs; hinged machines only)."),
         ("counterweight_inertia", "The counterweight's moment of inertia about its own centre."),
         ("sling_length", "Arm tip to the projectile's centre, along the sling."),
         ("release_angle", "When the sling lets go: the projectile's flight direction above horizontal "
@@ -56,7 +58,7 @@ GROUPS = (
 )
 
 #: Choices of the fields that are not numbers.
-CHOICES = {"machine.release_rule": RELEASE_RULES, "projectile.drag": tuple(DRAG_MODELS),
+CHOICES = {"machine.kind": BUILT_KINDS, "machine.release_rule": RELEASE_RULES, "projectile.drag": tuple(DRAG_MODELS),
            "base.mobility": MOBILITIES}
 
 #: Units shown in the imperial system for each kind of field (label, pint's spelling); a kind not

@@ -167,7 +167,24 @@ function setSystem(system) {
 function onField(name, value) {
   state.inputAt = performance.now();
   state.twin = null;
+  if (name === "machine.kind") return changeKind(value);
   setValue(state.design, name, value);
+  requestShot();
+}
+
+// Only a hinged machine has a link: another kind leaves it out of the design (its row hidden), and
+// switching back restores the last one (or a third of the short arm).
+function changeKind(kind) {
+  const m = state.design.machine;
+  if (kind === "hinged") {
+    m.counterweight_link = state.link ?? m.counterweight_link ?? m.arm_short / 3;
+    delete m.kind;
+  } else {
+    if (m.counterweight_link !== undefined) state.link = m.counterweight_link;
+    delete m.counterweight_link;
+    m.kind = kind;
+  }
+  fillForm($("fields"), state.design, state.meta.units, state.system);
   requestShot();
 }
 

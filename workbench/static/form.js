@@ -79,11 +79,14 @@ function fieldRow(field, onChange) {
   return row;
 }
 
-// Shows ``design`` in the form in ``system``'s units, and sets each slider's span around its value.
+// Shows ``design`` in the form in ``system``'s units (a row it has no use for hidden), and sets each
+// slider's span around its value.
 export function fillForm(form, design, units, system) {
   for (const row of form.querySelectorAll(".field")) {
     const name = row.dataset.field;
     const value = getValue(design, name);
+    // Only a hinged machine has a link.
+    row.hidden = name === "machine.counterweight_link" && (design.machine.kind ?? "hinged") !== "hinged";
     if (!row.dataset.kind) {
       row.querySelector("select").value = value ?? row.querySelector("select").options[0].value;
       continue;

@@ -114,7 +114,8 @@ function drawMachine(ctx, T, parts, design) {
   const tip = parts.long_tip, short = parts.short_tip;
   line(ctx, T, [short[0], short[1]], [tip[0], tip[1]], COLORS.arm, Math.max(3, 0.04 * m.arm_long * T.s));
   line(ctx, T, short, parts.counterweight, "#555", 2);
-  const weightSize = 0.35 * m.counterweight_link;
+  // A hanging counterweight's box spans most of its link; a bolted one's, most of the short arm.
+  const weightSize = 0.35 * (m.counterweight_link || m.arm_short);
   ctx.fillStyle = COLORS.weight;
   const [cx, cy] = parts.counterweight;
   ctx.fillRect(T.X(cx) - weightSize * T.s, T.Y(cy) - weightSize * T.s, 2 * weightSize * T.s, 2 * weightSize * T.s);
