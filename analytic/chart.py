@@ -19,6 +19,7 @@ import numpy as np
 
 from analytic.design import Design, DesignError
 from analytic.fields import Field, field
+from analytic.units import display
 
 #: The loads a chart shows, in the order of its columns, with their units and labels.
 LOAD_COLUMNS = (("peak_sling_tension", "N", "peak sling tension"),
@@ -148,10 +149,12 @@ def write_csv(result: Chart, path: str | Path) -> None:
                             + [cell(result.loads[name][i]) for name, _, _ in LOAD_COLUMNS])
 
 
-def chart_figure(result: Chart):
+def chart_figure(result: Chart, units: str = "metric"):
     """The chart as a ``matplotlib.figure.Figure``: lines against one field, maps over two.
 
-    Gaps where a setting does not throw, marked with its status.
+    Gaps where a setting does not throw, marked with its status. The maps' colours, colour
+    bars and contour labels are in ``units`` (``analytic.units.display``); the axes are SI,
+    for ``analytic.plot_units.in_units`` to show in them.
     """
     from matplotlib.figure import Figure
 
@@ -159,7 +162,7 @@ def chart_figure(result: Chart):
         return _line_figure(result, Figure(figsize=(9, 9), layout="constrained"))
     # A fixed layout: the constrained one measures every tick label again, which took most of
     # the time of a 2-D chart (measured, 4.6 of 8.9 s on a busy machine).
-    return _map_figure(result, Figure(figsize=(14, 8.5)))
+    return _map_figure(result, Figure(figsize=(14, 8.5)), units)
 
 
 def _failures(result: Chart) -> dict[str, np.ndarray]:
@@ -233,12 +236,12 @@ _MAP_PANELS = (("range", "range (m)", "viridis"), ("peak_sling_tension", "peak s
 _ACCELERATION_PANEL = ("peak_projectile_acceleration", "peak projectile acceleration (g)", "magma")
 
 
-def _map_figure(result: Chart, fig):
+def _map_figure(result: Chart, fig, units: str = "metric"):
     vx, vy = result.varies[1], result.varies[0]     # the last varies fastest: along x
     shape = result.shape
     grid_x, grid_y = vx.values, vy.values
     axes = fig.subplots(2, 3, gridspec_kw=dict(left=0.06, right=0.97, bottom=0.07, top=0.91,
-                                               wspace=0.35, hspace=0.35)).ravel()
+                                               wspace=0.45, hspace=0.35)).ravel()
     fig.suptitle(f"{result.design.name}: range and peak loads over {vy.field.name} and {vx.field.name}"
                  + (" (grey: no throw)" if _failures(result) else ", every setting throws"))
     failures = _failures(result)
@@ -247,14 +250,17 @@ def _map_figure(result: Chart, fig):
     for ax, (name, title, cmap) in zip(axes, panels, strict=False):
         values = result.range if name == "range" else result.loads[name] / (g if name == _ACCELERATION_PANEL[0]
                                                                              else 1.0)
-        z = np.ma.masked_invalid(values.reshape(shape))
+        unit = title[title.rindex("(") + 1:-1]
+        factor, shown = display(1.0, unit, units)   # colours and contour labels in the shown unit
+        title = title.replace(f"({unit})", f"({shown})")
+        z = np.ma.masked_invalid(factor * values.reshape(shape))
         ax.set_facecolor("0.85")
         mesh = ax.pcolormesh(grid_x, grid_y, z, shading="nearest", cmap=cmap)
         bar = fig.colorbar(mesh, ax=ax, shrink=0.9)
         if name == "peak_sling_tension" and _proportional(result):   # its ticks in N and in g
-            weight = _weight(result)
-            bar.ax.yaxis.set_major_formatter(lambda n, _: f"{n:.3g} N = {n / weight:.3g} g")
-            title = "peak sling tension (N) = projectile acceleration (g)"
+            weight = factor * _weight(result)
+            bar.ax.yaxis.set_major_formatter(lambda n, _: f"{n:.3g} {shown} = {n / weight:.3g} g")
+            title = f"peak sling tension ({shown}) = projectile acceleration (g)"
         if z.count() > 3 and np.ptp(z.compressed()) > 0:
             lines = ax.contour(grid_x, grid_y, z, levels=8, colors="w", linewidths=0.6)
             ax.clabel(lines, fontsize=7, fmt="%.4g")
@@ -287,7 +293,7 @@ def save_chart(result: Chart, out: str | Path, units: str = "metric") -> tuple[P
     out.mkdir(parents=True, exist_ok=True)
     csv_path, png_path = out / "chart.csv", out / "chart.png"
     write_csv(result, csv_path)
-    save_figure(in_units(chart_figure(result), units), png_path)
+    save_figure(in_units(chart_figure(result, units), units), png_path)
     return csv_path, png_path
 
 

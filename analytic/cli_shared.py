@@ -32,6 +32,9 @@ EXIT_INVALID = 2
 EXIT_NO_THROW = 3
 #: ... or the user interrupted it (Ctrl-C: 128 + SIGINT, the shell's convention).
 EXIT_INTERRUPTED = 130
+#: ... or its reader went away (``... | head -1``): 128 + SIGPIPE, what the shell reports for a
+#: program that the signal ended.
+EXIT_PIPE_CLOSED = 141
 
 #: Figure formats the Agg canvas writes without any other program.
 PLOT_FORMATS = (".png", ".pdf", ".svg")
@@ -125,6 +128,22 @@ def output_file(given: str | os.PathLike, option: str = "--plot", formats: tuple
         raise OutputPathError(f"{option} {given}: {path} is a folder; give a file name")
     _check_creatable(option, str(given), path.parent)
     return path
+
+
+def run_main(main) -> int:
+    """``main()``'s exit code; quietly ``EXIT_PIPE_CLOSED`` where its output's reader went away.
+
+    Python ignores SIGPIPE, so a write to a closed pipe raises ``BrokenPipeError``, there
+    or at the final flush. The rest of the output goes to ``os.devnull``, so that the
+    interpreter's own flush at exit finds nothing left to write.
+    """
+    try:
+        code = main()
+        sys.stdout.flush()
+        return code
+    except BrokenPipeError:
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return EXIT_PIPE_CLOSED
 
 
 def negative_numbers_as_values(argv: list[str]) -> list[str]:

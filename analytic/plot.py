@@ -145,17 +145,30 @@ def draw_loads(ax, shot) -> None:
     if history.axle_load is None:
         ax.set_visible(False)
         return
-    for values, peak, when, label, color, side in (
-            (history.axle_load, shot.peak_axle_load, shot.peak_axle_load_time, "axle", "tab:blue", "right"),
-            (history.hinge_load, shot.peak_hinge_load, shot.peak_hinge_load_time, "hinge", "tab:green", "left")):
+    loads = ((history.axle_load, shot.peak_axle_load, shot.peak_axle_load_time, "axle", "tab:blue"),
+             (history.hinge_load, shot.peak_hinge_load, shot.peak_hinge_load_time, "hinge", "tab:green"))
+    for values, peak, when, label, color in loads:
         ax.plot(history.t, values, color=color, lw=1.2, label=label)
-        if peak is not None:   # labels on either side of the peaks, which often nearly coincide
-            ax.plot(when, peak, "o", color=color, ms=4)
-            ax.annotate(f"{label} {peak:.0f} N", (when, peak), textcoords="offset points", ha=side, fontsize=8,
-                        xytext=(-6 if side == "right" else 6, 4), color=color)
     _zoom(ax, shot)
+    _label_peaks(ax, [(peak, when, label, color) for _, peak, when, label, color in loads if peak is not None])
     ax.set(xlabel="time (s)", ylabel="force (N)", title="joint loads over the stroke (dots: peaks)")
     ax.legend(fontsize=8, loc="upper left")
+
+
+def _label_peaks(ax, peaks: list[tuple[float, float, str, str]]) -> None:
+    """Mark each (peak N, time s, name, colour) and label it on the side of the panel with more room
+    (the labels grow in other units: "hinge 356.8 lbf"), the higher peak's label a line above the other's
+    (the peaks often nearly coincide)."""
+    if not peaks:
+        return
+    start, end = ax.get_xlim()
+    side = "right" if max(when for _, when, _, _ in peaks) > 0.5 * (start + end) else "left"
+    low, high = ax.get_ylim()
+    ax.set_ylim(low, high + 0.06 * (len(peaks) - 1) * (high - low))   # room for the label a line up
+    for line, (peak, when, label, color) in enumerate(sorted(peaks)):
+        ax.plot(when, peak, "o", color=color, ms=4)
+        ax.annotate(f"{label} {peak:.0f} N", (when, peak), textcoords="offset points", ha=side, fontsize=8,
+                    xytext=(-6 if side == "right" else 6, 4 + 11 * line), color=color)
 
 
 def draw_sling(ax, shot) -> None:

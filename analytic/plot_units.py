@@ -12,7 +12,7 @@ from __future__ import annotations
 import re
 
 import numpy as np
-from matplotlib.ticker import FuncFormatter, MaxNLocator
+from matplotlib.ticker import FuncFormatter, LogFormatterSciNotation, LogLocator, MaxNLocator
 
 from analytic.units import SYSTEMS, display
 
@@ -31,6 +31,29 @@ class ShownLocator(MaxNLocator):
 
     def tick_values(self, vmin, vmax):
         return np.asarray(super().tick_values(vmin * self.factor, vmax * self.factor)) / self.factor
+
+
+class ShownLogLocator(LogLocator):
+    """A log axis's ticks at the decades of the shown unit (``factor`` shown units per SI unit)."""
+
+    def __init__(self, factor: float):
+        super().__init__()
+        self.factor = factor
+
+    def tick_values(self, vmin, vmax):
+        return np.asarray(super().tick_values(vmin * self.factor, vmax * self.factor)) / self.factor
+
+
+def _shown_ticks(axis, factor: float) -> None:
+    """``axis`` (data in SI) ticked and labelled in the shown unit, ``factor`` of them per SI unit."""
+    if axis.get_scale() == "log":
+        labels = LogFormatterSciNotation()
+        axis.set_major_locator(ShownLogLocator(factor))
+        axis.set_major_formatter(FuncFormatter(lambda value, position: labels(value * factor, position)))
+        axis.set_minor_formatter(FuncFormatter(lambda value, position: ""))
+    else:
+        axis.set_major_locator(ShownLocator(factor))
+        axis.set_major_formatter(FuncFormatter(lambda value, _: f"{value * factor:.6g}"))
 
 
 def shown_text(text: str, system: str) -> str:
@@ -54,8 +77,7 @@ def in_units(figure, system: str):
             if match is None or match.group(1) not in SYSTEMS[system]:
                 continue
             factor, shown = display(1.0, match.group(1), system)
-            axis.set_major_locator(ShownLocator(factor))
-            axis.set_major_formatter(FuncFormatter(lambda value, _, f=factor: f"{value * f:.6g}"))
+            _shown_ticks(axis, factor)
             axis.set_label_text(axis.get_label_text()[:match.start()] + f"({shown})")
         ax.set_title(shown_text(ax.get_title(), system))
         for text in ax.texts:   # labels and annotations on the axes (a peak's value)

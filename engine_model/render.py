@@ -5,7 +5,9 @@ flight path), time-warped: the swing in slow motion, the flight in real time,
 with the playback speed shown. Every frame has one view of the whole shot, so
 the ground carries a fixed scale in metres (its labels under the ground, clear
 of the machine), and an inset shows the machine close up, as large as the
-space above the trajectory allows (``layout``); the landing is marked with
+space the trajectory leaves: large through the swing, when the sky is still
+empty, and shrinking into its corner as the projectile climbs towards it, to
+the size the whole trajectory leaves by the landing (``inset_rects``); the landing is marked with
 the range, and the last frame sums the shot up in a box placed where the
 trajectory is not. After release the machine swings on as it moved, where the
 shot kept that motion (``engine_model.simulate(..., machine_after_release=True)``,
@@ -70,6 +72,12 @@ INSET = (0.01, 0.52, 0.30, 0.42)
 INSET_SCALES = (1.8, 1.6, 1.45, 1.3, 1.15, 1.0)
 #: The top of the close-up when it goes in the top-right corner, under the header's two lines.
 INSET_RIGHT_TOP = 0.86
+#: Frames ahead whose trajectory each frame's close-up already keeps clear of, so that it has
+#: shrunk out of the projectile's way before the projectile gets there (0.2 s of playback at 25 fps).
+INSET_LOOKAHEAD = 5
+#: Sizes a frame's close-up may take between its size at the landing and the largest of
+#: ``INSET_SCALES``: this many, evenly spaced (the steps of its shrinking).
+INSET_STEPS = 25
 #: Room under the ground for the scale's labels, as a fraction of what the view must show.
 LABEL_ROOM = 0.06
 #: Pixels kept between a placed box (close-up, summary) and the trajectory.
@@ -243,7 +251,7 @@ def inset_rect(view: tuple[float, float, float, float], trace: np.ndarray) -> tu
     """The close-up's rectangle (fractions of the frame): the largest of ``INSET_SCALES`` that keeps
     clear of ``trace`` ((k, 2), m) drawn in ``view``, in the top-left corner where ``INSET`` is, or
     in the top-right one under the header; ``INSET`` where none is clear."""
-    points = np.array([pixel(view, point) for point in trace])
+    points = pixels_of(view, trace)
     left, bottom, width, height = INSET
     top = bottom + height
     for scale in INSET_SCALES:
@@ -252,6 +260,46 @@ def inset_rect(view: tuple[float, float, float, float], trace: np.ndarray) -> tu
             if rect[1] > 0.0 and not _crossed(_box_px(rect), points):
                 return rect
     return INSET
+
+
+def _corner_rect(rect: tuple[float, float, float, float], scale: float) -> tuple[float, float, float, float]:
+    """``INSET`` at ``scale`` in the corner ``rect`` holds: its top kept, and its left side, or its right
+    side for a rectangle in the frame's right half."""
+    w, h = scale * INSET[2], scale * INSET[3]
+    left = rect[0] if rect[0] + 0.5 * rect[2] < 0.5 else rect[0] + rect[2] - w
+    return (left, rect[1] + rect[3] - h, w, h)
+
+
+def inset_rects(view: tuple[float, float, float, float], traces: list[np.ndarray],
+                machine: tuple[float, float, float, float] | None = None) -> list[tuple[float, ...]]:
+    """Each frame's close-up (fractions of the frame), for frames whose trajectories so far are ``traces``
+    (each (k, 2), m, the last the whole shot's): in the corner ``inset_rect`` picks for the whole shot,
+    the largest size up to ``INSET_SCALES[0]`` clear of the trajectory ``INSET_LOOKAHEAD`` frames on
+    and of the box ``machine`` ((x_min, x_max, y_min, y_max), m: where the scene draws the machine),
+    never growing again once it has shrunk, and never smaller than ``inset_rect``'s."""
+    final = inset_rect(view, traces[-1])
+    if machine is not None:   # its corners as pixels (left, top, right, bottom)
+        (left, top), (right, bottom) = pixels_of(view, np.array([[machine[0], machine[3]], [machine[1], machine[2]]]))
+        machine = (left, top, right, bottom)
+    smallest = final[2] / INSET[2]
+    scales = np.linspace(max(INSET_SCALES[0], smallest), smallest, INSET_STEPS)
+    rects, largest = [], scales[0]
+    for i in range(len(traces)):
+        points = pixels_of(view, traces[min(i + INSET_LOOKAHEAD, len(traces) - 1)])
+        clear = next((scale for scale in scales if scale <= largest
+                      and not _crossed(_box_px(_corner_rect(final, scale)), points)
+                      and not (machine is not None and _overlap(_box_px(_corner_rect(final, scale)), machine))),
+                     smallest)
+        largest = clear
+        rects.append(final if clear == smallest else _corner_rect(final, clear))
+    return rects
+
+
+def pixels_of(view: tuple[float, float, float, float], points: np.ndarray) -> np.ndarray:
+    """``pixel`` of each of ``points`` ((k, 2), m): (k, 2) columns and rows."""
+    x_min, x_max, y_min, y_max = view
+    return np.column_stack([(points[:, 0] - x_min) / (x_max - x_min) * FRAME_SIZE[0],
+                            (y_max - points[:, 1]) / (y_max - y_min) * FRAME_SIZE[1]])
 
 
 def pixel(view: tuple[float, float, float, float], point: np.ndarray) -> tuple[float, float]:
@@ -403,7 +451,7 @@ class _Drawing:
                 spine.set_color("#a0a0a0")
             # The inset's title belongs to the figure, so that it stays in the still background.
             self.inset_title = self.figure.text(INSET[0], INSET[1] + INSET[3] + 0.01, "the machine, close up",
-                                                fontsize=9, ha="left", va="bottom")
+                                                fontsize=9, ha="left", va="bottom", animated=True)
             self.inset = _Machine(inset_ax, design, 0.6 * PROJECTILE_MARKER_PX)
             self.inset_view = machine_view(design)
             inset_ax.set_animated(True)
@@ -414,21 +462,19 @@ class _Drawing:
             artist.set_animated(True)
         self._background, self._background_view = None, None
 
-    def layout(self, view: tuple[float, float, float, float], trace: np.ndarray) -> None:
-        """Size the close-up to the space ``trace`` ((k, 2), m: the whole shot's) leaves in ``view``."""
+    def layout(self, rect: tuple[float, float, float, float]) -> None:
+        """Put the close-up at ``rect`` (fractions of the frame; ``inset_rects``), its title above it."""
         if self.inset is None:
             return
-        rect = inset_rect(view, trace)
         self.inset.ax.set_position(rect)
         self.inset_title.set_position((rect[0], rect[1] + rect[3] + 0.01))
         self.inset_view = machine_view(self.design, rect)
-        self._background = None
 
     def _place_summary(self, state: FrameState, view: tuple[float, float, float, float]) -> None:
         """Put the summary box at the first of ``SUMMARY_PLACES`` clear of the trajectory, the close-up
         and the header; where none is, at the one the trajectory crosses least."""
         renderer = self.figure.canvas.get_renderer()
-        points = np.array([pixel(view, point) for point in state.trace])
+        points = pixels_of(view, state.trace)
         blocked = [(0.55 * FRAME_SIZE[0], 0.0, FRAME_SIZE[0], 0.1 * FRAME_SIZE[1])]   # the header, top right
         if self.inset is not None:
             rect = self.inset.ax.get_position().bounds
@@ -490,6 +536,7 @@ class _Drawing:
             self.figure.draw_artist(artist)
         if self.inset is not None:
             self.figure.draw_artist(self.inset.ax)
+            self.figure.draw_artist(self.inset_title)
         return np.asarray(canvas.buffer_rgba()).copy()
 
     def save(self, path: Path) -> np.ndarray:
@@ -547,14 +594,17 @@ def render_shot(shot: Shot, out_dir: str | Path, *, fps: float = DEFAULT_FPS,
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     times, speeds = frame_times(shot, fps, swing_slow_motion, flight_speed)
-    last = frame_state(shot, float(times[-1]))
-    view = camera(shot.design, last)
+    states = [frame_state(shot, float(time)) for time in times]
+    view = camera(shot.design, states[-1])
     drawing = _Drawing(shot.design, units=units)
-    drawing.layout(view, last.trace)
+    reach, shifts = _reach(shot.design), [state.frame_x for state in states]
+    rects = inset_rects(view, [state.trace for state in states],
+                        (min(shifts) - reach, max(shifts) + reach, -shot.design.machine.pivot_height, reach))
     paths, frames = [], []
-    for i, (time, speed) in enumerate(progress_bar(list(zip(times, speeds)), desc="frames", unit="frame",
-                                           disable=not progress, file=sys.stderr)):
-        drawing.draw(frame_state(shot, float(time)), view, float(speed), shot)
+    for i, (state, speed, rect) in enumerate(progress_bar(list(zip(states, speeds, rects)), desc="frames",
+                                                          unit="frame", disable=not progress, file=sys.stderr)):
+        drawing.layout(rect)
+        drawing.draw(state, view, float(speed), shot)
         path = out / f"frame_{i:05d}.png"
         rgb = drawing.save(path)
         paths.append(path)

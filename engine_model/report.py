@@ -20,7 +20,7 @@ _FIELDS = (
     ("landed_behind_pivot", "landed behind pivot", "", "{}"),
     ("energy_efficiency", "energy efficiency", "", "{:.2%}"),
     ("range_efficiency", "range efficiency", "", "{:.2%}"),
-    ("min_sling_tension", "min sling tension", "N (< 0: sling pushed)", "{:.4f}"),
+    ("min_sling_tension", "min sling tension", "N", "{:.4f}"),
 )
 #: (Shot attribute, label, unit, format): a rolling frame's motion, printed for rolling frames only.
 _FRAME_FIELDS = (
@@ -54,6 +54,9 @@ def format_shot(shot: Shot, units: str = "metric") -> str:
         return label, fmt.format(number), shown
 
     rows += [row(label, data[key], unit, fmt) for key, label, unit, fmt in _FIELDS if data[key] is not None]
+    if shot.min_sling_tension is not None and shot.min_sling_tension < 0.0:   # said only where it is so
+        rows = [(label, value, f"{unit} (negative: the rigid sling pushed)" if label == "min sling tension"
+                 else unit) for label, value, unit in rows]
     if shot.design.base.rolling:
         rows += [row(label, getattr(shot, name), unit, fmt)
                  for name, label, unit, fmt in _FRAME_FIELDS if getattr(shot, name) is not None]
@@ -61,9 +64,10 @@ def format_shot(shot: Shot, units: str = "metric") -> str:
         rows += [row(f"{name} {'friction' if name != 'drag' else 'in flight'}", shot.energy_dissipated[name],
                      "J dissipated", "{:.4f}") for name in LOSS_NAMES]
     diagnostics = shot.diagnostics
+    drift, drift_unit = _shown(diagnostics.max_joint_drift, "m", units)
     rows += [("engine", f"dt {diagnostics.dt:g} s, {diagnostics.iterations} iterations",
               f"{diagnostics.sling} sling"),
-             ("max joint drift", f"{diagnostics.max_joint_drift:.3g}", "m"),
+             ("max joint drift", f"{drift:.3g}", drift_unit),
              ("energy error", f"{diagnostics.energy_error:.3g}", "of the counterweight's available energy")]
     if diagnostics.discarded_steps or diagnostics.after_release_dt > diagnostics.dt:
         rows.append(("step budget", _budget_note(diagnostics), ""))

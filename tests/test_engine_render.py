@@ -218,6 +218,33 @@ def test_the_machine_swings_on_after_release_in_the_frames():
     assert simulate(default_design(), dt=4e-4).history.machine_t is None
 
 
+def test_the_close_up_fills_the_empty_sky_through_the_swing_and_gives_way_to_the_flight(shot):
+    """Through the swing, until the projectile is about to fly, the close-up takes the largest of INSET_SCALES
+    (0.54 x 0.76 of the frame: 1.8 times INSET's 0.30 x 0.42); in flight it shrinks, never
+    growing back, and no frame's close-up covers the trajectory drawn in that frame (its pixels
+    worked out here from the frame's own trace and the view, as in the summary box's test)."""
+    from engine_model.render import INSET, INSET_LOOKAHEAD, INSET_SCALES, inset_rect, inset_rects
+
+    times, _ = frame_times(shot, 25.0)
+    states = [frame_state(shot, float(time)) for time in times]
+    view = camera(shot.design, states[-1])
+    rects = inset_rects(view, [state.trace for state in states])
+    swing = np.flatnonzero(times < shot.release_time)[:-INSET_LOOKAHEAD]   # before it makes way for the flight
+    areas = np.array([w * h for _, _, w, h in rects])
+    assert areas[swing] == pytest.approx(INSET_SCALES[0] ** 2 * INSET[2] * INSET[3], rel=1e-12)
+    assert areas[swing][0] > 0.4   # of the frame
+    assert np.all(np.diff(areas) <= 1e-15) and areas[-1] < areas[0]
+    final = inset_rect(view, states[-1].trace)
+    assert areas[-1] >= final[2] * final[3] - 1e-15
+    x_min, x_max, y_min, y_max = view
+    for state, (left, bottom, width, height) in zip(states, rects, strict=True):
+        columns = (state.trace[:, 0] - x_min) / (x_max - x_min) * FRAME_SIZE[0]
+        rows = (y_max - state.trace[:, 1]) / (y_max - y_min) * FRAME_SIZE[1]
+        inside = ((columns > left * FRAME_SIZE[0]) & (columns < (left + width) * FRAME_SIZE[0])
+                  & (rows > (1 - bottom - height) * FRAME_SIZE[1]) & (rows < (1 - bottom) * FRAME_SIZE[1]))
+        assert not inside.any(), state.time
+
+
 def test_a_fixed_machines_counterweight_is_a_box_across_the_short_arm_with_no_link(shot):
     # A view of 2 m over 960 px (480 px/m) and y 2..3.125 m, the arm level at y = 2.5 m with the
     # counterweight's centre at x = 1.2 m: column 576, row 300. The box is BOX_MIN_DEPTH of the short

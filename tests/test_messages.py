@@ -123,3 +123,34 @@ def test_a_progress_bar_on_a_terminal_is_redrawn_in_place():
     for _ in progress_bar(range(10), desc="work", file=screen):
         pass
     assert "\r" in screen.getvalue()
+
+
+def test_the_engines_pushed_sling_note_only_when_the_tension_is_negative():
+    from analytic.design_file import default_design
+    from engine_model import simulate
+    from engine_model.report import format_shot as engine_table
+
+    shot = simulate(default_design(), dt=4e-4)
+    note = "(negative: the rigid sling pushed)"
+    for tension in (-abs(shot.min_sling_tension), abs(shot.min_sling_tension)):
+        line = next(line for line in engine_table(dataclasses.replace(shot, min_sling_tension=tension)).splitlines()
+                    if line.startswith("min sling tension"))
+        assert (note in line) == (tension < 0), line
+
+
+@pytest.mark.parametrize("package", ["analytic", "engine_model"])
+def test_a_reader_that_goes_away_ends_the_command_quietly(package):
+    """``python -m PACKAGE simulate | head -1``: the pipe is closed here before anything is
+    written, so every write fails, and the command stops with 141 (128 + SIGPIPE) and no traceback."""
+    import subprocess
+    import sys
+
+    from analytic.cli_shared import EXIT_PIPE_CLOSED
+
+    process = subprocess.Popen([sys.executable, "-m", package, "simulate"], stdout=subprocess.PIPE,
+                               stderr=subprocess.PIPE)
+    process.stdout.close()
+    err = process.stderr.read().decode()
+    process.stderr.close()
+    assert process.wait(timeout=120) == EXIT_PIPE_CLOSED, err
+    assert err == ""

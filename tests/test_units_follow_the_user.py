@@ -13,6 +13,7 @@ import json
 import math
 import re
 
+import numpy as np
 import pytest
 
 from analytic.cli import EXIT_INVALID, EXIT_OK, main
@@ -158,3 +159,144 @@ def test_a_refused_option_is_echoed_as_typed(capsys):
     code = main(["aim", str(TABLE3_FILE), "--target", "30", "--bounds", "20lb:2lb", "--adjust", "counterweight_mass"])
     assert code == EXIT_INVALID
     assert f'bounds = "20lb:2lb" ({20 * POUND:.6g}, {2 * POUND:.6g} kg): inverted' in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("units", ["metric", "imperial"])
+def test_the_shot_plots_labels_stay_inside_their_panels(units):
+    """Every label on the shot figure's panels (the peaks' "hinge 356.8 lbf", longer in lbf than in N)
+    lies inside its panel, clear of the frame's sides by a few pixels."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from analytic.plot import shot_figure
+    from analytic.reference import simulate
+
+    figure = shot_figure(simulate(default_design()), units)
+    FigureCanvasAgg(figure).draw()
+    renderer = figure.canvas.get_renderer()
+    for ax in figure.axes:
+        panel = ax.get_window_extent(renderer)
+        for text in ax.texts:
+            box = text.get_window_extent(renderer)
+            assert panel.x0 + 2 <= box.x0 and box.x1 <= panel.x1 - 2, (text.get_text(), box, panel)
+            assert panel.y0 <= box.y0 and box.y1 <= panel.y1 + 0.5, (text.get_text(), box, panel)
+
+
+#: A metric unit an imperial figure must not show: in an axis label's brackets, or after a figure.
+_SI_LABEL = re.compile(r"\((m|cm|mm|kg|N|J|m/s|m/s\^2)\)\s*$")
+_SI_FIGURE = re.compile(r"\d (m|cm|kg|N|J|m/s)\b")
+
+
+def _metric_left(figure) -> list[str]:
+    """Every text of ``figure`` (axis labels, titles, annotations, legends, the suptitle) still in a metric unit."""
+    texts = [figure._suptitle.get_text()] if figure._suptitle is not None else []
+    for ax in figure.axes:
+        texts += [ax.get_xlabel(), ax.get_ylabel(), ax.get_title()] + [text.get_text() for text in ax.texts]
+        texts += [text.get_text() for text in ax.get_legend().get_texts()] if ax.get_legend() is not None else []
+    return [text for text in texts if _SI_LABEL.search(text) or _SI_FIGURE.search(text)]
+
+
+def _figures_saved(monkeypatch, module: str) -> list:
+    """The figures ``module.save_figure`` is given from now on (still written)."""
+    import importlib
+
+    target = importlib.import_module(module)
+    saved, save = [], target.save_figure
+
+    def keep(figure, path, *args, **kwargs):
+        saved.append(figure)
+        return save(figure, path, *args, **kwargs)
+
+    monkeypatch.setattr(target, "save_figure", keep)
+    return saved
+
+
+def test_the_optimisers_plots_are_drawn_in_the_chosen_units(tmp_path, monkeypatch, capsys):
+    """``optimise --units imperial``'s convergence and sensitivity plots: the sling in inches, the
+    range in feet (on the log axis too), no metric unit left; the data stay SI underneath."""
+    import tomli_w
+
+    from support import release_angle_problem_dict
+
+    data = release_angle_problem_dict()
+    data["variables"]["sling_length"] = {"lower": 0.3, "upper": 1.2}   # a length on the plot, m
+    problem = tmp_path / "sling-and-angle.toml"
+    problem.write_text(tomli_w.dumps(data))
+    saved = _figures_saved(monkeypatch, "analytic.optimise.plot")
+    assert main(["optimise", str(problem), "--units", "imperial", "--out", str(tmp_path / "out"), "--quiet"]) == 0
+    convergence, sensitivity = saved
+    for figure in saved:
+        assert not _metric_left(figure), _metric_left(figure)
+    best, gap = convergence.axes
+    assert best.get_ylabel().endswith("(ft)") and gap.get_ylabel().endswith("(ft)")
+    assert best.yaxis.get_major_formatter()(100 * FOOT, 0) == "100"
+    assert gap.get_yscale() == "log" and "10^{0}" in gap.yaxis.get_major_formatter()(1 * FOOT, 0)
+    sling = next(ax for ax in sensitivity.axes if ax.get_visible() and "sling" in ax.get_xlabel())
+    assert sling.get_xlabel().endswith("(in)") and sling.get_ylabel() == "range (ft)"
+    curve = sling.get_lines()[0].get_xdata()
+    assert [curve[0], curve[-1]] == pytest.approx([0.3 / 0.0254, 1.2 / 0.0254], rel=1e-12)   # 1 in = 2.54 cm
+    # metric: the paper's cm and m, as before
+    saved.clear()
+    assert main(["optimise", str(problem), "--out", str(tmp_path / "metric"), "--quiet"]) == 0
+    sling = next(ax for ax in saved[1].axes if ax.get_visible() and "sling" in ax.get_xlabel())
+    assert sling.get_xlabel().endswith("(cm)") and sling.get_ylabel() == "range (m)"
+
+
+def test_calibrates_report_and_plot_are_written_in_the_chosen_units(tmp_path, monkeypatch, capsys):
+    """``calibrate --out DIR --units imperial``: report.txt in feet and pounds like the printed
+    report, the plot in them too (its predictions labelled as the report gives them), the JSON SI."""
+    from support import DATA
+
+    shots = DATA / "calibration" / "counterweight-series.toml"   # six shots, 4.5 to 9.5 kg
+    saved = _figures_saved(monkeypatch, "analytic.plot")
+    out = tmp_path / "out"
+    assert main(["calibrate", str(shots), "--predict", "machine.counterweight_mass=7", "--units", "imperial",
+                 "--out", str(out), "--quiet"]) == EXIT_OK
+    printed = capsys.readouterr().out
+    report = (out / "report.txt").read_text()
+    assert report.rstrip() in printed   # the file is the printed report
+    assert "ft" in report and not re.search(r"\d m\b", report), report
+    prediction = next(line for line in report.splitlines() if "counterweight_mass =" in line)
+    assert f"= {7 / POUND:g} lb:" in prediction and prediction.endswith("ft"), prediction
+    [figure] = saved
+    assert not _metric_left(figure), _metric_left(figure)
+    against = figure.axes[0]
+    assert against.get_xlabel().endswith("(lb)") and against.get_ylabel() == "range (ft)"
+    label = next(text.get_text() for text in against.texts)
+    assert label == prediction.split(": ")[1], (label, prediction)
+    data = json.loads((out / "calibration.json").read_text())
+    assert data["predictions"][0]["value"] == pytest.approx(7.0, rel=CONVERSION_REL)   # kg
+
+
+def test_no_metric_unit_is_left_in_the_engines_imperial_table(capsys):
+    """Every row of ``python -m engine_model simulate --units imperial``, its diagnostics too (the
+    joints' drift), in ft, lb, lbf or ft lbf; the drift is the JSON's max_joint_drift (m) in ft."""
+    from engine_model.cli import main as engine_main
+
+    assert engine_main(["simulate", "--units", "imperial", "--dt", "4e-4"]) == EXIT_OK
+    table = capsys.readouterr().out
+    left = [line for line in table.splitlines() if re.search(r"\s(m|kg|N|J|m/s)(\s|$)", line)]
+    assert not left, left
+    assert engine_main(["simulate", "--json", "--dt", "4e-4"]) == EXIT_OK
+    drift = json.loads(capsys.readouterr().out)["max_joint_drift"]
+    line = next(line for line in table.splitlines() if line.startswith("max joint drift"))
+    assert line.endswith(" ft") and float(line.split()[-2]) == pytest.approx(drift / FOOT, rel=5e-3)   # 3 digits
+
+
+def test_the_charts_maps_are_coloured_and_labelled_in_the_chosen_units():
+    """A two-field chart under imperial: every panel's title, colours, colour bar and contour labels
+    in ft or lbf (the axes too, through in_units), none left in m or N; metric as it was."""
+    from analytic.chart import chart, chart_figure, vary
+    from analytic.plot_units import in_units
+
+    result = chart(default_design(), [vary("counterweight_mass", 4.0, 8.0, 4), vary("sling_length", 0.4, 1.0, 4)])
+    figure = in_units(chart_figure(result, "imperial"), "imperial")
+    assert not _metric_left(figure), _metric_left(figure)
+    panels = {ax.get_title(): ax for ax in figure.axes if ax.get_visible() and ax.get_title()}
+    assert {"range (ft)", "peak axle load (lbf)", "peak hinge load (lbf)"} <= set(panels)
+    colours = panels["range (ft)"].collections[0].get_array()
+    np.testing.assert_allclose(colours.ravel(), result.range / FOOT, rtol=1e-12)
+    lbf = 4.4482216152605   # N, by definition (1 lbf = 1 lb x 9.80665 m/s^2)
+    axle = panels["peak axle load (lbf)"].collections[0].get_array()
+    np.testing.assert_allclose(axle.ravel(), result.loads["peak_axle_load"] / lbf, rtol=1e-9)
+    metric = {ax.get_title() for ax in chart_figure(result).axes if ax.get_visible() and ax.get_title()}
+    assert {"range (m)", "peak axle load (N)"} <= metric

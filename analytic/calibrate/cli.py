@@ -32,7 +32,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", metavar="DIR", help="write report.txt, calibration.json, calibration.png and "
                                                      "fitted/*.toml here (created if missing)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
-    units_argument(parser, "the printed report (report.txt stays metric)",
+    units_argument(parser, "the printed report, report.txt and calibration.png (calibration.json stays SI)",
                    default="the units the calibration file is mostly written in, else metric")
     parser.add_argument("--predict", metavar="FIELD=VALUE[,VALUE...]",
                         help="predicted range, with its one-sd band, at each setting of one design field of the "
@@ -80,7 +80,7 @@ def run(args: argparse.Namespace) -> int:
     else:
         print(format_report(result, units, predictions))
     if out is not None:
-        written = write(result, out, predictions)
+        written = write(result, out, predictions, units)
         if not args.json:
             print(f"written {', '.join(str(p) for p in written)}")
     for line in result.warnings:

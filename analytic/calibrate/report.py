@@ -135,7 +135,7 @@ def format_report(result: Calibration, system: str = "metric", predictions=()) -
         scale, unit = display(1.0, "m", system)
         lines += ["", "predicted range (one standard deviation from the fit's covariance, delta method):"]
         for p in predictions:
-            at = f"{p.field} = {p.value:g} {field(p.field).unit}".rstrip()
+            at = "{} = {:g} {}".format(p.field, *display(p.value, field(p.field).unit, system)).rstrip()
             lines.append(f"  {at}: " + (f"{p.range * scale:.2f} +- {p.range_sd * scale:.2f} {unit}"
                                         if p.range_sd is not None
                                         else f"{p.range * scale:.2f} {unit} (uncertainty undefined)"
@@ -145,10 +145,13 @@ def format_report(result: Calibration, system: str = "metric", predictions=()) -
     return "\n".join(lines)
 
 
-def calibration_figure(result: Calibration, predictions=()):
+def calibration_figure(result: Calibration, predictions=(), system: str = "metric"):
     """The plot (module docstring): range against the varied field where there is one, measured
     against predicted for each other quantity (error bars: one standard deviation; at the start
-    open, at the fit filled), and every weighted residual."""
+    open, at the fit filled), and every weighted residual; shown in ``system``'s units
+    (``analytic.plot_units.in_units``), the data SI."""
+    from analytic.plot_units import in_units
+
     from matplotlib.figure import Figure
 
     from analytic.calibrate.predict import varied_field
@@ -158,10 +161,11 @@ def calibration_figure(result: Calibration, predictions=()):
     measured = [q for q in QUANTITIES if any(m.quantity == q for s in spec.shots for m in s.measurements)]
     fig = Figure(figsize=(min(4.8 * (len(measured) + 1), 14.0), 4.8), layout="constrained")
     axes = fig.subplots(1, len(measured) + 1, squeeze=False)[0]
-    fitted_at = ", ".join(f"{p.name} = {v:.4g}" for p, v in zip(spec.parameters, result.values, strict=True))
+    fitted_at = ", ".join(f"{p.name} = {v:.4g} {p.unit}".rstrip()
+                          for p, v in zip(spec.parameters, result.values, strict=True))
     fig.suptitle(f"{spec.path.name}: fitted {fitted_at}", fontsize=10)
     if target is not None:
-        _range_against(axes[0], result, target, predictions)
+        _range_against(axes[0], result, target, predictions, system)
     for ax, quantity in zip(axes[1:] if target is not None else axes, measured[1:] if target is not None
                             else measured, strict=False):
         unit = QUANTITIES[quantity][1]
@@ -204,12 +208,14 @@ def calibration_figure(result: Calibration, predictions=()):
            title=f"weighted residuals (chi2 = {result.chi_square:.3g})")
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3, axis="y")
-    return fig
+    return in_units(fig, system)
 
 
-def _range_against(ax, result: Calibration, target, predictions) -> None:
-    """Measured ranges against ``target``'s setting, the fitted curve and its one-sd band, the predictions."""
+def _range_against(ax, result: Calibration, target, predictions, system: str = "metric") -> None:
+    """Measured ranges against ``target``'s setting, the fitted curve and its one-sd band, the predictions
+    (each labelled in ``system``'s units, on the side of the panel with room, off the curve)."""
     from analytic.calibrate.predict import fitted_curve
+    from analytic.units import display
 
     curve = [c for c in fitted_curve(result, target, [p.value for p in predictions]) if c.range is not None]
     xs = np.array([c.value for c in curve])
@@ -225,17 +231,22 @@ def _range_against(ax, result: Calibration, target, predictions) -> None:
     for i, p in enumerate(q for q in predictions if q.range is not None):
         ax.errorbar(p.value, p.range, yerr=p.range_sd or 0.0, fmt="D", color="tab:red", ms=7, capsize=4,
                     label="predicted" if i == 0 else None)
-        ax.annotate(f"{p.range:.1f} +- {p.range_sd or math.nan:.1f} m", (p.value, p.range),
-                    textcoords="offset points", xytext=(6, -12), fontsize=8, color="tab:red")
+        (shown, unit), sd = display(p.range, "m", system), display(p.range_sd or math.nan, "m", system)[0]
+        left = p.value > 0.5 * (xs[0] + xs[-1])
+        rising = np.interp(p.value, xs, np.gradient(ys, xs)) > 0.0
+        above = left == rising   # above the curve where it runs lower beside the label
+        ax.annotate(f"{shown:.2f} +- {sd:.2f} {unit}", (p.value, p.range), textcoords="offset points",
+                    xytext=(-6 if left else 6, 6 if above else -12), ha="right" if left else "left",
+                    fontsize=8, color="tab:red")
     ax.set(xlabel=target.label, ylabel="range (m)", title=f"range against {target.key.replace('_', ' ')}")
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
 
 
-def write(result: Calibration, out: str | Path, predictions=()) -> list[Path]:
-    """Write the report, the JSON, the plot and each distinct setting's design at the fitted
-    parameters (``FITTED_FOLDER/<setting>.toml``, ``analytic.calibrate.fitted_file``) into
-    ``out``; the paths written."""
+def write(result: Calibration, out: str | Path, predictions=(), system: str = "metric") -> list[Path]:
+    """Write the report and the plot (in ``system``'s units), the JSON (SI, file units) and each
+    distinct setting's design at the fitted parameters (``FITTED_FOLDER/<setting>.toml``,
+    ``analytic.calibrate.fitted_file``) into ``out``; the paths written."""
     import json
 
     from analytic.calibrate.fitted_file import fitted_text, setting_name
@@ -244,9 +255,9 @@ def write(result: Calibration, out: str | Path, predictions=()) -> list[Path]:
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     written = [out / REPORT_FILE, out / JSON_FILE, out / PLOT_FILE]
-    written[0].write_text(format_report(result, predictions=predictions) + "\n")
+    written[0].write_text(format_report(result, system, predictions) + "\n")
     written[1].write_text(json.dumps(to_json(result, predictions), indent=2) + "\n")
-    save_figure(calibration_figure(result, predictions), written[2])
+    save_figure(calibration_figure(result, predictions, system), written[2])
     folder = out / FITTED_FOLDER
     folder.mkdir(exist_ok=True)
     names: dict[str, tuple] = {}   # file name -> the design file and settings it was written for

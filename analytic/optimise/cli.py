@@ -49,7 +49,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              f"default {DEFAULT_PROCESSES}) simulating in parallel")
     parser.add_argument("--out", default="out/optimise", help="output folder (default %(default)s)")
     parser.add_argument("--quiet", action="store_true", help="no progress bars")
-    units_argument(parser, "report.txt and the printed report (metric: the paper's cm)",
+    units_argument(parser, "report.txt, the printed report and the plots (metric: the paper's cm)",
                    default="the units the problem file is mostly written in, else metric")
 
 
@@ -106,9 +106,9 @@ def write_outputs(result: Optimisation, out: Path, system: str = "metric") -> st
     problem = result.problem
     report = format_report(result, system)
     (out / "report.txt").write_text(report + "\n")
-    save_figure(convergence_figure(result.optima), out / "convergence.png")
-    save_figure(sensitivity_figure(problem, result.sensitivity, f"range through the optimum ({problem.name})"),
-                out / "sensitivity.png")
+    save_figure(convergence_figure(result.optima, system), out / "convergence.png")
+    save_figure(sensitivity_figure(problem, result.sensitivity, f"range through the optimum ({problem.name})",
+                                   system), out / "sensitivity.png")
     for optimum in result.optima.values():
         prefix = "robust-" if optimum.scatter.sigma > 0 else ""
         save_design(design_at(problem, optimum.values, name=f"{problem.name}-{prefix}optimum"),

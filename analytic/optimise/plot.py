@@ -11,25 +11,27 @@ from matplotlib.figure import Figure
 
 from analytic.optimise.constraints import CONSTRAINT_NAMES, FEASIBILITY_TOLERANCE
 from analytic.design_space import Problem
-from analytic.optimise.report import display
+from analytic.optimise.report import Scales
+from analytic.plot_units import in_units
 from analytic.optimise.search import Optimum
 from analytic.optimise.sensitivity import Sensitivity
 
-#: Axis labels and display scale of each variable (SI -> cm or deg).
 #: m: slings shorter than this throw ranges that oscillate with their length (``sensitivity.DEFAULT_POINTS``).
 SHORT_SLING = 0.1
-_LABELS = {"arm_short": ("short arm $L_{As}$", "cm"), "counterweight_link": ("weight link $L_W$", "cm"),
-           "clearance": ("clearance", "cm"), "sling_length": ("sling $L_S$", "cm"),
+#: Axis label and kind of each variable: a machine's length (cm, or in), an angle (deg) or a mass (kg, or lb).
+_LABELS = {"arm_short": ("short arm $L_{As}$", "short"), "counterweight_link": ("weight link $L_W$", "short"),
+           "clearance": ("clearance", "short"), "sling_length": ("sling $L_S$", "short"),
            "starting_angle": (r"starting angle $\theta_0$", "deg"),
-           "release_angle": (r"release angle $\theta$", "deg"), "frame_mass": ("frame mass", "kg")}
+           "release_angle": (r"release angle $\theta$", "deg"), "frame_mass": ("frame mass", "mass")}
 
 
-def convergence_figure(optima: dict[str, Optimum]) -> Figure:
+def convergence_figure(optima: dict[str, Optimum], system: str = "metric") -> Figure:
     """Best score against shots simulated, and the shortfall from the final score on a log scale.
 
     Parameters
     ----------
     optima : label -> ``Optimum`` (e.g. nominal and robust), drawn one after the other.
+    system : the units shown, ``metric`` or ``imperial`` (``analytic.plot_units.in_units``).
     """
     figure = Figure(figsize=(11, 4.2), layout="constrained")
     best_ax, gap_ax = figure.subplots(1, 2)
@@ -45,15 +47,15 @@ def convergence_figure(optima: dict[str, Optimum]) -> Figure:
                 gap_ax.semilogy(shots[mask], gap, style, ms=3, label=f"{label}: {stage} stage")
         offset = shots[-1]
     score = score_label(next(iter(optima.values())).problem)
-    best_ax.set(xlabel="shots simulated",
-                ylabel=f"best {score} so far" + (" (robust: expected range)" if "range" in score else ""),
-                title="convergence")
-    gap_ax.set(xlabel="shots simulated", ylabel="final - best so far",
+    name, unit = score[:score.rindex(" (")], score[score.rindex(" ("):]
+    robust = "; robust: the expected range" if name == "range" and len(optima) > 1 else ""
+    best_ax.set(xlabel="shots simulated", ylabel=f"best {name} so far{robust}{unit}", title="convergence")
+    gap_ax.set(xlabel="shots simulated", ylabel=f"final - best so far{unit}",
                title="shortfall from the final optimum")
     for ax in (best_ax, gap_ax):
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=8)
-    return figure
+    return in_units(figure, system)
 
 
 def score_label(problem: Problem) -> str:
@@ -64,12 +66,23 @@ def score_label(problem: Problem) -> str:
     return f"minus the peak {problem.minimise.replace('_', ' ')} ({unit})"
 
 
-def sensitivity_figure(problem: Problem, sensitivity: Sensitivity, title: str) -> Figure:
+def _shown(name: str, values, scales: Scales):
+    """A variable's value(s), SI, as its axis shows them (``Scales``: cm or in, deg, kg or lb), and that unit."""
+    kind = _LABELS[name][1]
+    if kind == "deg":
+        return np.degrees(values), "deg"
+    unit, factor = getattr(scales, kind)
+    return factor * np.asarray(values), unit
+
+
+def sensitivity_figure(problem: Problem, sensitivity: Sensitivity, title: str, system: str = "metric") -> Figure:
     """Range along each free variable across its bounds through the optimum, the others held.
 
     Stretches that violate a constraint are shaded and labelled with the
-    constraints they violate; the axes span the variables' bounds.
+    constraints they violate; the axes span the variables' bounds. Shown in
+    ``system``'s units (``metric``: the paper's cm; ``imperial``: in, lb, ft).
     """
+    scales = Scales.of(system)
     count = len(sensitivity.variables)
     columns = min(3, count)
     rows = math.ceil(count / columns)
@@ -80,7 +93,7 @@ def sensitivity_figure(problem: Problem, sensitivity: Sensitivity, title: str) -
         ax.set_visible(False)
     for ax, row, index in zip(axes[:count], range(count), sensitivity.variables, strict=True):
         name = problem.variables[index].name
-        x = display(name, sensitivity.grid[row])
+        x, unit = _shown(name, sensitivity.grid[row], scales)
         y = sensitivity.scores[row]
         ax.plot(x, y, "-", color="C0")
         infeasible = ~sensitivity.feasible[row]
@@ -95,11 +108,12 @@ def sensitivity_figure(problem: Problem, sensitivity: Sensitivity, title: str) -
         if failed.any():
             floor = np.min(y[~failed]) if (~failed).any() else 0.0
             ax.plot(x[failed], np.full(failed.sum(), floor), "v", color="k", ms=4, label="does not throw")
-        ax.plot(display(name, sensitivity.optimum[index]), sensitivity.score, "o", color="C2", label="optimum")
-        text, unit = _LABELS[name]
-        ax.set(xlabel=f"{text} ({unit})", ylabel=label)
+        ax.plot(_shown(name, sensitivity.optimum[index], scales)[0], sensitivity.score, "o", color="C2",
+                label="optimum")
+        ax.set(xlabel=f"{_LABELS[name][0]} ({unit})", ylabel=label)
         if name == "sling_length" and sensitivity.grid[row][0] < SHORT_SLING:
-            ax.text(0.03, 0.97, f"under {SHORT_SLING * 100:g} cm the range oscillates: the short sling\n"
+            ax.text(0.03, 0.97, f"under {_shown(name, SHORT_SLING, scales)[0]:.2g} {unit} the range oscillates: "
+                                f"the short sling\n"
                                 f"wobbles about the arm's tip, and release falls on\none wobble or the next "
                                 f"(both models agree)", transform=ax.transAxes, va="top", fontsize=7, color="0.3")
         ax.grid(True, alpha=0.3)
@@ -111,7 +125,7 @@ def sensitivity_figure(problem: Problem, sensitivity: Sensitivity, title: str) -
             legend.setdefault(text, handle)
     figure.legend(legend.values(), legend.keys(), loc="outside lower center", ncols=len(legend), fontsize=8)
     figure.suptitle(title)
-    return figure
+    return in_units(figure, system)
 
 
 def save_figure(figure: Figure, path: str | Path, dpi: int = 110) -> None:
