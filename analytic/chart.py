@@ -19,6 +19,7 @@ import numpy as np
 
 from analytic.design import Design, DesignError
 from analytic.fields import Field, field
+from analytic.result import hinge_load_label
 from analytic.units import display
 
 #: The loads a chart shows, in the order of its columns, with their units and labels.
@@ -186,7 +187,7 @@ def _line_figure(result: Chart, fig):
                       label=f"{status.replace('_', ' ')} (no throw)")
     ax_range.legend(fontsize=8)
     ax_joints.plot(x, result.loads["peak_axle_load"], "-", color="tab:blue", label="peak axle load")
-    ax_joints.plot(x, result.loads["peak_hinge_load"], "--", color="tab:green", label="peak hinge load")
+    ax_joints.plot(x, result.loads["peak_hinge_load"], "--", color="tab:green", label=hinge_load_label(result.design))
     ax_joints.set(ylabel="force (N)")
     ax_joints.legend(fontsize=8)
     ax_sling.plot(x, result.loads["peak_sling_tension"], "-", color="tab:purple", label="peak sling tension")
@@ -250,6 +251,8 @@ def _map_figure(result: Chart, fig, units: str = "metric"):
     for ax, (name, title, cmap) in zip(axes, panels, strict=False):
         values = result.range if name == "range" else result.loads[name] / (g if name == _ACCELERATION_PANEL[0]
                                                                              else 1.0)
+        if name == "peak_hinge_load":
+            title = title.replace("peak hinge load", hinge_load_label(result.design))
         unit = title[title.rindex("(") + 1:-1]
         factor, shown = display(1.0, unit, units)   # colours and contour labels in the shown unit
         title = title.replace(f"({unit})", f"({shown})")

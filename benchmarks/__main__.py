@@ -2,7 +2,8 @@
 
 import sys
 
+from analytic.cli_shared import run_main
 from benchmarks.cli import main
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_main(main))

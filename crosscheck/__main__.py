@@ -2,6 +2,7 @@
 
 import sys
 
+from analytic.cli_shared import run_main
 from crosscheck.cli import main
 
-sys.exit(main())
+sys.exit(run_main(main))

@@ -148,3 +148,13 @@ def test_the_outcome_panel_is_left_out_when_every_setting_throws(table3):
     result = chart(table3, [vary("counterweight_mass", 5.0, 7.0, 4), vary("sling_length", 0.5, 0.7, 4)])
     assert set(result.status.tolist()) == {"ok"}
     assert "outcome" not in _map_panels(chart_figure(result))
+
+
+def test_a_fixed_machines_chart_names_the_mount_not_a_hinge(table3):
+    bolted = dataclasses.replace(table3, machine=dataclasses.replace(table3.machine, kind="fixed", counterweight_link=0.0))
+    line = chart_figure(chart(bolted, [vary("machine.sling_length", 0.5, 0.6, 2)]))
+    labels = [text.get_text() for ax in line.axes if ax.get_legend() for text in ax.get_legend().get_texts()]
+    assert "peak mount load" in labels and "peak hinge load" not in labels
+    grid = chart_figure(chart(bolted, [vary("projectile.mass", 0.04, 0.05, 2), vary("machine.sling_length", 0.5, 0.6, 2)]))
+    titles = [ax.get_title() for ax in grid.axes]
+    assert any(t.startswith("peak mount load") for t in titles) and not any("hinge" in t for t in titles)

@@ -8,6 +8,8 @@ import dataclasses
 import io
 import shutil
 
+from pathlib import Path
+
 import pytest
 
 from analytic.cli import EXIT_INVALID, main
@@ -138,17 +140,19 @@ def test_the_engines_pushed_sling_note_only_when_the_tension_is_negative():
         assert (note in line) == (tension < 0), line
 
 
-@pytest.mark.parametrize("package", ["analytic", "engine_model"])
-def test_a_reader_that_goes_away_ends_the_command_quietly(package):
-    """``python -m PACKAGE simulate | head -1``: the pipe is closed here before anything is
+@pytest.mark.parametrize("package, arguments", [
+    ("analytic", ["simulate"]), ("engine_model", ["simulate"]),
+    ("crosscheck", ["analytic/data/designs/fails-never_fires.toml", "--workers", "1", "--no-progress"])])
+def test_a_reader_that_goes_away_ends_the_command_quietly(package, arguments):
+    """``python -m PACKAGE ... | head -1``: the pipe is closed here before anything is
     written, so every write fails, and the command stops with 141 (128 + SIGPIPE) and no traceback."""
     import subprocess
     import sys
 
     from analytic.cli_shared import EXIT_PIPE_CLOSED
 
-    process = subprocess.Popen([sys.executable, "-m", package, "simulate"], stdout=subprocess.PIPE,
-                               stderr=subprocess.PIPE)
+    process = subprocess.Popen([sys.executable, "-m", package, *arguments], stdout=subprocess.PIPE,
+                               stderr=subprocess.PIPE, cwd=Path(__file__).parents[1])
     process.stdout.close()
     err = process.stderr.read().decode()
     process.stderr.close()

@@ -88,7 +88,9 @@ function readouts(s) {
     ["range efficiency", percent(s.range_efficiency)],
     ["peak sling tension", show(s.peak_sling_tension, "force", 1)],
     ["peak axle load", show(s.peak_axle_load, "force", 1)],
-    ["peak hinge load", show(s.peak_hinge_load, "force", 1)],
+    // A fixed machine has no hinge: the force is its counterweight's mount's.
+    [(state.design.machine.kind ?? "hinged") === "hinged" ? "peak hinge load" : "peak mount load",
+      show(s.peak_hinge_load, "force", 1)],
     ["peak projectile accel.", s.peak_projectile_acceleration === null ? "–"
       : `${(s.peak_projectile_acceleration / g).toFixed(1)} g`],
   ];
