@@ -80,8 +80,8 @@ docs: $(STAMP)
 	@$(PY) -m sphinx -b html -E -W --keep-going -q docs docs/_build/html
 	@echo "docs: docs/_build/html/index.html"
 
-# The example notebook run from top to bottom and stored with its outputs (the tests run it
-# on a copy and never write it).
+# The example notebook run from top to bottom and stored with its outputs (the suite's
+# notebook test does the same, rewriting the file only where its text changed).
 notebook: compile
 	@$(PY) docs/execute_notebook.py
 

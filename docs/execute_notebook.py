@@ -2,8 +2,8 @@
 
 ``make notebook`` runs this after a change that alters what the notebook prints or draws: the
 repository's page and the documentation site (which does not execute it) show the stored
-outputs. ``tests/test_analytic_notebook.py`` runs the same ``execute`` on a copy and checks it,
-without writing.
+outputs. ``tests/test_analytic_notebook.py`` runs the same ``execute``, checks the outputs and
+stores them too.
 """
 
 from __future__ import annotations

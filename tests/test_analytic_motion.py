@@ -73,11 +73,13 @@ def test_the_energies_are_the_reference_paths(design):
         assert motion.machine_energy_at_release == pytest.approx(reference.history.energy.machine[-1], rel=1e-9,
                                                                  abs=1e-9 * reference.counterweight_energy_released)
     # Friction's work is integrated with the motion on both paths; the drag's is the reference's
-    # Gauss rule on each flight step against the recording's energy balance over the flight: they
-    # agree to the integrator's tolerance, relative to the energy the projectile carries.
+    # Gauss rule on each flight step against the recording's energy balance over the flight, from
+    # the compiled path's landing velocity: the two paths' states agree to RANGE_REL, so a kinetic
+    # energy (v squared) to twice that, of the energy the projectile carries. (Observed 1.4e-9 J of
+    # 14 J on this machine, 1.6e-7 J with NUMBA_CPU_NAME=generic.)
     scale = reference.projectile_energy_at_release or 1.0
     for loss, work in reference.energy_dissipated.items():
-        assert shot.energy_dissipated[loss] == pytest.approx(work, abs=1e-8 * scale), loss
+        assert shot.energy_dissipated[loss] == pytest.approx(work, abs=2 * RANGE_REL * scale), loss
 
 
 def test_recording_changes_nothing_the_summary_holds():
