@@ -134,8 +134,8 @@ def _completed(shot: Shot, motion: Motion, samples: np.ndarray, p) -> Shot:
         fields.update(counterweight_energy_released=machine0 - machine,
                       projectile_energy_at_release=moving + projectile - projectile0)
         if samples[-1, 1] == FLIGHT:   # the drag's work: the projectile's energy lost over the flight
-            drag = _flight_energy(samples[-1, 2:6], p) - _flight_energy(samples[samples[:, 1] == FLIGHT][0, 2:6], p)
-            drag = -float(drag)
+            release = samples[samples[:, 1] == FLIGHT][0, 2:6]
+            drag = float(_flight_energy(release, p) - _flight_energy(samples[-1, 2:6], p))
     if shot.ok and not p.rolling:
         fields.update(frame_landing_displacement=0.0, frame_landing_velocity=0.0)
     return dataclasses.replace(shot, energy_dissipated=dict(zip(LOSS_NAMES, (*work, drag), strict=True)), **fields)

@@ -44,7 +44,7 @@ def shot_json(design: Design, sample_step: float | None = None,
     From the compiled path with its motion recorded (``analytic.motion.simulate_motion``): the
     same numbers and samples as the reference shot to round-off, but for ``min_sling_tension``,
     ``min_ground_force``, ``max_frame_speed`` and a rolling frame's place at landing, which it
-    does not sample (null), at about a thirtieth of the reference's time."""
+    does not sample (null), without the reference path's integration in Python."""
     shot, motion = simulate_motion(design, sample_step=sample_step, flight_sample_step=flight_sample_step)
     return {**shot.to_json(), "history": history_json(shot, motion=motion)}
 
