@@ -38,8 +38,10 @@ Six parts, each in its own module:
   loses to scheduling and moving results), the cluster's start-up apart,
   each worker's peak memory, and whether the two tables are identical.
 
-``suite.run`` runs them all; ``baseline`` runs an earlier commit's own
-benchmark before and after this one's; ``report`` and ``plot`` write the
+``suite.run`` runs them all; ``baseline`` writes an earlier commit's sources
+out and ``paired`` times them beside this checkout's, one worker process
+(``paired_worker``) per side pinned to the same CPU, interleaved shot by
+shot, so that the machine's drift falls on both sides alike; ``report`` and ``plot`` write the
 text, the documentation's performance page and the figure; ``cli`` is the
 command line. This package sits above everything it measures: nothing in
 ``analytic``, ``engine_model`` or ``crosscheck`` imports it.

@@ -38,9 +38,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--sweep-chunk", type=int, default=None,
                         help="chunk size of that sweep (default: the sweep files' default)")
     parser.add_argument("--baseline", metavar="REV",
-                        help="also benchmark commit REV of this repository (its sources in a temporary folder, "
-                             "run with this interpreter) just before and just after this one, and give each "
-                             "headline figure as a ratio to it")
+                        help="also time commit REV of this repository (its sources in a temporary folder, run with "
+                             "this interpreter) beside this checkout, the two interleaved shot by shot on one "
+                             "CPU, and give each headline figure as a ratio to it")
     parser.add_argument("--markdown", metavar="FILE.md",
                         help="write the documentation's performance page from these figures")
     parser.add_argument("--quiet", action="store_true", help="no progress bars")
@@ -86,7 +86,7 @@ def main(argv: list[str] | None = None) -> int:
 
     try:
         figures = (measure() if args.baseline is None else
-                   with_baseline(measure, args.baseline, args.designs, args.seed, args.repeat, not args.quiet))
+                   with_baseline(measure, args.baseline, args.designs, args.seed, not args.quiet))
     except BaselineError as error:
         print(error, file=sys.stderr)
         return EXIT_INVALID

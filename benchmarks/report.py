@@ -125,19 +125,23 @@ def performance_page(figures: dict, command: str) -> str:
             "",
             f"## Against commit `{baseline['commit'][:7]}` (`--baseline {baseline['rev']}`)",
             "",
-            "That commit's own benchmark, run with the same interpreter just before and just after this "
-            "one's; each ratio is this checkout's figure over the mean of its two.",
+            "That commit's sources and this checkout's, each in a process of its own pinned to one CPU, "
+            "timed in turns over blocks of designs (A B B A, several passes; the batches alternate "
+            f"whole): {baseline['designs']} designs, shot alike by both "
+            f"({'their ranges agree' if baseline['same_designs'] else 'their ranges do NOT agree'} to "
+            f"{baseline['max_range_rel_diff']:.0e}). Each side's figure is the median over the "
+            "designs of each design's best time; each ratio is this checkout's over the baseline's. "
+            "The figures above come from this checkout's own run and differ from these by the "
+            "machine's drift between the two.",
             "",
-            "| key | this checkout | baseline (before, after) | ratio |",
+            "| key | this checkout | baseline | ratio |",
             "|---|---|---|---|",
         ]
         for key, entry in baseline["figures"].items():
             form, unit = ("{:,.0f}", " shots/s") if key.endswith("per_s") else ("{:.3f}", " ms")
             scale = 1.0 if key.endswith("per_s") else 1e3
-            b0, b1 = (form.format(v * scale) for v in entry["baseline"])
-            named = "" if entry["baseline_key"] == key else f" (its `{entry['baseline_key']}`)"
-            lines.append(f"| `{key}` | {form.format(f[key] * scale)}{unit} | {b0}, {b1}{unit}{named} | "
-                         f"{entry['ratio']:.2f} |")
+            this, base = (form.format(entry[side] * scale) for side in ("this", "baseline"))
+            lines.append(f"| `{key}` | {this}{unit} | {base}{unit} | {entry['ratio']:.2f} |")
     lines += ["", "## Every model on one design", "",
               f"{f['models_design']}, each as a multiple of one reference shot (the first row), in the same run:", "",
               "| model and path | time | multiple |", "|---|---|---|",

@@ -1,5 +1,5 @@
 """The benchmarks' command lines: ``python -m benchmarks``, its older name ``python -m analytic bench``, and the
-command each baseline commit is run by. The figures themselves are tested in test_analytic_fast.py."""
+paired benchmark's worker protocol. The figures themselves are tested in test_analytic_fast.py."""
 
 from __future__ import annotations
 
@@ -7,7 +7,6 @@ import subprocess
 import sys
 from pathlib import Path
 
-from benchmarks.baseline import baseline_command, baseline_source
 
 
 def _run(*argv: str) -> subprocess.CompletedProcess:
@@ -27,13 +26,22 @@ def test_analytic_bench_is_the_benchmarks_command_under_its_older_name():
     assert refused.returncode == 2 and "--designs = -1" in refused.stderr and "need designs >= 0" in refused.stderr
 
 
-def test_a_baseline_runs_by_its_own_command(tmp_path):
-    # bfde05d, the performance page's baseline, had only ``python -m analytic bench``.
-    old = tmp_path / "old"
-    old.mkdir()
-    baseline_source("bfde05d", old)
-    assert baseline_command(old)[1:] == ["-m", "analytic", "bench"]
-    # A tree with the benchmarks package is run by its ``python -m benchmarks``.
-    (tmp_path / "new" / "benchmarks").mkdir(parents=True)
-    (tmp_path / "new" / "benchmarks" / "__main__.py").write_text("")
-    assert baseline_command(tmp_path / "new")[1:] == ["-m", "benchmarks"]
+def test_the_paired_worker_answers_each_request_and_names_an_unknown_one(tmp_path):
+    # This checkout's sources, one design, every request the driver sends.
+    from benchmarks.paired import Worker, paired_env
+
+    here = Path(__file__).resolve().parents[1]
+    worker = Worker(here, paired_env(here))
+    try:
+        setup = worker.ask(op="setup", count=1, seed=0, batch_repeat=2)
+        assert setup["designs"] == 2 and len(setup["ranges"]) == 2 and setup["cpus"]
+        assert worker.ask(op="pin", cpu=setup["cpus"][-1]) == {"cpu": setup["cpus"][-1]}
+        for what in ("fast", "fast_no_loads", "reference"):
+            seconds = worker.ask(op="time", what=what, indices=[1, 0], repeat=2)["seconds"]
+            assert len(seconds) == 2 and all(s > 0.0 for s in seconds)
+        for op in ("batch", "batch_one"):
+            answer = worker.ask(op=op)
+            assert answer["shots"] == 4 and answer["seconds"] > 0.0
+        assert "unknown op 'nap'" in worker.ask(op="nap")["error"]
+    finally:
+        worker.close()
