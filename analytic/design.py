@@ -133,11 +133,7 @@ class Machine:
     kind: str = "hinged"
 
     def __post_init__(self) -> None:
-        require_choice("machine.kind", self.kind, KINDS)
-        if self.kind not in BUILT_KINDS:
-            raise DesignError("machine.kind", self.kind,
-                              f"both models simulate {', '.join(BUILT_KINDS)} machines so far; the "
-                              f"{self.kind} machine is being built")
+        require_kind("machine.kind", self.kind)
         for name in ("pivot_height", "arm_long", "arm_short", "arm_mass",
                      "counterweight_mass", "sling_length"):
             require_positive(f"machine.{name}", getattr(self, name))
@@ -400,9 +396,9 @@ def paper_geometry(arm_short: float, counterweight_link: float, clearance: float
     -------
     (pivot_height, arm_long) : m
     """
-    for name, value in (("arm_short", arm_short), ("counterweight_link", counterweight_link),
-                        ("clearance", clearance)):
+    for name, value in (("arm_short", arm_short), ("clearance", clearance)):
         require_positive(f"machine.{name}", value)
+    require_non_negative("machine.counterweight_link", counterweight_link)   # 0: rigid on the arm
     if not 0.0 < require_number("machine.starting_angle", starting_angle) < math.pi / 2:
         raise DesignError("machine.starting_angle", f"{math.degrees(starting_angle):g} deg",
                           "must lie strictly between 0 and 90 deg")
@@ -503,6 +499,15 @@ def require_non_negative(name: str, value: Any) -> float:
     if number < 0:
         raise DesignError(name, value, "must not be negative")
     return number
+
+
+def require_kind(name: str, value: Any) -> str:
+    """``value`` if it is one of ``KINDS`` that both models simulate (``BUILT_KINDS``)."""
+    require_choice(name, value, KINDS)
+    if value not in BUILT_KINDS:
+        raise DesignError(name, value, f"both models simulate {', '.join(BUILT_KINDS)} machines so far; the "
+                                       f"{value} machine is being built")
+    return value
 
 
 def require_choice(name: str, value: Any, choices: tuple[str, ...]) -> str:

@@ -24,7 +24,7 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from analytic.design import (RELEASE_RULES, Base, BeamArm, Design, DesignError, Environment, Losses, Machine,
-                             Projectile, paper_geometry, require_choice, require_non_negative,
+                             Projectile, paper_geometry, require_choice, require_kind, require_non_negative,
                              require_number, require_positive)
 from analytic.design_file import (base_from_dict, beam_arm_from_dict, environment_from_dict, losses_from_dict,
                                   projectile_from_dict,
@@ -38,7 +38,7 @@ ANGLE_VARIABLES = ("starting_angle", "release_angle")
 #: A seventh variable, present only when a rolling frame's mass is free between bounds, kg.
 FRAME_MASS = "frame_mass"
 
-_TABLES = ("name", "variables", "constraints", "counterweight", "arm_beam", "projectile",
+_TABLES = ("name", "machine", "variables", "constraints", "counterweight", "arm_beam", "projectile",
            "environment", "release", "base", "loads", "losses")
 _CONSTRAINT_KEYS = ("max_footprint", "max_height", "axle_radius")
 #: The loads a problem may limit or minimise (``[loads]``): the name in the file -> the
@@ -95,6 +95,9 @@ class Problem:
     minimise : a load of ``LOADS`` to minimise instead of maximising the range, with the
         range held at ``min_range`` (m) or more: a gentler machine for the same throw.
     min_range : m, with ``minimise``.
+    kind : the machine every design is (``analytic.design.KINDS``): ``"hinged"`` (the
+        paper's), or ``"fixed"`` or ``"floating-arm"``, whose counterweight is rigid on the
+        arm: their ``counterweight_link`` variable is fixed at 0 (a file may leave it out).
     """
 
     name: str
@@ -113,8 +116,10 @@ class Problem:
     load_limits: tuple[tuple[str, float], ...] = ()
     minimise: str | None = None
     min_range: float | None = None
+    kind: str = "hinged"
 
     def __post_init__(self) -> None:
+        require_kind("machine.kind", self.kind)
         for load, limit in self.load_limits:
             require_choice("loads", load, tuple(LOADS))
             require_positive(f"loads.max_{load}", limit)
@@ -147,6 +152,12 @@ class Problem:
                   "starting_angle": (0.0, math.pi / 2), "release_angle": (-math.pi / 2, math.pi / 2),
                   FRAME_MASS: (0.0, math.inf)}
         for variable in self.variables:
+            if variable.name == "counterweight_link" and self.kind != "hinged":
+                if (variable.lower, variable.upper) != (0.0, 0.0):
+                    raise DesignError("variables.counterweight_link", (variable.lower, variable.upper),
+                                      f"a {self.kind} machine has no link: its counterweight is rigid on "
+                                      f"the arm; leave the variable out (or fix it at 0)")
+                continue
             low, high = limits[variable.name]
             if not (low < variable.lower and variable.upper < high):
                 unit = "rad" if variable.name in ANGLE_VARIABLES else ("kg" if variable.name == FRAME_MASS else "m")
@@ -200,6 +211,33 @@ class Problem:
         return 0.4 * self.counterweight_mass * self.counterweight_radius**2
 
 
+def with_kind(problem: Problem, kind: str) -> Problem:
+    """``problem`` for machines of ``kind`` (``analytic.design.KINDS``): the same variables, limits
+    and parts; a kind without a link has its ``counterweight_link`` fixed at 0.
+
+    Raises
+    ------
+    DesignError
+        naming ``machine.kind`` for a kind that is not built, or ``variables.counterweight_link``
+        for a hinged machine from a problem whose link is fixed at 0.
+    """
+    require_kind("machine.kind", kind)
+    variables = tuple(Variable(v.name, 0.0, 0.0) if v.name == "counterweight_link" and kind != "hinged" else v
+                      for v in problem.variables)
+    return dataclasses.replace(problem, kind=kind, variables=variables)
+
+
+def bolted(values: np.ndarray) -> np.ndarray:
+    """A design vector (``VARIABLE_NAMES`` order, m and rad) with its counterweight bolted to the
+    short arm's end: the link's length joins the clearance, so the pivot height, the arms and
+    the sling are the same, and the link is 0 (a fixed or floating-arm machine's)."""
+    values = np.array(values, dtype=float)
+    link = VARIABLE_NAMES.index("counterweight_link")
+    values[VARIABLE_NAMES.index("clearance")] += values[link]
+    values[link] = 0.0
+    return values
+
+
 def design_at(problem: Problem, values: np.ndarray, name: str = "optimum") -> Design:
     """The design for a full vector of the problem's design variables.
 
@@ -222,7 +260,7 @@ def design_at(problem: Problem, values: np.ndarray, name: str = "optimum") -> De
                       arm_mass=arm_mass, arm_cg=arm_cg, arm_inertia=arm_inertia,
                       counterweight_mass=problem.counterweight_mass, counterweight_link=link,
                       counterweight_inertia=problem.counterweight_inertia, sling_length=sling,
-                      release_angle=release_angle, release_rule=problem.release_rule)
+                      release_angle=release_angle, release_rule=problem.release_rule, kind=problem.kind)
     return Design(machine, problem.projectile, problem.environment, name=name, base=base, losses=problem.losses)
 
 
@@ -290,8 +328,13 @@ def problem_from_dict(data: dict[str, Any], name: str = "problem") -> Problem:
         arithmetic uses a value.
     """
     reject_unknown_keys("", require_table("problem", data), _TABLES)
+    machine = read_values("machine", require_table("machine", data.get("machine"), optional=True),
+                          numbers=(), texts=("kind",))
+    kind = require_kind("machine.kind", machine.get("kind", "hinged"))
     variables = require_table("variables", data.get("variables"))
     reject_unknown_keys("variables", variables, VARIABLE_NAMES)
+    if kind != "hinged" and "counterweight_link" not in variables:
+        variables = {**variables, "counterweight_link": {"value": 0.0}}   # rigid on the arm: no link
     constraints = read_values("constraints", require_table("constraints", data.get("constraints")),
                               numbers=_CONSTRAINT_KEYS, required=_CONSTRAINT_KEYS)
     counterweight = read_values("counterweight", require_table("counterweight", data.get("counterweight")),
@@ -320,6 +363,7 @@ def problem_from_dict(data: dict[str, Any], name: str = "problem") -> Problem:
         load_limits=tuple((name, loads[f"max_{name}"]) for name in LOADS if f"max_{name}" in loads),
         minimise=minimise,
         min_range=loads.get("min_range"),
+        kind=kind,
     )
 
 

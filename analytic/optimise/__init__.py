@@ -20,7 +20,7 @@ import numpy as np
 
 from analytic.design_file import default_design
 from analytic.optimise.evaluate import FAILURE_RANGE, FAST, Evaluator
-from analytic.design_space import Problem, default_problem, load_problem, variables_of
+from analytic.design_space import Problem, bolted, default_problem, load_problem, variables_of
 from analytic.optimise.report import PAPER_LABEL
 from analytic.optimise.robust import DEFAULT_NODES, Scatter, release_scatter
 from analytic.optimise.search import Optimum, Settings, maximise
@@ -120,6 +120,8 @@ def optimise(problem: Problem, *, seed: int = 0, robust_sigma: float | None = No
     settings = Settings(seed=seed)
     scatter = None if robust_sigma is None else release_scatter(robust_sigma, nodes)
     paper = problem.complete(variables_of(default_design().machine))
+    if problem.kind != "hinged":   # the paper's frame and arms, its counterweight bolted on
+        paper = bolted(paper)
     with Evaluator(problem, path=path, workers=workers) as evaluator:
         optima = {"optimum": maximise(problem, evaluator, settings, progress=progress)}
         if scatter is not None:

@@ -17,11 +17,11 @@ from pathlib import Path
 
 from analytic.cli_shared import (EXIT_INVALID, EXIT_OK, OutputPathError, negative_numbers_as_values, output_folder,
                                  units_argument)
-from analytic.design import DesignError
+from analytic.design import KINDS, DesignError
 from analytic.design_file import chosen_units, save_design
 from analytic.optimise import Optimisation, optimise
 from analytic.optimise.evaluate import DEFAULT_PROCESSES, PATHS
-from analytic.design_space import default_problem, design_at, load_problem
+from analytic.design_space import default_problem, design_at, load_problem, with_kind
 from analytic.optimise.report import format_report
 from analytic.optimise.robust import DEFAULT_NODES
 
@@ -33,6 +33,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The ``optimise`` subcommand's arguments."""
     parser.add_argument("problem", nargs="?",
                         help="problem TOML (default: the paper's, analytic/data/paper_problem.toml)")
+    parser.add_argument("--kind", choices=KINDS, default=None,
+                        help="the machine every design is, instead of the problem's [machine] kind: a "
+                             "fixed or floating-arm machine's counterweight is rigid on the arm, so its "
+                             "link is fixed at 0 (default: the problem's, hinged if it names none)")
     parser.add_argument("--robust", metavar="SIGMA_DEG", type=float, nargs="?",
                         const=DEFAULT_ROBUST_SIGMA_DEG,
                         help="also maximise the expected range when the real release angle scatters "
@@ -57,6 +61,8 @@ def run(args: argparse.Namespace) -> int:
     """Run the ``optimise`` subcommand; returns the exit code."""
     try:
         problem = default_problem() if args.problem is None else load_problem(args.problem)
+        if args.kind is not None:
+            problem = with_kind(problem, args.kind)
     except DesignError as error:
         print(f"invalid problem: {error}", file=sys.stderr)
         return EXIT_INVALID

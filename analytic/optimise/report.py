@@ -222,7 +222,8 @@ def format_peaks(problem: Problem, peaks: dict[str, dict[str, float]], system: s
         unit, scale = _load_scale(load, scales)
         row = "".join(f"{peaks[label][name] * scale:>{width}.2f}" if name in peaks[label] else f"{'-':>{width}}"
                       for label in labels)
-        lines.append(f"{'  ' + load.replace('_', ' ') + ' (' + unit + ')':<34}{row}")
+        said = "mount load" if load == "hinge_load" and problem.kind != "hinged" else load.replace("_", " ")
+        lines.append(f"{'  ' + said + ' (' + unit + ')':<34}{row}")
     return "\n".join(lines)
 
 
@@ -241,7 +242,12 @@ def format_report(result: Optimisation, system: str = "metric") -> str:
     """The whole report: the problem, Tables III and IV, the limits, each search and its first-order
     check, the release-angle scatter (if any) and the wall time; in ``system``'s units (``Scales.of``)."""
     problem, optima, ranges, scatter = result.problem, result.optima, result.ranges, result.scatter
-    columns = [("paper", result.paper, PAPER_RANGE), (PAPER_LABEL, result.paper, ranges[PAPER_LABEL])]
+    if problem.kind == "hinged":
+        paper_heading = PAPER_LABEL
+        columns = [("paper", result.paper, PAPER_RANGE), (PAPER_LABEL, result.paper, ranges[PAPER_LABEL])]
+    else:   # the paper's machine, its counterweight bolted to the arm (``design_space.bolted``)
+        paper_heading = f"paper, {problem.kind}"
+        columns = [(paper_heading, result.paper, ranges[PAPER_LABEL])]
     columns += [(label, optimum.values, ranges[label]) for label, optimum in optima.items()]
     goal = ("maximise range" if problem.minimise is None else
             f"minimise the peak {problem.minimise.replace('_', ' ')} with a range of at least "
@@ -253,10 +259,15 @@ def format_report(result: Optimisation, system: str = "metric") -> str:
                 + ("" if scatter is None else f"; robust variant: maximise the expected range when the "
                    f"release angle scatters, sigma {math.degrees(scatter.sigma):g} deg (local stage "
                    f"from the optimum)"),
-                "Columns: the paper's published Table III optimum; the same design under this problem "
-                "and our model; " + "; ".join(f"our {label}" for label in optima),
+                ("Columns: the paper's published Table III optimum; the same design under this problem "
+                 "and our model; " if problem.kind == "hinged" else
+                 f"Machine: {problem.kind}. Columns: the paper's Table III machine with its counterweight "
+                 f"bolted to the arm's end (the link's length added to the clearance), under this problem "
+                 f"and our model; ") + "; ".join(f"our {label}" for label in optima),
                 format_tables(problem, columns, system), format_constraints(problem, columns, system),
-                format_peaks(problem, {label: result.peaks[label] for label in [PAPER_LABEL, *optima]}, system)]
+                format_peaks(problem, {heading: result.peaks[label] for heading, label in
+                                       [(paper_heading, PAPER_LABEL), *((label, label) for label in optima)]},
+                             system)]
     for label, optimum in optima.items():
         sections += [format_search(label, optimum, system), format_first_order(optimum, system)]
     if scatter is not None:

@@ -145,6 +145,8 @@ def _base(data: dict, directory: Path | None) -> Base:
     machine = {"counterweight_mass": problem.counterweight_mass,
                "counterweight_inertia": problem.counterweight_inertia, "release_rule": problem.release_rule,
                "arm_beam": dataclasses.asdict(problem.arm)}
+    if problem.kind != "hinged":
+        machine["kind"] = problem.kind
     bounds = {}
     for variable in problem.variables:
         lower, upper = ((math.degrees(variable.lower), math.degrees(variable.upper))
