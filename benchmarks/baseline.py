@@ -36,10 +36,12 @@ def baseline_source(rev: str, folder: Path) -> str:
     return commit
 
 
-def with_baseline(run_figures: Callable[[], dict], rev: str, designs: int, seed: int, progress: bool) -> dict:
+def with_baseline(run_figures: Callable[[], dict], rev: str, designs: int, seed: int, progress: bool,
+                  cold_rounds: int = 0) -> dict:
     """This checkout's figures (``run_figures``), then commit ``rev``'s against this checkout's,
     interleaved (``benchmarks.paired``): ``figures["baseline"]`` holds, per key of
-    ``paired.SHOT_KEYS`` and the batches, both sides' figures and their ratio."""
+    ``paired.SHOT_KEYS`` and the batches (and ``compile_s`` with ``cold_rounds``), both sides'
+    figures and their ratio."""
     here = Path(__file__).resolve().parents[1]
     with tempfile.TemporaryDirectory(prefix="bench-baseline-") as folder:
         commit = baseline_source(rev, Path(folder))      # a revision that is not a commit stops here
@@ -49,7 +51,7 @@ def with_baseline(run_figures: Callable[[], dict], rev: str, designs: int, seed:
                   flush=True)
         try:
             compared = paired(here, Path(folder), paired_env(here), paired_env(Path(folder)), designs, seed,
-                              progress=progress)
+                              cold_rounds=cold_rounds, progress=progress)
         except RuntimeError as error:
             raise BaselineError(f"--baseline {rev}: {error}") from error
     figures["baseline"] = {"rev": rev, "commit": commit, **compared}

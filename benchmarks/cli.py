@@ -86,7 +86,8 @@ def main(argv: list[str] | None = None) -> int:
 
     try:
         figures = (measure() if args.baseline is None else
-                   with_baseline(measure, args.baseline, args.designs, args.seed, not args.quiet))
+                   with_baseline(measure, args.baseline, args.designs, args.seed, not args.quiet,
+                                 cold_rounds=2 if args.cold else 0))
     except BaselineError as error:
         print(error, file=sys.stderr)
         return EXIT_INVALID

@@ -29,13 +29,15 @@ def best_time(run: Callable[[], object], repeat: int) -> tuple[float, object]:
     return best, first
 
 
-def cold_compile_seconds() -> tuple[float, float]:
-    """(compile, import) seconds of the fast path in a fresh process with an empty numba cache."""
+def cold_compile_seconds(folder: Path | None = None, env: dict | None = None) -> tuple[float, float]:
+    """(compile, import) seconds of the fast path in a fresh process with an empty numba cache:
+    this checkout's, or that of the sources in ``folder`` (run there, with ``env``)."""
     code = ("import time; t = time.perf_counter(); from analytic import fast; "
             "i = time.perf_counter() - t; print(fast.compile(), i)")
     with tempfile.TemporaryDirectory(prefix="numba-cold-") as cache:
-        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
-        done = subprocess.run([sys.executable, "-c", code], env=env, check=True, capture_output=True, text=True)
+        env = dict(os.environ if env is None else env, NUMBA_CACHE_DIR=cache)
+        done = subprocess.run([sys.executable, "-c", code], env=env, cwd=folder, check=True, capture_output=True,
+                              text=True)
     compile_s, import_s = (float(v) for v in done.stdout.split())
     return compile_s, import_s
 

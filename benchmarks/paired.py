@@ -14,12 +14,15 @@ ratio is this checkout's figure over the baseline's.
 from __future__ import annotations
 
 import json
+import math
 import os
 import subprocess
 import sys
 from pathlib import Path
 
 import numpy as np
+
+from benchmarks.measure import cold_compile_seconds
 
 WORKER = Path(__file__).resolve().with_name("paired_worker.py")
 
@@ -59,9 +62,21 @@ def _orders(blocks: int) -> list:
 
 
 def paired(here: Path, baseline: Path, env_here: dict, env_baseline: dict, count: int, seed: int,
-           batch_repeat: int = 20, progress: bool = False) -> dict:
+           batch_repeat: int = 20, cold_rounds: int = 0, progress: bool = False) -> dict:
     """This checkout's and the baseline's figures, interleaved (the module's docstring); per key
-    ``{"this": ..., "baseline": ..., "ratio": ...}`` plus the method's facts."""
+    ``{"this": ..., "baseline": ..., "ratio": ...}`` plus the method's facts. With ``cold_rounds``,
+    also ``compile_s``: each side's fastest of that many cold compiles (a fresh process and an
+    empty cache each), alternated A B B A, before the shots."""
+    figures = {}
+    if cold_rounds:
+        if progress:
+            print(f"  paired: {2 * cold_rounds} cold compiles ...", file=sys.stderr, flush=True)
+        best = [math.inf, math.inf]
+        for order in _orders(cold_rounds):
+            for side in order:
+                folder, env = (here, env_here) if side == 0 else (baseline, env_baseline)
+                best[side] = min(best[side], cold_compile_seconds(folder, env)[0])
+        figures["compile_s"] = {"this": best[0], "baseline": best[1], "ratio": best[0] / best[1]}
     workers = [Worker(here, env_here), Worker(baseline, env_baseline)]
     try:
         setups = [w.ask(op="setup", count=count, seed=seed, batch_repeat=batch_repeat) for w in workers]
@@ -72,7 +87,6 @@ def paired(here: Path, baseline: Path, env_here: dict, env_baseline: dict, count
         cpu = setups[0]["cpus"][-1]
         for w in workers:
             w.ask(op="pin", cpu=cpu)
-        figures = {}
         designs = setups[0]["designs"]
         for key, (what, block, passes, repeat) in SHOT_KEYS.items():
             if progress:

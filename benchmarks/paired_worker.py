@@ -19,7 +19,7 @@ each other. It reads one JSON request per line on stdin and answers one JSON lin
 
 It uses only what every commit since the fast path's first has: ``analytic.fast``'s
 ``simulate_fast``, ``pack_many``, ``shoot`` and ``compile``, the reference's ``simulate``, and
-the benchmark's design sample (``benchmarks.designs`` or, before that package, ``analytic.bench``).
+the benchmark's design sample (``DESIGN_SAMPLES``).
 A commit's fast path without a ``loads`` switch times its only shot for ``fast_no_loads``.
 """
 
@@ -39,12 +39,25 @@ import time
 import numpy as np
 
 
+#: Where the benchmark's design sample has lived, newest first.
+DESIGN_SAMPLES = ("benchmarks.designs", "crosscheck.benchmark", "analytic.bench")
+
+
 def _designs(count: int, seed: int) -> list:
-    try:
-        from benchmarks.designs import bench_designs
-    except ImportError:
-        from analytic.bench import bench_designs
-    return bench_designs(count, seed)
+    """The benchmark's designs, from the first of ``DESIGN_SAMPLES`` the sources (the working
+    folder) hold: an installed copy of this checkout elsewhere on the path does not count."""
+    import importlib
+    from pathlib import Path
+
+    sources = Path.cwd().resolve()
+    for name in DESIGN_SAMPLES:
+        try:
+            module = importlib.import_module(name)
+        except ImportError:
+            continue
+        if Path(module.__file__).resolve().is_relative_to(sources):
+            return module.bench_designs(count, seed)
+    raise ImportError(f"none of {', '.join(DESIGN_SAMPLES)} in {sources}")
 
 
 def _reference():

@@ -132,14 +132,15 @@ def performance_page(figures: dict, command: str) -> str:
             f"{baseline['max_range_rel_diff']:.0e}). Each side's figure is the median over the "
             "designs of each design's best time; each ratio is this checkout's over the baseline's. "
             "The figures above come from this checkout's own run and differ from these by the "
-            "machine's drift between the two.",
+            "machine's drift between the two. With `--cold`, `compile_s` is each side's faster of two cold "
+            "compiles, taken in turns before the shots.",
             "",
             "| key | this checkout | baseline | ratio |",
             "|---|---|---|---|",
         ]
         for key, entry in baseline["figures"].items():
-            form, unit = ("{:,.0f}", " shots/s") if key.endswith("per_s") else ("{:.3f}", " ms")
-            scale = 1.0 if key.endswith("per_s") else 1e3
+            form, unit, scale = (("{:,.0f}", " shots/s", 1.0) if key.endswith("per_s") else
+                                 ("{:.1f}", " s", 1.0) if key == "compile_s" else ("{:.3f}", " ms", 1e3))
             this, base = (form.format(entry[side] * scale) for side in ("this", "baseline"))
             lines.append(f"| `{key}` | {this}{unit} | {base}{unit} | {entry['ratio']:.2f} |")
     lines += ["", "## Every model on one design", "",
