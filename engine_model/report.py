@@ -61,8 +61,10 @@ def format_shot(shot: Shot, units: str = "metric") -> str:
         rows += [row(label, getattr(shot, name), unit, fmt)
                  for name, label, unit, fmt in _FRAME_FIELDS if getattr(shot, name) is not None]
     if shot.energy_dissipated is not None:
+        losses = shot.design.losses   # a loss the design does not have: no row of zeros
         rows += [row(f"{name} {'friction' if name != 'drag' else 'in flight'}", shot.energy_dissipated[name],
-                     "J dissipated", "{:.4f}") for name in LOSS_NAMES]
+                     "J dissipated", "{:.4f}") for name in LOSS_NAMES
+                 if name == "drag" or getattr(losses, f"{name}_friction") != 0.0]
     diagnostics = shot.diagnostics
     drift, drift_unit = _shown(diagnostics.max_joint_drift, "m", units)
     rows += [("engine", f"dt {diagnostics.dt:g} s, {diagnostics.iterations} iterations",

@@ -116,3 +116,14 @@ def test_a_hinged_machine_on_a_vanishing_link_throws_as_the_fixed_one():
     assert hinged[-1].release_speed == pytest.approx(bolted.release_speed, rel=LIMIT_TOLERANCE)
     longer, shorter = (abs(shot.range - bolted.range) for shot in hinged)
     assert shorter * CONVERGENCE < longer
+
+
+def test_the_report_lists_only_the_losses_the_machine_has(shot):
+    # A fixed machine has no hinge; an ideal one no friction at all: only the drag in flight is
+    # listed. With the axle's friction, that row joins it.
+    from analytic.design import Losses
+    from engine_model.report import format_shot
+
+    assert [line.split()[0] for line in format_shot(shot).splitlines() if "J dissipated" in line] == ["drag"]
+    lossy = simulate(dataclasses.replace(shot.design, losses=Losses(axle_friction=0.1, axle_radius=0.01)))
+    assert [line.split()[0] for line in format_shot(lossy).splitlines() if "J dissipated" in line] == ["axle", "drag"]
