@@ -75,7 +75,8 @@ class History:
     frame_x : (n,) the frame's X on ``t``, m; (0,) for a fixed frame in the analytic model.
     flight_t : (k,) flight sample times, s from firing; (0,) if the projectile never flew.
     flight_path : (k, 2) projectile centre in flight, m.
-    axle_load, hinge_load, projectile_acceleration : (n,) the loads on ``t`` (N, N, m/s^2), or
+    axle_load, hinge_load, projectile_acceleration, arm_bending_moment : (n,) the loads on ``t``
+        (N, N, m/s^2, N m; the bending moment's magnitude), or
         None where they are not recorded (the engine model; ``simulate(sampled_loads=False)``).
     machine_t, machine_q, machine_frame_x : the machine without its projectile from release to
         landing: (m,) times, s from firing; (m, 2) [theta, phi], rad; (m,) the frame's X, m.
@@ -95,6 +96,7 @@ class History:
     axle_load: np.ndarray | None = None
     hinge_load: np.ndarray | None = None
     projectile_acceleration: np.ndarray | None = None
+    arm_bending_moment: np.ndarray | None = None
     machine_t: np.ndarray | None = None
     machine_q: np.ndarray | None = None
     machine_frame_x: np.ndarray | None = None
