@@ -417,14 +417,14 @@ def joint_forces_in_gravity(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi,
 
 
 def arm_bending_moment(theta, ddtheta, axle_ax, axle_ay, sling_x, sling_y, p):
-    """The bending moment in the arm's cross-section at the axle, N m (CCW positive), eq. (12.3).
+    """The bending moment in the arm's cross-section at the axle, N m (CCW positive), eq. (9.6).
 
     The moment of the short side on the long side across the cut just on the long
     side of the axle (the axle's force and friction torque act on the short side),
-    from the long side's Euler equation about the axle point A:
-    ``M = J_L theta'' + s_L u x (a_A + g e_y) + La u x S``, with ``u`` the unit vector
+    from the long side's Euler equation about the axle point O:
+    ``M = J_L theta'' + s_L u x (a_O + g e_y) + La u x S``, with ``u`` the unit vector
     along the long arm, ``m_L, s_L = m_L La / 2, J_L`` the long side's mass and first
-    and second moments about A (``geometry.arm_long_side``), ``(axle_ax, axle_ay)``
+    and second moments about O (``geometry.arm_long_side``), ``(axle_ax, axle_ay)``
     the axle's own acceleration in the ground frame (m/s^2; 0 on a fixed frame) and
     ``(sling_x, sling_y)`` the sling's force on the projectile (N; it pulls the tip
     with ``-S``). The rod's centripetal accelerations point along ``u``: no moment.

@@ -47,7 +47,7 @@ def part_positions(theta: float, phi: float, psi: float, arm_long: float, arm_sh
 
 
 def arm_long_side(arm_long: float, arm_short: float, arm_mass: float, arm_cg: float) -> tuple[float, float, float]:
-    """The arm's long side, from the axle to the long tip, as a uniform rod (``docs/derivation.md`` [12.1]).
+    """The arm's long side, from the axle to the long tip, as a uniform rod (``docs/derivation.md`` eq. 9.4).
 
     The arm is taken as two uniform rods meeting at the axle, the long side's
     mass ``m_L`` and the short side's chosen so that together they have the

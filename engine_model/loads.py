@@ -25,9 +25,9 @@ t_k - dt/2 to t_k + dt/2 (raw rows, ``engine_model.kinematics``), and
 * bending moment at the axle: the long side (axle to long tip, a uniform
   rod of mass ``m_L``, ``analytic.geometry.arm_long_side``) as a body of its
   own, Newton-Euler about its centre C:
-  ``M = I_C w' + m_L (C - A) x (a_C + g e_y) + (tip - A) x S``, with ``w'``
+  ``M = I_C w' + m_L (C - O) x (a_C + g e_y) + (tip - O) x S``, O the axle, with ``w'``
   the arm body's angular acceleration, ``a_C`` the acceleration of the arm
-  body's point at C (whatever the axle A does) and ``I_C = m_L La^2 / 12``.
+  body's point at C (whatever the axle does) and ``I_C = m_L La^2 / 12``.
 """
 
 from __future__ import annotations

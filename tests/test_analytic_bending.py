@@ -5,7 +5,7 @@ point A(t) along ``(-sin theta(t), cos theta(t))``, its points' accelerations
 differentiated by sympy from their positions, and the moment about A of every
 force on it (the tip's pull, gravity, and the cut's moment M) set equal to the
 moment of its mass times acceleration, integrated along the rod. Nothing of
-the hand derivation (``docs/derivation.md`` section 12) is reused but the
+the hand derivation (``docs/derivation.md`` eqs. 9.4-9.6) is reused but the
 mass split ``geometry.arm_long_side``, which the split's own test checks.
 """
 
