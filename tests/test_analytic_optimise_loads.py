@@ -77,31 +77,19 @@ def test_robust_with_loads_is_refused_before_any_work(tmp_path, capsys):
     assert "nominal shot only" in capsys.readouterr().err
 
 
-def test_a_load_limit_is_met_and_costs_range(unconstrained):
+@pytest.mark.parametrize("load", ["projectile_acceleration", "arm_bending_moment"])
+def test_a_load_limit_is_met_and_costs_range(unconstrained, load):
     optimum, shot = unconstrained
-    limit = 0.8 * shot.peak_projectile_acceleration
-    problem = dataclasses.replace(default_problem(), load_limits=(("projectile_acceleration", limit),))
+    limit = 0.8 * getattr(shot, f"peak_{load}")
+    problem = dataclasses.replace(default_problem(), load_limits=((load, limit),))
     limited = maximise(problem, Evaluator(problem), Settings())
     got = fast.simulate_fast(design_at(problem, limited.values))
-    assert got.peak_projectile_acceleration <= limit * (1.0 + OUTCOME_FEASIBILITY)
+    assert getattr(got, f"peak_{load}") <= limit * (1.0 + OUTCOME_FEASIBILITY)
     assert got.range == pytest.approx(limited.score, rel=1e-9)
     assert limited.score < optimum.score
     # The limit binds: it is active at the optimum, with a positive multiplier.
     (name,) = [n for n in limited.first_order.active_constraints if n.startswith("peak")]
-    assert limited.first_order.constraint_multipliers[name] > 0.0
-
-
-def test_an_arm_bending_moment_limit_is_met_and_costs_range(unconstrained):
-    optimum, shot = unconstrained
-    limit = 0.8 * shot.peak_arm_bending_moment
-    problem = dataclasses.replace(default_problem(), load_limits=(("arm_bending_moment", limit),))
-    limited = maximise(problem, Evaluator(problem), Settings())
-    got = fast.simulate_fast(design_at(problem, limited.values))
-    assert got.peak_arm_bending_moment <= limit * (1.0 + OUTCOME_FEASIBILITY)
-    assert limited.score < optimum.score
-    # The limit binds: it is active at the optimum, with a positive multiplier.
-    (name,) = [n for n in limited.first_order.active_constraints if n.startswith("peak")]
-    assert name.startswith("peak arm bending moment")
+    assert name.startswith(f"peak {load.replace('_', ' ')} <=")
     assert limited.first_order.constraint_multipliers[name] > 0.0
 
 
