@@ -28,7 +28,7 @@ from engine_model import loads as engine_loads
 from engine_model import stepping
 from engine_model.after_release import after_release_steps, run_after_release
 from engine_model.budget import after_release_step, flight_step_base, run_within_budget
-from engine_model.build import DEFAULT_ITERATIONS
+from engine_model.build import DEFAULT_ITERATIONS, EngineError
 from engine_model.diagnostics import diagnose, diagnose_after_release
 from engine_model.events import interpolate
 from engine_model.flight import FLIGHT_STEP_LIMIT, FLIGHT_STEP_MULTIPLE, fly
@@ -75,8 +75,12 @@ def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAU
         rolling frame far lighter than the counterweight), an energy jump
         (``ENERGY_LIMIT``) or joints apart (``DRIFT_LIMIT``), in stages 1-2 or
         in a rolling machine's run after release; use a smaller ``dt`` or more
-        ``iterations``.
+        ``iterations``. A floating-arm design: the engine builds it
+        (``engine_model.build``) but does not yet read a shot of it.
     """
+    if design.machine.kind == "floating-arm":
+        raise EngineError("machine.kind = 'floating-arm': the engine builds this machine (its track and guide) "
+                          "but does not yet simulate a shot of it")
     budget = dt is None
     discarded = 0
     if budget:

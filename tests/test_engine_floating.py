@@ -15,7 +15,8 @@ from analytic import floating_arm
 from analytic.design import initial_angles
 from analytic.design_file import default_design
 from analytic.parameters import params
-from engine_model.build import DEFAULT_ITERATIONS, axle_start, build
+from engine_model import simulate
+from engine_model.build import DEFAULT_ITERATIONS, EngineError, axle_start, build
 from engine_model.stepping import STARTUP_ITERATIONS
 
 #: The step of these measurements, s: a tenth of the engine's default (``engine_model.budget``), so
@@ -170,3 +171,10 @@ def test_support_forces_match_derived_equations(name, state):
     assert track == pytest.approx(want_track, abs=REL_TOL * scale), (track, want_track)
     turn = max(abs(want_theta), abs(want_theta + want_psi))
     assert ddtheta == pytest.approx(want_theta, abs=REL_TOL * turn), (ddtheta, want_theta)
+
+
+def test_a_shot_is_refused_with_its_reason():
+    """The engine builds the machine but does not read a shot of it yet: a clear refusal, not a
+    wrong number or the solver's convergence check failing on the floating axle."""
+    with pytest.raises(EngineError, match=r"^machine\.kind = 'floating-arm': the engine builds this machine"):
+        simulate(DESIGNS["paper"])
