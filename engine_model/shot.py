@@ -78,9 +78,6 @@ def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAU
         ``iterations``. A floating-arm design: the engine builds it
         (``engine_model.build``) but does not yet read a shot of it.
     """
-    if design.machine.kind == "floating-arm":
-        raise EngineError("machine.kind = 'floating-arm': the engine builds this machine (its track and guide) "
-                          "but does not yet simulate a shot of it")
     budget = dt is None
     discarded = 0
     if budget:
