@@ -26,9 +26,11 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pymunk
 
 from analytic.design import Design, largest_length
+from engine_model.loads import peaks
 
 #: Half length of the track and the guide, in units of the machine's largest length: pymunk's groove
 #: stops a body at its ends, which the axle and the counterweight never reach.
@@ -81,3 +83,26 @@ def supports(design: Design, frame: pymunk.Body, arm: pymunk.Body, axle: tuple[f
     pivot = pymunk.PivotJoint(carriage, arm, (0.0, 0.0), (0.0, 0.0))
     mount = pymunk.PivotJoint(slider, arm, (0.0, 0.0), (0.0, -m.arm_short))
     return pivot, (carriage, slider), (track, guide, mount)
+
+
+#: The floating arm's loads (``support_loads``), as ``simulate --json`` names them.
+SUPPORT_LOAD_NAMES = ("min_track_force", "max_track_force", "max_guide_force", "axle_displacement_at_release")
+
+
+def support_loads(force: np.ndarray, times: np.ndarray, axle_x: float | None) -> dict[str, float | None]:
+    """The floating arm's support loads over stages 1-2 (``SUPPORT_LOAD_NAMES``).
+
+    Parameters
+    ----------
+    force : (n, 2) the guide's push on the counterweight (x) and the track's on the axle (y), N,
+        over each row's step (``engine_model.loads.support_force``).
+    times : (n,) the rows' times, s.
+    axle_x : the axle's x at release, m from the origin (None: no release).
+
+    The track's least and largest vertical force (negative: it pulls the axle down), the guide's
+    largest horizontal force in magnitude, each as ``engine_model.loads.peaks`` takes a peak
+    (past the solver's settling), and the axle's displacement at release.
+    """
+    track, guide = force[:, 1], force[:, 0]
+    (largest, _), (least, _), (sideways, _) = peaks(np.column_stack([track, -track, np.abs(guide)]), times)
+    return dict(zip(SUPPORT_LOAD_NAMES, (-least, largest, sideways, axle_x), strict=True))

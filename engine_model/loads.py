@@ -51,16 +51,26 @@ def load_histories(raw: np.ndarray, tension: np.ndarray, design: Design, dt: flo
     tension : (n,) the sling's tension over each row's step, N (``kinematics.contact_forces``).
     dt : the step, s.
     """
-    m, g = design.machine, design.environment.gravity
-    up = np.array([0.0, g])
-    arm_velocity = kin.point_velocity(raw, kin.ARM, kin.arm_centre(raw, design))
-    hinge = m.counterweight_mass * (accelerations(raw, kin.velocity(raw, kin.COUNTERWEIGHT), dt) + up)
+    up = np.array([0.0, design.environment.gravity])
+    hinge = design.machine.counterweight_mass * (accelerations(raw, kin.velocity(raw, kin.COUNTERWEIGHT), dt) + up)
     felt = accelerations(raw, kin.velocity(raw, kin.PROJECTILE), dt) + up
-    offset = kin.long_tip(raw, design) - kin.position(raw, kin.PROJECTILE)
-    sling = tension[:, None] * offset / np.linalg.norm(offset, axis=1)[:, None]
-    axle = m.arm_mass * (accelerations(raw, arm_velocity, dt) + up) + hinge + sling
+    axle = support_force(raw, tension, design, dt)
     return np.column_stack([np.linalg.norm(axle, axis=1), np.linalg.norm(hinge, axis=1), tension,
                             np.linalg.norm(felt, axis=1)])
+
+
+def support_force(raw: np.ndarray, tension: np.ndarray, design: Design, dt: float) -> np.ndarray:
+    """(n, 2) force of the supports on the arm and its counterweight over each raw row's step, N:
+    ``m_A (a_A + g e_y) + m_W (a_W + g e_y) + S`` (the module's notes). For a hinged or fixed machine
+    the axle's force; for a floating arm the guide's push (x) and the track's (y) together, the only
+    supports of the arm and counterweight besides the sling."""
+    m = design.machine
+    up = np.array([0.0, design.environment.gravity])
+    arm_velocity = kin.point_velocity(raw, kin.ARM, kin.arm_centre(raw, design))
+    hinge = m.counterweight_mass * (accelerations(raw, kin.velocity(raw, kin.COUNTERWEIGHT), dt) + up)
+    offset = kin.long_tip(raw, design) - kin.position(raw, kin.PROJECTILE)
+    sling = tension[:, None] * offset / np.linalg.norm(offset, axis=1)[:, None]
+    return m.arm_mass * (accelerations(raw, arm_velocity, dt) + up) + hinge + sling
 
 
 #: Steps after the opening half step whose loads are left out of the peaks: pymunk's solver starts

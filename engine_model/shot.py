@@ -22,6 +22,7 @@ import numpy as np
 from analytic import outcome
 from analytic.design import Design, initial_angles
 from analytic.result import PEAK_NAMES, EnergyBudget, History, Shot, Stage, Status
+from engine_model import floating
 from engine_model import friction as fr
 from engine_model import kinematics as kin
 from engine_model import loads as engine_loads
@@ -96,6 +97,8 @@ def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAU
     times = dt * np.arange(len(raw))
     tension = np.array(run.tension)
     loads = engine_loads.load_histories(raw, tension, design, dt)
+    supports = engine_loads.support_force(raw, tension, design, dt)
+    axle_x = None
     dissipated = _friction_work(run, sync, design)
 
     fields: dict = {"liftoff_time": run.liftoff_time}
@@ -111,6 +114,8 @@ def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAU
         dissipated = np.vstack([dissipated[:-1], interpolate(dissipated[-3:], s)])
         tension = np.append(tension[:-1], release_tension)
         loads = np.vstack([loads[:-1], interpolate(loads[-3:], s)])
+        supports = np.vstack([supports[:-1], interpolate(supports[-3:], s)])
+        axle_x = float(release_state[kin.ARM + kin.X])
         times = np.append(times[:-1], release_time)
         position = kin.position(release_state[None, :], kin.PROJECTILE)[0]
         velocity = kin.velocity(release_state[None, :], kin.PROJECTILE)[0]
@@ -175,6 +180,9 @@ def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAU
     diagnostics = dataclasses.replace(diagnostics, friction_steps=_friction_steps(run, dt),
                                       after_release_dt=float(after_dt) if after_steps else 0.0,
                                       discarded_steps=discarded if budget else 0)
+    if design.machine.kind == "floating-arm":
+        diagnostics = dataclasses.replace(diagnostics,
+                                          support_loads=floating.support_loads(supports, times, axle_x))
     return dataclasses.replace(shot, diagnostics=diagnostics)
 
 

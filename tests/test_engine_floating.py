@@ -206,3 +206,49 @@ def test_the_swing_after_lift_off_follows_the_derived_equations(name):
     theta, psi = solved.y[0, -1], solved.y[1, -1]
     assert theta == pytest.approx(h.q[-1, 0], abs=SWING_TOL), (theta, h.q[-1, 0])
     assert psi == pytest.approx(h.q[-1, 2], abs=SWING_TOL), (psi, h.q[-1, 2])
+
+
+#: Agreement of the reported support loads with the derived ``support_forces`` at the engine's own
+#: stage-2 states, relative to the largest track force: measured 5e-4 (the largest track force is at
+#: release, where the engine's row is interpolated between steps), with room.
+LOAD_TOL = 2e-3
+
+
+@pytest.mark.parametrize("name", DESIGNS)
+def test_reported_support_loads_match_derived_forces(name):
+    """``min_track_force``, ``max_track_force`` and ``max_guide_force`` against ``support_forces`` over
+    the shot's stage-2 rows (on these designs the extremes lie off the base, where the base's push is
+    0), and ``axle_displacement_at_release`` against -Lb sin(theta) at release."""
+    design = DESIGNS[name]
+    p = params(design)
+    shot = simulate(design)
+    h, reported = shot.history, shot.diagnostics.support_loads
+    forces = []
+    for i in np.nonzero(h.stage == 2)[0]:
+        (theta, _, psi), (dtheta, _, dpsi) = h.q[i], h.qdot[i]
+        ddtheta, ddpsi = floating_arm.swing_accelerations(theta, psi, dtheta, dpsi, p)
+        forces.append(floating_arm.support_forces(theta, psi, dtheta, dpsi, ddtheta, ddpsi, 0.0, p))
+    track, guide = np.array(forces).T
+    scale = np.abs(track).max()
+    assert reported["min_track_force"] == pytest.approx(track.min(), abs=LOAD_TOL * scale)
+    assert reported["max_track_force"] == pytest.approx(track.max(), abs=LOAD_TOL * scale)
+    assert reported["max_guide_force"] == pytest.approx(np.abs(guide).max(), abs=LOAD_TOL * scale)
+    assert reported["axle_displacement_at_release"] == pytest.approx(
+        -design.machine.arm_short * math.sin(h.q[-1, 0]), abs=1e-6 * design.machine.arm_long)
+
+
+def test_simulate_json_carries_the_support_loads(tmp_path, capsys):
+    """``python -m engine_model simulate --json`` gains the four floating-arm keys, as the shot has them."""
+    import json
+
+    from analytic.design_file import save_design
+    from engine_model.cli import main
+    from engine_model.floating import SUPPORT_LOAD_NAMES
+    path = tmp_path / "floating.toml"
+    save_design(DESIGNS["paper"], path)
+    assert main(["simulate", str(path), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    expected = simulate(DESIGNS["paper"]).diagnostics.support_loads
+    assert set(SUPPORT_LOAD_NAMES) <= set(data)
+    for name in SUPPORT_LOAD_NAMES:
+        assert data[name] == pytest.approx(expected[name], rel=1e-12), name
