@@ -252,3 +252,15 @@ def test_simulate_json_carries_the_support_loads(tmp_path, capsys):
     assert set(SUPPORT_LOAD_NAMES) <= set(data)
     for name in SUPPORT_LOAD_NAMES:
         assert data[name] == pytest.approx(expected[name], rel=1e-12), name
+
+
+def test_frames_draw_the_counterweight_on_its_guide():
+    """The drawn machine keeps the counterweight on the guide x = 0 and the axle on the track."""
+    from engine_model.render import frame_state
+    shot = simulate(DESIGNS["paper"])
+    for time in np.linspace(0.0, shot.release_time, 7):
+        state = frame_state(shot, float(time))
+        assert state.counterweight[0] == pytest.approx(0.0, abs=1e-9), time
+        along = state.long_tip - state.short_tip
+        axle = state.short_tip + along * DESIGNS["paper"].machine.arm_short / np.hypot(*along)
+        assert axle == pytest.approx([state.axle_x, 0.0], abs=1e-9), time
