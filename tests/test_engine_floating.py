@@ -264,3 +264,17 @@ def test_frames_draw_the_counterweight_on_its_guide():
         along = state.long_tip - state.short_tip
         axle = state.short_tip + along * DESIGNS["paper"].machine.arm_short / np.hypot(*along)
         assert axle == pytest.approx([state.axle_x, 0.0], abs=1e-9), time
+
+
+def test_the_cross_check_has_a_floating_arm_group_the_engine_runs():
+    """The default suite's floating-arm group: the paper-scale machine, three sampled designs and the
+    large one (a 3 m arm, 200 kg), each one the engine throws with its own checks passing."""
+    from crosscheck.cases import default_suite
+    group = [case for case in default_suite(sample=2) if case.group == "floating-arm"]
+    assert {case.design.machine.kind for case in group} == {"floating-arm"}
+    assert sum(case.name.startswith("sample-") for case in group) >= 3
+    large = [case.design.machine for case in group if case.name == "large-floating-arm"]
+    assert large and large[0].arm_long + large[0].arm_short == pytest.approx(3.0)
+    assert large[0].counterweight_mass == 200.0
+    for case in group:
+        assert simulate(case.design).status.name == "OK", case.name
