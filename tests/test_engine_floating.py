@@ -278,3 +278,14 @@ def test_the_cross_check_has_a_floating_arm_group_the_engine_runs():
     assert large[0].counterweight_mass == 200.0
     for case in group:
         assert simulate(case.design).status.name == "OK", case.name
+
+
+def test_the_text_report_shows_the_support_loads():
+    from engine_model.report import format_shot
+    shot = simulate(DESIGNS["paper"])
+    text = format_shot(shot)
+    loads = shot.diagnostics.support_loads
+    assert f"largest track force  {loads['max_track_force']:.4f}  N up on the axle" in text
+    assert f"largest guide force  {loads['max_guide_force']:.4f}  N across the counterweight" in text
+    assert "track force" not in format_shot(dataclasses.replace(shot, diagnostics=dataclasses.replace(
+        shot.diagnostics, support_loads=None)))
