@@ -36,7 +36,7 @@ from analytic.geometry import RELEASE_RULES
 #: The machine kinds (``Machine.kind``): the counterweight hinged, bolted to the arm, or on a floating arm.
 KINDS = ("hinged", "fixed", "floating-arm")
 #: The kinds both models simulate today (each kind joins when the analytic model and the engine have it).
-BUILT_KINDS = ("hinged", "fixed")
+BUILT_KINDS = ("hinged", "fixed", "floating-arm")
 
 #: Largest ``|release angle|`` for the ``velocity`` rule: the velocity must point forward.
 MAX_VELOCITY_RELEASE_ANGLE = math.radians(90.0)

@@ -42,6 +42,7 @@ import pymunk
 
 from analytic.design import Design, initial_angles, largest_length
 from analytic.geometry import machine_points
+from engine_model import floating
 
 #: Default solver iterations per step. With ``error_bias = 0`` pymunk needs at
 #: least about 20 to stay stable on a machine with a counterweight 140 times
@@ -97,8 +98,11 @@ class Rig:
     frame : the body carrying the pivot and the base: the space's static body
         for a fixed frame, a dynamic body that only translates for a rolling one.
     rail : GrooveJoint holding a rolling frame on the ground (None when fixed).
-    mount : a fixed machine's counterweight centre in the arm body's frame,
-        ``(0, -arm_short)``, m (None when hinged: the counterweight is a body).
+    mount : a fixed or floating-arm machine's counterweight centre in the arm
+        body's frame, ``(0, -arm_short)``, m (None when hinged: the counterweight is a body).
+    supports : a floating arm's (carriage, slider) bodies and (track, guide,
+        slider pivot) joints (``engine_model.floating``); ``pivot`` is then the
+        arm's pivot on the carriage. Empty for the other kinds.
     """
 
     space: pymunk.Space
@@ -113,18 +117,35 @@ class Rig:
     frame: pymunk.Body
     rail: pymunk.GrooveJoint | None = None
     mount: tuple[float, float] | None = None
+    supports: tuple = ()
 
     @property
     def machine_parts(self) -> tuple:
         """Bodies and joints of the arm and counterweight (removed from the space at release)."""
-        return tuple(part for part in (self.pivot, self.hinge, self.arm, self.counterweight) if part is not None)
+        parts = (self.pivot, self.hinge, *self.supports, self.arm, self.counterweight)
+        return tuple(part for part in parts if part is not None)
+
+    @property
+    def guide(self) -> pymunk.GrooveJoint | None:
+        """A floating arm's guide, the groove holding the counterweight on x = 0 (None otherwise)."""
+        return self.supports[3] if self.supports else None
 
 
 def start_positions(design: Design) -> dict[str, tuple[float, float]]:
     """World positions at rest (``analytic.design.initial_angles``), m: see
-    ``analytic.geometry.machine_points``."""
+    ``analytic.geometry.machine_points``, moved by ``axle_start`` along x."""
     points = machine_points(initial_angles(design.machine), design.machine)
-    return {name: (float(p[0]), float(p[1])) for name, p in points.items()}
+    shift = axle_start(design)
+    return {name: (float(p[0]) + shift, float(p[1])) for name, p in points.items()}
+
+
+def axle_start(design: Design) -> float:
+    """The axle's x at rest, m: ``-arm_short sin(theta0)`` for a floating arm (whose origin is where
+    the counterweight's guide meets the axle's track), 0 for the other kinds (the origin is the axle)."""
+    m = design.machine
+    if m.kind != "floating-arm":
+        return 0.0
+    return -m.arm_short * math.sin(initial_angles(m)[0])
 
 
 def fixed_arm_properties(design: Design) -> tuple[float, float, float]:
@@ -147,7 +168,7 @@ def fixed_arm_properties(design: Design) -> tuple[float, float, float]:
 def ballast_mass(design: Design) -> float:
     """Mass the engine puts at the pivot of the arm body, kg (``arm_body_properties``; 0 for a fixed
     machine, whose arm body carries its counterweight)."""
-    if design.machine.kind == "fixed":
+    if design.machine.kind != "hinged":
         return 0.0
     return arm_body_properties(design)[0] - design.machine.arm_mass
 
@@ -265,14 +286,15 @@ def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITE
     else:
         frame, rail = space.static_body, None
 
-    fixed = m.kind == "fixed"
-    arm_mass, arm_cg, arm_moment = fixed_arm_properties(design) if fixed else arm_body_properties(design)
+    fixed = m.kind != "hinged"   # the counterweight is part of the arm's body
+    arm_mass, arm_cg, arm_moment = (floating.arm_properties(design) if m.kind == "floating-arm"
+                                    else fixed_arm_properties(design) if fixed else arm_body_properties(design))
     arm = pymunk.Body(arm_mass, arm_moment)
     # pymunk keeps the centre of gravity fixed when the angle is set: set the
     # centre of gravity, then the angle, then the origin's position.
     arm.center_of_gravity = (0.0, arm_cg)
     arm.angle = theta
-    arm.position = (0.0, 0.0)
+    arm.position = (axle_start(design), 0.0)
 
     point_counterweight = m.counterweight_inertia == 0.0
     counterweight = None
@@ -287,7 +309,12 @@ def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITE
     projectile = pymunk.Body(proj.mass, placeholder_moment(0.4 * proj.mass, radius))  # solid sphere; decoupled
     projectile.position = start["projectile"]
 
-    pivot = pymunk.PivotJoint(frame, arm, (0.0, 0.0), (0.0, 0.0))
+    supports: tuple = ()
+    if m.kind == "floating-arm":
+        pivot, carried, held = floating.supports(design, frame, arm, (axle_start(design), 0.0))
+        supports = carried + held
+    else:
+        pivot = pymunk.PivotJoint(frame, arm, (0.0, 0.0), (0.0, 0.0))
     if fixed:
         hinge = None
     elif point_counterweight:
@@ -305,7 +332,7 @@ def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITE
     groove = pymunk.GrooveJoint(frame, projectile, (-reach, -m.pivot_height),
                                 (reach, -m.pivot_height), (0.0, 0.0))
 
-    joints = [pivot] + ([] if hinge is None else [hinge]) + [sling_joint]
+    joints = [pivot] + ([] if hinge is None else [hinge]) + list(supports[2:]) + [sling_joint]
     joints += ([groove] if on_base else []) + ([rail] if rail else [])
     for joint in joints + [groove]:
         joint.error_bias = 0.0
@@ -313,6 +340,7 @@ def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITE
         joint.collide_bodies = False
     named = [("arm", arm), ("counterweight", counterweight), ("projectile", projectile)]
     named += [("frame", frame)] if rail else []
+    named += list(zip(("carriage", "slider"), supports[:2]))
     named = [(name, body) for name, body in named if body is not None]
     bodies = [body for _, body in named]
     for name, body in named:
@@ -322,4 +350,5 @@ def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITE
                               f"(the design's numbers underflow or overflow them)")
     space.add(*bodies, *joints)
     return Rig(space, arm, counterweight, projectile, pivot, hinge, sling_joint, groove, sling, frame, rail,
-               (0.0, -m.arm_short) if fixed else None)
+               (0.0, -m.arm_short) if fixed else None, supports)
+

@@ -48,7 +48,8 @@ def _simulate(args: argparse.Namespace) -> int:
         return shot
     units = chosen_units(args.units, args.design)
     if args.json:
-        data = {**shot.to_json(), "max_joint_drift": shot.diagnostics.max_joint_drift}
+        data = {**shot.to_json(), "max_joint_drift": shot.diagnostics.max_joint_drift,
+                **(shot.diagnostics.support_loads or {})}
         print(json.dumps(with_units(data, units), indent=2))
     else:
         print(format_shot(shot, units))

@@ -84,6 +84,8 @@ class EngineDiagnostics:
     discarded_steps : steps of stages 1-2 taken within the step budget by
         runs whose results were not kept (``engine_model.budget.run_within_budget``; 0 when the
         first run at the default step finished).
+    support_loads : a floating arm's track and guide loads (``engine_model.floating.support_loads``,
+        keys ``SUPPORT_LOAD_NAMES``: N, N, N and m); None for the other kinds.
     """
 
     dt: float
@@ -102,6 +104,7 @@ class EngineDiagnostics:
     friction_steps: dict[str, np.ndarray] | None = None
     after_release_dt: float = 0.0
     discarded_steps: int = 0
+    support_loads: dict[str, float | None] | None = None
 
 
 def diagnose(design: Design, dt: float, iterations: int, sling: str, machine_steps: int,

@@ -356,7 +356,7 @@ def joint_rates(row: tuple, design: Design) -> tuple[float, float, float]:
     rad/s, the projectile's slide along the base, m/s."""
     m = design.machine
     arm_w = row[kin.ARM + kin.W]
-    if m.kind == "fixed":
+    if m.kind != "hinged":
         hinge = 0.0
     elif m.counterweight_inertia == 0.0:
         theta, short = row[kin.ARM + kin.ANGLE], m.arm_short
@@ -428,7 +428,7 @@ def rates(sync: np.ndarray, qdot: np.ndarray, design: Design) -> np.ndarray:
     frame (rad/s), the counterweight's (for a point counterweight, its link's) on the arm (rad/s) and the
     projectile's along the base (m/s), as magnitudes. ``qdot``: (n, 3) ``kinematics.coordinates``' rates."""
     axle = np.abs(kin.column(sync, kin.ARM, kin.W) - kin.column(sync, kin.FRAME, kin.W))
-    if design.machine.counterweight_inertia == 0.0 and design.machine.kind != "fixed":
+    if design.machine.counterweight_inertia == 0.0 and design.machine.kind == "hinged":
         hinge = np.abs(qdot[:, 1])
     else:
         hinge = np.abs(kin.column(sync, kin.COUNTERWEIGHT, kin.W) - kin.column(sync, kin.ARM, kin.W))

@@ -143,7 +143,7 @@ def coordinates(states: np.ndarray, design: Design, start: np.ndarray) -> tuple[
     tip_rate = point_velocity(states, ARM, tip)
     # The link hangs at theta + phi from the downward vertical; the sling
     # points at theta + psi from the upward vertical.
-    if design.machine.kind != "fixed":
+    if design.machine.kind == "hinged":
         link, link_rate = _direction_angle_and_rate(position(states, COUNTERWEIGHT) - hinge,
                                                     velocity(states, COUNTERWEIGHT) - hinge_rate,
                                                     -0.5 * math.pi)
@@ -151,7 +151,7 @@ def coordinates(states: np.ndarray, design: Design, start: np.ndarray) -> tuple[
                                                   velocity(states, PROJECTILE) - tip_rate,
                                                   0.5 * math.pi)
     sling = _unwrap_from(sling, start[0] + start[2])
-    if design.machine.kind == "fixed":
+    if design.machine.kind != "hinged":
         # No link: phi keeps its value at rest (``docs/derivation.md``, section 11).
         phi, phi_rate = np.full_like(theta, start[1]), np.zeros_like(theta)
     else:
@@ -188,7 +188,11 @@ def joint_drift(states: np.ndarray, design: Design, sling: str, on_base: np.ndar
     sling_drift = np.maximum(stretch, 0.0) if sling == "rope" else np.abs(stretch)
     groove = np.where(on_base, np.abs(column(states, PROJECTILE, Y) - frame_y + m.pivot_height), 0.0)
     drift = {"pivot": pivot, "sling": sling_drift, "groove": groove}
-    if m.kind != "fixed":
+    if m.kind == "floating-arm":   # the axle on the track y = 0, the counterweight on the guide x = 0
+        del drift["pivot"]
+        drift["track"] = np.abs(column(states, ARM, Y))
+        drift["guide"] = np.abs(column(states, COUNTERWEIGHT, X))
+    if m.kind == "hinged":
         drift["hinge"] = _hinge_drift(states, design)
     if design.base.rolling:
         drift["rail"] = np.abs(frame_y)
@@ -352,7 +356,11 @@ def constraint_residuals(raw: np.ndarray, design: Design, sling: str, on_base: n
     height = column(raw, PROJECTILE, Y) - frame_y + m.pivot_height
     groove = np.where(on_base, np.abs(column(raw, PROJECTILE, VY) - frame_vy + height / steps), 0.0)
     residual = {"pivot": pivot, "sling": sling_miss, "groove": groove}
-    if m.kind != "fixed":
+    if m.kind == "floating-arm":
+        del residual["pivot"]
+        residual["track"] = np.abs(column(raw, ARM, VY) + column(raw, ARM, Y) / steps)
+        residual["guide"] = np.abs(column(raw, COUNTERWEIGHT, VX) + column(raw, COUNTERWEIGHT, X) / steps)
+    if m.kind == "hinged":
         residual["hinge"] = _hinge_residual(raw, design, steps)
     if design.base.rolling:
         residual["rail"] = np.abs(frame_vy + frame_y / steps)

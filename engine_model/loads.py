@@ -59,14 +59,11 @@ def load_histories(raw: np.ndarray, tension: np.ndarray, design: Design, dt: flo
     tension : (n,) the sling's tension over each row's step, N (``kinematics.contact_forces``).
     dt : the step, s.
     """
-    m, g = design.machine, design.environment.gravity
-    up = np.array([0.0, g])
-    arm_velocity = kin.point_velocity(raw, kin.ARM, kin.arm_centre(raw, design))
-    hinge = m.counterweight_mass * (accelerations(raw, kin.velocity(raw, kin.COUNTERWEIGHT), dt) + up)
+    up = np.array([0.0, design.environment.gravity])
+    hinge = design.machine.counterweight_mass * (accelerations(raw, kin.velocity(raw, kin.COUNTERWEIGHT), dt) + up)
     felt = accelerations(raw, kin.velocity(raw, kin.PROJECTILE), dt) + up
-    offset = kin.long_tip(raw, design) - kin.position(raw, kin.PROJECTILE)
-    sling = tension[:, None] * offset / np.linalg.norm(offset, axis=1)[:, None]
-    axle = m.arm_mass * (accelerations(raw, arm_velocity, dt) + up) + hinge + sling
+    sling = sling_force(raw, tension, design)
+    axle = support_force(raw, sling, design, dt)
     bending = bending_moment(raw, sling, design, dt)
     return np.column_stack([np.linalg.norm(axle, axis=1), np.linalg.norm(hinge, axis=1), tension,
                             np.linalg.norm(felt, axis=1), np.abs(bending)])
@@ -91,6 +88,26 @@ def bending_moment(raw: np.ndarray, sling: np.ndarray, design: Design, dt: float
 def _cross(r: np.ndarray, f: np.ndarray) -> np.ndarray:
     """The z components of (n, 2) x (n, 2) planar cross products."""
     return r[:, 0] * f[:, 1] - r[:, 1] * f[:, 0]
+
+
+def sling_force(raw: np.ndarray, tension: np.ndarray, design: Design) -> np.ndarray:
+    """(n, 2) the sling's force on the projectile over each raw row's step, N: its ``tension``
+    along the sling, towards the long arm's tip."""
+    offset = kin.long_tip(raw, design) - kin.position(raw, kin.PROJECTILE)
+    return tension[:, None] * offset / np.linalg.norm(offset, axis=1)[:, None]
+
+
+def support_force(raw: np.ndarray, sling: np.ndarray, design: Design, dt: float) -> np.ndarray:
+    """(n, 2) force of the supports on the arm and its counterweight over each raw row's step, N:
+    ``m_A (a_A + g e_y) + m_W (a_W + g e_y) + S`` (the module's notes; ``sling`` from
+    ``sling_force``). For a hinged or fixed machine the axle's force; for a floating arm the
+    guide's push (x) and the track's (y) together, the only supports of the arm and counterweight
+    besides the sling."""
+    m = design.machine
+    up = np.array([0.0, design.environment.gravity])
+    arm_velocity = kin.point_velocity(raw, kin.ARM, kin.arm_centre(raw, design))
+    hinge = m.counterweight_mass * (accelerations(raw, kin.velocity(raw, kin.COUNTERWEIGHT), dt) + up)
+    return m.arm_mass * (accelerations(raw, arm_velocity, dt) + up) + hinge + sling
 
 
 #: Steps after the opening half step whose loads are left out of the peaks: pymunk's solver starts

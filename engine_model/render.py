@@ -86,6 +86,9 @@ CLEARANCE_PX = 8.0
 #: empty sky above the flight first, then lower down.
 SUMMARY_PLACES = ((0.5, 0.8), (0.68, 0.8), (0.82, 0.8), (0.5, 0.62), (0.82, 0.62), (0.5, 0.45), (0.82, 0.45),
                   (0.5, 0.3), (0.3, 0.3), (0.82, 0.3))
+#: A floating arm's track reaches this many times ``arm_short`` each side of the guide, and the guide
+#: as high above the track: past the axle's and the counterweight's travel (``arm_short`` each way).
+SUPPORT_REACH = 1.4
 #: A rolling frame's wheels, drawn with this radius as a fraction of the pivot
 #: height (for the picture only: the model's frame has no wheel size).
 WHEEL_RADIUS_FRACTION = 0.12
@@ -106,6 +109,8 @@ class FrameState:
     trace : (k, 2) projectile path so far.
     frame_x : the frame's displacement, m (0 for a fixed frame); the part
         positions already include it.
+    axle_x : a floating arm's axle on its track, m from the origin (0 for the other kinds); the
+        part positions already include it.
     """
 
     time: float
@@ -117,6 +122,7 @@ class FrameState:
     sling_attached: bool
     trace: np.ndarray
     frame_x: float = 0.0
+    axle_x: float = 0.0
 
 
 def end_time(shot: Shot) -> float:
@@ -167,7 +173,10 @@ def frame_state(shot: Shot, time: float) -> FrameState:
         frame_x = float(np.interp(time, history.machine_t, history.machine_frame_x))
     if not shot.design.base.rolling:
         frame_x = 0.0
-    points = {name: point + np.array([frame_x, 0.0])
+    axle_x = 0.0
+    if shot.design.machine.kind == "floating-arm":   # the axle on its track, where the guide holds the weight
+        axle_x = -shot.design.machine.arm_short * math.sin(float(q[0]))
+    points = {name: point + np.array([frame_x + axle_x, 0.0])
               for name, point in machine_points(q, shot.design.machine).items()}
     on_machine = history.t <= swing_time
     trace = [history.path[on_machine]]
@@ -186,7 +195,7 @@ def frame_state(shot: Shot, time: float) -> FrameState:
         label = f"{label} - {shot.status.value}"
     trace.append(projectile[None, :])
     return FrameState(time, label, points["long_tip"], points["short_tip"], points["counterweight"],
-                      projectile, not in_flight, np.vstack(trace), frame_x)
+                      projectile, not in_flight, np.vstack(trace), frame_x, axle_x)
 
 
 def _fit(x_min: float, x_max: float, y_min: float, y_max: float, aspect: float) -> tuple[float, ...]:
@@ -335,13 +344,15 @@ class _Machine:
                 self.wheels.append((rim, spokes, centre, axle, wheel))
             # The mark on the ground under the pivot at rest, which ranges are measured from.
             ax.plot([0.0], [-h], marker="^", color="#5a4a3a", markersize=7, zorder=1)
+        elif m.kind == "floating-arm":
+            _supports(ax, m)
         else:
             ax.plot([-foot, 0.0, foot], [-h, 0.0, -h], color="#7a6a5a", linewidth=2.5, solid_joinstyle="miter")
         self.trace, = ax.plot([], [], color="#f0a030", linewidth=1.0, linestyle=(0, (2, 2)))
         self.sling, = ax.plot([], [], color="#404040", linewidth=1.0)
         self.link, = ax.plot([], [], color="#404040", linewidth=1.5)
         self.arm, = ax.plot([], [], color="#8b5a2b", linewidth=4.0, solid_capstyle="round")
-        self.bolted = m.kind == "fixed"
+        self.bolted = m.kind != "hinged"   # fixed and floating arm: the counterweight bolted to the arm
         if self.bolted:
             depth = max((m.counterweight_mass / (BOX_ASPECT**2 * COUNTERWEIGHT_DRAW_DENSITY)) ** (1.0 / 3.0),
                         BOX_MIN_DEPTH * m.arm_short)
@@ -360,7 +371,7 @@ class _Machine:
         self.pivot, = ax.plot([0.0], [0.0], marker="o", color="black", markersize=4, zorder=4)
         self.projectile, = ax.plot([], [], marker="o", linestyle="none", color=PROJECTILE_COLOUR,
                                    markersize=marker_px * 72.0 / FRAME_DPI, zorder=5)
-        self.ax, self.h = ax, h
+        self.ax, self.h, self.floating = ax, h, m.kind == "floating-arm"
         #: What moves from frame to frame (``_Drawing`` redraws only these over a still background;
         #: the base follows the view, with which the background is drawn again).
         self.moving = [self.trace, self.sling, self.link, self.arm, self.counterweight, self.pivot,
@@ -382,6 +393,8 @@ class _Machine:
                 # Rolling forward (x growing) turns a wheel clockwise by x / radius.
                 turn = Affine2D().rotate_around(centre, axle, -x / radius).translate(x, 0.0)
                 spokes.set_transform(turn + self.ax.transData)
+        if self.floating:
+            self.pivot.set_data([state.axle_x], [0.0])
         self.arm.set_data([state.short_tip[0], state.long_tip[0]], [state.short_tip[1], state.long_tip[1]])
         if self.bolted:
             self._draw_box(state)
@@ -407,6 +420,17 @@ class _Machine:
         self.counterweight.set_xy(state.counterweight + self.box_shape @ turn.T)
         bolts = state.counterweight + self.bolt_shape @ turn.T
         self.bolts.set_data(bolts[:, 0], bolts[:, 1])
+
+
+def _supports(ax, machine) -> None:
+    """A floating arm's track (a horizontal rail at the axle's height, on two posts to the base) and
+    guide (a vertical rail along x = 0 from the base up past the counterweight's highest point)."""
+    h, reach = machine.pivot_height, SUPPORT_REACH * machine.arm_short
+    rail = dict(color="#7a6a5a", linewidth=2.5, solid_capstyle="butt", zorder=1)
+    ax.plot([-reach, reach], [0.0, 0.0], **rail)
+    ax.plot([-reach, -reach, np.nan, reach, reach], [0.0, -h, np.nan, 0.0, -h], color="#7a6a5a", linewidth=1.5,
+            zorder=1)
+    ax.plot([0.0, 0.0], [-h, reach], **rail)
 
 
 class _Drawing:

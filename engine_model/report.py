@@ -32,6 +32,15 @@ _FRAME_FIELDS = (
 )
 
 
+#: (key of ``EngineDiagnostics.support_loads``, label, unit, format): a floating arm's supports.
+_SUPPORT_FIELDS = (
+    ("min_track_force", "least track force", "N up on the axle", "{:.4f}"),
+    ("max_track_force", "largest track force", "N up on the axle", "{:.4f}"),
+    ("max_guide_force", "largest guide force", "N across the counterweight", "{:.4f}"),
+    ("axle_displacement_at_release", "axle at release", "m from the guide", "{:+.5f}"),
+)
+
+
 def _shown(value, unit: str, system: str):
     """``value`` (a number or a pair, in the SI unit that ``unit`` starts with) and ``unit`` as shown in ``system``."""
     si, _, rest = unit.partition(" ")
@@ -60,6 +69,10 @@ def format_shot(shot: Shot, units: str = "metric") -> str:
     if shot.design.base.rolling:
         rows += [row(label, getattr(shot, name), unit, fmt)
                  for name, label, unit, fmt in _FRAME_FIELDS if getattr(shot, name) is not None]
+    supports = shot.diagnostics.support_loads if shot.diagnostics is not None else None
+    if supports:
+        rows += [row(label, supports[key], unit, fmt) for key, label, unit, fmt in _SUPPORT_FIELDS
+                 if supports[key] is not None]
     if shot.energy_dissipated is not None:
         losses = shot.design.losses   # a loss the design does not have: no row of zeros
         rows += [row(f"{name} {'friction' if name != 'drag' else 'in flight'}", shot.energy_dissipated[name],

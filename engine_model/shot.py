@@ -22,13 +22,14 @@ import numpy as np
 from analytic import outcome
 from analytic.design import Design, initial_angles
 from analytic.result import PEAK_NAMES, EnergyBudget, History, Shot, Stage, Status
+from engine_model import floating
 from engine_model import friction as fr
 from engine_model import kinematics as kin
 from engine_model import loads as engine_loads
 from engine_model import stepping
 from engine_model.after_release import after_release_steps, run_after_release
 from engine_model.budget import after_release_step, flight_step_base, run_within_budget
-from engine_model.build import DEFAULT_ITERATIONS
+from engine_model.build import DEFAULT_ITERATIONS, EngineError
 from engine_model.diagnostics import diagnose, diagnose_after_release
 from engine_model.events import interpolate
 from engine_model.flight import FLIGHT_STEP_LIMIT, FLIGHT_STEP_MULTIPLE, fly
@@ -75,7 +76,8 @@ def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAU
         rolling frame far lighter than the counterweight), an energy jump
         (``ENERGY_LIMIT``) or joints apart (``DRIFT_LIMIT``), in stages 1-2 or
         in a rolling machine's run after release; use a smaller ``dt`` or more
-        ``iterations``.
+        ``iterations``. A floating-arm design: the engine builds it
+        (``engine_model.build``) but does not yet read a shot of it.
     """
     budget = dt is None
     discarded = 0
@@ -95,6 +97,8 @@ def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAU
     times = dt * np.arange(len(raw))
     tension = np.array(run.tension)
     loads = engine_loads.load_histories(raw, tension, design, dt)
+    supports = engine_loads.support_force(raw, engine_loads.sling_force(raw, tension, design), design, dt)
+    axle_x = None
     dissipated = _friction_work(run, sync, design)
 
     fields: dict = {"liftoff_time": run.liftoff_time}
@@ -110,6 +114,8 @@ def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAU
         dissipated = np.vstack([dissipated[:-1], interpolate(dissipated[-3:], s)])
         tension = np.append(tension[:-1], release_tension)
         loads = np.vstack([loads[:-1], interpolate(loads[-3:], s)])
+        supports = np.vstack([supports[:-1], interpolate(supports[-3:], s)])
+        axle_x = float(release_state[kin.ARM + kin.X])
         times = np.append(times[:-1], release_time)
         position = kin.position(release_state[None, :], kin.PROJECTILE)[0]
         velocity = kin.velocity(release_state[None, :], kin.PROJECTILE)[0]
@@ -174,6 +180,9 @@ def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAU
     diagnostics = dataclasses.replace(diagnostics, friction_steps=_friction_steps(run, dt),
                                       after_release_dt=float(after_dt) if after_steps else 0.0,
                                       discarded_steps=discarded if budget else 0)
+    if design.machine.kind == "floating-arm":
+        diagnostics = dataclasses.replace(diagnostics,
+                                          support_loads=floating.support_loads(supports, times, axle_x))
     return dataclasses.replace(shot, diagnostics=diagnostics)
 
 
