@@ -36,7 +36,7 @@ from analytic.geometry import RELEASE_RULES
 #: The machine kinds (``Machine.kind``): the counterweight hinged, bolted to the arm, or on a floating arm.
 KINDS = ("hinged", "fixed", "floating-arm")
 #: The kinds both models simulate today (each kind joins when the analytic model and the engine have it).
-BUILT_KINDS = ("hinged", "fixed")
+BUILT_KINDS = ("hinged", "fixed", "floating-arm")
 
 #: Largest ``|release angle|`` for the ``velocity`` rule: the velocity must point forward.
 MAX_VELOCITY_RELEASE_ANGLE = math.radians(90.0)
@@ -378,6 +378,21 @@ class Design:
                     raise DesignError(f"losses.{name}", value,
                                       f"a {self.machine.kind} machine has no hinge: its counterweight is rigid "
                                       f"on the arm; leave losses.{name} out (or 0)")
+        if isinstance(self.machine, Machine) and self.machine.kind == "floating-arm":
+            self._check_floating()
+
+    def _check_floating(self) -> None:
+        """Refuse what the floating-arm machine does not model: a rolling frame (its axle already rides a
+        track) and friction (not derived for its track and guide)."""
+        if self.base.rolling:
+            raise DesignError("base.mobility", self.base.mobility,
+                              "a floating-arm machine's axle already rides its track: its frame cannot roll; "
+                              'use mobility = "fixed"')
+        for name in ("axle_friction", "axle_static_friction", "base_friction", "base_static_friction"):
+            value = getattr(self.losses, name)
+            if value is not None and value > 0.0:
+                raise DesignError(f"losses.{name}", value,
+                                  "friction is not modelled on a floating-arm machine; leave it out (or 0)")
 
 
 # --------------------------------------------------------------------------- #
