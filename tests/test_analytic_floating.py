@@ -1,0 +1,184 @@
+"""The floating-arm machine as both paths simulate it (``docs/derivation.md`` section 12).
+
+``analytic.eom`` builds it as the fixed machine with phi held, its (theta, psi) equations
+``analytic.floating_arm.terms``'s and its axle's motion ``x_A = -Lb sin(theta)`` carried as a
+frame's (``eom.frame_displacement`` and its rates). Every check of the equations compares them
+with ``tests/sympy_model.py``'s ``machine("floating-arm")`` at random designs and states, stages
+1 and 2; the whole shots with each other (the two paths) and with the conservation of energy.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from analytic import eom, stages
+from analytic.design import Base, DesignError, Losses
+from analytic.design_file import load_design
+from analytic.parameters import params
+
+from support import TABLE3_FLOATING_FILE, floating_designs, floating_failure_designs, with_environment
+
+#: Agreement with the sympy reference at one state, relative to the largest entry compared: closed
+#: forms in a few dozen double operations (round-off ~1e-14), room for the solves (as
+#: tests/test_analytic_fixed.py's REL_TOL); a wrong term is O(1).
+REL_TOL = 1e-10
+SEED = 28_013
+
+
+def _samples(n: int, seed: int):
+    """(p, q, q') of random floating-arm machines: the sample file's with a random arm, projectile,
+    counterweight and gravity."""
+    rng = np.random.default_rng(seed)
+    base = params(load_design(TABLE3_FLOATING_FILE))
+    out = []
+    for _ in range(n):
+        p = base._replace(mA=rng.uniform(0.1, 3.0), d=rng.uniform(-0.2, 0.6), mP=rng.uniform(0.02, 2.0),
+                          IW=rng.uniform(0.0, 0.1), IA=rng.uniform(0.0, 0.1), mW=rng.uniform(1.0, 50.0),
+                          g=rng.uniform(1.0, 25.0), Lb=rng.uniform(0.1, 0.5))
+        q, qd = rng.uniform(-math.pi, math.pi, 3), rng.normal(0.0, 6.0, 3)
+        out.append((p, (q[0], 0.0, q[2]), (qd[0], 0.0, qd[2])))
+    return out
+
+
+SWING = _samples(8, SEED)
+#: Stage 1: theta within the sling's reach (psi from the base constraint).
+SLIDE = [(p, math.acos(-p.h / p.La) - u, qd[0])
+         for (p, _, qd), u in zip(_samples(8, SEED + 1), np.random.default_rng(SEED + 2).uniform(0.05, 0.6, 8))]
+
+
+@pytest.fixture(scope="module")
+def lagrangian():
+    from sympy_model import machine
+
+    return machine("floating-arm")
+
+
+def _close(got, expected, what, scale=None):
+    got, expected = np.asarray(got, dtype=float), np.asarray(expected, dtype=float)
+    scale = float(np.max(np.abs(expected))) if scale is None else scale
+    error = float(np.max(np.abs(got - expected)))
+    assert error <= REL_TOL * scale, f"{what}: analytic {got} vs sympy {expected} (error {error:.3g})"
+
+
+def _check_forces(lagrangian, p, q, qd, qdd, normal):
+    """eom's joint forces against Newton's law on sympy's motion: the axle's is the track's vertical
+    push (no horizontal: the track is smooth), the mount's the counterweight's force less the guide's."""
+    acc = (*qdd, 0.0)
+    total, weight, sling = lagrangian.joint_forces(p, (*q, 0.0), (*qd, 0.0), acc, 0.0, normal)
+    guide = total[0]   # the whole machine's horizontal force: only the guide pushes sideways
+    got = eom.joint_forces(*q, *qd, *qdd, normal, p)
+    scale = max(float(np.max(np.abs(np.concatenate([total, weight, sling])))), (p.mA + p.mW + p.mP) * p.g)
+    _close(got[0:2], [0.0, total[1]], "track force on the axle", scale)
+    _close(got[2:4], [weight[0] - guide, weight[1]], "mount force on the counterweight", scale)
+    _close(got[4:6], sling, "sling force on the projectile", scale)
+
+
+@pytest.mark.parametrize("i", range(len(SWING)))
+def test_the_swing_is_the_lagrangians(lagrangian, i):
+    p, q, qd = SWING[i]
+    m11, m12, m13, m22, m33, f1, f2, f3 = eom.terms(*q, *qd, p)
+    m, f = lagrangian.mass(p, q, qd), lagrangian.forcing(p, q, qd)
+    _close([m11, m13, m33], [m[0, 0], m[0, 2], m[2, 2]], "M over (theta, psi)")
+    _close([f1, f3], [f[0], f[2]], "f over (theta, psi)")
+    assert (m12, m22, f2) == (0.0, 1.0, 0.0)
+    qdd = eom.swing_accelerations(*q, *qd, p)
+    acc = lagrangian.accelerations(p, q, qd)
+    _close(qdd, acc[:3], "theta'', phi'', psi''")
+    _check_forces(lagrangian, p, q, qd, qdd, 0.0)
+
+
+@pytest.mark.parametrize("i", range(len(SLIDE)))
+def test_the_slide_and_the_base_push_are_the_lagrangians(lagrangian, i):
+    p, theta, dtheta = SLIDE[i]
+    ddtheta, ddphi, normal = eom.slide_accelerations(theta, 0.0, dtheta, 0.0, p)
+    psi, dpsi, s, c, _ = eom.slide_constraint(theta, dtheta, p)
+    q, qd, qdd = (theta, 0.0, psi), (dtheta, 0.0, dpsi), (ddtheta, ddphi, s * ddtheta + c)
+    acc, normal_ref = lagrangian.on_base(p, q, qd)
+    _close(qdd, acc[:3], "theta'', phi'', psi''")
+    _close(normal, normal_ref, "base push", (p.mA + p.mW + p.mP) * p.g + abs(normal_ref))
+    _check_forces(lagrangian, p, q, qd, qdd, normal)
+
+
+@pytest.mark.parametrize("i", range(len(SWING)))
+def test_energies_and_the_projectile_on_the_ground_are_the_lagrangians(lagrangian, i):
+    """Kinetic and potential energy, and the flight's start: position and velocity from the origin
+    where the guide meets the track, the axle's motion included."""
+    p, q, qd = SWING[i]
+    energies = lagrangian.energies(p, (*q, 0.0), (*qd, 0.0))
+    scale = float(np.max(np.abs(energies)))
+    _close(eom.kinetic_energy(*q, *qd, p), energies[:2], "T", scale)
+    _close(eom.potential_energy(*q, p), energies[2:], "V", scale)
+    position, velocity = lagrangian.projectile(p, (*q, 0.0), (*qd, 0.0))
+    x, y, vx, vy = stages.flight_start(np.array([*q, *qd]), p)
+    _close([x, y], position, "projectile position", p.La + p.Lb + p.Ls)
+    _close([vx, vy], velocity, "projectile velocity", (p.La + p.Lb + p.Ls) * float(np.max(np.abs(qd))))
+
+
+def test_the_axle_starts_behind_the_guide_and_moves_with_the_arm():
+    p = params(load_design(TABLE3_FLOATING_FILE))
+    assert eom.frame_displacement(p.theta0, 0.0, 0.0, p) == -p.Lb * math.sin(p.theta0) < 0.0
+    assert eom.frame_velocity(p.theta0, 0.0, 0.0, 2.0, 0.0, 0.0, p) == -p.Lb * math.cos(p.theta0) * 2.0
+
+
+# --------------------------------------------------------------------------- #
+# Whole shots
+# --------------------------------------------------------------------------- #
+
+#: The ideal machine's energy is conserved through stages 1-2 to the integrator's error, relative to
+#: the counterweight's released energy (as tests/test_analytic_fixed.py's ENERGY_DRIFT).
+ENERGY_DRIFT = 1e-8
+
+
+@pytest.mark.parametrize("name", ["floating", "floating-large", "floating-sample-1"])
+def test_an_ideal_floating_shot_conserves_energy(name):
+    from analytic.reference import simulate
+
+    design = with_environment(floating_designs()[name], air_density=0.0)
+    shot = simulate(design)
+    assert shot.ok
+    assert np.max(np.abs(shot.history.energy.total)) <= ENERGY_DRIFT * shot.counterweight_energy_released
+    assert np.all(shot.history.qdot[:, 1] == 0.0)
+
+
+@pytest.mark.parametrize("name", floating_designs())
+def test_the_two_paths_agree_on_floating_designs(name):
+    """The hinged designs' targets (tests/test_analytic_fast.py's ``_assert_agree``)."""
+    from test_analytic_fast import _assert_agree
+
+    _assert_agree(floating_designs()[name])
+
+
+@pytest.mark.parametrize("status", floating_failure_designs(), ids=lambda s: s.value)
+def test_every_failure_status_on_a_floating_arm(status):
+    from test_analytic_fast import _assert_agree
+
+    _, got = _assert_agree(floating_failure_designs()[status])
+    assert got.status is status
+
+
+def test_the_release_is_measured_from_the_guide():
+    """The release position is the projectile's from the origin: the pivot-relative one plus x_A."""
+    from analytic.reference import simulate
+
+    shot = simulate(load_design(TABLE3_FLOATING_FILE))
+    p = params(shot.design)
+    theta, psi = shot.history.q[-1, 0], shot.history.q[-1, 2]
+    assert shot.frame_release_displacement == pytest.approx(-p.Lb * math.sin(theta), abs=1e-12)
+    x = -(p.La + p.Lb) * math.sin(theta) - p.Ls * math.sin(theta + psi)
+    assert shot.release_position[0] == pytest.approx(x, abs=1e-12)
+
+
+@pytest.mark.parametrize("change, field", [
+    (dict(base=Base("rolling", 5.0)), "base.mobility"),
+    (dict(losses=Losses(axle_friction=0.1, axle_radius=0.01)), "losses.axle_friction"),
+    (dict(losses=Losses(base_friction=0.3)), "losses.base_friction"),
+])
+def test_a_rolling_or_lossy_floating_arm_is_refused_naming_the_field(change, field):
+    import dataclasses
+
+    with pytest.raises(DesignError) as error:
+        dataclasses.replace(load_design(TABLE3_FLOATING_FILE), **change)
+    assert error.value.field == field
