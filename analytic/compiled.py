@@ -297,6 +297,7 @@ callable_twins = compile_modules(MODEL_MODULES, lambda f, inline: numba.njit(**C
 geometry_ = callable_twins["geometry"]   # trailing underscore: not the Python module of that name
 limits_ = callable_twins["limits"]
 aero_ = callable_twins["aero"]
+floating_arm_ = callable_twins["floating_arm"]
 eom_ = callable_twins["eom"]
 friction_ = callable_twins["friction"]
 stages_ = callable_twins["stages"]

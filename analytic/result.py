@@ -29,6 +29,8 @@ JSON_KEYS = (
     *(f"{name}{suffix}" for name in PEAK_NAMES for suffix in ("", "_time")),
     "energy_dissipated", "warnings",
 )
+#: Keys a floating-arm machine's ``--json`` object has besides ``JSON_KEYS`` (absent for other kinds).
+FLOATING_JSON_KEYS = ("min_track_force", "max_track_force", "max_guide_force", "axle_displacement_at_release")
 
 
 @dataclass(frozen=True)
@@ -146,6 +148,12 @@ class Shot:
     min_ground_force : smallest vertical push of the ground on the frame through stages
         1-2, N (``analytic.eom.ground_force``; None for a summary). Negative: a
         frame not bolted down would jump.
+    min_track_force, max_track_force : a floating arm's track's smallest and largest vertical
+        force on the axle through stages 1-2, N (negative: the captured axle is pulled down);
+        sampled at the history's points (``analytic.floating_arm.support_forces``); None for
+        other kinds and for a summary.
+    max_guide_force : a floating arm's guide's largest horizontal force on the counterweight
+        (magnitude) through stages 1-2, N, sampled as the track's; None likewise.
     warnings : what the user should know about this result, in words, () if nothing:
         one line per implausible input (``analytic.plausibility``, added on
         construction for every model) after any the model itself gave (for
@@ -187,6 +195,9 @@ class Shot:
     peak_sling_tension_time: float | None = None
     peak_projectile_acceleration: float | None = None
     peak_projectile_acceleration_time: float | None = None
+    min_track_force: float | None = None
+    max_track_force: float | None = None
+    max_guide_force: float | None = None
     warnings: tuple[str, ...] = ()
     diagnostics: Any = None
 
@@ -195,6 +206,12 @@ class Shot:
         # (dataclasses.replace) passes them all back in, so keep each once.
         lines = tuple(self.warnings) + tuple(plausibility_warnings(self.design, self))
         object.__setattr__(self, "warnings", tuple(dict.fromkeys(lines)))
+
+    @property
+    def axle_displacement_at_release(self) -> float | None:
+        """A floating arm's axle's x at release, m from the guide (``x_A = -Lb sin theta``, carried as
+        ``frame_release_displacement``); None for other kinds or if not released."""
+        return self.frame_release_displacement if self.design.machine.kind == "floating-arm" else None
 
     @property
     def ok(self) -> bool:
@@ -325,6 +342,8 @@ class Shot:
             "energy_dissipated": (None if self.energy_dissipated is None
                                   else {name: float(self.energy_dissipated[name]) for name in LOSS_NAMES}),
             "warnings": list(self.warnings),
+            **({name: number(getattr(self, name)) for name in FLOATING_JSON_KEYS}
+               if self.design.machine.kind == "floating-arm" else {}),
         }
 
 

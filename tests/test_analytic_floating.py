@@ -182,3 +182,62 @@ def test_a_rolling_or_lossy_floating_arm_is_refused_naming_the_field(change, fie
     with pytest.raises(DesignError) as error:
         dataclasses.replace(load_design(TABLE3_FLOATING_FILE), **change)
     assert error.value.field == field
+
+
+# --------------------------------------------------------------------------- #
+# The supports' loads
+# --------------------------------------------------------------------------- #
+
+#: The supports' forces against the whole machine's momentum differentiated numerically over the
+#: history's stage-2 rows (second-order differences at the 0.5 ms output step, one-sided at the
+#: ends: error ~ dt^2 |P'''| / 3, well under 1e-3 of the forces here), relative to the largest force.
+MOMENTUM_TOL = 1e-3
+
+
+def _momentum(q, qd, p):
+    """The whole machine's momentum (x, y), kg m/s, from the positions of derivation (12.1)."""
+    theta, beta = q[:, 0], q[:, 0] + q[:, 2]
+    dtheta, dbeta = qd[:, 0], qd[:, 0] + qd[:, 2]
+    c, s = np.cos(theta), np.sin(theta)
+    px = (-p.mA * (p.Lb + p.d) * c * dtheta
+          - p.mP * ((p.La + p.Lb) * c * dtheta + p.Ls * np.cos(beta) * dbeta))
+    py = (-p.mA * p.d * s * dtheta + p.mW * p.Lb * s * dtheta
+          - p.mP * (p.La * s * dtheta + p.Ls * np.sin(beta) * dbeta))
+    return px, py
+
+
+@pytest.mark.parametrize("name", ["floating", "floating-large"])
+def test_the_track_and_guide_loads_are_the_momentums_rate(name):
+    from analytic.reference import simulate
+
+    shot = simulate(floating_designs()[name])
+    p = params(shot.design)
+    h = shot.history
+    swing = h.stage == 2
+    px, py = _momentum(h.q[swing], h.qdot[swing], p)
+    t = h.t[swing]
+    guide = np.gradient(px, t, edge_order=2)
+    track = np.gradient(py, t, edge_order=2) + (p.mA + p.mW + p.mP) * p.g
+    scale = max(np.abs(track).max(), np.abs(guide).max())
+    assert abs(shot.max_guide_force - np.abs(guide).max()) <= MOMENTUM_TOL * scale
+    assert abs(shot.max_track_force - track.max()) <= MOMENTUM_TOL * scale
+    assert shot.min_track_force <= track.min() + MOMENTUM_TOL * scale
+    # The track is the axle's only support: its largest push is the peak axle load (located between samples).
+    assert shot.max_track_force <= shot.peak_axle_load * (1.0 + 1e-12)
+
+
+def test_simulate_json_has_the_floating_keys_and_other_kinds_do_not(capsys):
+    import json
+
+    from analytic.cli import EXIT_OK, main
+    from analytic.result import FLOATING_JSON_KEYS
+
+    assert main(["simulate", "--json", str(TABLE3_FLOATING_FILE)]) == EXIT_OK
+    out = json.loads(capsys.readouterr().out)
+    p = params(load_design(TABLE3_FLOATING_FILE))
+    assert all(isinstance(out[key], float) and math.isfinite(out[key]) for key in FLOATING_JSON_KEYS)
+    assert out["min_track_force"] < out["max_track_force"] and out["max_guide_force"] > 0.0
+    assert -p.Lb < out["axle_displacement_at_release"] < p.Lb
+    for other in ([], ["analytic/data/paper_table3_fixed.toml"]):
+        assert main(["simulate", "--json", *other]) == EXIT_OK
+        assert not set(FLOATING_JSON_KEYS) & set(json.loads(capsys.readouterr().out))
