@@ -456,7 +456,8 @@ def _finish_shot(design: Design, p: Params, history, segments, status: Status, m
         released = v_machine0 - eom.potential_energy(*state_rows[-1][:3], p)[0]
         fields["projectile_energy_at_release"] = float(budget[-1, 1])
     history = History(t=t, stage=stage, q=states[:, :3], qdot=states[:, 3:], path=path,
-                      sling_tension=tension, energy=energy, frame_x=frame_x if p.rolling else np.empty(0),
+                      sling_tension=tension, energy=energy,
+                      frame_x=frame_x if p.rolling or p.kind == eom.FLOATING else np.empty(0),
                       flight_t=fields.pop("flight_t", np.empty(0)),
                       flight_path=fields.pop("flight_path", np.empty((0, 2))),
                       **({} if loads is None else

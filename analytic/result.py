@@ -73,7 +73,8 @@ class History:
     path : (n, 2) projectile centre, m.
     sling_tension : (n,) N.
     energy : ``EnergyBudget`` on ``t``.
-    frame_x : (n,) the frame's X on ``t``, m; (0,) for a fixed frame in the analytic model.
+    frame_x : (n,) the frame's X on ``t``, m (a floating arm's: its axle's x_A); (0,) for a fixed frame in the
+        analytic model.
     flight_t : (k,) flight sample times, s from firing; (0,) if the projectile never flew.
     flight_path : (k, 2) projectile centre in flight, m.
     axle_load, hinge_load, projectile_acceleration : (n,) the loads on ``t`` (N, N, m/s^2), or
@@ -131,7 +132,9 @@ class Shot:
     projectile_energy_at_release : J, the projectile's kinetic and potential energy at
         release over its energy at rest (None where not computed: the fast path's summary).
     frame_release_displacement, frame_release_velocity : the frame's X (m) and X' (m/s)
-        at release: 0 for a fixed frame, None if not released.
+        at release: 0 for a fixed frame, None if not released. A floating arm's frame stands
+        still; these hold its axle's x_A (from the guide) and x_A', as ``max_frame_speed`` its
+        axle's largest speed along the track.
     frame_landing_displacement, frame_landing_velocity : the same at the projectile's landing
         time (the machine swings on after release, its joints' friction with it): 0 for a
         fixed frame, None if not landed or not computed (the fast path; the reference path's

@@ -158,17 +158,16 @@ def fixed_designs() -> dict[str, Design]:
 TABLE3_FLOATING_FILE = DATA / "paper_table3_floating.toml"
 
 
-def floating(design: Design, name: str | None = None) -> Design:
+def floating(design: Design) -> Design:
     """``design`` as a floating-arm machine (its counterweight rigid on the short end, no link)."""
-    design = with_machine(design, kind="floating-arm", counterweight_link=0.0)
-    return design if name is None else dataclasses.replace(design, name=name)
+    return with_machine(design, kind="floating-arm", counterweight_link=0.0)
 
 
 def floating_designs() -> dict[str, Design]:
     """Ideal floating-arm machines: the sample file (the paper's Table III machine), released by the
     sling rule, the first four ``table_ii_sample(4, seed=28)`` designs (the pine arm and the light
-    one; the first never fires, the others throw), the large machine (``crosscheck.cases.large_design``: a 3 m arm, 200 kg counterweight) and
-    ``floating_failure_designs``."""
+    one; the first never fires, the others throw), the large machine (``crosscheck.cases.large_design``:
+    a 3 m arm, 200 kg counterweight) and ``floating_failure_designs``."""
     from crosscheck.cases import large_design
 
     table3 = load_design(TABLE3_FLOATING_FILE)
