@@ -350,6 +350,12 @@ class Shot:
         }
 
 
+def origin_label(design: Design) -> str:
+    """Where a shot's positions are measured from: the pivot, or a floating arm's guide (where it meets
+    the track)."""
+    return "guide" if design.machine.kind == "floating-arm" else "pivot"
+
+
 def hinge_load_label(design: Design) -> str:
     """What a table calls ``peak_hinge_load``: a fixed machine has no hinge, and the force is its
     counterweight's mount's."""

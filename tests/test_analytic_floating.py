@@ -241,3 +241,15 @@ def test_simulate_json_has_the_floating_keys_and_other_kinds_do_not(capsys):
     for other in ([], ["analytic/data/paper_table3_fixed.toml"]):
         assert main(["simulate", "--json", *other]) == EXIT_OK
         assert not set(FLOATING_JSON_KEYS) & set(json.loads(capsys.readouterr().out))
+
+
+def test_the_table_measures_from_the_guide_and_lists_the_supports(capsys):
+    from analytic.cli import EXIT_OK, main
+
+    assert main(["simulate", str(TABLE3_FLOATING_FILE)]) == EXIT_OK
+    table = capsys.readouterr().out
+    assert "m from guide" in table and "range (from guide)" in table and "pivot" not in table
+    assert "track force, max" in table and "max guide force" in table and "axle at release" in table
+    assert main(["simulate"]) == EXIT_OK
+    hinged = capsys.readouterr().out
+    assert "range (from pivot)" in hinged and "track" not in hinged and "guide" not in hinged
