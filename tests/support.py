@@ -165,7 +165,7 @@ def floating(design: Design) -> Design:
 
 def floating_designs() -> dict[str, Design]:
     """Ideal floating-arm machines: the sample file (the paper's Table III machine), released by the
-    sling rule, the first four ``table_ii_sample(4, seed=28)`` designs (the pine arm and the light
+    sling rule, with the axle's friction, the first four ``table_ii_sample(4, seed=28)`` designs (the pine arm and the light
     one; the first never fires, the others throw), the large machine (``crosscheck.cases.large_design``:
     a 3 m arm, 200 kg counterweight) and ``floating_failure_designs``."""
     from crosscheck.cases import large_design
@@ -175,6 +175,8 @@ def floating_designs() -> dict[str, Design]:
                "floating-sling-rule": with_machine(table3, release_rule="sling", release_angle=math.radians(-40.0))}
     designs.update({f"floating-sample-{i}": floating(d) for i, d in enumerate(table_ii_sample(4, seed=28))})
     designs["floating-large"] = large_design("floating-arm")
+    designs["floating-axle-friction"] = dataclasses.replace(
+        table3, losses=Losses(axle_friction=0.15, axle_radius=0.01, axle_static_friction=0.2))
     designs.update({f"floating-{status.value}": d for status, d in floating_failure_designs().items()})
     return designs
 
