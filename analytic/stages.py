@@ -587,13 +587,13 @@ def machine_frame(y, m, momentum, start_time, start_y, start_x, time):
 def floating_supports(stage, y, p):
     """A floating arm's ``(track_y, guide_x)``, N (``analytic.floating_arm.support_forces``), at the
     stage-1 state ``[theta, phi, theta', phi']`` or the stage-2 state ``[theta, phi, psi, theta', phi', psi']``
-    of an ideal machine (the kind has no friction)."""
-    if stage == SLIDE:
-        ddtheta, _, normal = slide_accelerations(y[0], y[1], y[2], y[3], p)
-        psi, dpsi, s, c, _ = slide_constraint(y[0], y[2], p)
-        return support_forces(y[0], psi, y[2], dpsi, ddtheta, s * ddtheta + c, normal, p)
-    ddtheta, _, ddpsi = swing_accelerations(y[0], y[1], y[2], y[3], y[4], y[5], p)
-    return support_forces(y[0], y[2], y[3], y[5], ddtheta, ddpsi, 0.0, p)
+    (the axle's friction included)."""
+    ddtheta, _, ddpsi = accelerations(stage, y, p)
+    if stage != SLIDE:
+        return support_forces(y[0], y[2], y[3], y[5], ddtheta, ddpsi, 0.0, p)
+    normal = friction_solution(stage, y, p)[3] if lossy(p) else slide_accelerations(y[0], y[1], y[2], y[3], p)[2]
+    psi, dpsi, _, _, _ = slide_constraint(y[0], y[2], p)
+    return support_forces(y[0], psi, y[2], dpsi, ddtheta, ddpsi, normal, p)
 
 
 #: What ``loads_at`` returns, in order (``analytic.eom.loads``): N, N, N, m/s^2.

@@ -244,7 +244,7 @@ def _momentum(q, qd, p):
     return px, py
 
 
-@pytest.mark.parametrize("name", ["floating", "floating-large"])
+@pytest.mark.parametrize("name", ["floating", "floating-large", "floating-axle-friction"])
 def test_the_track_and_guide_loads_are_the_momentums_rate(name):
     from analytic.reference import simulate
 
