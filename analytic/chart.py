@@ -26,7 +26,8 @@ from analytic.units import display
 LOAD_COLUMNS = (("peak_sling_tension", "N", "peak sling tension"),
                 ("peak_axle_load", "N", "peak axle load"),
                 ("peak_hinge_load", "N", "peak hinge load"),
-                ("peak_projectile_acceleration", "m/s^2", "peak projectile acceleration"))
+                ("peak_projectile_acceleration", "m/s^2", "peak projectile acceleration"),
+                ("peak_arm_bending_moment", "N m", "peak arm bending moment"))
 #: Status of a grid point whose design cannot be built (its field values break a design rule).
 DESIGN_ERROR = "design_error"
 MAX_FIELDS = 2
@@ -71,7 +72,7 @@ class Chart:
     settings : (S, F) each grid point's settings, file units (F = len(varies)).
     status : (S,) each point's status (``Status`` value, or ``design_error``).
     range : (S,) m, NaN where the shot did not throw.
-    loads : name (``LOAD_COLUMNS``) -> (S,) peak load, N or m/s^2, NaN where not reached.
+    loads : name (``LOAD_COLUMNS``) -> (S,) peak load, N, m/s^2 or N m, NaN where not reached.
     seconds : wall time of building and shooting the grid.
     """
 
@@ -233,7 +234,8 @@ def _acceleration_scale(ax, result: Chart) -> None:
 #: The map panels: (column or "range", title, colour map). Peak projectile acceleration is the
 #: sling tension's second scale where the two are proportional, a panel of its own where not.
 _MAP_PANELS = (("range", "range (m)", "viridis"), ("peak_sling_tension", "peak sling tension (N)", "magma"),
-               ("peak_axle_load", "peak axle load (N)", "magma"), ("peak_hinge_load", "peak hinge load (N)", "magma"))
+               ("peak_axle_load", "peak axle load (N)", "magma"), ("peak_hinge_load", "peak hinge load (N)", "magma"),
+               ("peak_arm_bending_moment", "peak arm bending moment (N m)", "magma"))
 _ACCELERATION_PANEL = ("peak_projectile_acceleration", "peak projectile acceleration (g)", "magma")
 
 
@@ -241,12 +243,14 @@ def _map_figure(result: Chart, fig, units: str = "metric"):
     vx, vy = result.varies[1], result.varies[0]     # the last varies fastest: along x
     shape = result.shape
     grid_x, grid_y = vx.values, vy.values
-    axes = fig.subplots(2, 3, gridspec_kw=dict(left=0.06, right=0.97, bottom=0.07, top=0.91,
-                                               wspace=0.45, hspace=0.35)).ravel()
-    fig.suptitle(f"{result.design.name}: range and peak loads over {vy.field.name} and {vx.field.name}"
-                 + (" (grey: no throw)" if _failures(result) else ", every setting throws"))
     failures = _failures(result)
     panels = _MAP_PANELS if _proportional(result) else _MAP_PANELS + (_ACCELERATION_PANEL,)
+    columns = -(-(len(panels) + bool(failures)) // 2)     # two rows; the outcome panel last, if any
+    fig.set_size_inches(14.0 * columns / 3, 8.5)
+    axes = fig.subplots(2, columns, gridspec_kw=dict(left=0.06, right=0.97, bottom=0.07, top=0.91,
+                                                     wspace=0.45, hspace=0.35)).ravel()
+    fig.suptitle(f"{result.design.name}: range and peak loads over {vy.field.name} and {vx.field.name}"
+                 + (" (grey: no throw)" if _failures(result) else ", every setting throws"))
     g = result.design.environment.gravity
     for ax, (name, title, cmap) in zip(axes, panels, strict=False):
         values = result.range if name == "range" else result.loads[name] / (g if name == _ACCELERATION_PANEL[0]
@@ -262,14 +266,16 @@ def _map_figure(result: Chart, fig, units: str = "metric"):
         bar = fig.colorbar(mesh, ax=ax, shrink=0.9)
         if name == "peak_sling_tension" and _proportional(result):   # its ticks in N and in g
             weight = factor * _weight(result)
-            bar.ax.yaxis.set_major_formatter(lambda n, _: f"{n:.3g} {shown} = {n / weight:.3g} g")
+            # (bound now: the formatter runs when the figure is drawn, after the later panels)
+            bar.ax.yaxis.set_major_formatter(lambda n, _, unit=shown, weight=weight: f"{n:.3g} {unit} = "
+                                                                                    f"{n / weight:.3g} g")
             title = f"peak sling tension ({shown}) = projectile acceleration (g)"
         if z.count() > 3 and np.ptp(z.compressed()) > 0:
             lines = ax.contour(grid_x, grid_y, z, levels=8, colors="w", linewidths=0.6)
             ax.clabel(lines, fontsize=7, fmt="%.4g")
         ax.set(title=title, xlabel=vx.field.label, ylabel=vy.field.label)
-    ax_status = axes[len(panels)]
     if failures:   # the settings that do not throw; with none, nothing to show
+        ax_status = axes[len(panels)]
         ax_status.set_facecolor("0.85")
         ok = result.status == "ok"
         ax_status.plot(result.settings[ok, 1], result.settings[ok, 0], ".", color="tab:green", ms=4,
@@ -279,9 +285,7 @@ def _map_figure(result: Chart, fig, units: str = "metric"):
                            ls="none", label=status.replace("_", " "))
         ax_status.set(title="outcome", xlabel=vx.field.label, ylabel=vy.field.label)
         ax_status.legend(fontsize=8, loc="best")
-    else:
-        ax_status.set_visible(False)
-    for ax in axes[len(panels) + 1:]:
+    for ax in axes[len(panels) + bool(failures):]:
         ax.set_visible(False)
     return fig
 

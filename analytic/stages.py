@@ -596,8 +596,8 @@ def floating_supports(stage, y, p):
     return support_forces(y[0], psi, y[2], dpsi, ddtheta, ddpsi, normal, p)
 
 
-#: What ``loads_at`` returns, in order (``analytic.eom.loads``): N, N, N, m/s^2.
-LOAD_NAMES = ("axle_load", "hinge_load", "sling_tension", "projectile_acceleration")
+#: What ``loads_at`` returns, in order (``analytic.eom.loads``): N, N, N, m/s^2, N m.
+LOAD_NAMES = ("axle_load", "hinge_load", "sling_tension", "projectile_acceleration", "arm_bending_moment")
 
 
 def loads_after_step(stage, y, f, p):

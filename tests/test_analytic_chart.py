@@ -137,6 +137,14 @@ def test_a_map_draws_tension_and_acceleration_once_where_they_are_proportional(t
     for title, ax in panels.items():
         if title != "outcome":
             assert ax.texts, f"{title}: contours without labels"
+    # The colour bar's ticks name the force's unit, not that of a panel drawn after it.
+    from matplotlib.ticker import FuncFormatter
+
+    for units, unit in (("metric", "N"), ("imperial", "lbf")):
+        figure = chart_figure(result, units)
+        ticks = [ax.yaxis.get_major_formatter()(10.0, 0) for ax in figure.axes
+                 if isinstance(ax.yaxis.get_major_formatter(), FuncFormatter)]
+        assert len(ticks) == 1 and ticks[0].startswith(f"10 {unit} = "), ticks
 
 
 def test_a_map_over_the_projectile_mass_keeps_the_acceleration_panel(table3):

@@ -182,6 +182,19 @@ def test_units_switch_is_remembered(page, server):
     page.get_by_test_id("units").select_option("metric")
 
 
+def test_the_readouts_show_the_arm_bending_moment_in_each_system(page, server):
+    # The shot's own peak (the API's number) in N m, then in ft lbf: 1 ft lbf = 0.3048 m x
+    # 4.4482216152605 N = 1.3558179483314004 N m (both factors exact by definition).
+    open_page(page, server)
+    moment = page.evaluate("window.workbench.state.shot.peak_arm_bending_moment")
+    shown = ("[...document.querySelectorAll('#numbers dt')].find((dt) => dt.textContent === "
+             "'peak arm bending moment').nextElementSibling.textContent")
+    assert moment > 0.0 and page.evaluate(shown) == f"{moment:.1f} N m"
+    page.get_by_test_id("units").select_option("imperial")
+    assert page.evaluate(shown) == f"{moment / 1.3558179483314004:.1f} ft lbf"
+    page.get_by_test_id("units").select_option("metric")
+
+
 def run_tool(page, button: str, result: str) -> str:
     page.get_by_test_id(button).click()
     page.wait_for_function(f"document.querySelector('[data-testid={result}]').textContent !== ''",

@@ -91,6 +91,7 @@ function readouts(s) {
     // A fixed machine has no hinge: the force is its counterweight's mount's.
     [(state.design.machine.kind ?? "hinged") === "hinged" ? "peak hinge load" : "peak mount load",
       show(s.peak_hinge_load, "force", 1)],
+    ["peak arm bending moment", show(s.peak_arm_bending_moment, "moment", 1)],
     ["peak projectile accel.", s.peak_projectile_acceleration === null ? "–"
       : `${(s.peak_projectile_acceleration / g).toFixed(1)} g`],
   ];

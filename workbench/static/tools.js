@@ -243,7 +243,8 @@ function plotSweep(state, api, result, kind) {
     const units = state.meta.units;
     ctx.fillText(`range to ${api.show(r1, "length", 1)}`, m, 12);
     const load = result.load === "peak_projectile_acceleration"
-      ? `${(l1 / (state.design.environment?.gravity ?? 9.81)).toFixed(1)} g` : api.show(l1, "force", 0);
+      ? `${(l1 / (state.design.environment?.gravity ?? 9.81)).toFixed(1)} g`
+      : api.show(l1, result.load === "peak_arm_bending_moment" ? "moment" : "force", 0);
     ctx.fillText(`${result.load.replace("peak_", "peak ").replaceAll("_", " ")} to ${load}`, W / 2, 12);
     const shown = (v) => shownValue(units, kind, state.system, v).toPrecision(4);
     ctx.fillText(`${result.field}: ${shown(xs[0])} .. ${shown(xs[xs.length - 1])} ${unitLabel(units, kind, state.system)}`, m, H - 8);
