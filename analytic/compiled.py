@@ -43,10 +43,10 @@ from numba.core.registry import CPUDispatcher
 from llvmlite import binding as llvm
 from llvmlite import ir as llvmir
 
-from analytic import aero, eom, friction, geometry, limits, outcome, parameters, peaks, sequence, stages
+from analytic import aero, eom, floating_arm, friction, geometry, limits, outcome, parameters, peaks, sequence, stages
 
 #: The modules whose functions are compiled, each calling only those before it.
-MODEL_MODULES = (geometry, limits, peaks, aero, eom, friction, stages, sequence)
+MODEL_MODULES = (geometry, limits, peaks, aero, floating_arm, eom, friction, stages, sequence)
 #: Options of every compiled function. ``error_model="numpy"``: a division by
 #: zero gives inf/NaN (a rejected step) instead of raising, as in Python's
 #: float arithmetic on the reference path; no fastmath, so IEEE arithmetic is
@@ -81,7 +81,8 @@ CALLABLE = dict(OPTIONS, cache=True)
 #: the same bits, the same cold compile). numba's own inlining (``inline="always"``,
 #: at its IR level) gives shots a few per cent faster but copies and re-types
 #: each callee at every call site: it made a cold compile 1.2x-1.6x as long.
-INLINE = {"eom": ("terms", "slide_constraint", "slide_system", "slide_accelerations", "swing_accelerations",
+INLINE = {"floating_arm": ("terms",),
+          "eom": ("terms", "slide_constraint", "slide_system", "slide_accelerations", "swing_accelerations",
                   "joint_forces", "joint_forces_sliding", "joint_forces_in_gravity", "frame_acceleration",
                   "frame_coupling", "total_mass", "solve_symmetric", "symmetric_cofactors"),
           "friction": ("_force_response", "_joints", "swing_friction", "slide_friction"),
@@ -296,6 +297,7 @@ callable_twins = compile_modules(MODEL_MODULES, lambda f, inline: numba.njit(**C
 geometry_ = callable_twins["geometry"]   # trailing underscore: not the Python module of that name
 limits_ = callable_twins["limits"]
 aero_ = callable_twins["aero"]
+floating_arm_ = callable_twins["floating_arm"]
 eom_ = callable_twins["eom"]
 friction_ = callable_twins["friction"]
 stages_ = callable_twins["stages"]

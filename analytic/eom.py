@@ -53,10 +53,13 @@ from __future__ import annotations
 
 import math
 
+from analytic.floating_arm import terms as floating_terms
 from analytic.geometry import arm_long_side
 
 #: ``Params.kind`` of a machine whose counterweight is bolted to the arm (``design.KINDS.index("fixed")``).
 FIXED = 1.0
+#: ``Params.kind`` of a floating-arm machine (``design.KINDS.index("floating-arm")``).
+FLOATING = 2.0
 
 # --------------------------------------------------------------------------- #
 # Stage 2: three degrees of freedom [3]
@@ -67,8 +70,11 @@ def terms(theta, phi, psi, dtheta, dphi, dpsi, p):
     """Entries of M (M23 = 0) and f = -(dM/dt) q' + dT/dq - dV/dq, eqs. (3.3)-(3.4).
 
     Returns ``(m11, m12, m13, m22, m33, f1, f2, f3)``; for a fixed machine ``m12 = 0``, ``m22 = 1``
-    (eq. 11.4).
+    (eq. 11.4), as for a floating arm, whose (theta, psi) entries are ``analytic.floating_arm.terms``'s [12].
     """
+    if p.kind == FLOATING:
+        m11, m13, m33, f1, f3 = floating_terms(theta, psi, dtheta, dpsi, p)
+        return m11, 0.0, m13, 1.0, m33, f1, 0.0, f3
     s_phi, c_phi = math.sin(phi), math.cos(phi)
     s_psi, c_psi = math.sin(psi), math.cos(psi)
     s_th, c_th = math.sin(theta), math.cos(theta)
@@ -222,17 +228,21 @@ def ground_force(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, p):
 
 
 def frame_velocity(theta, phi, psi, dtheta, dphi, dpsi, p):
-    """X', m/s: ``-S' / Mt`` (zero momentum); 0 for a fixed frame."""
+    """X', m/s: ``-S' / Mt`` (zero momentum); 0 for a fixed frame; a floating arm's axle's x_A' [12]."""
     if not p.rolling:
-        return 0.0
+        return -p.Lb * math.cos(theta) * dtheta if p.kind == FLOATING else 0.0
     b1, b2, b3, _ = frame_coupling(theta, phi, psi, dtheta, dphi, dpsi, p)
     return -(b1 * dtheta + b2 * dphi + b3 * dpsi) / total_mass(p)
 
 
 def frame_displacement(theta, phi, psi, p):
-    """X, m from the frame's place at rest: ``(S(q0) - S(q)) / Mt``; 0 for a fixed frame."""
+    """X, m from the frame's place at rest: ``(S(q0) - S(q)) / Mt``; 0 for a fixed frame.
+
+    A floating arm's axle moves as a frame would: its ``x_A = -Lb sin(theta)`` from the guide [12], so that
+    every position and velocity on the ground adds it as a rolling frame's.
+    """
     if not p.rolling:
-        return 0.0
+        return -p.Lb * math.sin(theta) if p.kind == FLOATING else 0.0
     rest = horizontal_moment(p.theta0, p.phi0, -0.5 * math.pi - p.theta0, p)   # the sling along the base
     return (rest - horizontal_moment(theta, phi, psi, p)) / total_mass(p)
 
@@ -330,15 +340,16 @@ def kinetic_energy(theta, phi, psi, dtheta, dphi, dpsi, p):
     dbeta = dtheta + dpsi
     projectile = 0.5 * p.mP * (p.La * p.La * dtheta * dtheta + p.Ls * p.Ls * dbeta * dbeta
                                + 2.0 * p.La * p.Ls * dtheta * dbeta * math.cos(psi))
-    if p.rolling:
-        # On the ground every part moves with X' besides: the projectile gains
-        # mP X' vx + mP X'^2 / 2, and the frame (counted with the machine) Mf X'^2 / 2.
+    if p.rolling or p.kind == FLOATING:
+        # On the ground every part moves with X' (a floating arm's: its axle's) besides: the projectile
+        # gains mP X' vx + mP X'^2 / 2, and the frame (counted with the machine) Mf X'^2 / 2.
         b1, b2, b3, _ = frame_coupling(theta, phi, psi, dtheta, dphi, dpsi, p)
         moment_rate = b1 * dtheta + b2 * dphi + b3 * dpsi        # S'
-        dx = -moment_rate / total_mass(p)                       # X'
+        dx = frame_velocity(theta, phi, psi, dtheta, dphi, dpsi, p)   # X'
         vx = -p.La * dtheta * math.cos(theta) - p.Ls * dbeta * math.cos(theta + psi)
         projectile += p.mP * dx * (vx + 0.5 * dx)
-        machine += dx * (moment_rate - p.mP * vx) + 0.5 * (total_mass(p) - p.mP) * dx * dx
+        carried = total_mass(p) - p.mP if p.rolling else p.mA + p.mW
+        machine += dx * (moment_rate - p.mP * vx) + 0.5 * carried * dx * dx
     return machine, projectile
 
 
@@ -352,8 +363,10 @@ def kinetic_energy(theta, phi, psi, dtheta, dphi, dpsi, p):
 # and gravity. A rolling frame adds its acceleration X'' to every x.
 
 def frame_acceleration(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, p):
-    """X'', m/s^2: ``-(b.q'' + c) / Mt`` (zero momentum, [8]); 0 for a fixed frame."""
+    """X'', m/s^2: ``-(b.q'' + c) / Mt`` (zero momentum, [8]); 0 for a fixed frame; a floating arm's x_A''."""
     if not p.rolling:
+        if p.kind == FLOATING:
+            return -p.Lb * (math.cos(theta) * ddtheta - math.sin(theta) * dtheta * dtheta)
         return 0.0
     b1, b2, b3, c = frame_coupling(theta, phi, psi, dtheta, dphi, dpsi, p)
     return -(b1 * ddtheta + b2 * ddphi + b3 * ddpsi + c) / total_mass(p)
@@ -413,6 +426,10 @@ def joint_forces_in_gravity(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi,
     sling_y = p.mP * (gravity + p.La * arm_y + p.Ls * sling_uy) - normal
     axle_x = p.mA * (ddx + p.d * arm_x) + hinge_x + sling_x
     axle_y = p.mA * (gravity + p.d * arm_y) + hinge_y + sling_y
+    if p.kind == FLOATING:
+        # The supports: the track's vertical push at the axle and the guide's horizontal push on the
+        # counterweight (axle_x above, the whole machine's), which its mount on the arm does not carry [12].
+        return 0.0, axle_y, hinge_x - axle_x, hinge_y, sling_x, sling_y
     return axle_x, axle_y, hinge_x, hinge_y, sling_x, sling_y
 
 

@@ -1,7 +1,7 @@
 """The floating-arm trebuchet's swing equations over (theta, psi) and its supports' forces (derivation section 12).
 
-Derived and checked against the sympy Lagrangian (``tests/test_analytic_floating_arm.py``), not yet
-a machine either path simulates: ``analytic.design.BUILT_KINDS`` refuses the kind. Plain ``math``
+Derived and checked against the sympy Lagrangian (``tests/test_analytic_floating_arm.py``); both
+paths simulate the kind through ``analytic.eom.terms`` (``p.kind == eom.FLOATING``). Plain ``math``
 on floats in ``analytic.eom``'s symbols; ``p`` is a ``analytic.parameters.Params`` (the machine's
 numbers La, Lb, d, mA, IA, mW, IW, Ls, mP, g are read).
 

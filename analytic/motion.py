@@ -114,7 +114,7 @@ def _motion(samples: np.ndarray, p, landed: bool) -> Motion:
     swing, flight = samples[stage != FLIGHT], samples[(stage == FLIGHT) & landed]
     states = np.array([eom.slide_state(*y[2:2 + STATE_SIZE[SLIDE]], p) if k == SLIDE
                        else y[2:2 + STATE_SIZE[k]] for k, y in zip(stage[stage != FLIGHT], swing, strict=True)])
-    frame_x = (np.array([eom.frame_displacement(*q, p) for q in states[:, :3]]) if p.rolling
+    frame_x = (np.array([eom.frame_displacement(*q, p) for q in states[:, :3]]) if p.rolling or p.kind == eom.FLOATING
                else np.zeros(len(swing)))
     return Motion(t=swing[:, 0].copy(), stage=stage[stage != FLIGHT], q=states[:, :3], qdot=states[:, 3:],
                   frame_x=frame_x, flight_t=flight[:, 0].copy(), flight_path=flight[:, 2:4].copy())

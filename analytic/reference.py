@@ -394,6 +394,14 @@ def _dissipated(p: Params, segments, drag: float) -> dict[str, float]:
     return dict(zip(LOSS_NAMES, (*work, drag), strict=True))
 
 
+def _support_extremes(stage: np.ndarray, raw: list, p: Params) -> dict[str, float]:
+    """A floating arm's track and guide forces over the history's stage-1 and stage-2 rows, N:
+    ``min_track_force``, ``max_track_force`` and ``max_guide_force`` (the largest magnitude)."""
+    forces = np.array([stages.floating_supports(k, y, p) for k, y in zip(stage.tolist(), raw, strict=True)])
+    return {"min_track_force": float(forces[:, 0].min()), "max_track_force": float(forces[:, 0].max()),
+            "max_guide_force": float(np.abs(forces[:, 1]).max())}
+
+
 def _finish_shot(design: Design, p: Params, history, segments, status: Status, message: str, *,
                  sampled_loads: bool = True, **fields) -> Shot:
     after_release = fields.pop("after_release_speed", None)
@@ -433,6 +441,8 @@ def _finish_shot(design: Design, p: Params, history, segments, status: Status, m
     ground = np.array([eom.ground_force(*state, *stages.accelerations(int(k), y, p), p)
                        for k, state, y in zip(stage.tolist(), state_rows, raw, strict=True)])
     fields["min_ground_force"] = float(ground.min())
+    if p.kind == eom.FLOATING:
+        fields.update(_support_extremes(stage, raw, p))
     loads = (np.array([stages.loads_at(k, y, p) for k, y in zip(stage.tolist(), raw, strict=True)])   # (n, N_LOADS)
              if sampled_loads else None)
     if p.rolling and ground.min() < 0.0:
@@ -446,7 +456,8 @@ def _finish_shot(design: Design, p: Params, history, segments, status: Status, m
         released = v_machine0 - eom.potential_energy(*state_rows[-1][:3], p)[0]
         fields["projectile_energy_at_release"] = float(budget[-1, 1])
     history = History(t=t, stage=stage, q=states[:, :3], qdot=states[:, 3:], path=path,
-                      sling_tension=tension, energy=energy, frame_x=frame_x if p.rolling else np.empty(0),
+                      sling_tension=tension, energy=energy,
+                      frame_x=frame_x if p.rolling or p.kind == eom.FLOATING else np.empty(0),
                       flight_t=fields.pop("flight_t", np.empty(0)),
                       flight_path=fields.pop("flight_path", np.empty((0, 2))),
                       **({} if loads is None else

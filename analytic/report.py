@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from analytic.result import LOSS_NAMES, Shot, hinge_load_label
+from analytic.result import LOSS_NAMES, Shot, hinge_load_label, origin_label
 from analytic.units import display
 
 
@@ -36,11 +36,12 @@ def format_shot(shot: Shot, units: str = "metric") -> str:
 
     row("lift-off time", shot.liftoff_time, "s")
     row("release time", shot.release_time, "s")
-    pair("release position", shot.release_position, "m", " from pivot")
+    origin = origin_label(shot.design)
+    pair("release position", shot.release_position, "m", f" from {origin}")
     pair("release velocity", shot.release_velocity, "m/s")
     row("release speed", shot.release_speed, "m/s")
     row("launch angle", None if shot.launch_angle is None else math.degrees(shot.launch_angle), "deg", ".3f")
-    row("range (from pivot)", shot.range, "m", ".3f")
+    row(f"range (from {origin})", shot.range, "m", ".3f")
     row("range (from release)", shot.range_from_release, "m", ".3f")
     row("apex height", shot.apex_height, "m", ".3f", " above base")
     row("flight time", shot.flight_time, "s")
@@ -53,6 +54,10 @@ def format_shot(shot: Shot, units: str = "metric") -> str:
     row("peak sling tension", shot.peak_sling_tension, "N", ".3f", at("peak_sling_tension"))
     row("peak axle load", shot.peak_axle_load, "N", ".3f", at("peak_axle_load"))
     row(hinge_load_label(shot.design), shot.peak_hinge_load, "N", ".3f", at("peak_hinge_load"))
+    row("track force, min", shot.min_track_force, "N", ".3f", " (vertical, on the axle)")
+    row("track force, max", shot.max_track_force, "N", ".3f", " (vertical, on the axle)")
+    row("max guide force", shot.max_guide_force, "N", ".3f", " (horizontal, on the counterweight)")
+    row("axle at release", shot.axle_displacement_at_release, "m", ".4f", " from the guide")
     if shot.peak_projectile_acceleration is not None:
         rows.append(("peak projectile accel.", f"{shot.peak_projectile_acceleration / shot.design.environment.gravity:.2f}",
                      f"g{at('peak_projectile_acceleration')}"))

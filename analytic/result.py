@@ -30,6 +30,8 @@ JSON_KEYS = (
     *(f"{name}{suffix}" for name in PEAK_NAMES for suffix in ("", "_time")),
     "energy_dissipated", "warnings",
 )
+#: Keys a floating-arm machine's ``--json`` object has besides ``JSON_KEYS`` (absent for other kinds).
+FLOATING_JSON_KEYS = ("min_track_force", "max_track_force", "max_guide_force", "axle_displacement_at_release")
 
 
 @dataclass(frozen=True)
@@ -72,7 +74,8 @@ class History:
     path : (n, 2) projectile centre, m.
     sling_tension : (n,) N.
     energy : ``EnergyBudget`` on ``t``.
-    frame_x : (n,) the frame's X on ``t``, m; (0,) for a fixed frame in the analytic model.
+    frame_x : (n,) the frame's X on ``t``, m (a floating arm's: its axle's x_A); (0,) for a fixed frame in the
+        analytic model.
     flight_t : (k,) flight sample times, s from firing; (0,) if the projectile never flew.
     flight_path : (k, 2) projectile centre in flight, m.
     axle_load, hinge_load, projectile_acceleration, arm_bending_moment : (n,) the loads on ``t``
@@ -132,7 +135,9 @@ class Shot:
     projectile_energy_at_release : J, the projectile's kinetic and potential energy at
         release over its energy at rest (None where not computed: the fast path's summary).
     frame_release_displacement, frame_release_velocity : the frame's X (m) and X' (m/s)
-        at release: 0 for a fixed frame, None if not released.
+        at release: 0 for a fixed frame, None if not released. A floating arm's frame stands
+        still; these hold its axle's x_A (from the guide) and x_A', as ``max_frame_speed`` its
+        axle's largest speed along the track.
     frame_landing_displacement, frame_landing_velocity : the same at the projectile's landing
         time (the machine swings on after release, its joints' friction with it): 0 for a
         fixed frame, None if not landed or not computed (the fast path; the reference path's
@@ -152,6 +157,12 @@ class Shot:
     min_ground_force : smallest vertical push of the ground on the frame through stages
         1-2, N (``analytic.eom.ground_force``; None for a summary). Negative: a
         frame not bolted down would jump.
+    min_track_force, max_track_force : a floating arm's track's smallest and largest vertical
+        force on the axle through stages 1-2, N (negative: the captured axle is pulled down);
+        sampled at the history's points (``analytic.floating_arm.support_forces``); None for
+        other kinds and for a summary.
+    max_guide_force : a floating arm's guide's largest horizontal force on the counterweight
+        (magnitude) through stages 1-2, N, sampled as the track's; None likewise.
     warnings : what the user should know about this result, in words, () if nothing:
         one line per implausible input (``analytic.plausibility``, added on
         construction for every model) after any the model itself gave (for
@@ -195,6 +206,9 @@ class Shot:
     peak_projectile_acceleration_time: float | None = None
     peak_arm_bending_moment: float | None = None
     peak_arm_bending_moment_time: float | None = None
+    min_track_force: float | None = None
+    max_track_force: float | None = None
+    max_guide_force: float | None = None
     warnings: tuple[str, ...] = ()
     diagnostics: Any = None
 
@@ -203,6 +217,12 @@ class Shot:
         # (dataclasses.replace) passes them all back in, so keep each once.
         lines = tuple(self.warnings) + tuple(plausibility_warnings(self.design, self))
         object.__setattr__(self, "warnings", tuple(dict.fromkeys(lines)))
+
+    @property
+    def axle_displacement_at_release(self) -> float | None:
+        """A floating arm's axle's x at release, m from the guide (``x_A = -Lb sin theta``, carried as
+        ``frame_release_displacement``); None for other kinds or if not released."""
+        return self.frame_release_displacement if self.design.machine.kind == "floating-arm" else None
 
     @property
     def ok(self) -> bool:
@@ -334,7 +354,15 @@ class Shot:
             "energy_dissipated": (None if self.energy_dissipated is None
                                   else {name: float(self.energy_dissipated[name]) for name in LOSS_NAMES}),
             "warnings": list(self.warnings),
+            **({name: number(getattr(self, name)) for name in FLOATING_JSON_KEYS}
+               if self.design.machine.kind == "floating-arm" else {}),
         }
+
+
+def origin_label(design: Design) -> str:
+    """Where a shot's positions are measured from: the pivot, or a floating arm's guide (where it meets
+    the track)."""
+    return "guide" if design.machine.kind == "floating-arm" else "pivot"
 
 
 def hinge_load_label(design: Design) -> str:

@@ -59,6 +59,7 @@ from analytic.aero import drag_rate
 from analytic.eom import (frame_coupling, frame_displacement, frame_velocity, horizontal_moment, loads,
                           loads_sliding, machine_accelerations, slide_accelerations, slide_constraint,
                           swing_accelerations, total_mass)
+from analytic.floating_arm import support_forces
 from analytic.friction import (lossy, machine_friction, rest_balance, slide_friction, slide_rate, static_arm,
                                swing_friction)
 from analytic.geometry import projectile_state, release_at
@@ -581,6 +582,18 @@ def machine_frame(y, m, momentum, start_time, start_y, start_x, time):
     moved = horizontal_moment(y[0], y[1], 0.0, m) - horizontal_moment(start_y[0], start_y[1], 0.0, m)
     return (start_x + (momentum * (time - start_time) - moved) / mass,
             (momentum - b1 * y[2] - b2 * y[3]) / mass)
+
+
+def floating_supports(stage, y, p):
+    """A floating arm's ``(track_y, guide_x)``, N (``analytic.floating_arm.support_forces``), at the
+    stage-1 state ``[theta, phi, theta', phi']`` or the stage-2 state ``[theta, phi, psi, theta', phi', psi']``
+    (the axle's friction included)."""
+    ddtheta, _, ddpsi = accelerations(stage, y, p)
+    if stage != SLIDE:
+        return support_forces(y[0], y[2], y[3], y[5], ddtheta, ddpsi, 0.0, p)
+    normal = friction_solution(stage, y, p)[3] if lossy(p) else slide_accelerations(y[0], y[1], y[2], y[3], p)[2]
+    psi, dpsi, _, _, _ = slide_constraint(y[0], y[2], p)
+    return support_forces(y[0], psi, y[2], dpsi, ddtheta, ddpsi, normal, p)
 
 
 #: What ``loads_at`` returns, in order (``analytic.eom.loads``): N, N, N, m/s^2, N m.

@@ -155,6 +155,48 @@ def fixed_designs() -> dict[str, Design]:
     return designs
 
 
+TABLE3_FLOATING_FILE = DATA / "paper_table3_floating.toml"
+
+
+def floating(design: Design) -> Design:
+    """``design`` as a floating-arm machine (its counterweight rigid on the short end, no link)."""
+    return with_machine(design, kind="floating-arm", counterweight_link=0.0)
+
+
+def floating_designs() -> dict[str, Design]:
+    """Ideal floating-arm machines: the sample file (the paper's Table III machine), released by the
+    sling rule, with the axle's friction, the first four ``table_ii_sample(4, seed=28)`` designs (the pine arm and the light
+    one; the first never fires, the others throw), the large machine (``crosscheck.cases.large_design``:
+    a 3 m arm, 200 kg counterweight) and ``floating_failure_designs``."""
+    from crosscheck.cases import large_design
+
+    table3 = load_design(TABLE3_FLOATING_FILE)
+    designs = {"floating": table3,
+               "floating-sling-rule": with_machine(table3, release_rule="sling", release_angle=math.radians(-40.0))}
+    designs.update({f"floating-sample-{i}": floating(d) for i, d in enumerate(table_ii_sample(4, seed=28))})
+    designs["floating-large"] = large_design("floating-arm")
+    designs["floating-axle-friction"] = dataclasses.replace(
+        table3, losses=Losses(axle_friction=0.15, axle_radius=0.01, axle_static_friction=0.2))
+    designs.update({f"floating-{status.value}": d for status, d in floating_failure_designs().items()})
+    return designs
+
+
+def floating_failure_designs() -> dict[Status, Design]:
+    """Floating-arm designs that fail: ``failure_designs``' never_lifts_off and hits_base_before_release
+    ones as floating arms (each keeps its status), the paper's with a counterweight too light to lift the arm
+    (0.2 kg, as ``crosscheck.cases.FIXED_UNFIRED_COUNTERWEIGHT``: its torque at rest, 0.2 * 0.2405
+    = 0.048 kg m, is less than the arm's 0.306 * 0.230 = 0.070 kg m) and ``fails-no_landing.toml``'s
+    10 mg balloon (terminal speed 0.021 m/s) flung 60 deg downward by the sample floating machine."""
+    table3 = load_design(TABLE3_FLOATING_FILE)
+    known = failure_designs()
+    balloon = known[Status.NO_LANDING]
+    return {Status.NEVER_FIRES: with_machine(table3, counterweight_mass=0.2),
+            Status.NEVER_LIFTS_OFF: floating(known[Status.NEVER_LIFTS_OFF]),
+            Status.HITS_BASE_BEFORE_RELEASE: floating(known[Status.HITS_BASE_BEFORE_RELEASE]),
+            Status.NO_LANDING: dataclasses.replace(with_machine(table3, release_angle=balloon.machine.release_angle),
+                                                   projectile=balloon.projectile)}
+
+
 def fixed_failure_designs() -> dict[Status, Design]:
     """A fixed design for each failure status: the known hinged ones (``failure_designs``) bolted
     where that keeps their status; otherwise one found for the fixed machine (below)."""

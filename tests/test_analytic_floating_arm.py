@@ -1,7 +1,7 @@
 """The floating arm's swing equations (``analytic.floating_arm``, derivation section 12) against the
 sympy Lagrangian of ``tests/sympy_model.py``'s ``machine("floating-arm")``, at random designs and states.
 
-Only the equations: the kind is not yet simulated by either path (``analytic.design.BUILT_KINDS``).
+Only the equations; the machine the paths simulate is checked in tests/test_analytic_floating.py.
 """
 
 from __future__ import annotations
