@@ -473,7 +473,7 @@ def loads_sliding(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, no
       (negative: a rigid sling pushes);
     * ``projectile_acceleration``, m/s^2: what the projectile feels, the force
       of the sling and the base on it divided by its mass (gravity excluded;
-      divide by g for "g"s).
+      divide by g for "g"s), and the air's drag with ``p.drag_swing`` on.
 
     ``base_force``: the base's friction on the projectile along x (stage 1), N.
     """
@@ -483,5 +483,8 @@ def loads_sliding(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, no
     tension = sling_x * math.sin(beta) - sling_y * math.cos(beta)   # -S . (-sin beta, cos beta)
     felt_x = sling_x + base_force
     felt_y = sling_y + normal
+    if p.drag_swing > 0.0:   # an accelerometer in the projectile feels the air's push too
+        dx, dy = swing_drag(theta, psi, dtheta, dpsi, p)
+        felt_x, felt_y = felt_x + dx, felt_y + dy
     return (math.sqrt(axle_x * axle_x + axle_y * axle_y), math.sqrt(hinge_x * hinge_x + hinge_y * hinge_y),
             tension, math.sqrt(felt_x * felt_x + felt_y * felt_y) / p.mP)
