@@ -22,7 +22,8 @@ from analytic.design import DesignError
 from analytic.design_file import default_design, design_from_dict, design_to_dict
 from analytic.parameters import params
 from analytic.stages import SLIDE, SWING, loads_at
-from test_analytic_symbolic import REL_TOL, SEED, assert_close, random_params
+from test_analytic_friction import AUDIT_TOL
+from test_analytic_symbolic import SEED, assert_close, random_params
 
 #: Random (parameters, state) samples per check.
 N_SAMPLES = 6
@@ -159,3 +160,41 @@ def test_design_file_reads_writes_and_checks_the_flag():
     layout["base"] = {"mobility": "rolling", "mass": 50.0}
     with pytest.raises(DesignError, match=r"projectile\.drag_during_swing.*rolling frame"):
         design_from_dict(layout)
+
+
+
+def _swinging(wind, losses=None):
+    design = default_design()
+    return dataclasses.replace(
+        design, projectile=dataclasses.replace(design.projectile, drag_during_swing=True),
+        environment=dataclasses.replace(design.environment, wind_speed=wind),
+        **({} if losses is None else {"losses": losses}))
+
+
+@pytest.mark.parametrize("wind", [-12.0, 0.0, 12.0], ids=["headwind", "still", "tailwind"])
+def test_energy_audit_closes_at_release_with_the_drags_work_before_it(wind):
+    from analytic.design import Losses
+    from analytic.motion import simulate_motion
+
+    design = _swinging(wind, Losses(axle_friction=0.15, axle_radius=0.0064, base_friction=0.3))
+    shot = reference.simulate(design)
+    lost = shot.energy_dissipated
+    closing = shot.history.energy.total[-1] + lost["axle"] + lost["hinge"] + lost["base"] + lost["swing_drag"]
+    assert abs(closing) <= AUDIT_TOL * shot.counterweight_energy_released
+    # A tailwind pushes the projectile forward while it is slower than the wind (it gives work).
+    assert lost["swing_drag"] != 0.0 and (lost["swing_drag"] > 0.0 or wind > 0.0)
+    assert reference.simulate(design, histories=False).energy_dissipated == lost
+    # The compiled path's motion takes the drag's work from the energy deficit: the same number.
+    motion_lost = simulate_motion(design)[0].energy_dissipated["swing_drag"]
+    assert motion_lost == pytest.approx(lost["swing_drag"], abs=AUDIT_TOL * shot.counterweight_energy_released)
+
+
+def test_the_reports_show_the_drags_work_before_release_only_with_the_flag():
+    from analytic.report import format_shot
+    from engine_model import shot as engine_shot
+    from engine_model.report import format_shot as engine_format_shot
+
+    on, off = _swinging(0.0), default_design()
+    assert "air drag before release" in format_shot(reference.simulate(on))
+    assert "air drag before release" not in format_shot(reference.simulate(off))
+    assert "drag before release" in engine_format_shot(engine_shot.simulate(on))
