@@ -30,7 +30,7 @@ ta, th, F  friction torques on the arm (axle) and the link     --
 kind       the machine's kind code; ``FIXED``: the             machine.kind
            counterweight bolted to the arm (Lw = 0) [11]
 D          the air's drag on the projectile in stages 1-2,     projectile.drag_during_swing
-           when ``p.drag_swing`` is on [12]
+           when ``p.drag_swing`` is on [13]
 =========  =================================================  ============
 
 (the full table of ``Params`` is in ``analytic.parameters``).
@@ -49,7 +49,7 @@ A fixed machine [11] (the counterweight bolted to the arm, ``p.kind == FIXED``,
 as ``phi'' = 0``, uncoupled, and every function here and in ``analytic.friction``
 then moves theta and psi by the fixed machine's equations; the "hinge" force is
 the counterweight's mount's. With ``p.drag_swing`` on, the projectile's drag
-[12] is a generalised force ``J^T D`` in f (``terms``), so every system built
+[13] is a generalised force ``J^T D`` in f (``terms``), so every system built
 from f carries it, and the sling's force in ``joint_forces_sliding`` is net of it.
 """
 
@@ -102,11 +102,11 @@ def terms(theta, phi, psi, dtheta, dphi, dpsi, p):
 
 
 # --------------------------------------------------------------------------- #
-# The projectile's drag during the swing [12]
+# The projectile's drag during the swing [13]
 # --------------------------------------------------------------------------- #
 
 def swing_drag(theta, psi, dtheta, dpsi, p):
-    """The air's drag on the projectile ``(Dx, Dy)``, N, at a stage-1 or stage-2 state (eq. 12.1):
+    """The air's drag on the projectile ``(Dx, Dy)``, N, at a stage-1 or stage-2 state (eq. 13.1):
     the flight's law (``aero.drag_rate``) on its velocity relative to the air, ``v - (wind, 0)``."""
     s_th, c_th = math.sin(theta), math.cos(theta)
     s_b, c_b = math.sin(theta + psi), math.cos(theta + psi)
@@ -119,7 +119,7 @@ def swing_drag(theta, psi, dtheta, dpsi, p):
 
 def drag_generalised(theta, psi, dtheta, dpsi, p):
     """The drag's generalised forces ``(Q_theta, Q_psi)``, N m: ``J^T D`` with ``J`` the Jacobian of the
-    projectile's position ``La u(theta) + Ls u(theta + psi)`` (eq. 12.2); Q_phi is 0."""
+    projectile's position ``La u(theta) + Ls u(theta + psi)`` (eq. 13.2); Q_phi is 0."""
     dx, dy = swing_drag(theta, psi, dtheta, dpsi, p)
     s_th, c_th = math.sin(theta), math.cos(theta)
     s_b, c_b = math.sin(theta + psi), math.cos(theta + psi)
@@ -418,7 +418,7 @@ def joint_forces_sliding(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, dd
     friction on it along x (``mP a_P = S + N e_y + F e_x - mP g e_y``, so
     ``S = mP (a_P + g) - N e_y - F e_x``). Friction torques at the axle and
     the hinge change no force: a torque has no resultant. With ``p.drag_swing``
-    on, the drag ``D`` [12] acts on the projectile too: ``S`` is net of it.
+    on, the drag ``D`` [13] acts on the projectile too: ``S`` is net of it.
     """
     axle_x, axle_y, hinge_x, hinge_y, sling_x, sling_y = joint_forces_in_gravity(
         theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, normal, base_force, p.g, p)
