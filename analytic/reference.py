@@ -331,11 +331,11 @@ def drag_work(flight: Segment, p: Params) -> float:
     """
     out = np.empty(4)
 
-    def power(y):
+    def power(y):   # per unit of the projectile's mass
         stages.derivative(Stage.FLIGHT, y, p, DRAG_TABLE, out)
-        return p.mP * (out[2] * y[2] + (out[3] + p.g) * y[3])
+        return out[2] * y[2] + (out[3] + p.g) * y[3]
 
-    return -_step_integral(flight, power)
+    return -_step_integral(flight, power, p.mP)
 
 
 def swing_drag_work(segments, p: Params) -> float:
@@ -354,12 +354,12 @@ def swing_drag_work(segments, p: Params) -> float:
             return dx * vx + dy * vy
         return at
 
-    return -sum(_step_integral(segment, power(stage)) for stage, segment in segments)
+    return -sum(_step_integral(segment, power(stage), 1.0) for stage, segment in segments)
 
 
-def _step_integral(segment: Segment, integrand) -> float:
-    """``integral of integrand(y(t)) dt`` over ``segment``, step by step on its continuous solution
-    (Gauss-Legendre, ``_GAUSS``); 0 without one."""
+def _step_integral(segment: Segment, integrand, factor: float) -> float:
+    """``factor`` times the ``integral of integrand(y(t)) dt`` over ``segment``, step by step on its
+    continuous solution (Gauss-Legendre, ``_GAUSS``); 0 without one."""
     if segment.solution is None:
         return 0.0
     nodes, weights = _GAUSS
@@ -370,7 +370,7 @@ def _step_integral(segment: Segment, integrand) -> float:
         if not b > a:
             continue
         states = interpolant(0.5 * (b - a) * nodes + 0.5 * (a + b)).T.tolist()   # Python floats: see stage_rhs
-        total += 0.5 * (b - a) * sum(w * integrand(y) for w, y in zip(weights, states, strict=True))
+        total += factor * 0.5 * (b - a) * sum(w * integrand(y) for w, y in zip(weights, states, strict=True))
     return float(total)
 
 
