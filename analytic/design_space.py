@@ -42,9 +42,10 @@ _TABLES = ("name", "machine", "variables", "constraints", "counterweight", "arm_
            "environment", "release", "base", "loads", "losses")
 _CONSTRAINT_KEYS = ("max_footprint", "max_height", "axle_radius")
 #: The loads a problem may limit or minimise (``[loads]``): the name in the file -> the
-#: ``Shot`` peak it bounds (N, N, N, m/s^2).
+#: ``Shot`` peak it bounds (N, N, N, m/s^2, N m).
 LOADS = {"axle_load": "peak_axle_load", "hinge_load": "peak_hinge_load",
-         "sling_tension": "peak_sling_tension", "projectile_acceleration": "peak_projectile_acceleration"}
+         "sling_tension": "peak_sling_tension", "projectile_acceleration": "peak_projectile_acceleration",
+         "arm_bending_moment": "peak_arm_bending_moment"}
 _LOAD_KEYS = tuple(f"max_{name}" for name in LOADS) + ("min_range",)
 
 

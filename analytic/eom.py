@@ -58,6 +58,7 @@ from __future__ import annotations
 import math
 
 from analytic.aero import DRAG_TABLE, drag_rate
+from analytic.geometry import arm_long_side
 
 #: ``Params.kind`` of a machine whose counterweight is bolted to the arm (``design.KINDS.index("fixed")``).
 FIXED = 1.0
@@ -456,6 +457,25 @@ def joint_forces_in_gravity(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi,
     return axle_x, axle_y, hinge_x, hinge_y, sling_x, sling_y
 
 
+def arm_bending_moment(theta, ddtheta, axle_ax, axle_ay, sling_x, sling_y, p):
+    """The bending moment in the arm's cross-section at the axle, N m (CCW positive), eq. (9.6).
+
+    The moment of the short side on the long side across the cut just on the long
+    side of the axle (the axle's force and friction torque act on the short side),
+    from the long side's Euler equation about the axle point O:
+    ``M = J_L theta'' + s_L u x (a_O + g e_y) + La u x S``, with ``u`` the unit vector
+    along the long arm, ``m_L, s_L = m_L La / 2, J_L`` the long side's mass and first
+    and second moments about O (``geometry.arm_long_side``), ``(axle_ax, axle_ay)``
+    the axle's own acceleration in the ground frame (m/s^2; 0 on a fixed frame) and
+    ``(sling_x, sling_y)`` the sling's force on the projectile (N; it pulls the tip
+    with ``-S``). The rod's centripetal accelerations point along ``u``: no moment.
+    """
+    _, first, second = arm_long_side(p.La, p.Lb, p.mA, p.d)
+    ux, uy = -math.sin(theta), math.cos(theta)
+    return (second * ddtheta + first * (ux * (axle_ay + p.g) - uy * axle_ax)
+            + p.La * (ux * sling_y - uy * sling_x))
+
+
 def loads(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, normal, p):
     """``loads_sliding`` without friction on the base."""
     return loads_sliding(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, normal, 0.0, p)
@@ -464,7 +484,7 @@ def loads(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, normal, p)
 def loads_sliding(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, normal, base_force, p):
     """What a builder sizes the machine for, from ``joint_forces``, eq. (9.3).
 
-    Returns ``(axle_load, hinge_load, tension, projectile_acceleration)``:
+    Returns ``(axle_load, hinge_load, tension, projectile_acceleration, arm_bending_moment)``:
 
     * ``axle_load = |axle force|``, N: what the axle's bearings carry; a
       bearing's friction torque is ``mu r |F|`` with this ``|F|``;
@@ -473,7 +493,9 @@ def loads_sliding(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, no
       (negative: a rigid sling pushes);
     * ``projectile_acceleration``, m/s^2: what the projectile feels, the force
       of the sling and the base on it divided by its mass (gravity excluded;
-      divide by g for "g"s), and the air's drag with ``p.drag_swing`` on.
+      divide by g for "g"s), and the air's drag with ``p.drag_swing`` on;
+    * ``arm_bending_moment = |arm_bending_moment|``, N m: what the arm's
+      cross-section at the axle carries (the axle moves with the frame).
 
     ``base_force``: the base's friction on the projectile along x (stage 1), N.
     """
@@ -486,5 +508,7 @@ def loads_sliding(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, no
     if p.drag_swing > 0.0:   # an accelerometer in the projectile feels the air's push too
         dx, dy = swing_drag(theta, psi, dtheta, dpsi, p)
         felt_x, felt_y = felt_x + dx, felt_y + dy
+    ddx = frame_acceleration(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, p)
+    bending = arm_bending_moment(theta, ddtheta, ddx, 0.0, sling_x, sling_y, p)
     return (math.sqrt(axle_x * axle_x + axle_y * axle_y), math.sqrt(hinge_x * hinge_x + hinge_y * hinge_y),
-            tension, math.sqrt(felt_x * felt_x + felt_y * felt_y) / p.mP)
+            tension, math.sqrt(felt_x * felt_x + felt_y * felt_y) / p.mP, abs(bending))

@@ -46,6 +46,24 @@ def part_positions(theta: float, phi: float, psi: float, arm_long: float, arm_sh
             long_x + sling_length * sx, long_y + sling_length * sy)
 
 
+def arm_long_side(arm_long: float, arm_short: float, arm_mass: float, arm_cg: float) -> tuple[float, float, float]:
+    """The arm's long side, from the axle to the long tip, as a uniform rod (``docs/derivation.md`` eq. 9.4).
+
+    The arm is taken as two uniform rods meeting at the axle, the long side's
+    mass ``m_L`` and the short side's chosen so that together they have the
+    arm's mass and centre of mass: ``m_L La / 2 - (mA - m_L) Lb / 2 = mA d``,
+    ``m_L = mA (2 d + Lb) / (La + Lb)``. An arm whose centre lies beyond the
+    middle of a side (``d > La / 2`` or ``d < -Lb / 2``) cannot be so split; its
+    long side then takes all the mass or none (the share clipped to [0, 1]).
+
+    Returns ``(mass, first_moment, second_moment)`` about the axle: kg,
+    ``m_L La / 2`` kg m, ``m_L La^2 / 3`` kg m^2.
+    """
+    share = min(max((2.0 * arm_cg + arm_short) / (arm_long + arm_short), 0.0), 1.0)
+    mass = arm_mass * share
+    return mass, 0.5 * mass * arm_long, mass * arm_long * arm_long / 3.0
+
+
 #: Names of the pairs ``part_positions`` returns, in order.
 PARTS = ("long_tip", "short_tip", "arm_centre", "counterweight", "projectile")
 

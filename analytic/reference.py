@@ -474,7 +474,8 @@ def _finish_shot(design: Design, p: Params, history, segments, status: Status, m
                       flight_t=fields.pop("flight_t", np.empty(0)),
                       flight_path=fields.pop("flight_path", np.empty((0, 2))),
                       **({} if loads is None else
-                         {"axle_load": loads[:, 0], "hinge_load": loads[:, 1], "projectile_acceleration": loads[:, 3]}))
+                         {"axle_load": loads[:, 0], "hinge_load": loads[:, 1], "projectile_acceleration": loads[:, 3],
+                          "arm_bending_moment": loads[:, 4]}))
     return Shot(design, status, message, history=history,
                 # A machine that never moves (never fires, or its equations fail at rest) holds
                 # its projectile statically: no tension is defined.

@@ -56,6 +56,7 @@ def format_shot(shot: Shot, units: str = "metric") -> str:
     if shot.peak_projectile_acceleration is not None:
         rows.append(("peak projectile accel.", f"{shot.peak_projectile_acceleration / shot.design.environment.gravity:.2f}",
                      f"g{at('peak_projectile_acceleration')}"))
+    row("peak arm bending moment", shot.peak_arm_bending_moment, "N m", ".3f", at("peak_arm_bending_moment"))
     width = max((len(r[0]) for r in rows), default=0)
     lines += [f"  {label:<{width}}  {value:>20}  {unit}" for label, value, unit in rows]
     lines += [f"warning  {warning}" for warning in shot.warnings]

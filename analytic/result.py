@@ -17,8 +17,9 @@ __all__ = ["EnergyBudget", "History", "JSON_KEYS", "LOSS_NAMES", "PEAK_NAMES", "
 
 
 #: The peak loads over stages 1-2, each a ``Shot`` field (and ``<name>_time``), in the order of
-#: ``analytic.stages.LOAD_NAMES``: N, N, N, m/s^2.
-PEAK_NAMES = ("peak_axle_load", "peak_hinge_load", "peak_sling_tension", "peak_projectile_acceleration")
+#: ``analytic.stages.LOAD_NAMES``: N, N, N, m/s^2, N m.
+PEAK_NAMES = ("peak_axle_load", "peak_hinge_load", "peak_sling_tension", "peak_projectile_acceleration",
+              "peak_arm_bending_moment")
 #: Keys of the ``--json`` object, shared by ``analytic`` and ``engine_model``.
 JSON_KEYS = (
     "design", "status", "message", "liftoff_time", "release_time",
@@ -74,7 +75,8 @@ class History:
     frame_x : (n,) the frame's X on ``t``, m; (0,) for a fixed frame in the analytic model.
     flight_t : (k,) flight sample times, s from firing; (0,) if the projectile never flew.
     flight_path : (k, 2) projectile centre in flight, m.
-    axle_load, hinge_load, projectile_acceleration : (n,) the loads on ``t`` (N, N, m/s^2), or
+    axle_load, hinge_load, projectile_acceleration, arm_bending_moment : (n,) the loads on ``t``
+        (N, N, m/s^2, N m; the bending moment's magnitude), or
         None where they are not recorded (the engine model; ``simulate(sampled_loads=False)``).
     machine_t, machine_q, machine_frame_x : the machine without its projectile from release to
         landing: (m,) times, s from firing; (m, 2) [theta, phi], rad; (m,) the frame's X, m.
@@ -94,6 +96,7 @@ class History:
     axle_load: np.ndarray | None = None
     hinge_load: np.ndarray | None = None
     projectile_acceleration: np.ndarray | None = None
+    arm_bending_moment: np.ndarray | None = None
     machine_t: np.ndarray | None = None
     machine_q: np.ndarray | None = None
     machine_frame_x: np.ndarray | None = None
@@ -141,6 +144,9 @@ class Shot:
     peak_sling_tension : largest sling tension through stages 1-2, N.
     peak_projectile_acceleration : largest acceleration the projectile feels (the sling's
         and the base's force on it over its mass, gravity excluded), m/s^2.
+    peak_arm_bending_moment : largest magnitude of the bending moment the arm's cross-section at
+        the axle carries through stages 1-2, N m (``analytic.eom.arm_bending_moment``: the long
+        side as a uniform rod, ``analytic.geometry.arm_long_side``).
     peak_*_time : when each peak occurs, s from firing. None for a machine that never
         fires or a failed integration (the engine model: ``engine_model.loads``).
     min_ground_force : smallest vertical push of the ground on the frame through stages
@@ -188,6 +194,8 @@ class Shot:
     peak_sling_tension_time: float | None = None
     peak_projectile_acceleration: float | None = None
     peak_projectile_acceleration_time: float | None = None
+    peak_arm_bending_moment: float | None = None
+    peak_arm_bending_moment_time: float | None = None
     warnings: tuple[str, ...] = ()
     diagnostics: Any = None
 
@@ -223,6 +231,7 @@ class Shot:
         add("peak projectile acceleration",
             None if self.peak_projectile_acceleration is None else self.peak_projectile_acceleration / g,
             ".1f", "g", self.peak_projectile_acceleration_time)
+        add("peak arm bending moment", self.peak_arm_bending_moment, ".2f", "N m", self.peak_arm_bending_moment_time)
         rows += [("warning", warning) for warning in self.warnings]
         body = "".join(f"<tr><th style='text-align:left'>{html.escape(label)}</th>"
                        f"<td style='text-align:left'>{html.escape(value)}</td></tr>" for label, value in rows)
@@ -378,8 +387,8 @@ class Shots:
     end_time : (S,) s, when the shot ended (the failure's instant for a failure).
     steps, evaluations : (S,) int, accepted integrator steps and right-hand-side evaluations (with
         the evaluations of the accelerations that finding the peak loads takes).
-    peak_axle_load, peak_hinge_load, peak_sling_tension, peak_projectile_acceleration : (S,)
-        the largest loads through stages 1-2 (N, N, N, m/s^2; ``Shot``), and each one's
+    peak_axle_load, peak_hinge_load, peak_sling_tension, peak_projectile_acceleration, peak_arm_bending_moment : (S,)
+        the largest loads through stages 1-2 (N, N, N, m/s^2, N m; ``Shot``), and each one's
         ``*_time`` (S,), s.
     designs : the S designs shot, or None (shot from packed rows).
     shot_at : ``shot_at(i)``, design i's ``Shot``, from the path that made these shots; None with
@@ -405,6 +414,8 @@ class Shots:
     peak_sling_tension_time: np.ndarray
     peak_projectile_acceleration: np.ndarray
     peak_projectile_acceleration_time: np.ndarray
+    peak_arm_bending_moment: np.ndarray
+    peak_arm_bending_moment_time: np.ndarray
     designs: tuple[Design, ...] | None = field(default=None, repr=False, compare=False, kw_only=True)
     shot_at: Callable[[int], Shot] | None = field(default=None, repr=False, compare=False, kw_only=True)
 

@@ -583,8 +583,8 @@ def machine_frame(y, m, momentum, start_time, start_y, start_x, time):
             (momentum - b1 * y[2] - b2 * y[3]) / mass)
 
 
-#: What ``loads_at`` returns, in order (``analytic.eom.loads``): N, N, N, m/s^2.
-LOAD_NAMES = ("axle_load", "hinge_load", "sling_tension", "projectile_acceleration")
+#: What ``loads_at`` returns, in order (``analytic.eom.loads``): N, N, N, m/s^2, N m.
+LOAD_NAMES = ("axle_load", "hinge_load", "sling_tension", "projectile_acceleration", "arm_bending_moment")
 
 
 def loads_after_step(stage, y, f, p):

@@ -45,6 +45,7 @@ VISCOSITY = Kind("viscosity", "[mass] / [length] / [time]", "Pa * s", '"1.81e-5 
 ACCELERATION = Kind("acceleration", "[length] / [time] ** 2", "m / s ** 2", '"9.81 m/s^2" or "50 g0"')
 SPEED = Kind("speed", "[length] / [time]", "m / s", '"3 m/s" or "10 ft/s"')
 FORCE = Kind("force", "[length] * [mass] / [time] ** 2", "N", '"200 N" or "45 lbf"')
+MOMENT = Kind("moment", "[length] ** 2 * [mass] / [time] ** 2", "N * m", '"40 N m" or "30 ft lbf"')
 NUMBER = Kind("pure number", "", "", "0.47")
 
 #: Units a builder writes, offered for a mistyped one ("6 ftt": did you mean 'ft'?).
@@ -69,6 +70,7 @@ FIELD_KINDS = {
     "air_viscosity": VISCOSITY,
     "wind_speed": SPEED,
     "max_sling_tension": FORCE, "max_axle_load": FORCE, "max_hinge_load": FORCE,
+    "max_arm_bending_moment": MOMENT,
 }
 _BOUND_KEYS = ("lower", "upper", "value")
 
@@ -188,9 +190,9 @@ def to_file_text(value: float, kind: Kind, unit: str | None = None) -> str:
 SYSTEMS = {
     "metric": {},
     "imperial": {"m": ("ft", "ft"), "kg": ("lb", "lb"), "m/s": ("ft/s", "ft / s"), "N": ("lbf", "lbf"),
-                 "m/s^2": ("ft/s^2", "ft / s ** 2"), "J": ("ft lbf", "ft * lbf")},
+                 "m/s^2": ("ft/s^2", "ft / s ** 2"), "J": ("ft lbf", "ft * lbf"), "N m": ("ft lbf", "ft * lbf")},
 }
-_PINT_SI = {"m": "m", "kg": "kg", "m/s": "m / s", "N": "N", "m/s^2": "m / s ** 2", "J": "J"}
+_PINT_SI = {"m": "m", "kg": "kg", "m/s": "m / s", "N": "N", "m/s^2": "m / s ** 2", "J": "J", "N m": "N * m"}
 
 
 def display(value: float, unit: str, system: str = "metric") -> tuple[float, str]:
@@ -207,7 +209,7 @@ def display(value: float, unit: str, system: str = "metric") -> tuple[float, str
 
 
 #: The SI unit (a key of ``SYSTEMS``' tables) each kind is shown in, for kinds a system changes.
-_SHOWN_AS = {LENGTH: "m", MASS: "kg", SPEED: "m/s", FORCE: "N", ACCELERATION: "m/s^2"}
+_SHOWN_AS = {LENGTH: "m", MASS: "kg", SPEED: "m/s", FORCE: "N", ACCELERATION: "m/s^2", MOMENT: "N m"}
 #: The kinds whose unit a system decides: what a file's dominant units are counted on (``written_system``).
 SYSTEM_KINDS = tuple(_SHOWN_AS)
 

@@ -55,7 +55,7 @@ def _designs(count: int, seed: int) -> list:
             module = importlib.import_module(name)
         except ImportError:
             continue
-        if Path(module.__file__).resolve().is_relative_to(sources):
+        if Path(module.__file__).resolve().is_relative_to(sources) and hasattr(module, "bench_designs"):
             return module.bench_designs(count, seed)
     raise ImportError(f"none of {', '.join(DESIGN_SAMPLES)} in {sources}")
 

@@ -25,7 +25,9 @@ def engine_simulate(design: Design, dt: float) -> Shot:
 
 
 #: Units of ``PEAK_NAMES``' rows.
-PEAK_UNITS = ("N", "N", "N", "m/s^2")
+PEAK_UNITS = ("N", "N", "N", "m/s^2", "N m")
+#: The relative tolerance of each of ``PEAK_NAMES``.
+PEAK_TOLERANCES = (tol.PEAK_LOAD_REL,) * 4 + (tol.ARM_BENDING_MOMENT_REL,)
 
 
 def with_dissipated_work(shot: Shot) -> Shot:
@@ -117,8 +119,8 @@ def compare_shots(a: Shot, e: Shot) -> tuple[Row, ...]:
         _numeric("range", "m", a.range, e.range, range_tolerance),
         _numeric("apex_height", "m", a.apex_height, e.apex_height, tol.APEX_HEIGHT_REL * a.apex_height),
     ]
-    rows += [_numeric(name, unit, getattr(a, name), getattr(e, name), tol.PEAK_LOAD_REL * abs(getattr(a, name)))
-             for name, unit in zip(PEAK_NAMES, PEAK_UNITS, strict=True)
+    rows += [_numeric(name, unit, getattr(a, name), getattr(e, name), relative * abs(getattr(a, name)))
+             for name, unit, relative in zip(PEAK_NAMES, PEAK_UNITS, PEAK_TOLERANCES, strict=True)
              if getattr(a, name) is not None and getattr(e, name) is not None]
     if a.frame_release_displacement is not None and e.frame_release_displacement is not None:
         shift = a.frame_release_displacement

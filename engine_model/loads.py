@@ -1,10 +1,11 @@
 """The loads a builder sizes the machine for, from the engine's bodies: each one's momentum change over a step.
 
-The same four as the analytic model's (``analytic.eom.loads``, in the order of
+The same five as the analytic model's (``analytic.eom.loads``, in the order of
 ``analytic.stages.LOAD_NAMES``): the force of the frame on the arm at the axle,
 the force between the arm and the counterweight at the hinge, the sling's
-tension, and the projectile's felt acceleration (the sling's and the base's
-force on it over its mass, gravity excluded).
+tension, the projectile's felt acceleration (the sling's and the base's
+force on it over its mass, gravity excluded) and the bending moment the arm's
+cross-section at the axle carries.
 
 pymunk reports only the size of a joint's impulse, and the pivot joint also
 carries any ballast the engine put at the pivot (``engine_model.build``), which
@@ -20,7 +21,13 @@ t_k - dt/2 to t_k + dt/2 (raw rows, ``engine_model.kinematics``), and
   ``-H`` and the sling's pull ``-S`` on it, ``S = T u`` the sling's force on the
   projectile (``T`` the tension the shot measured, ``u`` the unit vector from
   the projectile to the long tip); ``a_A`` is the acceleration of the arm's
-  centre of mass, the design's, without ballast.
+  centre of mass, the design's, without ballast;
+* bending moment at the axle: the long side (axle to long tip, a uniform
+  rod of mass ``m_L``, ``analytic.geometry.arm_long_side``) as a body of its
+  own, Newton-Euler about its centre C:
+  ``M = I_C w' + m_L (C - O) x (a_C + g e_y) + (tip - O) x S``, O the axle, with ``w'``
+  the arm body's angular acceleration, ``a_C`` the acceleration of the arm
+  body's point at C (whatever the axle does) and ``I_C = m_L La^2 / 12``.
 """
 
 from __future__ import annotations
@@ -28,6 +35,7 @@ from __future__ import annotations
 import numpy as np
 
 from analytic.design import Design
+from analytic.geometry import arm_long_side
 from engine_model import kinematics as kin
 
 
@@ -42,8 +50,8 @@ def accelerations(raw: np.ndarray, body_velocity: np.ndarray, dt: float) -> np.n
 
 
 def load_histories(raw: np.ndarray, tension: np.ndarray, design: Design, dt: float) -> np.ndarray:
-    """The loads over each raw row's step, shape (n, 4): axle (N), hinge (N), sling tension (N) and
-    the projectile's felt acceleration (m/s^2).
+    """The loads over each raw row's step, shape (n, 5): axle (N), hinge (N), sling tension (N),
+    the projectile's felt acceleration (m/s^2) and the arm's bending moment at the axle (N m).
 
     Parameters
     ----------
@@ -59,8 +67,30 @@ def load_histories(raw: np.ndarray, tension: np.ndarray, design: Design, dt: flo
     offset = kin.long_tip(raw, design) - kin.position(raw, kin.PROJECTILE)
     sling = tension[:, None] * offset / np.linalg.norm(offset, axis=1)[:, None]
     axle = m.arm_mass * (accelerations(raw, arm_velocity, dt) + up) + hinge + sling
+    bending = bending_moment(raw, sling, design, dt)
     return np.column_stack([np.linalg.norm(axle, axis=1), np.linalg.norm(hinge, axis=1), tension,
-                            np.linalg.norm(felt, axis=1)])
+                            np.linalg.norm(felt, axis=1), np.abs(bending)])
+
+
+def bending_moment(raw: np.ndarray, sling: np.ndarray, design: Design, dt: float) -> np.ndarray:
+    """The moment of the short side on the long side across the arm's section at the axle over each
+    raw row's step, (n,) N m (counter-clockwise positive), from (n, 2) ``sling``, the sling's force
+    on the projectile, N (the module's docstring)."""
+    m, g = design.machine, design.environment.gravity
+    mass, _, second = arm_long_side(m.arm_long, m.arm_short, m.arm_mass, m.arm_cg)
+    axle = kin.arm_point(raw, 0.0)
+    centre = kin.arm_point(raw, 0.5 * m.arm_long) - axle
+    tip = kin.long_tip(raw, design) - axle
+    centre_acceleration = accelerations(raw, kin.point_velocity(raw, kin.ARM, centre + axle), dt)
+    spin = accelerations(raw, kin.column(raw, kin.ARM, kin.W)[:, None], dt)[:, 0]
+    inertia = second - mass * (0.5 * m.arm_long) ** 2
+    return (inertia * spin + mass * _cross(centre, centre_acceleration + np.array([0.0, g]))
+            + _cross(tip, sling))
+
+
+def _cross(r: np.ndarray, f: np.ndarray) -> np.ndarray:
+    """The z components of (n, 2) x (n, 2) planar cross products."""
+    return r[:, 0] * f[:, 1] - r[:, 1] * f[:, 0]
 
 
 #: Steps after the opening half step whose loads are left out of the peaks: pymunk's solver starts

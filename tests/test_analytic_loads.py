@@ -171,7 +171,7 @@ def test_loads_are_the_joint_forces_sizes_and_the_tension_is_eq_5_2_on_a_fixed_f
         psi, dpsi, s, c, _ = eom.slide_constraint(theta, dtheta, p)
         q, qd, qdd = (theta, phi, psi), (dtheta, dphi, dpsi), (ddtheta, ddphi, s * ddtheta + c)
     axle_x, axle_y, hinge_x, hinge_y, sling_x, sling_y = eom.joint_forces(*q, *qd, *qdd, normal, p)
-    axle, hinge, tension, felt = stages.loads_at(stage, y, p)
+    axle, hinge, tension, felt, bending = stages.loads_at(stage, y, p)
     scale = _force_scale(p, ([axle_x, axle_y], [hinge_x, hinge_y], [sling_x, sling_y]))
     _assert_close([axle, hinge], [math.hypot(axle_x, axle_y), math.hypot(hinge_x, hinge_y)], "|axle|, |hinge|", scale)
     beta = q[0] + q[2]
@@ -179,6 +179,10 @@ def test_loads_are_the_joint_forces_sizes_and_the_tension_is_eq_5_2_on_a_fixed_f
     # The sling pulls along itself: no force across it (the massless sling).
     _assert_close(sling_x * math.cos(beta) + sling_y * math.sin(beta), 0.0, "sling force across the sling", scale)
     _assert_close(felt * p.mP, math.hypot(sling_x, sling_y + normal), "felt acceleration x mass", scale)
+    # The bending moment takes the sling's force and the axle's acceleration with the frame's.
+    frame = eom.frame_acceleration(*q, *qd, *qdd, p)
+    _assert_close(bending, abs(eom.arm_bending_moment(q[0], qdd[0], frame, 0.0, sling_x, sling_y, p)),
+                  "|bending moment|", scale * p.La)
     if not p.rolling:
         _assert_close(tension, _tension_eq_5_2(q[0], q[2], qd[0], qd[2], qdd[0], normal, p), "eq. (5.2)", scale)
 

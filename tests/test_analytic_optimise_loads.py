@@ -36,7 +36,18 @@ def test_a_problem_file_reads_load_limits_and_the_gentle_mode_with_units():
     assert (problem.minimise, problem.min_range) == ("hinge_load", pytest.approx(30.48))
 
 
+def test_a_problem_file_reads_the_arm_bending_moment_limit_in_ft_lbf():
+    data = problem_dict()
+    data["loads"] = {"max_arm_bending_moment": "30 ft lbf"}
+    problem = problem_from_dict(data)
+    # 1 ft lbf = 0.3048 m x 4.4482216152605 N (the international foot and pound-force).
+    assert dict(problem.load_limits) == pytest.approx({"arm_bending_moment": 30 * 0.3048 * 4.4482216152605})
+    assert problem.outcome_constraints == ("peak arm bending moment <= 40.6745",)
+
+
 @pytest.mark.parametrize("loads, field", [
+    ({"max_arm_bending_moment": "40 N"}, "loads.max_arm_bending_moment"),
+    ({"max_arm_bending_moment": -1.0}, "loads.max_arm_bending_moment"),
     ({"max_axle_load": -5.0}, "loads.max_axle_load"),
     ({"max_axle_load": "5 kg"}, "loads.max_axle_load"),
     ({"max_bolt_load": 5.0}, "loads.max_bolt_load"),
@@ -66,17 +77,19 @@ def test_robust_with_loads_is_refused_before_any_work(tmp_path, capsys):
     assert "nominal shot only" in capsys.readouterr().err
 
 
-def test_a_load_limit_is_met_and_costs_range(unconstrained):
+@pytest.mark.parametrize("load", ["projectile_acceleration", "arm_bending_moment"])
+def test_a_load_limit_is_met_and_costs_range(unconstrained, load):
     optimum, shot = unconstrained
-    limit = 0.8 * shot.peak_projectile_acceleration
-    problem = dataclasses.replace(default_problem(), load_limits=(("projectile_acceleration", limit),))
+    limit = 0.8 * getattr(shot, f"peak_{load}")
+    problem = dataclasses.replace(default_problem(), load_limits=((load, limit),))
     limited = maximise(problem, Evaluator(problem), Settings())
     got = fast.simulate_fast(design_at(problem, limited.values))
-    assert got.peak_projectile_acceleration <= limit * (1.0 + OUTCOME_FEASIBILITY)
+    assert getattr(got, f"peak_{load}") <= limit * (1.0 + OUTCOME_FEASIBILITY)
     assert got.range == pytest.approx(limited.score, rel=1e-9)
     assert limited.score < optimum.score
     # The limit binds: it is active at the optimum, with a positive multiplier.
     (name,) = [n for n in limited.first_order.active_constraints if n.startswith("peak")]
+    assert name.startswith(f"peak {load.replace('_', ' ')} <=")
     assert limited.first_order.constraint_multipliers[name] > 0.0
 
 
@@ -100,3 +113,5 @@ def test_optimise_reports_the_peak_loads_of_every_design():
 
     text = format_report(result)
     assert "Peak loads (stages 1-2); limits: axle_load 5000" in text and "axle load (N)" in text
+    assert "arm bending moment (N m)" in text
+    assert "arm bending moment (ft lbf)" in format_report(result, "imperial")

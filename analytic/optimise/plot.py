@@ -62,7 +62,7 @@ def score_label(problem: Problem) -> str:
     """What the optimiser maximises, for an axis: the range, or minus a peak load."""
     if problem.minimise is None:
         return "range (m)"
-    unit = "m/s^2" if problem.minimise == "projectile_acceleration" else "N"
+    unit = {"projectile_acceleration": "m/s^2", "arm_bending_moment": "N m"}.get(problem.minimise, "N")
     return f"minus the peak {problem.minimise.replace('_', ' ')} ({unit})"
 
 

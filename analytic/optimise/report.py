@@ -44,17 +44,19 @@ class Scales(NamedTuple):
     force: tuple[str, float]
     acceleration: tuple[str, float]
     mass: tuple[str, float]
+    moment: tuple[str, float]      # N m, or ft lbf
 
     @classmethod
     def of(cls, system: str = "metric") -> Scales:
-        """``metric`` (cm, m, N, m/s^2, kg) or ``imperial`` (in, ft, lbf, ft/s^2, lb), through ``analytic.units``."""
+        """``metric`` (cm, m, N, m/s^2, kg, N m) or ``imperial`` (in, ft, lbf, ft/s^2, lb, ft lbf), through
+        ``analytic.units``."""
         def pair(unit: str) -> tuple[str, float]:
             factor, label = shown_as(1.0, unit, system)
             return label, factor
 
         feet = pair("m")
         short = ("cm", 100.0) if feet[0] == "m" else ("in", 12.0 * feet[1])
-        return cls(short, feet, pair("N"), pair("m/s^2"), pair("kg"))
+        return cls(short, feet, pair("N"), pair("m/s^2"), pair("kg"), pair("N m"))
 
 
 def display(name: str, value):
@@ -228,8 +230,8 @@ def format_peaks(problem: Problem, peaks: dict[str, dict[str, float]], system: s
 
 
 def _load_scale(load: str, scales: Scales) -> tuple[str, float]:
-    """A load's unit and scale: an acceleration's or a force's."""
-    return scales.acceleration if load == "projectile_acceleration" else scales.force
+    """A load's unit and scale: an acceleration's, a moment's or a force's."""
+    return {"projectile_acceleration": scales.acceleration, "arm_bending_moment": scales.moment}.get(load, scales.force)
 
 
 def _limit(load: str, limit: float, scales: Scales) -> str:
