@@ -195,6 +195,8 @@ class Projectile:
     drag_factor : a multiplier on the drag force of any model (its Cd at every Re),
         1 by default: what a calibration fits when a real ball drags more or less
         than its model (``analytic.calibrate``). The Reynolds number is unchanged.
+    drag_during_swing : whether the drag (with the wind) also acts in stages 1-2, before
+        release; False by default, the paper's model (drag in flight only).
     """
 
     mass: float
@@ -202,8 +204,11 @@ class Projectile:
     drag: str = "none"
     drag_coefficient: float | None = None
     drag_factor: float = 1.0
+    drag_during_swing: bool = False
 
     def __post_init__(self) -> None:
+        if not isinstance(self.drag_during_swing, bool):
+            raise DesignError("projectile.drag_during_swing", self.drag_during_swing, "must be true or false")
         require_positive("projectile.mass", self.mass)
         require_positive("projectile.diameter", self.diameter)
         require_positive("projectile.drag_factor", self.drag_factor)
@@ -371,6 +376,10 @@ class Design:
             raise DesignError("base", self.base, "must be a Base")
         if not isinstance(self.losses, Losses):
             raise DesignError("losses", self.losses, "must be a Losses")
+        if self.projectile.drag_during_swing and self.base.rolling:
+            raise DesignError("projectile.drag_during_swing", True,
+                              "not modelled on a rolling frame (the drag would change the frame's momentum, "
+                              "which the rolling model keeps at zero); use a fixed base or leave it false")
         if isinstance(self.machine, Machine) and self.machine.kind != "hinged":
             for name in ("hinge_friction", "hinge_static_friction"):
                 value = getattr(self.losses, name)
@@ -384,7 +393,8 @@ class Design:
     def _check_floating(self) -> None:
         """Refuse what the floating-arm machine does not model: a rolling frame (its axle already rides a
         track) and the base's friction (its generalised force is the hinged machine's, without the axle's
-        motion); the axle's friction is modelled."""
+        motion), and the drag before release (its generalised force, likewise); the axle's friction is
+        modelled."""
         if self.base.rolling:
             raise DesignError("base.mobility", self.base.mobility,
                               "a floating-arm machine's axle already rides its track: its frame cannot roll; "
@@ -394,6 +404,10 @@ class Design:
             if value is not None and value > 0.0:
                 raise DesignError(f"losses.{name}", value,
                                   "the base's friction is not modelled on a floating-arm machine; leave it out (or 0)")
+        if self.projectile.drag_during_swing:
+            raise DesignError("projectile.drag_during_swing", True,
+                              "not modelled on a floating-arm machine (its generalised force would need the "
+                              "axle's motion in the projectile's velocity); leave it false")
 
 
 # --------------------------------------------------------------------------- #

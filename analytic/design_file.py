@@ -155,7 +155,8 @@ def machine_from_dict(data: Any) -> Machine:
 def projectile_from_dict(data: Any) -> Projectile:
     """The ``[projectile]`` table of a design (or problem) file; ``mass``, ``diameter`` and ``drag`` required."""
     values = read_values("projectile", require_table("projectile", data),
-                         numbers=("mass", "diameter", "drag_coefficient", "drag_factor"), texts=("drag",),
+                         numbers=("mass", "diameter", "drag_coefficient", "drag_factor"),
+                         texts=("drag", "drag_during_swing"),
                          required=("mass", "diameter", "drag"))
     return Projectile(**values)
 
@@ -219,6 +220,8 @@ def design_to_dict(design: Design, units: dict[str, str] | None = None) -> dict[
     projectile = {k: v for k, v in dataclasses.asdict(design.projectile).items() if v is not None}
     if projectile["drag_factor"] == 1.0:   # the default: left out, so files read as they were written
         del projectile["drag_factor"]
+    if not projectile["drag_during_swing"]:   # the default, the paper's model: left out
+        del projectile["drag_during_swing"]
     layout = {"name": design.name, "machine": machine, "projectile": projectile,
               "environment": dataclasses.asdict(design.environment)}
     if design.base != Base():   # a fixed frame is the default: its table is left out

@@ -29,6 +29,8 @@ ta, th, F  friction torques on the arm (axle) and the link     --
            projectile along x [10.1]
 kind       the machine's kind code; ``FIXED``: the             machine.kind
            counterweight bolted to the arm (Lw = 0) [11]
+D          the air's drag on the projectile in stages 1-2,     projectile.drag_during_swing
+           when ``p.drag_swing`` is on [13]
 =========  =================================================  ============
 
 (the full table of ``Params`` is in ``analytic.parameters``).
@@ -46,13 +48,16 @@ A fixed machine [11] (the counterweight bolted to the arm, ``p.kind == FIXED``,
 ``Lw = 0``) is the hinged one with phi held at rest: ``terms`` gives its phi row
 as ``phi'' = 0``, uncoupled, and every function here and in ``analytic.friction``
 then moves theta and psi by the fixed machine's equations; the "hinge" force is
-the counterweight's mount's.
+the counterweight's mount's. With ``p.drag_swing`` on, the projectile's drag
+[13] is a generalised force ``J^T D`` in f (``terms``), so every system built
+from f carries it, and the sling's force in ``joint_forces_sliding`` is net of it.
 """
 
 from __future__ import annotations
 
 import math
 
+from analytic.aero import DRAG_TABLE, drag_rate
 from analytic.floating_arm import terms as floating_terms
 from analytic.geometry import arm_long_side
 
@@ -96,7 +101,37 @@ def terms(theta, phi, psi, dtheta, dphi, dpsi, p):
           + p.mP * p.La * p.Ls * s_psi * dpsi * (2.0 * dtheta + dpsi))
     f2 = -p.mW * p.Lw * (p.g * s_w + p.Lb * s_phi * dtheta * dtheta)
     f3 = p.mP * p.Ls * (p.g * s_b - p.La * s_psi * dtheta * dtheta)
+    if p.drag_swing > 0.0:
+        q1, q3 = drag_generalised(theta, psi, dtheta, dpsi, p)
+        f1 += q1
+        f3 += q3
     return m11, m12, m13, m22, m33, f1, f2, f3
+
+
+# --------------------------------------------------------------------------- #
+# The projectile's drag during the swing [13]
+# --------------------------------------------------------------------------- #
+
+def swing_drag(theta, psi, dtheta, dpsi, p):
+    """The air's drag on the projectile ``(Dx, Dy)``, N, at a stage-1 or stage-2 state (eq. 13.1):
+    the flight's law (``aero.drag_rate``) on its velocity relative to the air, ``v - (wind, 0)``."""
+    s_th, c_th = math.sin(theta), math.cos(theta)
+    s_b, c_b = math.sin(theta + psi), math.cos(theta + psi)
+    dbeta = dtheta + dpsi
+    vx_rel = -p.La * c_th * dtheta - p.Ls * c_b * dbeta - p.wind
+    vy = -p.La * s_th * dtheta - p.Ls * s_b * dbeta
+    k = drag_rate(int(p.drag), vx_rel, vy, p.diameter, p.rho, p.mu, p.cd, p.area, p.mP, DRAG_TABLE)
+    return -p.mP * k * vx_rel, -p.mP * k * vy
+
+
+def drag_generalised(theta, psi, dtheta, dpsi, p):
+    """The drag's generalised forces ``(Q_theta, Q_psi)``, N m: ``J^T D`` with ``J`` the Jacobian of the
+    projectile's position ``La u(theta) + Ls u(theta + psi)`` (eq. 13.2); Q_phi is 0."""
+    dx, dy = swing_drag(theta, psi, dtheta, dpsi, p)
+    s_th, c_th = math.sin(theta), math.cos(theta)
+    s_b, c_b = math.sin(theta + psi), math.cos(theta + psi)
+    q_psi = -p.Ls * (c_b * dx + s_b * dy)
+    return -p.La * (c_th * dx + s_th * dy) + q_psi, q_psi
 
 
 def swing_accelerations(theta, phi, psi, dtheta, dphi, dpsi, p):
@@ -396,10 +431,16 @@ def joint_forces_sliding(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, dd
     push on the projectile (0 off the base) and ``base_force`` the base's
     friction on it along x (``mP a_P = S + N e_y + F e_x - mP g e_y``, so
     ``S = mP (a_P + g) - N e_y - F e_x``). Friction torques at the axle and
-    the hinge change no force: a torque has no resultant.
+    the hinge change no force: a torque has no resultant. With ``p.drag_swing``
+    on, the drag ``D`` [13] acts on the projectile too: ``S`` is net of it.
     """
-    return joint_forces_in_gravity(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, normal, base_force,
-                                   p.g, p)
+    axle_x, axle_y, hinge_x, hinge_y, sling_x, sling_y = joint_forces_in_gravity(
+        theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, normal, base_force, p.g, p)
+    if p.drag_swing > 0.0:
+        dx, dy = swing_drag(theta, psi, dtheta, dpsi, p)
+        sling_x, sling_y = sling_x - dx, sling_y - dy
+        axle_x, axle_y = axle_x - dx, axle_y - dy
+    return axle_x, axle_y, hinge_x, hinge_y, sling_x, sling_y
 
 
 def joint_forces_in_gravity(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, normal, base_force, gravity,
@@ -469,7 +510,7 @@ def loads_sliding(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, no
       (negative: a rigid sling pushes);
     * ``projectile_acceleration``, m/s^2: what the projectile feels, the force
       of the sling and the base on it divided by its mass (gravity excluded;
-      divide by g for "g"s);
+      divide by g for "g"s), and the air's drag with ``p.drag_swing`` on;
     * ``arm_bending_moment = |arm_bending_moment|``, N m: what the arm's
       cross-section at the axle carries (the axle moves with the frame).
 
@@ -481,6 +522,9 @@ def loads_sliding(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, no
     tension = sling_x * math.sin(beta) - sling_y * math.cos(beta)   # -S . (-sin beta, cos beta)
     felt_x = sling_x + base_force
     felt_y = sling_y + normal
+    if p.drag_swing > 0.0:   # an accelerometer in the projectile feels the air's push too
+        dx, dy = swing_drag(theta, psi, dtheta, dpsi, p)
+        felt_x, felt_y = felt_x + dx, felt_y + dy
     ddx = frame_acceleration(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, p)
     bending = arm_bending_moment(theta, ddtheta, ddx, 0.0, sling_x, sling_y, p)
     return (math.sqrt(axle_x * axle_x + axle_y * axle_y), math.sqrt(hinge_x * hinge_x + hinge_y * hinge_y),

@@ -23,7 +23,7 @@ from analytic.units import ANGLE, FIELD_KINDS, Kind
 _TABLES = {"machine": Machine, "projectile": Projectile, "environment": Environment, "base": Base,
            "losses": Losses}
 #: Fields of those dataclasses that are not numbers (choices), refused as fields to vary.
-_CHOICES = {"release_rule", "kind", "drag", "mobility"}
+_CHOICES = {"release_rule", "kind", "drag", "mobility", "drag_during_swing"}
 
 
 @dataclass(frozen=True)

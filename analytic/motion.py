@@ -138,7 +138,20 @@ def _completed(shot: Shot, motion: Motion, samples: np.ndarray, p) -> Shot:
             drag = float(_flight_energy(release, p) - _flight_energy(samples[-1, 2:6], p))
     if shot.ok and not p.rolling:
         fields.update(frame_landing_displacement=0.0, frame_landing_velocity=0.0)
-    return dataclasses.replace(shot, energy_dissipated=dict(zip(LOSS_NAMES, (*work, drag), strict=True)), **fields)
+    losses = dict(zip(LOSS_NAMES, (*work, drag, _swing_drag(motion, p, work)), strict=True))
+    return dataclasses.replace(shot, energy_dissipated=losses, **fields)
+
+
+def _swing_drag(motion: Motion, p, work) -> float:
+    """The drag's work before release (or the failure), J: the mechanical energy the machine and the
+    projectile lost in stages 1-2 beyond the friction's ``work`` (drag and friction are all that take it)."""
+    if not p.drag_swing > 0.0:
+        return 0.0
+
+    def energy(i):
+        return sum(eom.potential_energy(*motion.q[i], p)) + sum(eom.kinetic_energy(*motion.q[i], *motion.qdot[i], p))
+
+    return float(energy(0) - energy(-1) - sum(work))
 
 
 def _flight_energy(y: np.ndarray, p) -> float:

@@ -44,9 +44,10 @@ _CODES = {status: i for i, status in enumerate(_STATUSES)}
 
 
 #: The losses a shot accounts for (``Shot.energy_dissipated``'s keys), J: the
-#: main axle's friction, the counterweight hinge's, the base's (stage 1) and
-#: the air's drag in flight.
-LOSS_NAMES = ("axle", "hinge", "base", "drag")
+#: main axle's friction, the counterweight hinge's, the base's (stage 1),
+#: the air's drag in flight, then its drag before release (``projectile.drag_during_swing``;
+#: 0 without it).
+LOSS_NAMES = ("axle", "hinge", "base", "drag", "swing_drag")
 
 
 class Stage(enum.IntEnum):

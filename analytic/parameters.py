@@ -37,6 +37,7 @@ mua_s,      the static coefficients of the axle, the hinge and   losses.*_static
 muh_s,      the base (each at least its kinetic one; the
 mub_s       kinetic one when the file does not give it)
 kind        machine kind code (``design.KINDS``; ``eom.FIXED``)  machine.kind
+drag_swing  1.0 if the drag acts in stages 1-2 too, else 0.0      projectile.drag_during_swing
 ==========  ===================================================  ==========================
 """
 
@@ -89,6 +90,7 @@ class Params(NamedTuple):
     muh_s: float
     mub_s: float
     kind: float
+    drag_swing: float
 
 
 #: Length of a design row (``Params`` in order).
@@ -112,4 +114,5 @@ def params(design) -> Params:
         t_limit=swing_time_limit(largest_length(m), env.gravity), theta0=theta0, phi0=phi0,
         mua=losses.axle_friction, ra=losses.axle_radius, muh=losses.hinge_friction, rh=losses.hinge_radius,
         mub=losses.base_friction, mua_s=losses.static("axle"), muh_s=losses.static("hinge"),
-        mub_s=losses.static("base"), kind=float(KINDS.index(m.kind)))
+        mub_s=losses.static("base"), kind=float(KINDS.index(m.kind)),
+        drag_swing=float(proj.drag_during_swing))

@@ -118,8 +118,8 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
     try:
         # Stage 1: slide on the base until the normal force vanishes.
         if normal0 > 0.0:
-            pieces, action, _, detail = _run_modes(stage, p, 0.0, y1, p.t_limit, rtol, atol, output_step, False,
-                                                   switches)
+            pieces, action, _, detail = _run_modes(stage, p, 0.0, y1, p.t_limit, rtol, atol, output_step,
+                                                   p.drag_swing > 0.0, switches)
             peaks = pieces_peaks(stage, pieces, p, loads, NO_PEAKS, rtol, atol)
             slide = _merge(pieces)
         else:  # the sling already pulls harder than the projectile's weight
@@ -141,8 +141,8 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
             stages.swing_start(slide.y_end, p, y2)
         except FLOAT_ERRORS:
             y2[:] = math.nan   # the integrator ends the stage as step_failed
-        pieces, action, status, _ = _run_modes(stage, p, slide.t_end, y2, p.t_limit, rtol, atol, output_step, False,
-                                               switches)
+        pieces, action, status, _ = _run_modes(stage, p, slide.t_end, y2, p.t_limit, rtol, atol, output_step,
+                                               p.drag_swing > 0.0, switches)
         peaks = pieces_peaks(stage, pieces, p, loads, peaks, rtol, atol)
         swing = _merge(pieces)
         reached.update(peak_fields(peaks))
@@ -329,23 +329,48 @@ def drag_work(flight: Segment, p: Params) -> float:
     projectile's mechanical energy at release equals its energy at landing plus this to the
     integrator's tolerance.
     """
-    if flight.solution is None:
+    out = np.empty(4)
+
+    def power(y):   # per unit of the projectile's mass
+        stages.derivative(Stage.FLIGHT, y, p, DRAG_TABLE, out)
+        return out[2] * y[2] + (out[3] + p.g) * y[3]
+
+    return -_step_integral(flight, power, p.mP)
+
+
+def swing_drag_work(segments, p: Params) -> float:
+    """The work the air's drag took from the projectile in stages 1-2, J (0 unless ``p.drag_swing``):
+    ``-integral of D . v dt`` on each stage's continuous solution (``eom.swing_drag``; a fixed frame,
+    so ``v`` is the projectile's velocity about the pivot), as ``drag_work`` integrates the flight's."""
+    if not p.drag_swing > 0.0:
+        return 0.0
+
+    def power(stage):
+        def at(y):
+            theta, _, psi, dtheta, _, dpsi = (eom.slide_state(y[0], y[1], y[2], y[3], p) if stage is Stage.SLIDE
+                                              else y[:6])
+            dx, dy = eom.swing_drag(theta, psi, dtheta, dpsi, p)
+            _, _, vx, vy = projectile_state(theta, psi, dtheta, dpsi, p.La, p.Ls)
+            return dx * vx + dy * vy
+        return at
+
+    return -sum(_step_integral(segment, power(stage), 1.0) for stage, segment in segments)
+
+
+def _step_integral(segment: Segment, integrand, factor: float) -> float:
+    """``factor`` times the ``integral of integrand(y(t)) dt`` over ``segment``, step by step on its
+    continuous solution (Gauss-Legendre, ``_GAUSS``); 0 without one."""
+    if segment.solution is None:
         return 0.0
     nodes, weights = _GAUSS
     total = 0.0
-    out = np.empty(4)
-    for a, b, interpolant in zip(flight.solution.ts[:-1], flight.solution.ts[1:], flight.solution.interpolants,
+    for a, b, interpolant in zip(segment.solution.ts[:-1], segment.solution.ts[1:], segment.solution.interpolants,
                                  strict=True):
-        b = min(b, flight.t_end)
+        b = min(b, segment.t_end)
         if not b > a:
             continue
-        times = 0.5 * (b - a) * nodes + 0.5 * (a + b)
-        states = interpolant(times).T
-        power = 0.0
-        for w, y in zip(weights, states, strict=True):
-            stages.derivative(Stage.FLIGHT, y, p, DRAG_TABLE, out)
-            power += w * (out[2] * y[2] + (out[3] + p.g) * y[3])
-        total -= p.mP * 0.5 * (b - a) * power
+        states = interpolant(0.5 * (b - a) * nodes + 0.5 * (a + b)).T.tolist()   # Python floats: see stage_rhs
+        total += factor * 0.5 * (b - a) * sum(w * integrand(y) for w, y in zip(weights, states, strict=True))
     return float(total)
 
 
@@ -391,7 +416,7 @@ def _dissipated(p: Params, segments, drag: float) -> dict[str, float]:
         stage, segment = segments[-1]
         core = stages.STATE_SIZE[stage]
         work = tuple(float(w) for w in segment.y_end[core:core + 3])
-    return dict(zip(LOSS_NAMES, (*work, drag), strict=True))
+    return dict(zip(LOSS_NAMES, (*work, drag, swing_drag_work(segments, p)), strict=True))
 
 
 def _support_extremes(stage: np.ndarray, raw: list, p: Params) -> dict[str, float]:
@@ -435,8 +460,7 @@ def _finish_shot(design: Design, p: Params, history, segments, status: Status, m
         path[i, 0] += eom.frame_displacement(theta, phi, psi, p)   # on the ground, as the flight is
     energy = EnergyBudget(projectile=budget[:, 1], machine=budget[:, 0], total=budget.sum(axis=1),
                           dissipated={name: work[:, i] for i, name in enumerate(LOSS_NAMES[:3])})
-    fields["energy_dissipated"] = dict(zip(LOSS_NAMES, (*(float(w) for w in work[-1]),
-                                                          fields.pop("drag_work", 0.0)), strict=True))
+    fields["energy_dissipated"] = _dissipated(p, segments, fields.pop("drag_work", 0.0))
     frame_x = np.array([eom.frame_displacement(*state[:3], p) for state in state_rows])
     ground = np.array([eom.ground_force(*state, *stages.accelerations(int(k), y, p), p)
                        for k, state, y in zip(stage.tolist(), state_rows, raw, strict=True)])

@@ -70,7 +70,7 @@ def format_shot(shot: Shot, units: str = "metric") -> str:
 
 #: How each loss is named in the summary.
 LOSS_LABELS = {"axle": "axle friction", "hinge": "hinge friction", "base": "base friction",
-               "drag": "air drag in flight"}
+               "drag": "air drag in flight", "swing_drag": "air drag before release"}
 
 
 def _energy_rows(shot: Shot, row) -> None:
@@ -83,7 +83,9 @@ def _energy_rows(shot: Shot, row) -> None:
     row("counterweight energy", released, "J", ".3f", " given up by release (counterweight and arm)")
     losses = shot.design.losses
     for name in LOSS_NAMES:
-        if name != "drag" and getattr(losses, f"{name}_friction") == 0.0:
+        if name == "swing_drag" and not shot.design.projectile.drag_during_swing:
+            continue
+        if name not in ("drag", "swing_drag") and getattr(losses, f"{name}_friction") == 0.0:
             continue   # a loss the design does not have: no row of zeros
         taken = shot.energy_dissipated[name]
         row(f"  {LOSS_LABELS[name]}", taken, "J", ".4f", f" ({100 * taken / released:.2f} % of it)")

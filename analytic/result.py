@@ -171,7 +171,8 @@ class Shot:
         (the engine model's ``EngineDiagnostics``).
     energy_dissipated : J taken by each loss from firing to the shot's end, keyed
         ``LOSS_NAMES`` (zeros where a loss is absent): friction up to release (or the
-        failure), the drag's work in flight (``analytic.reference.drag_work``); None
+        failure), the drag's work in flight (``analytic.reference.drag_work``) and before
+        release (``swing_drag``, ``analytic.reference.swing_drag_work``); None
         where not computed (the fast path).
     """
 

@@ -553,10 +553,10 @@ def flight_start(y, p):
 
 
 def machine_params(p):
-    """The design's ``Params`` without the projectile (mP = 0): the machine after release, the
+    """The design's ``Params`` without the projectile (mP = 0, and so no drag on it): the machine after release, the
     ``p`` of every stage-4 function (section 10.9). Python only (a namedtuple's ``_replace``): the
     fast path compiles stage 4 with the rest of this module but never runs it."""
-    return p._replace(mP=0.0)
+    return p._replace(mP=0.0, drag_swing=0.0)
 
 
 def machine_start(y, m, out):

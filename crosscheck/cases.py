@@ -19,7 +19,7 @@ from analytic.design_space import default_problem, sample_designs
 @dataclass(frozen=True)
 class Case:
     """One design to run through both models; ``group`` is paper, exercise, failure, sample, rolling,
-    friction, stage-1-events, fixed, floating-arm or file."""
+    friction, stage-1-events, fixed, floating-arm, swing-drag or file."""
 
     name: str
     design: Design
@@ -292,6 +292,29 @@ def floating_cases(sample: int = FLOATING_SAMPLE, seed: int = 0) -> list[Case]:
     return [Case(design.name, design, "floating-arm") for design in designs]
 
 
+#: The wind of the drag-during-swing cases with wind, m/s: a strong headwind and a strong
+#: tailwind (Beaufort 6, 10.8-13.8 m/s), so the drag at rest and slow in stage 1 is not negligible.
+SWING_DRAG_WIND = 12.0
+
+
+def swing_drag_cases() -> list[Case]:
+    """The drag acting in stages 1-2 too (``projectile.drag_during_swing``): the paper's golf ball as
+    published and at 61 deg, into a headwind and with a tailwind, with every loss, on the bolted
+    machine, and the large machine's dense ball."""
+    t3 = default_design()
+    on = {"drag_during_swing": True}
+    designs = [
+        _variant(t3, "table3-swing-drag", projectile=on),
+        _variant(t3, "table3-61deg-swing-drag", machine={"release_angle": math.radians(61.0)}, projectile=on),
+        _variant(t3, "swing-drag-headwind", projectile=on, environment={"wind_speed": -SWING_DRAG_WIND}),
+        _variant(t3, "swing-drag-tailwind", projectile=on, environment={"wind_speed": SWING_DRAG_WIND}),
+        dataclasses.replace(_variant(t3, "swing-drag-all-losses", projectile=on), losses=REALISTIC_LOSSES),
+        _variant(fixed_design(t3, "fixed-swing-drag"), "fixed-swing-drag", projectile=on),
+        _variant(large_design("hinged"), "large-swing-drag", projectile=on),
+    ]
+    return [Case(design.name, design, "swing-drag") for design in designs]
+
+
 def file_cases(paths: list[str]) -> list[Case]:
     """Designs from the user's TOML files, each named by its own name, or by its file (the stem) where
     that name is the built-in default's or more than one file's: twelve files made from the default
@@ -307,7 +330,8 @@ def file_cases(paths: list[str]) -> list[Case]:
 def default_suite(sample: int = 24, seed: int = 0) -> list[Case]:
     """The suite ``python -m crosscheck`` runs with no design files."""
     return (paper_cases() + exercise_cases() + failure_cases() + sample_cases(sample, seed) + rolling_cases()
-            + friction_cases() + stage1_event_cases() + fixed_cases(seed=seed) + floating_cases(seed=seed))
+            + friction_cases() + stage1_event_cases() + fixed_cases(seed=seed) + floating_cases(seed=seed)
+            + swing_drag_cases())
 
 
 #: The quick suite's cases, by name: the paper's design as published, at 61 deg

@@ -109,8 +109,12 @@ class EngineDiagnostics:
 
 def diagnose(design: Design, dt: float, iterations: int, sling: str, machine_steps: int,
               flight_steps: int, drift: dict[str, np.ndarray], residual: dict[str, np.ndarray],
-              shot: Shot, sync: np.ndarray, dissipated: np.ndarray) -> EngineDiagnostics:
-    """Summarise drift, solver residual and energy; raise ``EngineError`` if any shows a run gone wrong."""
+              shot: Shot, sync: np.ndarray, dissipated: np.ndarray,
+              swing_drag: np.ndarray | None = None) -> EngineDiagnostics:
+    """Summarise drift, solver residual and energy; raise ``EngineError`` if any shows a run gone wrong.
+
+    ``swing_drag``: (n,) the work the air's drag had taken from the projectile by each row
+    (``projectile.drag_during_swing``), added back like the friction's; None: none."""
     advice = f"with dt = {dt:g} s and {iterations} iterations: use a smaller dt or more iterations"
     largest_miss = {name: float(values.max()) for name, values in residual.items()}
     _require_converged(design, largest_miss, advice)
@@ -118,6 +122,8 @@ def diagnose(design: Design, dt: float, iterations: int, sling: str, machine_ste
     # Friction's work is energy the machine lost, not an error: it is added back.
     total = shot.history.energy.total
     kept = total if design.losses.ideal else total + dissipated.sum(axis=1)
+    if swing_drag is not None:
+        kept = kept + swing_drag
     change = _relative_energy(kept, design)
     energy_error = float(np.abs(change).max())
     _require_energy_kept(energy_error if sling == "rigid" else float(change.max()), energy_error, advice)

@@ -123,6 +123,21 @@ def drag_rate_function(design: Design) -> Callable[[float, float], float]:
     return rate
 
 
+def swing_drag_function(design: Design) -> Callable[[float, float], tuple[float, float]] | None:
+    """The drag on the projectile in stages 1-2 as a function of its velocity over the ground,
+    ``(Fx, Fy)`` in N: the flight's (``drag_rate_function``) times its mass. None unless
+    ``projectile.drag_during_swing``."""
+    if not design.projectile.drag_during_swing:
+        return None
+    rate, mass, wind = drag_rate_function(design), design.projectile.mass, design.environment.wind_speed
+
+    def force(vx: float, vy: float) -> tuple[float, float]:
+        k = rate(vx, vy)
+        return -mass * k * (vx - wind), -mass * k * vy
+
+    return force
+
+
 def drag_acceleration(velocity: tuple[float, float], design: Design) -> tuple[float, float]:
     """Drag acceleration of the projectile, m/s^2: ``-k v_rel`` (``drag_rate``)."""
     k = drag_rate(velocity, design)

@@ -282,7 +282,8 @@ def available_energy(design: Design) -> float:
 
 def contact_forces(velocity_before: tuple[float, float], velocity_after: tuple[float, float],
                    tip: tuple[float, float], centre: tuple[float, float], on_base: bool,
-                   design: Design, dt: float, base_friction: float = 0.0) -> tuple[float, float]:
+                   design: Design, dt: float, base_friction: float = 0.0,
+                   drag_force: tuple[float, float] = (0.0, 0.0)) -> tuple[float, float]:
     """Sling tension and base normal force on the projectile over one step, N.
 
     pymunk reports only the size of a joint's impulse; the signs follow from
@@ -290,7 +291,8 @@ def contact_forces(velocity_before: tuple[float, float], velocity_after: tuple[f
     impulse ``m (v[k+1/2] - v[k-1/2]) + m g dt``, which is the sling's pull
     along the unit vector from the projectile to the tip plus, on the base,
     the groove's push along +y and the base's friction along x (``base_friction``,
-    which pymunk's friction constraint reports, ``engine_model.friction``).
+    which pymunk's friction constraint reports, ``engine_model.friction``), less the air's
+    drag in the step (``drag_force``, N, with ``projectile.drag_during_swing``).
 
     Parameters
     ----------
@@ -305,8 +307,8 @@ def contact_forces(velocity_before: tuple[float, float], velocity_after: tuple[f
     up; ``normal`` is 0 off the base.
     """
     mass = design.projectile.mass
-    force_x = mass * (velocity_after[0] - velocity_before[0]) / dt
-    force_y = mass * (velocity_after[1] - velocity_before[1]) / dt + mass * design.environment.gravity
+    force_x = mass * (velocity_after[0] - velocity_before[0]) / dt - drag_force[0]
+    force_y = mass * (velocity_after[1] - velocity_before[1]) / dt + mass * design.environment.gravity - drag_force[1]
     offset_x, offset_y = tip[0] - centre[0], tip[1] - centre[1]
     length = math.hypot(offset_x, offset_y)
     unit_x, unit_y = offset_x / length, offset_y / length

@@ -75,9 +75,10 @@ def format_shot(shot: Shot, units: str = "metric") -> str:
                  if supports[key] is not None]
     if shot.energy_dissipated is not None:
         losses = shot.design.losses   # a loss the design does not have: no row of zeros
-        rows += [row(f"{name} {'friction' if name != 'drag' else 'in flight'}", shot.energy_dissipated[name],
-                     "J dissipated", "{:.4f}") for name in LOSS_NAMES
-                 if name == "drag" or getattr(losses, f"{name}_friction") != 0.0]
+        labels = {"drag": "drag in flight", "swing_drag": "drag before release"}
+        shown = {"drag": True, "swing_drag": shot.design.projectile.drag_during_swing}
+        rows += [row(labels.get(name, f"{name} friction"), shot.energy_dissipated[name], "J dissipated", "{:.4f}")
+                 for name in LOSS_NAMES if shown.get(name, getattr(losses, f"{name}_friction", 0.0) != 0.0)]
     diagnostics = shot.diagnostics
     drift, drift_unit = _shown(diagnostics.max_joint_drift, "m", units)
     rows += [("engine", f"dt {diagnostics.dt:g} s, {diagnostics.iterations} iterations",

@@ -100,6 +100,7 @@ def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAU
     supports = engine_loads.support_force(raw, engine_loads.sling_force(raw, tension, design), design, dt)
     axle_x = None
     dissipated = _friction_work(run, sync, design)
+    swing_drag = np.array(run.drag_work) if len(run.drag_work) == len(raw) else np.zeros(len(raw))
 
     fields: dict = {"liftoff_time": run.liftoff_time}
     flight_steps = 0
@@ -112,6 +113,7 @@ def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAU
         release_tension = interpolate(tension[-3:] if sling == "rigid" else tension[-2:], s)
         sync = np.vstack([sync[:-1], release_state])
         dissipated = np.vstack([dissipated[:-1], interpolate(dissipated[-3:], s)])
+        swing_drag = np.append(swing_drag[:-1], interpolate(swing_drag[-3:], s))
         tension = np.append(tension[:-1], release_tension)
         loads = np.vstack([loads[:-1], interpolate(loads[-3:], s)])
         supports = np.vstack([supports[:-1], interpolate(supports[-3:], s)])
@@ -143,10 +145,10 @@ def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAU
     fields["max_frame_speed"] = largest_speed(kin.column(sync, kin.FRAME, kin.VX)) if design.base.rolling else 0.0
     fields.update(_peaks(loads, times, run))
     fields["energy_dissipated"] = {**dict(zip(fr.JOINTS, (float(w) for w in dissipated[-1]), strict=True)),
-                                   "drag": float(drag_work)}
+                                   "drag": float(drag_work), "swing_drag": float(swing_drag[-1])}
     shot = _assemble(design, run, times, sync, tension, fields)
     diagnostics = diagnose(design, dt, iterations, sling, len(raw), flight_steps, drift, residual, shot, sync,
-                            dissipated)
+                            dissipated, swing_drag)
     after_dt = dt
     if budget and shot.landing_time is not None and design.base.rolling:
         after_dt = after_release_step(dt, shot.release_time, shot.landing_time, len(raw), discarded)

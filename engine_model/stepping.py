@@ -24,7 +24,8 @@ from engine_model import friction as fr
 from engine_model import kinematics as kin
 from engine_model.build import EngineError, Rig, build
 from engine_model.events import crossing_fraction
-from engine_model.readout import rig_row, row_reader, stepper
+from engine_model.flight import swing_drag_function
+from engine_model.readout import rig_row, row_reader, set_force, stepper
 
 #: The projectile (in stage 2) or the long-arm tip (in stage 1) counts as back
 #: on the base once this far below base level, m: far above the round-off
@@ -52,6 +53,7 @@ class Run:
     tension: list = field(default_factory=list)
     normal: list = field(default_factory=list)
     release_value: list = field(default_factory=list)
+    drag_work: list = field(default_factory=list)
     friction_impulse: list = field(default_factory=list)
     friction_limit: list = field(default_factory=list)
     friction_load: list = field(default_factory=list)
@@ -78,10 +80,11 @@ def run_machine(design: Design, dt: float, iterations: int, sling: str, limit: i
     t_limit = swing_time_limit(largest_length(design.machine), g)
     rule = RELEASE_RULES.index(m.release_rule)
     run = Run()
+    drag = swing_drag_function(design)
 
     rig = build(design, sling=sling, iterations=iterations)
     friction = _attach_friction(rig, design, True, dt)
-    row = _opening_step(rig, dt, iterations)
+    row = _opening_step(rig, dt, iterations, drag)
     # From rest the opening half step gives the arm omega = alpha dt/2 (pymunk
     # updates velocities first), so this is its angular acceleration at rest.
     arm_acceleration = row[kin.ARM + kin.W] / (0.5 * dt)
@@ -108,16 +111,16 @@ def run_machine(design: Design, dt: float, iterations: int, sling: str, limit: i
         return run, rig
     geometry = _row_geometry(row, m)
     base_force = _base_friction(friction, rig, 0.5 * dt, geometry, True)
-    tension, normal = _forces(row, row, geometry, True, design, dt, base_force)
+    tension, normal = _forces(row, row, geometry, True, design, dt, base_force, _rest_drag(drag))
     on_base = True
     if normal < 0.0:
         # The sling lifts the projectile at rest: start again without the base.
         rig = build(design, sling=sling, iterations=iterations, on_base=False)
         friction = _attach_friction(rig, design, False, dt)
-        row = _opening_step(rig, dt, iterations)
+        row = _opening_step(rig, dt, iterations, drag)
         geometry = _row_geometry(row, m)
         base_force = 0.0
-        tension, normal = _forces(row, row, geometry, False, design, dt)
+        tension, normal = _forces(row, row, geometry, False, design, dt, drag_force=_rest_drag(drag))
         on_base = False
         run.liftoff_time = 0.0
     opening_loads = fr.static_loads(design)
@@ -132,15 +135,17 @@ def run_machine(design: Design, dt: float, iterations: int, sling: str, limit: i
         slips = fr.slipping(friction, 0.5 * dt, rates, fr.AT_REST)
         rig = build(design, sling=sling, iterations=iterations, on_base=on_base)
         friction = _attach_friction(rig, design, on_base, dt, opening_loads, slips)
-        row = _opening_step(rig, dt, iterations)
+        row = _opening_step(rig, dt, iterations, drag)
         geometry = _row_geometry(row, m)
         base_force = _base_friction(friction, rig, 0.5 * dt, geometry, on_base)
-        tension, normal = _forces(row, row, geometry, on_base, design, dt, base_force)
+        tension, normal = _forces(row, row, geometry, on_base, design, dt, base_force, _rest_drag(drag))
     run.raw.append(row)
     run.on_base.append(on_base)
     run.tension.append(tension)
     run.normal.append(normal)
     run.release_value.append(_release(row, row, geometry, rule, m.release_angle)[0])
+    force = _rest_drag(drag)
+    run.drag_work.append(_drag_work(force, (0.0, 0.0), row, 0.5 * dt))
     if friction is not None:
         run.friction_impulse.append(fr.impulses(friction, on_base))
         loads = _loads(friction, rig, _mirrored(row), row, design, (base_force, normal if on_base else 0.0),
@@ -179,6 +184,8 @@ def run_machine(design: Design, dt: float, iterations: int, sling: str, limit: i
                 run.out_of_steps = True
                 return _fail(run, rig, Status.STEP_FAILED, step_limit_message("stages 1-2", k, dt, t_limit, limit))
             limit = more
+        if drag is not None:
+            force = _push_drag(drag, rig, previous, run.raw[-2] if len(run.raw) > 1 else previous)
         step(dt)
         k += 1
         row = read()
@@ -187,11 +194,13 @@ def run_machine(design: Design, dt: float, iterations: int, sling: str, limit: i
                               f"with dt = {dt:g} s and {iterations} iterations: use a smaller dt "
                               f"or more iterations")
         geometry = _row_geometry(row, m)
+        if drag is not None:
+            run.drag_work.append(run.drag_work[-1] + _drag_work(force, _velocity(previous), row, dt))
         if friction is None:
-            tension, normal = _forces(previous, row, geometry, on_base, design, dt)
+            tension, normal = _forces(previous, row, geometry, on_base, design, dt, drag_force=force)
         else:
             base_force = _base_friction(friction, rig, dt, geometry, on_base)
-            tension, normal = _forces(previous, row, geometry, on_base, design, dt, base_force)
+            tension, normal = _forces(previous, row, geometry, on_base, design, dt, base_force, force)
             run.friction_impulse.append(fr.impulses(friction, on_base))
             rates, earlier_rates = fr.joint_rates(row, design), rates
             slips = fr.slipping(friction, dt, rates, earlier_rates)
@@ -292,14 +301,44 @@ def _loads(friction: fr.Friction, rig: Rig, before: tuple, row: tuple, design: D
     return axle, hinge, base
 
 
-def _opening_step(rig: Rig, dt: float, iterations: int) -> tuple[float, ...]:
-    """Half a step from rest: the positions stay at t = 0, the velocities reach dt/2 (leapfrog start).
+def _rest_drag(drag) -> tuple[float, float]:
+    """The drag on the projectile at rest (the wind's push), N; 0 without drag in stages 1-2."""
+    return (0.0, 0.0) if drag is None else drag(0.0, 0.0)
+
+
+def _velocity(row: tuple) -> tuple[float, float]:
+    """The projectile's velocity in a state row, m/s."""
+    return row[kin.PROJECTILE + kin.VX], row[kin.PROJECTILE + kin.VY]
+
+
+def _push_drag(drag, rig: Rig, row: tuple, before: tuple) -> tuple[float, float]:
+    """Set the drag on the projectile for the next step, and return it (N): the flight's law at its
+    velocity at the step's start, ``t_k``, extrapolated from the leapfrog's half-step velocities
+    ``v[k-1/2]`` (``row``) and ``v[k-3/2]`` (``before``)."""
+    (vx, vy), (bx, by) = _velocity(row), _velocity(before)
+    force = drag(1.5 * vx - 0.5 * bx, 1.5 * vy - 0.5 * by)
+    set_force(rig.projectile, *force)
+    return force
+
+
+def _drag_work(force: tuple[float, float], velocity_before: tuple[float, float], row: tuple, step: float) -> float:
+    """The work the drag ``force`` (N) took from the projectile over a step of ``step`` s that ended in
+    ``row``: ``-F . v`` with ``v`` the mean of the velocities either side of the kick, J."""
+    vx, vy = _velocity(row)
+    return -(force[0] * 0.5 * (velocity_before[0] + vx) + force[1] * 0.5 * (velocity_before[1] + vy)) * step
+
+
+def _opening_step(rig: Rig, dt: float, iterations: int, drag=None) -> tuple[float, ...]:
+    """Half a step from rest: the positions stay at t = 0, the velocities reach dt/2 (leapfrog start);
+    ``drag`` (``flight.swing_drag_function``, or None): the drag at rest (the wind's) acts over it.
 
     Later steps start their solver from the previous step's impulses; this one
     starts from nothing, so it gets ``STARTUP_ITERATIONS`` to converge (with
     the usual count the sling tension rings by 10 % for a dozen steps).
     """
     rig.space.iterations = max(STARTUP_ITERATIONS, iterations)
+    if drag is not None:
+        set_force(rig.projectile, *_rest_drag(drag))
     rig.space.step(0.5 * dt)
     rig.space.iterations = iterations
     return read_state(rig)
@@ -327,16 +366,17 @@ def _row_geometry(row: tuple[float, ...], machine: Machine) -> tuple[float, floa
 
 
 def _forces(before: tuple, row: tuple, geometry: tuple, on_base: bool, design: Design,
-            dt: float, base_friction: float = 0.0) -> tuple[float, float]:
+            dt: float, base_friction: float = 0.0,
+            drag_force: tuple[float, float] = (0.0, 0.0)) -> tuple[float, float]:
     """Sling tension and base normal force over the step that produced ``row`` (``kin.contact_forces``;
-    ``base_friction``, N, the base's friction force on the projectile)."""
+    ``base_friction``, N, the base's friction force on the projectile; ``drag_force``, N, the air's)."""
     p = kin.PROJECTILE
     if before is row:  # the opening half step: the velocity before it is the mirror image
         v_before = (-row[p + kin.VX], -row[p + kin.VY])
     else:
         v_before = (before[p + kin.VX], before[p + kin.VY])
     return kin.contact_forces(v_before, (row[p + kin.VX], row[p + kin.VY]), geometry[:2],
-                              (row[p + kin.X], row[p + kin.Y]), on_base, design, dt, base_friction)
+                              (row[p + kin.X], row[p + kin.Y]), on_base, design, dt, base_friction, drag_force)
 
 
 def _release(before: tuple, row: tuple, geometry: tuple, rule: int, release_angle: float) -> tuple[float, bool]:

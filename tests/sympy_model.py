@@ -20,6 +20,7 @@ place (the machine's frame is not rolled: ``p.rolling`` 0). From the parts' posi
 * the friction's generalised forces ``Q = dP/dq'`` from the virtual power of the axle's and the
   hinge's torques and the base's force on the projectile,
   ``P = ta (w_arm - w_frame) + th (w_link - w_arm) + F (x_P' - X')`` (``docs/derivation.md`` 10.1);
+* a force on the projectile (the air's drag during the swing) as ``Q = (d r_P / dq)^T F``;
 * the joint forces from Newton's law for each body, with the accelerations sympy differentiates:
   the hinge's on the counterweight ``mW (a_W + g)``, the sling's on the projectile
   ``mP (a_P + g) - (F, N)``, the axle's on the arm ``mA (a_A + g)`` plus those two.
@@ -149,6 +150,7 @@ class Machine:
         self._energies = compiled(state, [s.kinetic_machine, s.kinetic_projectile,
                                           s.potential_machine, s.potential_projectile])
         self._projectile = compiled(state, [s.projectile, s.projectile.jacobian(s.q) * sp.Matrix(s.qd)])
+        self._projectile_jacobian = compiled(state, s.projectile.jacobian(s.q))
         self._momentum = compiled(state, s.horizontal_momentum)
         self._moment = compiled(state, s.horizontal_moment)
         self._jacobian = compiled(state, s.base_jacobian)
@@ -200,6 +202,11 @@ class Machine:
         """Q, the friction's generalised forces."""
         return np.asarray(self._generalised(_four(q), _four(qd), (axle_torque, hinge_torque, base_force),
                                             numbers(p)), dtype=float).ravel()
+
+    def force_on_projectile(self, p, q, force) -> np.ndarray:
+        """Q of a force ``(Fx, Fy)`` on the projectile: its virtual work, ``(d r_P / dq)^T F``, (4,)."""
+        jacobian = np.asarray(self._projectile_jacobian(_four(q), np.zeros(4), numbers(p)), dtype=float)
+        return jacobian.T @ np.asarray(force, dtype=float)
 
     def joint_forces(self, p, q, qd, qdd, base_force=0.0, normal=0.0):
         """Newton's law for each body: the axle's force on the arm, the hinge's on the counterweight,

@@ -395,7 +395,9 @@ def test_energy_audit_closes_on_a_rolling_frame(paper):
     shot = simulate(design)
     assert shot.status is Status.OK
     assert _audit(shot) <= AUDIT_TOL
-    assert all(shot.energy_dissipated[name] > 0.0 for name in LOSS_NAMES)
+    # Every loss but the drag before release, which acts only with projectile.drag_during_swing.
+    assert all(shot.energy_dissipated[name] > 0.0 for name in LOSS_NAMES if name != "swing_drag")
+    assert shot.energy_dissipated["swing_drag"] == 0.0
 
 
 def test_the_drag_work_is_the_flights_loss_of_mechanical_energy(paper):

@@ -1,0 +1,200 @@
+"""The projectile's drag during the swing (``docs/derivation.md`` section 13) against the sympy Lagrangian.
+
+With ``projectile.drag_during_swing`` the drag of the flight's law acts on the projectile in
+stages 1-2 as a generalised force ``Q = J^T D``. The sympy model (``tests/sympy_model.py``) gives
+``J`` from the projectile's position and the projectile's velocity; the drag's size comes from
+``analytic.aero.drag_coefficient`` (the public curve), so ``eom.swing_drag`` is checked against
+``-(rho A / 2) Cd(Re) |v - w| (v - w)`` built here, and the equations of motion against
+``M q'' = f + Q`` (+ ``J_base^T N`` on the base) solved by numpy.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from analytic import eom, reference
+from analytic.aero import DRAG_MODELS, drag_coefficient
+from analytic.design import DesignError
+from analytic.design_file import default_design, design_from_dict, design_to_dict
+from analytic.parameters import params
+from analytic.stages import SLIDE, SWING, loads_at
+from test_analytic_friction import AUDIT_TOL
+from test_analytic_symbolic import SEED, assert_close, random_params
+
+#: Random (parameters, state) samples per check.
+N_SAMPLES = 6
+#: The drag models with a curve; each sample takes one in turn.
+MODELS = ("constant", "smooth-sphere", "golf-ball")
+
+
+def with_drag(p, rng, model):
+    """``p`` with the drag during the swing on: a projectile's size, air and a wind, all random.
+
+    The diameter is scaled so that the drag is a large part of the projectile's weight at the
+    sampled speeds (a wrong term in Q then shows far above round-off)."""
+    diameter = rng.uniform(0.05, 0.3)
+    return p._replace(drag_swing=1.0, drag=float(DRAG_MODELS.index(model)),
+                      cd=rng.uniform(0.2, 1.0) if model == "constant" else math.nan,
+                      diameter=diameter, area=math.pi * diameter**2 / 4.0 * rng.uniform(0.5, 2.0),
+                      rho=rng.uniform(0.8, 1.4), mu=1.8e-5, wind=rng.uniform(-10.0, 10.0), rolling=0.0, Mf=0.0,
+                      kind=0.0, mua_s=0.0, muh_s=0.0, mub_s=0.0)
+
+
+def swing_samples(kind):
+    rng = np.random.default_rng(SEED + 7)
+    out = []
+    for i in range(N_SAMPLES):
+        p = with_drag(random_params(rng), rng, MODELS[i % len(MODELS)])
+        if kind == "fixed":
+            p = p._replace(kind=eom.FIXED, Lw=0.0)
+        q = (rng.uniform(-math.pi, math.pi), 0.0 if kind == "fixed" else rng.uniform(-math.pi, math.pi),
+             rng.uniform(-math.pi, math.pi))
+        qd = (*rng.normal(0.0, 4.0, 1), 0.0 if kind == "fixed" else rng.normal(0.0, 4.0), rng.normal(0.0, 4.0))
+        out.append((p, q, qd))
+    return out
+
+
+def slide_samples():
+    rng = np.random.default_rng(SEED + 8)
+    out = []
+    while len(out) < N_SAMPLES:
+        p = with_drag(random_params(rng), rng, MODELS[len(out) % len(MODELS)])
+        beta = rng.uniform(-math.pi + 0.25, -0.25)
+        cos_theta = (-p.h - p.Ls * math.cos(beta)) / p.La
+        if abs(cos_theta) > 0.98:
+            continue
+        theta = math.acos(cos_theta) * rng.choice([-1.0, 1.0])
+        out.append((p, theta, rng.uniform(-math.pi, math.pi), *rng.normal(0.0, 4.0, 2)))
+    return out
+
+
+SWING = [(kind, *sample) for kind in ("hinged", "fixed") for sample in swing_samples(kind)]
+SWING_IDS = [f"{kind}-swing{i}" for i, (kind, *_) in enumerate(SWING)]
+SLIDE = slide_samples()
+SLIDE_IDS = [f"slide{i}" for i in range(len(SLIDE))]
+
+
+def expected_drag(lagrangian, p, q, qd):
+    """The flight's law on the projectile's velocity from the sympy model, N, (2,)."""
+    _, velocity = lagrangian.projectile(p, q, qd)
+    relative = velocity - np.array([p.wind, 0.0])
+    speed = float(np.linalg.norm(relative))
+    model = DRAG_MODELS[int(p.drag)]
+    cd = drag_coefficient(model, p.rho * speed * p.diameter / p.mu, None if model != "constant" else p.cd)
+    return -0.5 * p.rho * p.area * cd * speed * relative
+
+
+@pytest.mark.parametrize("sample", SWING, ids=SWING_IDS)
+def test_drag_is_the_flights_law_on_the_projectiles_velocity(lagrangian, sample):
+    _, p, q, qd = sample
+    assert_close(eom.swing_drag(q[0], q[2], qd[0], qd[2], p), expected_drag(lagrangian, p, q, qd), "drag")
+
+
+@pytest.mark.parametrize("sample", SWING, ids=SWING_IDS)
+def test_swing_accelerations_with_drag_solve_the_lagrangian_with_its_generalised_force(sample):
+    from sympy_model import machine
+
+    kind, p, q, qd = sample
+    lagrangian = machine(kind)
+    rows = [0, 2] if kind == "fixed" else [0, 1, 2]
+    m = lagrangian.mass(p, q, qd)[np.ix_(rows, rows)]
+    f = lagrangian.forcing(p, q, qd)[rows]
+    force = lagrangian.force_on_projectile(p, q, expected_drag(lagrangian, p, q, qd))[rows]
+    expected = np.zeros(3)
+    expected[rows] = np.linalg.solve(m, f + force)
+    assert_close(eom.swing_accelerations(*q, *qd, p), expected, f"{kind} swing with drag")
+
+
+@pytest.mark.parametrize("sample", SLIDE, ids=SLIDE_IDS)
+def test_slide_with_drag_keeps_the_projectile_on_the_base_with_the_drags_vertical_part_in_n(lagrangian, sample):
+    p, theta, phi, dtheta, dphi = sample
+    r = lagrangian.base_reduction(p, theta, phi, dtheta, dphi, solve=False)
+    q, qd = r["q"], r["qd"]
+    force = lagrangian.force_on_projectile(p, q, expected_drag(lagrangian, p, q, qd))[:3]
+    jac = r["jac"]
+    system = np.block([[r["m"], -jac[:, None]], [jac[None, :], np.zeros((1, 1))]])
+    c_rhs = r["c"] * jac[2]   # -J' q', from the reduction's c = -J' q' / J_psi
+    solution = np.linalg.solve(system, np.append(r["f"] + force, c_rhs))
+    ddtheta, ddphi, normal = eom.slide_accelerations(theta, phi, dtheta, dphi, p)
+    assert_close((ddtheta, ddphi), solution[:2], "slide with drag")
+    assert_close(normal, solution[3], "normal force with drag", scale=p.mP * p.g + float(np.max(np.abs(force))))
+
+
+@pytest.mark.parametrize("sample", SWING[:N_SAMPLES], ids=SWING_IDS[:N_SAMPLES])
+def test_sling_force_is_newtons_net_of_the_drag(lagrangian, sample):
+    _, p, q, qd = sample
+    qdd = eom.swing_accelerations(*q, *qd, p)
+    forces = eom.joint_forces(*q, *qd, *qdd, 0.0, p)
+    axle, _, sling = lagrangian.joint_forces(p, q, qd, qdd)
+    drag = expected_drag(lagrangian, p, q, qd)
+    assert_close(forces[4:], sling - drag, "sling force")
+    assert_close(forces[:2], axle - drag, "axle force")
+
+
+def test_the_flag_off_is_the_papers_model_to_the_bit():
+    design = default_design()
+    design = dataclasses.replace(design, projectile=dataclasses.replace(design.projectile, drag="golf-ball"),
+                                 environment=dataclasses.replace(design.environment, wind_speed=5.0))
+    p = params(design)
+    assert p.drag_swing == 0.0
+    state = (p.theta0 + 0.4, p.phi0 - 0.3, -1.0, -6.0, 3.0, 9.0)
+    assert eom.terms(*state, p) == eom.terms(*state, p._replace(drag=0.0, wind=0.0))
+
+
+def test_design_file_reads_writes_and_checks_the_flag():
+    layout = design_to_dict(default_design())
+    assert "drag_during_swing" not in layout["projectile"]   # the default is left out
+    layout["projectile"]["drag_during_swing"] = True
+    design = design_from_dict(layout)
+    assert design.projectile.drag_during_swing is True
+    assert params(design).drag_swing == 1.0
+    assert design_to_dict(design)["projectile"]["drag_during_swing"] is True
+    layout["projectile"]["drag_during_swing"] = "yes"
+    with pytest.raises(DesignError, match=r"projectile\.drag_during_swing.*'yes'.*true or false"):
+        design_from_dict(layout)
+    layout["projectile"]["drag_during_swing"] = True
+    layout["base"] = {"mobility": "rolling", "mass": 50.0}
+    with pytest.raises(DesignError, match=r"projectile\.drag_during_swing.*rolling frame"):
+        design_from_dict(layout)
+
+
+
+def _swinging(wind, losses=None):
+    design = default_design()
+    return dataclasses.replace(
+        design, projectile=dataclasses.replace(design.projectile, drag_during_swing=True),
+        environment=dataclasses.replace(design.environment, wind_speed=wind),
+        **({} if losses is None else {"losses": losses}))
+
+
+@pytest.mark.parametrize("wind", [-12.0, 0.0, 12.0], ids=["headwind", "still", "tailwind"])
+def test_energy_audit_closes_at_release_with_the_drags_work_before_it(wind):
+    from analytic.design import Losses
+    from analytic.motion import simulate_motion
+
+    design = _swinging(wind, Losses(axle_friction=0.15, axle_radius=0.0064, base_friction=0.3))
+    shot = reference.simulate(design)
+    lost = shot.energy_dissipated
+    closing = shot.history.energy.total[-1] + lost["axle"] + lost["hinge"] + lost["base"] + lost["swing_drag"]
+    assert abs(closing) <= AUDIT_TOL * shot.counterweight_energy_released
+    # A tailwind pushes the projectile forward while it is slower than the wind (it gives work).
+    assert lost["swing_drag"] != 0.0 and (lost["swing_drag"] > 0.0 or wind > 0.0)
+    assert reference.simulate(design, histories=False).energy_dissipated == lost
+    # The compiled path's motion takes the drag's work from the energy deficit: the same number.
+    motion_lost = simulate_motion(design)[0].energy_dissipated["swing_drag"]
+    assert motion_lost == pytest.approx(lost["swing_drag"], abs=AUDIT_TOL * shot.counterweight_energy_released)
+
+
+def test_the_reports_show_the_drags_work_before_release_only_with_the_flag():
+    from analytic.report import format_shot
+    from engine_model import shot as engine_shot
+    from engine_model.report import format_shot as engine_format_shot
+
+    on, off = _swinging(0.0), default_design()
+    assert "air drag before release" in format_shot(reference.simulate(on))
+    assert "air drag before release" not in format_shot(reference.simulate(off))
+    assert "drag before release" in engine_format_shot(engine_shot.simulate(on))
