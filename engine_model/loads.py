@@ -65,6 +65,11 @@ def load_histories(raw: np.ndarray, tension: np.ndarray, design: Design, dt: flo
     sling = sling_force(raw, tension, design)
     axle = support_force(raw, sling, design, dt)
     bending = bending_moment(raw, sling, design, dt)
+    if design.machine.kind == "floating-arm":
+        # The axle's force is the track's push (y); the guide's (x) acts on the counterweight, so its
+        # mount carries the counterweight's force less the guide's (``analytic.eom.joint_forces``).
+        hinge = hinge - np.column_stack([axle[:, 0], np.zeros(len(axle))])
+        axle = np.column_stack([np.zeros(len(axle)), axle[:, 1]])
     return np.column_stack([np.linalg.norm(axle, axis=1), np.linalg.norm(hinge, axis=1), tension,
                             np.linalg.norm(felt, axis=1), np.abs(bending)])
 

@@ -228,7 +228,10 @@ def _friction_steps(run: stepping.Run, dt: float) -> dict[str, np.ndarray] | Non
 
 
 def _frame(state: np.ndarray, quantity: int, design: Design) -> float:
-    """The frame's ``quantity`` (``kin.X`` or ``kin.VX``) in a row: 0.0 for a fixed frame."""
+    """The frame's ``quantity`` (``kin.X`` or ``kin.VX``) in a row: 0.0 for a fixed frame; a floating
+    arm's axle's on its track (as ``analytic.result.Shot`` holds it for that kind)."""
+    if design.machine.kind == "floating-arm":
+        return float(state[kin.ARM + quantity])
     return float(state[kin.FRAME + quantity]) if design.base.rolling else 0.0
 
 

@@ -10,7 +10,7 @@ import re
 import pytest
 import tomli_w
 
-from analytic.design import BUILT_KINDS, KINDS, BeamArm, DesignError, MissingValueError, initial_angles, paper_geometry
+from analytic.design import BeamArm, DesignError, MissingValueError, initial_angles, paper_geometry
 from analytic.design_file import (default_design, design_from_dict, design_to_dict, dumps_design, load_design, save_design)
 
 from support import NOT_NUMBERS, table3_file, with_environment, with_machine, with_projectile
@@ -96,17 +96,6 @@ def test_toml_round_trip(tmp_path, table3):
 def test_a_hinged_machine_is_the_default_and_is_written_as_before(table3):
     assert table3.machine.kind == "hinged"
     assert "kind" not in design_to_dict(table3)["machine"]   # files read as they were written
-
-
-@pytest.mark.parametrize("kind", [kind for kind in KINDS if kind not in BUILT_KINDS])
-def test_a_kind_not_yet_built_is_refused_with_its_reason(kind):
-    data = table3_file()
-    data["machine"]["kind"] = kind
-    del data["machine"]["counterweight_link"]
-    built = ", ".join(BUILT_KINDS)
-    with pytest.raises(DesignError, match=rf"^machine\.kind = '{kind}': both models simulate {built} "
-                                          rf"machines so far; the {kind} machine is being built$"):
-        design_from_dict(data)
 
 
 @pytest.mark.parametrize("name", ["hinge_friction", "hinge_static_friction"])

@@ -12,8 +12,9 @@ from analytic.units import FIELD_KINDS, registry
 #: Each group of fields, its table and its fields with a line a builder reads (file units: SI, degrees).
 GROUPS = (
     ("Machine", "machine", (
-        ("kind", "The machine: hinged (the counterweight hangs from a hinge on the short arm) or fixed "
-                 "(the counterweight bolted to the short arm, no link)."),
+        ("kind", "The machine: hinged (the counterweight hangs from a hinge on the short arm), fixed "
+                 "(the counterweight bolted to the short arm, no link) or floating-arm (bolted, riding a "
+                 "vertical guide while the axle rolls on a horizontal track)."),
         ("pivot_height", "Height of the axle above the base."),
         ("arm_long", "Axle to the sling end of the arm (the long arm)."),
         ("arm_short", "Axle to the counterweight hinge (the short arm)."),

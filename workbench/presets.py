@@ -9,11 +9,16 @@ from typing import Any
 from analytic.design_file import default_design, design_to_dict, load_design
 
 _HERE = Path(__file__).with_name("presets")
-_ANALYTIC_DESIGNS = Path(str(files("analytic.data") / "designs"))
+_ANALYTIC_DATA = Path(str(files("analytic.data")))
+_ANALYTIC_DESIGNS = _ANALYTIC_DATA / "designs"
 
 #: Preset name -> (title on the page, how to load it).
 PRESETS = {
     "paper-table3": ("Paper's optimum (Table III)", default_design),
+    "paper-table3-fixed": ("Paper's optimum, counterweight bolted on",
+                           lambda: load_design(_ANALYTIC_DATA / "paper_table3_fixed.toml")),
+    "paper-table3-floating": ("Paper's optimum as a floating arm",
+                              lambda: load_design(_ANALYTIC_DATA / "paper_table3_floating.toml")),
     "prototype-61": ("Paper's prototype as fired (61 deg)", lambda: load_design(_ANALYTIC_DESIGNS / "prototype-61.toml")),
     "virtual-trebuchet": ("Virtual Trebuchet's default", lambda: load_design(_HERE / "virtual-trebuchet.toml")),
     "backyard": ("Backyard build (ft, lb)", lambda: load_design(_HERE / "backyard.toml")),

@@ -95,7 +95,7 @@ def format_tables(problem: Problem, columns: list[tuple[str, np.ndarray, float]]
     """
     scales = Scales.of(system)
     (short, per_cm), (distance, per_m) = (scales.short[0], scales.short[1] / 100.0), scales.distance
-    width = 16
+    width = max(16, *(len(c[0]) + 2 for c in columns))
     head = f"{'':<24}" + "".join(f"{c[0]:>{width}}" for c in columns)
     lines = [f"Table III (optimisation results; lengths {short}, angles deg)", head]
     if not problem.losses.ideal:
@@ -127,7 +127,7 @@ def format_constraints(problem: Problem, columns: list[tuple[str, np.ndarray, fl
                        system: str = "metric") -> str:
     """Footprint, height and axle clearance of each design at rest, with the limits (cm, or in)."""
     short, per_m = Scales.of(system).short
-    width = 16
+    width = max(16, *(len(c[0]) + 2 for c in columns))
     clearance_needed = per_m * (problem.counterweight_radius + problem.axle_radius)
     lines = [f"Constraints at rest ({short}; a negative margin violates)",
              f"{'':<34}{'limit':>10}" + "".join(f"{c[0]:>{width}}" for c in columns)]

@@ -97,14 +97,28 @@ function polyline(ctx, T, points, color, width, dash = []) {
   ctx.stroke(); ctx.setLineDash([]);
 }
 
+// A floating arm's frame stays put: the axle runs on a horizontal track at its starting height,
+// the counterweight on a vertical guide through the origin (x = 0).
+function drawFloatingFrame(ctx, T, m) {
+  const base = -m.pivot_height, reach = m.arm_short + 0.15 * m.arm_long;
+  line(ctx, T, [-reach * 1.2, base], [reach * 0.6, base], COLORS.frame, 4);
+  for (const x of [-reach, reach * 0.4]) line(ctx, T, [x, base], [x, 0], COLORS.frame, 3);
+  line(ctx, T, [-reach * 1.1, 0], [reach * 0.5, 0], COLORS.frame, 5);          // the track
+  line(ctx, T, [0, base], [0, m.arm_short * 1.1], COLORS.frame, 2);             // the guide
+}
+
 function drawMachine(ctx, T, parts, design) {
   const m = design.machine;
   const base = -m.pivot_height;
   const foot = 0.45 * m.pivot_height;
   const [px] = parts.pivot;
-  line(ctx, T, [px - foot, base], [px, 0], COLORS.frame, 3);
-  line(ctx, T, [px + foot, base], [px, 0], COLORS.frame, 3);
-  line(ctx, T, [px - foot * 1.2, base], [px + foot * 1.2, base], COLORS.frame, 4);
+  if (m.kind === "floating-arm") {
+    drawFloatingFrame(ctx, T, m);
+  } else {
+    line(ctx, T, [px - foot, base], [px, 0], COLORS.frame, 3);
+    line(ctx, T, [px + foot, base], [px, 0], COLORS.frame, 3);
+    line(ctx, T, [px - foot * 1.2, base], [px + foot * 1.2, base], COLORS.frame, 4);
+  }
   if (design.base && design.base.mobility === "rolling") {
     for (const wx of [px - foot, px + foot]) {
       ctx.strokeStyle = "#222"; ctx.lineWidth = 2; ctx.beginPath();
