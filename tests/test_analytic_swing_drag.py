@@ -23,7 +23,7 @@ from analytic.design_file import default_design, design_from_dict, design_to_dic
 from analytic.parameters import params
 from analytic.stages import SLIDE, SWING, loads_at
 from test_analytic_friction import AUDIT_TOL
-from test_analytic_symbolic import SEED, assert_close, random_params
+from test_analytic_symbolic import SEED, assert_close, random_params, slide_state
 
 #: Random (parameters, state) samples per check.
 N_SAMPLES = 6
@@ -63,12 +63,9 @@ def slide_samples():
     out = []
     while len(out) < N_SAMPLES:
         p = with_drag(random_params(rng), rng, MODELS[len(out) % len(MODELS)])
-        beta = rng.uniform(-math.pi + 0.25, -0.25)
-        cos_theta = (-p.h - p.Ls * math.cos(beta)) / p.La
-        if abs(cos_theta) > 0.98:
-            continue
-        theta = math.acos(cos_theta) * rng.choice([-1.0, 1.0])
-        out.append((p, theta, rng.uniform(-math.pi, math.pi), *rng.normal(0.0, 4.0, 2)))
+        state = slide_state(p, rng)
+        if state is not None:
+            out.append((p, *state))
     return out
 
 

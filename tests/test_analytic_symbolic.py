@@ -82,18 +82,26 @@ def swing_samples():
     return out
 
 
+def slide_state(p: Params, rng: np.random.Generator):
+    """``(theta, phi, dtheta, dphi)`` of ``p``'s machine with the projectile on the base and the sling
+    not near vertical, or None where the drawn sling angle leaves the arm near vertical (draw again)."""
+    beta = rng.uniform(-math.pi + 0.25, -0.25)
+    cos_theta = (-p.h - p.Ls * math.cos(beta)) / p.La
+    if abs(cos_theta) > 0.98:
+        return None
+    theta = math.acos(cos_theta) * rng.choice([-1.0, 1.0])
+    return (theta, rng.uniform(-math.pi, math.pi), *rng.normal(0.0, 4.0, 2))
+
+
 def slide_samples():
     """(params, theta, phi, dtheta, dphi) with the projectile on the base, sling not near vertical."""
     rng = np.random.default_rng(SEED + 1)
     out = []
     while len(out) < N_SAMPLES:
         p = random_params(rng)
-        beta = rng.uniform(-math.pi + 0.25, -0.25)
-        cos_theta = (-p.h - p.Ls * math.cos(beta)) / p.La
-        if abs(cos_theta) > 0.98:
-            continue
-        theta = math.acos(cos_theta) * rng.choice([-1.0, 1.0])
-        out.append((p, theta, rng.uniform(-math.pi, math.pi), *rng.normal(0.0, 4.0, 2)))
+        state = slide_state(p, rng)
+        if state is not None:
+            out.append((p, *state))
     return out
 
 
