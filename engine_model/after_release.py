@@ -49,8 +49,8 @@ class AfterRelease:
         the projectile's columns hold its state at release (it is not in the space).
     raw : (k - 1, 24) rows as read after each step (velocities half a step on).
     steps : pymunk steps taken (the opening half step counted as one).
-    dissipated : (k, 3) the work the axle's and the hinge's friction
-        (``friction.JOINTS``; the base's is 0) had taken since release, J, on ``t``.
+    dissipated : (k, 5) the work each friction (``friction.JOINTS``; the base's
+        is 0) had taken since release, J, on ``t``.
     """
 
     t: np.ndarray
@@ -170,8 +170,9 @@ def after_release_steps(release_time: float, landing_time: float, dt: float) -> 
 
 
 def _loads(friction: fr.Friction, rig: Rig, before: tuple | None, row: tuple, design: Design,
-           step: float) -> tuple[float, float, float]:
-    """The axle's and the hinge's loads in the last step of ``step`` s, N (as in stages 1-2, without a projectile)."""
+           step: float) -> tuple[float, ...]:
+    """The joints' loads (``friction.JOINTS``) in the last step of ``step`` s, N (as in stages 1-2, without a
+    projectile: the base's is 0)."""
     if friction.axle is None:
         axle = 0.0
     elif friction.ballast > 0.0 and before is not None:
@@ -182,7 +183,7 @@ def _loads(friction: fr.Friction, rig: Rig, before: tuple | None, row: tuple, de
     hinge = 0.0 if rig.hinge is None else fr.impulse(rig.hinge) / step
     if friction.point_hinge:
         hinge = math.hypot(hinge, fr.impulse(friction.hinge) / step)
-    return axle, hinge, 0.0
+    return axle, hinge, 0.0, *fr.slide_loads(friction, rig, step)
 
 
 def _bodies(rig: Rig) -> dict[int, pymunk.Body | None]:

@@ -130,6 +130,11 @@ class Rig:
         """A floating arm's guide, the groove holding the counterweight on x = 0 (None otherwise)."""
         return self.supports[3] if self.supports else None
 
+    @property
+    def track(self) -> pymunk.GrooveJoint | None:
+        """A floating arm's track, the groove holding the axle's carriage on y = 0 (None otherwise)."""
+        return self.supports[2] if self.supports else None
+
 
 def start_positions(design: Design) -> dict[str, tuple[float, float]]:
     """World positions at rest (``analytic.design.initial_angles``), m: see

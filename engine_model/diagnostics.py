@@ -69,14 +69,14 @@ class EngineDiagnostics:
     after_release_energy_error : its largest change of the machine's energy
         (with the work its friction took), as a fraction of the energy the
         counterweight can give up.
-    dissipated_history : (n, 3) the work the axle's, the hinge's and the
-        base's friction (``engine_model.friction.JOINTS``) had taken by each
+    dissipated_history : (n, 5) the work each friction
+        (``engine_model.friction.JOINTS``) had taken by each
         sample of ``shot.history.t``, J; zeros for an ideal design. ``energy_error``
         counts it: mechanical energy plus dissipated work is what is conserved.
     friction_steps : with friction only (None for an ideal design), on the
-        steps of stages 1-2 (``machine_steps`` rows, each (n, 3) for the
-        axle, the hinge and the base): ``limit``, the friction each could
-        give in the step (N m, N m, N), set from the loads of the two steps
+        steps of stages 1-2 (``machine_steps`` rows, each (n, 5) for the
+        axle, the hinge, the base, the guide and the track): ``limit``, the friction each could
+        give in the step (N m, N m, N, N, N), set from the loads of the two steps
         before (``friction.predicted_loads``); ``applied``, what it gave (its
         impulse over the step); ``load``, each joint's load (N) measured in the step.
     after_release_dt : rolling frame only (0 otherwise): the step of the run

@@ -1,4 +1,5 @@
-"""Friction in the engine (``design.losses``): Coulomb torques at the axle and the hinge, Coulomb friction on the base.
+"""Friction in the engine (``design.losses``): Coulomb torques at the axle and the hinge, Coulomb friction on the
+base, and on a floating arm's guide and track.
 
 pymunk's own means, one velocity-level constraint per loss whose ``max_force``
 is the friction's limit, set before every step from the load its joint
@@ -29,6 +30,14 @@ applied its whole limit (saturated) slips (``slipping``):
   collision shapes, whose slop and bias correction are pixel-sized defaults
   far coarser than the joints' (``error_bias = 0``); the slide groove and
   its lift-off test stay as they are.
+* guide and track (a floating arm, ``engine_model.floating``): a ``GrooveJoint``
+  on the frame holding the counterweight's slider with a horizontal groove
+  (its sliding along the vertical guide) up to ``guide_friction * |G|``, and
+  one holding the axle's carriage with a vertical groove (its sliding along
+  the horizontal track) up to ``track_friction * |T|``; G and T are the
+  guide's and the track's normal forces, their grooves' impulses
+  (``slide_loads``). Slider and carriage never turn and are held at their
+  centres, where pymunk's groove is exact.
 
 A fixed machine (its counterweight part of the arm's body) has no hinge,
 and a fixed design with hinge friction is refused when it is made: it gets
@@ -54,8 +63,8 @@ from engine_model import kinematics as kin
 from engine_model.build import Rig, ballast_mass
 
 #: The friction joints' names, in the order ``impulses`` and ``loads`` give them
-#: (the first three of ``analytic.result.LOSS_NAMES``).
-JOINTS = ("axle", "hinge", "base")
+#: (``analytic.design.FRICTIONS``): the guide and the track are a floating arm's.
+JOINTS = ("axle", "hinge", "base", "guide", "track")
 #: A friction constraint whose impulse is within this fraction of its limit
 #: counts as saturated (slipping): pymunk clamps a saturated impulse to the
 #: limit exactly (a motor) or to its length computed by a square root (a groove).
@@ -97,6 +106,9 @@ class Friction:
     base : GrooveJoint, frame to projectile (vertical groove), while on the base.
     ballast : kg the engine put at the pivot (``build.arm_body_properties``):
         the pivot joint also carries its weight, which the real axle does not.
+    guide : GrooveJoint, frame to a floating arm's slider (horizontal groove).
+    track : GrooveJoint, frame to a floating arm's carriage (vertical groove).
+    joints : all five in ``JOINTS``' order (None where absent).
     """
 
     design: Design
@@ -104,11 +116,15 @@ class Friction:
     hinge: pymunk.Constraint | None
     base: pymunk.GrooveJoint | None
     ballast: float
+    guide: pymunk.GrooveJoint | None = None
+    track: pymunk.GrooveJoint | None = None
     point_hinge: bool = dataclasses.field(init=False)
+    joints: tuple = dataclasses.field(init=False)
 
     def __post_init__(self):
-        # Read at every step: an attribute, not an isinstance check each time.
+        # Read at every step: attributes, not an isinstance check or a new tuple each time.
         object.__setattr__(self, "point_hinge", isinstance(self.hinge, pymunk.GrooveJoint))
+        object.__setattr__(self, "joints", (self.axle, self.hinge, self.base, self.guide, self.track))
 
 
 @dataclass(frozen=True)
@@ -166,10 +182,10 @@ def renew(friction: Friction, rig: Rig) -> Friction:
     New constraints start from nothing. (The joints' readings in that step are
     off the same way: ``engine_model.stepping`` does not measure loads in it.)
     """
-    old = [joint for joint in (friction.axle, friction.hinge, friction.base) if joint is not None]
+    old = [joint for joint in friction.joints if joint is not None]
     rig.space.remove(*old)
     fresh = _add(rig, friction.design, friction.base is not None)
-    for before, after in zip(old, [j for j in (fresh.axle, fresh.hinge, fresh.base) if j is not None], strict=True):
+    for before, after in zip(old, [j for j in fresh.joints if j is not None], strict=True):
         after.max_force = before.max_force
         if isinstance(after, pymunk.GrooveJoint):
             after.groove_a, after.groove_b = before.groove_a, before.groove_b
@@ -192,19 +208,39 @@ def _add(rig: Rig, design: Design, on_base: bool) -> Friction:
             hinge = pymunk.SimpleMotor(rig.arm, rig.counterweight, 0.0)
     if losses.static("base") > 0.0 and on_base:
         base = pymunk.GrooveJoint(rig.frame, rig.projectile, (0.0, -reach), (0.0, reach), (0.0, 0.0))
-    added = [joint for joint in (axle, hinge, base) if joint is not None]
+    guide, track = _slides(rig, design, reach)
+    added = [joint for joint in (axle, hinge, base, guide, track) if joint is not None]
     for joint in added:
         joint.max_bias = 0.0   # velocities only: no position to return to
         joint.collide_bodies = False
         joint.max_force = 0.0
     rig.space.add(*added)
-    return Friction(design, axle, hinge, base, ballast_mass(design))
+    return Friction(design, axle, hinge, base, ballast_mass(design), guide, track)
 
 
-def static_loads(design: Design) -> tuple[float, float, float]:
-    """The joints' loads at rest, N: axle, hinge and base (the weights each carries)."""
+def _slides(rig: Rig, design: Design, reach: float) -> tuple[pymunk.GrooveJoint | None, pymunk.GrooveJoint | None]:
+    """A floating arm's guide and track friction grooves (None where that friction is zero, or no floating arm):
+    a horizontal groove holding the slider's vertical sliding, a vertical one holding the carriage's horizontal."""
+    if not rig.supports:
+        return None, None
+    carriage, slider = rig.supports[:2]
+    losses = design.losses
+    guide = track = None
+    if losses.static("guide") > 0.0:
+        guide = pymunk.GrooveJoint(rig.frame, slider, (-reach, 0.0), (reach, 0.0), (0.0, 0.0))
+    if losses.static("track") > 0.0:
+        track = pymunk.GrooveJoint(rig.frame, carriage, (0.0, -reach), (0.0, reach), (0.0, 0.0))
+    return guide, track
+
+
+def static_loads(design: Design) -> tuple[float, float, float, float, float]:
+    """The joints' loads at rest, N (``JOINTS``): the weights the axle, the hinge, the base and a floating
+    arm's track carry; the guide none (it pushes sideways only to turn the arm or to balance the track's
+    friction, which the weights alone do not ask of it)."""
     m, g = design.machine, design.environment.gravity
-    return ((m.arm_mass + m.counterweight_mass) * g, m.counterweight_mass * g, design.projectile.mass * g)
+    weight = (m.arm_mass + m.counterweight_mass) * g
+    track = weight if m.kind == "floating-arm" else 0.0
+    return weight, m.counterweight_mass * g, design.projectile.mass * g, 0.0, track
 
 
 #: Steps, the coming one included, through which a joint must keep its mode (``limits``' ``slips``)
@@ -217,15 +253,15 @@ def static_loads(design: Design) -> tuple[float, float, float]:
 STEADY_STEPS = 4
 
 
-def steady(modes: list[tuple[bool, bool, bool]], coming: tuple[bool, bool, bool]) -> tuple[bool, bool, bool]:
+def steady(modes: list[tuple[bool, ...]], coming: tuple[bool, ...]) -> tuple[bool, ...]:
     """Which joints kept their mode (``limits``' ``slips``) through the steps ``modes`` (oldest first,
     the last ``STEADY_STEPS - 1`` steps taken) and the ``coming`` one: those whose load may be extrapolated."""
     recent = modes[1 - STEADY_STEPS:]
     return tuple(all(mode[joint] == slip for mode in recent) for joint, slip in enumerate(coming))
 
 
-def predicted_loads(loads: tuple[float, float, float], earlier: tuple[float, float, float] | None,
-                    steady_joints: tuple[bool, bool, bool]) -> tuple[float, float, float]:
+def predicted_loads(loads: tuple[float, ...], earlier: tuple[float, ...] | None,
+                    steady_joints: tuple[bool, ...]) -> tuple[float, ...]:
     """The joints' loads in the coming step (N), extrapolated from those of the last two steps.
 
     pymunk gives a joint's load only after the step that applied it, so a
@@ -245,7 +281,7 @@ def predicted_loads(loads: tuple[float, float, float], earlier: tuple[float, flo
                  for now, before, line in zip(loads, earlier, steady_joints, strict=True))
 
 
-def smooth(modes: list[tuple[bool, bool, bool]], rows: int) -> np.ndarray:
+def smooth(modes: list[tuple[bool, ...]], rows: int) -> np.ndarray:
     """(rows - 1,) whether the loads of rows i and i + 1 lie on one smooth stretch, from each row's step's
     joints' modes (``limits``' ``slips``, ``modes``, one a row from the opening half step): the steps
     before, of and after both rows in one mode. A joint that sticks or breaks free jumps its loads
@@ -263,34 +299,40 @@ def smooth(modes: list[tuple[bool, bool, bool]], rows: int) -> np.ndarray:
 
 
 #: Every friction joint stuck (``limits``' ``slips``): the machine at rest.
-STUCK = (False, False, False)
+STUCK = (False,) * len(JOINTS)
 #: The joints' relative rates at rest (``joint_rates``).
-AT_REST = (0.0, 0.0, 0.0)
+AT_REST = (0.0,) * len(JOINTS)
 
 
-def limits(design: Design, loads: tuple[float, float, float],
-           slips: tuple[bool, bool, bool]) -> tuple[float, float, float]:
-    """The friction each joint can give under its load (N): torques ``mu r |F|`` (N m) at the axle and the
-    hinge, the force ``mu N`` (N) on the base; ``mu`` the kinetic coefficient where ``slips`` (axle,
-    hinge, base) says the joint slips, the static one where it holds."""
+def limits(design: Design, loads: tuple[float, ...], slips: tuple[bool, ...]) -> tuple[float, ...]:
+    """The friction each joint (``JOINTS``) can give under its load (N): torques ``mu r |F|`` (N m) at the
+    axle and the hinge, forces ``mu N`` (N) on the base, the guide and the track; ``mu`` the kinetic
+    coefficient where ``slips`` says the joint slips, the static one where it holds."""
     losses = design.losses
-    axle, hinge, base = (getattr(losses, f"{joint}_friction") if slip else losses.static(joint)
-                         for joint, slip in zip(JOINTS, slips, strict=True))
-    return axle * losses.axle_radius * loads[0], hinge * losses.hinge_radius * loads[1], base * loads[2]
+    axle, hinge, base, guide, track = (getattr(losses, f"{joint}_friction") if slip else losses.static(joint)
+                                       for joint, slip in zip(JOINTS, slips, strict=True))
+    return (axle * losses.axle_radius * loads[0], hinge * losses.hinge_radius * loads[1], base * loads[2],
+            guide * loads[3], track * loads[4])
 
 
-def set_limits(friction: Friction, loads: tuple[float, float, float],
-               slips: tuple[bool, bool, bool]) -> tuple[float, float, float]:
+def set_limits(friction: Friction, loads: tuple[float, ...], slips: tuple[bool, ...]) -> tuple[float, ...]:
     """Set each friction constraint's limit from its joint's load (N) and mode (``limits``); returns them."""
-    axle, hinge, base = limits(friction.design, loads, slips)
-    if friction.axle is not None:
-        _SET_MAX_FORCE(friction.axle._constraint, axle)
-    if friction.hinge is not None:
-        _SET_MAX_FORCE(friction.hinge._constraint,
-                       hinge / friction.design.machine.counterweight_link if friction.point_hinge else hinge)
-    if friction.base is not None:
-        _SET_MAX_FORCE(friction.base._constraint, base)
-    return axle, hinge, base
+    found = limits(friction.design, loads, slips)
+    for joint, limit in zip(friction.joints, found, strict=True):
+        if joint is not None:
+            _SET_MAX_FORCE(joint._constraint, limit)
+    if friction.point_hinge:   # its groove's force, the torque over the link
+        _SET_MAX_FORCE(friction.hinge._constraint, found[1] / friction.design.machine.counterweight_link)
+    return found
+
+
+def slide_loads(friction: Friction, rig: Rig, step: float) -> tuple[float, float]:
+    """A floating arm's guide and track loads in the last step of ``step`` s, N: the normal forces |G| and
+    |T|, the impulses of the grooves holding the slider on the guide and the carriage on the track
+    (0 where that support has no friction)."""
+    guide = 0.0 if friction.guide is None else _IMPULSE(rig.guide._constraint) / step
+    track = 0.0 if friction.track is None else _IMPULSE(rig.track._constraint) / step
+    return guide, track
 
 
 def aim(friction: Friction, rig: Rig, dt: float) -> None:
@@ -317,15 +359,16 @@ def aim(friction: Friction, rig: Rig, dt: float) -> None:
     friction.hinge.groove_b = (reach * ux, short + reach * uy)
 
 
-def impulses(friction: Friction, on_base: bool) -> tuple[float, float, float]:
-    """Each friction constraint's impulse in the last step (magnitude; 0 where absent): the axle's and
-    the hinge's as torque impulses, N m s (a point counterweight's groove: its impulse times the link),
-    the base's, N s, only while ``on_base``."""
+def impulses(friction: Friction, on_base: bool) -> tuple[float, ...]:
+    """Each friction constraint's impulse in the last step (magnitude; 0 where absent; ``JOINTS``): the
+    axle's and the hinge's as torque impulses, N m s (a point counterweight's groove: its impulse times
+    the link), the base's, N s, only while ``on_base``, the guide's and the track's, N s."""
     hinge = 0.0 if friction.hinge is None else _IMPULSE(friction.hinge._constraint)
     if friction.point_hinge:
         hinge *= friction.design.machine.counterweight_link
+    guide, track = (0.0 if joint is None else _IMPULSE(joint._constraint) for joint in friction.joints[3:])
     return (0.0 if friction.axle is None else _IMPULSE(friction.axle._constraint), hinge,
-            0.0 if friction.base is None or not on_base else _IMPULSE(friction.base._constraint))
+            0.0 if friction.base is None or not on_base else _IMPULSE(friction.base._constraint), guide, track)
 
 
 def saturated(joint: pymunk.Constraint | None, step: float) -> bool:
@@ -333,9 +376,9 @@ def saturated(joint: pymunk.Constraint | None, step: float) -> bool:
     return joint is not None and joint.impulse >= (1.0 - SATURATION) * joint.max_force * step
 
 
-def slipping(friction: Friction, step: float, rate: tuple[float, float, float],
-             earlier: tuple[float, float, float]) -> tuple[bool, bool, bool]:
-    """Which joints (axle, hinge, base) slip in the next step: those whose constraint applied its whole
+def slipping(friction: Friction, step: float, rate: tuple[float, ...],
+             earlier: tuple[float, ...]) -> tuple[bool, ...]:
+    """Which joints (``JOINTS``) slip in the next step: those whose constraint applied its whole
     limit in the last step of ``step`` s (``saturated``), unless about to stop. The others held: their
     relative motion stopped, and the next step holds them up to the static limit (``limits``).
 
@@ -345,15 +388,15 @@ def slipping(friction: Friction, step: float, rate: tuple[float, float, float],
     and holds it if the static friction can (a joint stopping with the kinetic limit alone would be
     driven through zero whenever holding it takes more than the kinetic friction).
     """
-    joints = (friction.axle, friction.hinge, friction.base)
     return tuple(saturated(joint, step) and r * (2.0 * r - r0) > 0.0
-                 for joint, r, r0 in zip(joints, rate, earlier, strict=True))
+                 for joint, r, r0 in zip(friction.joints, rate, earlier, strict=True))
 
 
-def joint_rates(row: tuple, design: Design) -> tuple[float, float, float]:
-    """Each friction joint's signed relative rate at the raw ``row`` (pymunk's velocities after a step):
-    the arm's turn on the frame and the counterweight's (a point counterweight: its link's) on the arm,
-    rad/s, the projectile's slide along the base, m/s."""
+def joint_rates(row: tuple, design: Design) -> tuple[float, ...]:
+    """Each friction joint's signed relative rate at the raw ``row`` (pymunk's velocities after a step;
+    ``JOINTS``): the arm's turn on the frame and the counterweight's (a point counterweight: its link's)
+    on the arm, rad/s, the projectile's slide along the base, m/s, and a floating arm's slides
+    (``slide_rates``), m/s."""
     m = design.machine
     arm_w = row[kin.ARM + kin.W]
     if m.kind != "hinged":
@@ -368,7 +411,19 @@ def joint_rates(row: tuple, design: Design) -> tuple[float, float, float]:
         hinge = (dx * dvy - dy * dvx) / (dx * dx + dy * dy) - arm_w
     else:
         hinge = row[kin.COUNTERWEIGHT + kin.W] - arm_w
-    return (arm_w - row[kin.FRAME + kin.W], hinge, row[kin.PROJECTILE + kin.VX] - row[kin.FRAME + kin.VX])
+    return (arm_w - row[kin.FRAME + kin.W], hinge, row[kin.PROJECTILE + kin.VX] - row[kin.FRAME + kin.VX],
+            *slide_rates(row, design))
+
+
+def slide_rates(row, design: Design) -> tuple:
+    """A floating arm's counterweight sliding along its guide (vertical) and axle along its track
+    (horizontal), relative to the frame, m/s, signed: at a state ``row`` (24 numbers) or, given the
+    transposed (24, n) rows, at each; 0 for the other kinds. In a floating arm's row the
+    counterweight's columns are its centre's, the arm's its axle's."""
+    if design.machine.kind != "floating-arm":
+        return 0.0, 0.0
+    return (row[kin.COUNTERWEIGHT + kin.VY] - row[kin.FRAME + kin.VY],
+            row[kin.ARM + kin.VX] - row[kin.FRAME + kin.VX])
 
 
 def remove_base(friction: Friction, space: pymunk.Space) -> None:
@@ -424,25 +479,27 @@ def axle_load_from_momentum(before: tuple, row: tuple, design: Design, base_forc
 
 
 def rates(sync: np.ndarray, qdot: np.ndarray, design: Design) -> np.ndarray:
-    """Each friction joint's relative sliding rate at the rows of ``sync`` (n, 3): the arm's turn on the
-    frame (rad/s), the counterweight's (for a point counterweight, its link's) on the arm (rad/s) and the
-    projectile's along the base (m/s), as magnitudes. ``qdot``: (n, 3) ``kinematics.coordinates``' rates."""
+    """Each friction joint's relative sliding rate at the rows of ``sync`` (n, 5; ``JOINTS``): the arm's
+    turn on the frame (rad/s), the counterweight's (for a point counterweight, its link's) on the arm
+    (rad/s), the projectile's along the base and a floating arm's slides (``slide_rates``; m/s), as
+    magnitudes. ``qdot``: (n, 3) ``kinematics.coordinates``' rates."""
     axle = np.abs(kin.column(sync, kin.ARM, kin.W) - kin.column(sync, kin.FRAME, kin.W))
     if design.machine.counterweight_inertia == 0.0 and design.machine.kind == "hinged":
         hinge = np.abs(qdot[:, 1])
     else:
         hinge = np.abs(kin.column(sync, kin.COUNTERWEIGHT, kin.W) - kin.column(sync, kin.ARM, kin.W))
     base = np.abs(kin.column(sync, kin.PROJECTILE, kin.VX) - kin.column(sync, kin.FRAME, kin.VX))
-    return np.column_stack([axle, hinge, base])
+    guide, track = (np.broadcast_to(np.abs(rate), axle.shape) for rate in slide_rates(sync.T, design))
+    return np.column_stack([axle, hinge, base, guide, track])
 
 
 def dissipated_work(impulse: np.ndarray, rate: np.ndarray) -> np.ndarray:
-    """Work each friction took, accumulated to each row's instant, J, shape (n, 3).
+    """Work each friction took, accumulated to each row's instant, J, shape (n, 5) (``JOINTS``).
 
     Parameters
     ----------
-    impulse : (n, 3) each friction constraint's impulse in the step that produced the row.
-    rate : (n, 3) its joint's sliding rate at the row's instant (``rates`` on synchronised rows).
+    impulse : (n, 5) each friction constraint's impulse in the step that produced the row.
+    rate : (n, 5) its joint's sliding rate at the row's instant (``rates`` on synchronised rows).
 
     Notes
     -----

@@ -256,8 +256,8 @@ def run_machine(design: Design, dt: float, iterations: int, sling: str, limit: i
 
 
 def _attach_friction(rig: Rig, design: Design, on_base: bool, dt: float,
-                     loads: tuple[float, float, float] | None = None,
-                     slips: tuple[bool, bool, bool] = fr.STUCK) -> fr.Friction | None:
+                     loads: tuple[float, ...] | None = None,
+                     slips: tuple[bool, ...] = fr.STUCK) -> fr.Friction | None:
     """``engine_model.friction.attach``, its limits set for the opening half step from ``loads`` (N;
     default: the loads at rest, ``friction.static_loads``) and the joints' ``slips`` (default: each
     held at rest, its static limit)."""
@@ -282,8 +282,9 @@ def _base_friction(friction: fr.Friction | None, rig: Rig, step: float, geometry
 
 
 def _loads(friction: fr.Friction, rig: Rig, before: tuple, row: tuple, design: Design,
-           base_force: tuple[float, float], dt: float, step: float) -> tuple[float, float, float]:
-    """Each friction joint's load in the step of ``step`` s that produced ``row``, N: the next step's limits.
+           base_force: tuple[float, float], dt: float, step: float) -> tuple[float, ...]:
+    """Each friction joint's load (``friction.JOINTS``) in the step of ``step`` s that produced ``row``, N:
+    the next step's limits.
 
     ``before`` is the row before (for the opening half step, ``_mirrored(row)``,
     whose velocity change over ``dt`` is the half step's over ``dt / 2``).
@@ -298,7 +299,7 @@ def _loads(friction: fr.Friction, rig: Rig, before: tuple, row: tuple, design: D
     if friction.point_hinge:
         hinge = math.hypot(hinge, fr.impulse(friction.hinge) / step)
     base = fr.impulse(rig.groove) / step if friction.base is not None else 0.0
-    return axle, hinge, base
+    return axle, hinge, base, *fr.slide_loads(friction, rig, step)
 
 
 def _rest_drag(drag) -> tuple[float, float]:

@@ -49,6 +49,9 @@ PREDICTION_MEDIAN, PREDICTION_99TH = 1e-5, 1e-3
 STUCK_RATE = 5e-4
 
 
+#: The hinged machine's friction joints (the guide and the track are a floating arm's:
+#: ``tests/test_engine_guide_track_friction.py``).
+HINGED_JOINTS = fr.JOINTS[:3]
 #: A hinge that sticks at rest and again before release, holding up to 1.3 times what it gives slipping.
 STATIC_HINGE = Losses(hinge_friction=1.0, hinge_radius=0.1, hinge_static_friction=1.3)
 
@@ -130,7 +133,7 @@ def test_while_slipping_each_friction_is_mu_r_times_its_load(all_losses):
     limit, applied, load = steps["limit"], steps["applied"], steps["load"]
     mu_r = np.array([0.15 * 0.0064, 0.15 * 0.005, 0.3])   # crosscheck.cases.REALISTIC_LOSSES
     on_base = all_losses.history.stage[: len(limit)] == 1
-    for j, joint in enumerate(fr.JOINTS):
+    for j, joint in enumerate(HINGED_JOINTS):
         # From the first step whose line runs through two whole steps' loads (the first
         # whole step's reading is not taken, engine_model.friction.renew).
         rows = np.arange(4, len(limit))
@@ -307,10 +310,12 @@ def test_a_slipping_joint_about_to_stop_gets_its_static_limit(table3, monkeypatc
     design = dataclasses.replace(table3, losses=REALISTIC_LOSSES)
     friction = fr.attach(build(design), design, on_base=True)
     monkeypatch.setattr(fr, "saturated", lambda joint, step: True)
-    # axle: 1.0 -> 0.5 next, slipping on; hinge: -0.5 -> +0.2, stops within the step; base: 0.2 -> 0.3.
-    assert fr.slipping(friction, 5e-5, (1.0, -0.5, 0.2), (1.5, -1.2, 0.1)) == (True, False, True)
+    # axle: 1.0 -> 0.5 next, slipping on; hinge: -0.5 -> +0.2, stops within the step; base: 0.2 -> 0.3;
+    # guide: 0.2 -> 0.1, slipping on; track: 0.1 -> -0.1, stops within the step.
+    rates, earlier = (1.0, -0.5, 0.2, 0.2, 0.1), (1.5, -1.2, 0.1, 0.3, 0.3)
+    assert fr.slipping(friction, 5e-5, rates, earlier) == (True, False, True, True, False)
     monkeypatch.setattr(fr, "saturated", lambda joint, step: False)
-    assert fr.slipping(friction, 5e-5, (1.0, -0.5, 0.2), (1.5, -1.2, 0.1)) == (False, False, False)
+    assert fr.slipping(friction, 5e-5, rates, earlier) == (False,) * 5
 
 
 @pytest.mark.parametrize("point", [False, True], ids=["inertial-counterweight", "point-counterweight"])
@@ -434,7 +439,7 @@ def test_the_drag_work_is_the_projectiles_loss_by_an_independent_integration(tab
 # Range against the coefficients and the step
 # --------------------------------------------------------------------------- #
 
-@pytest.mark.parametrize("joint", fr.JOINTS)
+@pytest.mark.parametrize("joint", HINGED_JOINTS)
 def test_the_range_falls_steadily_as_each_coefficient_grows(table3, joint):
     # From 0 to twice the realistic coefficient (crosscheck.cases.REALISTIC_LOSSES).
     losses = REALISTIC_LOSSES
