@@ -326,6 +326,29 @@ def set_limits(friction: Friction, loads: tuple[float, ...], slips: tuple[bool, 
     return found
 
 
+#: Solver iterations of the opening half step of a floating arm whose guide or track has friction
+#: (in place of ``engine_model.stepping.STARTUP_ITERATIONS``). Its small carriage (``engine_model.floating.carriage_mass``) slows the
+#: solver's convergence: on the paper's machine held at rest by its track's friction (three times
+#: the coefficient that just holds it) the arm's angular acceleration read from the opening half
+#: step was -2.8e-2 rad/s^2 after 1000 iterations (``stepping.STARTUP_ITERATIONS``), -2.2e-7 after
+#: 4000 and the same after 16000, at 5e-5 s; at 1.25e-5 s -3.5e-6 from 4000 on. Whether it is
+#: held is read from it against ``HELD_ACCELERATION``.
+SLIDE_STARTUP_ITERATIONS = 8000
+
+
+def slides(friction: Friction | None) -> bool:
+    """A floating arm's guide or track has friction."""
+    return friction is not None and (friction.guide is not None or friction.track is not None)
+
+
+def held_by_slides_message(friction: Friction, arm_acceleration: float) -> str:
+    """Why a floating arm whose guide or track has friction never fires: friction holds it at rest."""
+    held = " and the ".join(name for name, joint in (("track's", friction.track), ("guide's", friction.guide),
+                                                     ("axle's", friction.axle)) if joint is not None)
+    return (f"the counterweight cannot lift the arm: the {held} friction holds the machine at rest "
+            f"(at rest the arm's angular acceleration is {arm_acceleration:+.3g} rad/s^2)")
+
+
 def slide_loads(friction: Friction, rig: Rig, step: float) -> tuple[float, float]:
     """A floating arm's guide and track loads in the last step of ``step`` s, N: the normal forces |G| and
     |T|, the impulses of the grooves holding the slider on the guide and the carriage on the track

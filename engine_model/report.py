@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from analytic.result import LOSS_NAMES, Shot
+from analytic.result import Shot
 from analytic.units import display
 
 #: (JSON key, label, unit, format) in the order printed; values are as in ``Shot.to_json``.
@@ -77,8 +77,10 @@ def format_shot(shot: Shot, units: str = "metric") -> str:
         losses = shot.design.losses   # a loss the design does not have: no row of zeros
         labels = {"drag": "drag in flight", "swing_drag": "drag before release"}
         shown = {"drag": True, "swing_drag": shot.design.projectile.drag_during_swing}
-        rows += [row(labels.get(name, f"{name} friction"), shot.energy_dissipated[name], "J dissipated", "{:.4f}")
-                 for name in LOSS_NAMES if shown.get(name, getattr(losses, f"{name}_friction", 0.0) != 0.0)]
+        # The engine's own losses (``friction.JOINTS``, the drag's) in its order: a floating arm's guide and track too.
+        rows += [row(labels.get(name, f"{name} friction"), work, "J dissipated", "{:.4f}")
+                 for name, work in shot.energy_dissipated.items()
+                 if shown.get(name, getattr(losses, f"{name}_friction", 0.0) != 0.0)]
     diagnostics = shot.diagnostics
     drift, drift_unit = _shown(diagnostics.max_joint_drift, "m", units)
     rows += [("engine", f"dt {diagnostics.dt:g} s, {diagnostics.iterations} iterations",

@@ -84,7 +84,8 @@ def run_machine(design: Design, dt: float, iterations: int, sling: str, limit: i
 
     rig = build(design, sling=sling, iterations=iterations)
     friction = _attach_friction(rig, design, True, dt)
-    row = _opening_step(rig, dt, iterations, drag)
+    startup = fr.SLIDE_STARTUP_ITERATIONS if fr.slides(friction) else STARTUP_ITERATIONS
+    row = _opening_step(rig, dt, iterations, drag, startup)
     # From rest the opening half step gives the arm omega = alpha dt/2 (pymunk
     # updates velocities first), so this is its angular acceleration at rest.
     arm_acceleration = row[kin.ARM + kin.W] / (0.5 * dt)
@@ -97,8 +98,9 @@ def run_machine(design: Design, dt: float, iterations: int, sling: str, limit: i
             run.tension.append(0.0)
             run.friction_impulse.append(fr.impulses(friction, True))
             run.status = Status.NEVER_FIRES
-            run.message = outcome.never_fires_message(arm_acceleration, -balance.gravity_torque,
-                                                      balance.holding_torque)
+            run.message = (fr.held_by_slides_message(friction, arm_acceleration) if fr.slides(friction) else
+                           outcome.never_fires_message(arm_acceleration, -balance.gravity_torque,
+                                                       balance.holding_torque))
             return run, rig
     if not arm_acceleration < 0.0:
         run.raw.append(row)
@@ -117,7 +119,7 @@ def run_machine(design: Design, dt: float, iterations: int, sling: str, limit: i
         # The sling lifts the projectile at rest: start again without the base.
         rig = build(design, sling=sling, iterations=iterations, on_base=False)
         friction = _attach_friction(rig, design, False, dt)
-        row = _opening_step(rig, dt, iterations, drag)
+        row = _opening_step(rig, dt, iterations, drag, startup)
         geometry = _row_geometry(row, m)
         base_force = 0.0
         tension, normal = _forces(row, row, geometry, False, design, dt, drag_force=_rest_drag(drag))
@@ -135,7 +137,7 @@ def run_machine(design: Design, dt: float, iterations: int, sling: str, limit: i
         slips = fr.slipping(friction, 0.5 * dt, rates, fr.AT_REST)
         rig = build(design, sling=sling, iterations=iterations, on_base=on_base)
         friction = _attach_friction(rig, design, on_base, dt, opening_loads, slips)
-        row = _opening_step(rig, dt, iterations, drag)
+        row = _opening_step(rig, dt, iterations, drag, startup)
         geometry = _row_geometry(row, m)
         base_force = _base_friction(friction, rig, 0.5 * dt, geometry, on_base)
         tension, normal = _forces(row, row, geometry, on_base, design, dt, base_force, _rest_drag(drag))
@@ -329,15 +331,17 @@ def _drag_work(force: tuple[float, float], velocity_before: tuple[float, float],
     return -(force[0] * 0.5 * (velocity_before[0] + vx) + force[1] * 0.5 * (velocity_before[1] + vy)) * step
 
 
-def _opening_step(rig: Rig, dt: float, iterations: int, drag=None) -> tuple[float, ...]:
+def _opening_step(rig: Rig, dt: float, iterations: int, drag=None,
+                  startup: int = STARTUP_ITERATIONS) -> tuple[float, ...]:
     """Half a step from rest: the positions stay at t = 0, the velocities reach dt/2 (leapfrog start);
     ``drag`` (``flight.swing_drag_function``, or None): the drag at rest (the wind's) acts over it.
 
     Later steps start their solver from the previous step's impulses; this one
-    starts from nothing, so it gets ``STARTUP_ITERATIONS`` to converge (with
-    the usual count the sling tension rings by 10 % for a dozen steps).
+    starts from nothing, so it gets ``startup`` iterations to converge (``STARTUP_ITERATIONS``: with
+    the usual count the sling tension rings by 10 % for a dozen steps; more for a floating arm's
+    friction, ``friction.SLIDE_STARTUP_ITERATIONS``).
     """
-    rig.space.iterations = max(STARTUP_ITERATIONS, iterations)
+    rig.space.iterations = max(startup, iterations)
     if drag is not None:
         set_force(rig.projectile, *_rest_drag(drag))
     rig.space.step(0.5 * dt)
