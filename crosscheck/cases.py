@@ -19,7 +19,7 @@ from analytic.design_space import default_problem, sample_designs
 @dataclass(frozen=True)
 class Case:
     """One design to run through both models; ``group`` is paper, exercise, failure, sample, rolling,
-    friction, stage-1-events, fixed, floating-arm, swing-drag or file."""
+    friction, stage-1-events, fixed, floating-arm, floating-friction, swing-drag or file."""
 
     name: str
     design: Design
@@ -300,6 +300,43 @@ def floating_cases(sample: int = FLOATING_SAMPLE, seed: int = 0) -> list[Case]:
             for design in designs]
 
 
+#: A floating arm's slides with friction: the counterweight's guide and the axle's carriage on its
+#: track, greased hardwood on hardwood (Coulomb 0.2); with the axle's of ``REALISTIC_LOSSES``, every
+#: loss a floating arm has (no hinge; the base's friction is refused on it).
+SLIDE_LOSSES = Losses(guide_friction=0.2, track_friction=0.2)
+FLOATING_LOSSES = dataclasses.replace(SLIDE_LOSSES, axle_friction=REALISTIC_LOSSES.axle_friction,
+                                      axle_radius=REALISTIC_LOSSES.axle_radius)
+#: ``FLOATING_LOSSES`` with every static coefficient ``STATIC_FACTOR`` times its kinetic one.
+FLOATING_STATIC_LOSSES = dataclasses.replace(
+    FLOATING_LOSSES, **{f"{name}_static_friction": STATIC_FACTOR * getattr(FLOATING_LOSSES, f"{name}_friction")
+                        for name in ("axle", "guide", "track")})
+#: A track the paper's floating arm cannot move on: its friction holds the machine at rest from
+#: 0.570 (at rest the guide must push 38.0 N to hold the arm against its 66.8 N weight on the track:
+#: ``tests/test_engine_guide_track_friction.py``'s ``track_threshold``); 0.8 holds it.
+HELD_TRACK = Losses(track_friction=0.8)
+
+
+def floating_friction_cases(seed: int = 0) -> list[Case]:
+    """Floating arms with friction on their guide and track: the paper's floating arm with the guide's
+    alone, the track's alone, both, and ``FLOATING_LOSSES`` (the axle's too), with those
+    at static coefficients ``STATIC_FACTOR`` above the kinetic ones, the first sampled floating arm and
+    the large one with ``FLOATING_LOSSES``, and the paper's held at rest by its track (``never_fires``)."""
+    paper = floating_cases(sample=1, seed=seed)
+    table3, sampled, large = (case.design for case in paper)
+    variants = [(table3, "guide-friction", Losses(guide_friction=SLIDE_LOSSES.guide_friction)),
+                (table3, "track-friction", Losses(track_friction=SLIDE_LOSSES.track_friction)),
+                (table3, "slide-friction", SLIDE_LOSSES), (table3, "all-losses", FLOATING_LOSSES),
+                (table3, "all-losses-static", FLOATING_STATIC_LOSSES),
+                (sampled, "all-losses", FLOATING_LOSSES), (large, "all-losses", FLOATING_LOSSES)]
+    cases = [Case(f"{design.name}-{suffix}", dataclasses.replace(design, name=f"{design.name}-{suffix}",
+                                                                 losses=losses),
+                  "floating-friction", engine_step_fraction=FLOATING_STEP_FRACTION)
+             for design, suffix, losses in variants]
+    held = dataclasses.replace(table3, name=f"{table3.name}-held-by-its-track", losses=HELD_TRACK)
+    return cases + [Case(held.name, held, "floating-friction", "never_fires",
+                         engine_step_fraction=FLOATING_STEP_FRACTION)]
+
+
 #: The wind of the drag-during-swing cases with wind, m/s: a strong headwind and a strong
 #: tailwind (Beaufort 6, 10.8-13.8 m/s), so the drag at rest and slow in stage 1 is not negligible.
 SWING_DRAG_WIND = 12.0
@@ -339,7 +376,7 @@ def default_suite(sample: int = 24, seed: int = 0) -> list[Case]:
     """The suite ``python -m crosscheck`` runs with no design files."""
     return (paper_cases() + exercise_cases() + failure_cases() + sample_cases(sample, seed) + rolling_cases()
             + friction_cases() + stage1_event_cases() + fixed_cases(seed=seed) + floating_cases(seed=seed)
-            + swing_drag_cases())
+            + floating_friction_cases(seed=seed) + swing_drag_cases())
 
 
 #: The quick suite's cases, by name: the paper's design as published, at 61 deg
