@@ -175,6 +175,8 @@ def _loads(friction: fr.Friction, rig: Rig, before: tuple | None, row: tuple, de
     projectile: the base's is 0)."""
     if friction.axle is None:
         axle = 0.0
+    elif rig.supports:
+        axle = fr.track_axle_load(friction, rig, step)
     elif friction.ballast > 0.0 and before is not None:
         axle = fr.axle_load_from_momentum(before, row, design, (0.0, 0.0), step, projectile=False)
     else:

@@ -349,6 +349,16 @@ def held_by_slides_message(friction: Friction, arm_acceleration: float) -> str:
             f"(at rest the arm's angular acceleration is {arm_acceleration:+.3g} rad/s^2)")
 
 
+def track_axle_load(friction: Friction, rig: Rig, step: float) -> float:
+    """A floating arm's axle load in the last step of ``step`` s, N: the track's whole force on the
+    carriage, ``|(F_T, T)|`` (its friction along it, its push across it). The real carriage is
+    massless, so its pin carries that force to the arm; the engine's carriage holds part of the arm's
+    mass (``engine_model.floating.carriage_mass``), whose momentum change its pivot's own impulse
+    leaves out."""
+    sliding = 0.0 if friction.track is None else _IMPULSE(friction.track._constraint)
+    return math.hypot(_IMPULSE(rig.track._constraint), sliding) / step
+
+
 def slide_loads(friction: Friction, rig: Rig, step: float) -> tuple[float, float]:
     """A floating arm's guide and track loads in the last step of ``step`` s, N: the normal forces |G| and
     |T|, the impulses of the grooves holding the slider on the guide and the carriage on the track

@@ -293,6 +293,8 @@ def _loads(friction: fr.Friction, rig: Rig, before: tuple, row: tuple, design: D
     """
     if friction.axle is None:
         axle = 0.0
+    elif rig.supports:
+        axle = fr.track_axle_load(friction, rig, step)
     elif friction.ballast > 0.0:
         axle = fr.axle_load_from_momentum(before, row, design, base_force, dt)
     else:
