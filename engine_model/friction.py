@@ -359,6 +359,25 @@ def track_axle_load(friction: Friction, rig: Rig, step: float) -> float:
     return math.hypot(_IMPULSE(rig.track._constraint), sliding) / step
 
 
+def slide_forces(impulse: np.ndarray, raw: np.ndarray, design: Design, steps: np.ndarray) -> np.ndarray:
+    """A floating arm's slides' friction over each raw row's step, (n, 2) N: the track's on the axle
+    (x) and the guide's on the counterweight (y), signed; zeros for the other kinds.
+
+    pymunk reports their size (``impulse``, (n, 5) ``impulses`` rows, over ``steps``, (n,) s); each
+    opposes its sliding after the step (``slide_rates`` on the (n, 24) ``raw`` rows), which a
+    saturated groove does not stop, or where the step stopped it, the sliding before the step.
+    """
+    forces = np.zeros((len(raw), 2))
+    if design.machine.kind != "floating-arm" or len(impulse) == 0:
+        return forces
+    guide, track = slide_rates(raw.T, design)
+    for column, rate, joint in ((0, track, 4), (1, guide, 3)):
+        before = np.concatenate([[0.0], rate[:-1]])
+        sliding = np.where(rate != 0.0, rate, before)
+        forces[:, column] = -np.sign(sliding) * impulse[:len(raw), joint] / steps
+    return forces
+
+
 def slide_loads(friction: Friction, rig: Rig, step: float) -> tuple[float, float]:
     """A floating arm's guide and track loads in the last step of ``step`` s, N: the normal forces |G| and
     |T|, the impulses of the grooves holding the slider on the guide and the carriage on the track

@@ -49,7 +49,8 @@ def accelerations(raw: np.ndarray, body_velocity: np.ndarray, dt: float) -> np.n
     return (body_velocity - before) / dt
 
 
-def load_histories(raw: np.ndarray, tension: np.ndarray, design: Design, dt: float) -> np.ndarray:
+def load_histories(raw: np.ndarray, tension: np.ndarray, design: Design, dt: float,
+                   slide_friction: np.ndarray | None = None) -> np.ndarray:
     """The loads over each raw row's step, shape (n, 5): axle (N), hinge (N), sling tension (N),
     the projectile's felt acceleration (m/s^2) and the arm's bending moment at the axle (N m).
 
@@ -58,6 +59,8 @@ def load_histories(raw: np.ndarray, tension: np.ndarray, design: Design, dt: flo
     raw : (n, 24) rows as read after each step of stages 1-2 (``kinematics``).
     tension : (n,) the sling's tension over each row's step, N (``kinematics.contact_forces``).
     dt : the step, s.
+    slide_friction : a floating arm's (n, 2) friction of its track (x, on the axle) and its guide
+        (y, on the counterweight), N (``engine_model.friction.slide_forces``); None: none.
     """
     up = np.array([0.0, design.environment.gravity])
     hinge = design.machine.counterweight_mass * (accelerations(raw, kin.velocity(raw, kin.COUNTERWEIGHT), dt) + up)
@@ -66,10 +69,13 @@ def load_histories(raw: np.ndarray, tension: np.ndarray, design: Design, dt: flo
     axle = support_force(raw, sling, design, dt)
     bending = bending_moment(raw, sling, design, dt)
     if design.machine.kind == "floating-arm":
-        # The axle's force is the track's push (y); the guide's (x) acts on the counterweight, so its
-        # mount carries the counterweight's force less the guide's (``analytic.eom.joint_forces``).
-        hinge = hinge - np.column_stack([axle[:, 0], np.zeros(len(axle))])
-        axle = np.column_stack([np.zeros(len(axle)), axle[:, 1]])
+        # The axle's force is the track's, its push (y) and its friction (x); the guide's push (x) and
+        # friction (y) act on the counterweight, so its mount carries the counterweight's force less
+        # the guide's (``analytic.eom.joint_forces``).
+        friction = np.zeros_like(axle) if slide_friction is None else slide_friction
+        normal = axle - friction
+        hinge = hinge - np.column_stack([normal[:, 0], friction[:, 1]])
+        axle = np.column_stack([friction[:, 0], normal[:, 1]])
     return np.column_stack([np.linalg.norm(axle, axis=1), np.linalg.norm(hinge, axis=1), tension,
                             np.linalg.norm(felt, axis=1), np.abs(bending)])
 

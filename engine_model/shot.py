@@ -96,8 +96,11 @@ def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAU
     residual = kin.constraint_residuals(raw, design, sling, on_base, steps)
     times = dt * np.arange(len(raw))
     tension = np.array(run.tension)
-    loads = engine_loads.load_histories(raw, tension, design, dt)
-    supports = engine_loads.support_force(raw, engine_loads.sling_force(raw, tension, design), design, dt)
+    slide_friction = fr.slide_forces(np.array(run.friction_impulse).reshape(-1, len(fr.JOINTS)), raw, design, steps)
+    loads = engine_loads.load_histories(raw, tension, design, dt, slide_friction)
+    # A floating arm's guide's and track's push: the supports' force less their friction.
+    supports = (engine_loads.support_force(raw, engine_loads.sling_force(raw, tension, design), design, dt)
+                - slide_friction)
     axle_x = None
     dissipated = _friction_work(run, sync, design)
     swing_drag = np.array(run.drag_work) if len(run.drag_work) == len(raw) else np.zeros(len(raw))
