@@ -285,9 +285,12 @@ class Base:
 #: The ``[losses]`` table's joints: each has a Coulomb coefficient and the
 #: radius of the pin (or bearing) it acts at.
 FRICTION_JOINTS = ("axle", "hinge")
-#: Every friction of the ``[losses]`` table: the joints' and the base's; each has a kinetic
+#: The floating arm's sliding supports: its counterweight's guide and its axle's track, each a
+#: Coulomb coefficient against the support's normal force (no radius).
+SLIDES = ("guide", "track")
+#: Every friction of the ``[losses]`` table: the joints', the base's and the slides'; each has a kinetic
 #: coefficient ``{name}_friction`` and an optional static one ``{name}_static_friction``.
-FRICTIONS = ("axle", "hinge", "base")
+FRICTIONS = ("axle", "hinge", "base") + SLIDES
 
 
 @dataclass(frozen=True)
@@ -303,11 +306,19 @@ class Losses:
         short arm, opposing the link's rotation relative to the arm.
     base_friction : Coulomb coefficient of the projectile (or its sled)
         sliding on the base in stage 1: ``base_friction * N`` against its sliding.
-    axle_static_friction, hinge_static_friction, base_static_friction : the
+    guide_friction : Coulomb coefficient of a floating arm's counterweight
+        sliding on its vertical guide: ``guide_friction * |G|`` against its
+        sliding, G the guide's horizontal (normal) force on it.
+    track_friction : Coulomb coefficient of a floating arm's axle sliding on
+        its horizontal track: ``track_friction * |T|`` against its sliding,
+        T the track's vertical (normal) force on it.
+    axle_static_friction, hinge_static_friction, base_static_friction,
+    guide_static_friction, track_static_friction : the
         static coefficients: a joint at rest (or the projectile at rest on
-        the base) holds up to this coefficient times its load, and once it
-        slips the kinetic one above acts. None (not given): the kinetic
-        coefficient (``static``). Never below the kinetic one.
+        the base, or a slide at rest on its support) holds up to this
+        coefficient times its load, and once it slips the kinetic one above
+        acts. None (not given): the kinetic coefficient (``static``). Never
+        below the kinetic one.
 
     A joint's coefficient without its radius is refused: the torque needs both.
     A radius with a zero coefficient is a frictionless bearing of known size,
@@ -322,9 +333,14 @@ class Losses:
     axle_static_friction: float | None = None
     hinge_static_friction: float | None = None
     base_static_friction: float | None = None
+    guide_friction: float = 0.0
+    track_friction: float = 0.0
+    guide_static_friction: float | None = None
+    track_static_friction: float | None = None
 
     def __post_init__(self) -> None:
-        for name in ("axle_friction", "axle_radius", "hinge_friction", "hinge_radius", "base_friction"):
+        for name in ("axle_friction", "axle_radius", "hinge_friction", "hinge_radius", "base_friction",
+                     "guide_friction", "track_friction"):
             require_non_negative(f"losses.{name}", getattr(self, name))
         for joint in FRICTION_JOINTS:
             coefficient, radius = getattr(self, f"{joint}_friction"), getattr(self, f"{joint}_radius")
@@ -346,8 +362,7 @@ class Losses:
                                   f"a coefficient without its radius: give losses.{friction}_radius (m) too")
 
     def static(self, friction: str) -> float:
-        """The static coefficient of ``friction`` (``"axle"``, ``"hinge"`` or ``"base"``): as given, or
-        its kinetic one."""
+        """The static coefficient of ``friction`` (one of ``FRICTIONS``): as given, or its kinetic one."""
         static = getattr(self, f"{friction}_static_friction")
         return getattr(self, f"{friction}_friction") if static is None else static
 
@@ -355,7 +370,7 @@ class Losses:
     def ideal(self) -> bool:
         """No friction anywhere: every coefficient zero, kinetic and static (a joint's radius alone adds none)."""
         return all(getattr(self, f"{name}_friction") == 0.0 and self.static(name) == 0.0
-                   for name in ("axle", "hinge", "base"))
+                   for name in FRICTIONS)
 
 
 @dataclass(frozen=True)
@@ -389,6 +404,18 @@ class Design:
                                       f"on the arm; leave losses.{name} out (or 0)")
         if isinstance(self.machine, Machine) and self.machine.kind == "floating-arm":
             self._check_floating()
+        elif isinstance(self.machine, Machine):
+            self._check_no_slides()
+
+    def _check_no_slides(self) -> None:
+        """Refuse guide and track friction on a machine without a guide and a track."""
+        for slide in SLIDES:
+            for name in (f"{slide}_friction", f"{slide}_static_friction"):
+                value = getattr(self.losses, name)
+                if value is not None and value > 0.0:
+                    raise DesignError(f"losses.{name}", value,
+                                      f"only a floating-arm machine has a guide and a track; a "
+                                      f"{self.machine.kind} machine has neither: leave losses.{name} out (or 0)")
 
     def _check_floating(self) -> None:
         """Refuse what the floating-arm machine does not model: a rolling frame (its axle already rides a

@@ -176,7 +176,8 @@ def base_from_dict(data: Any) -> Base:
 
 
 _LOSSES_KEYS = ("axle_friction", "axle_radius", "hinge_friction", "hinge_radius", "base_friction",
-                "axle_static_friction", "hinge_static_friction", "base_static_friction")
+                "axle_static_friction", "hinge_static_friction", "base_static_friction",
+                "guide_friction", "track_friction", "guide_static_friction", "track_static_friction")
 
 
 def losses_from_dict(data: Any) -> Losses:

@@ -38,6 +38,10 @@ muh_s,      the base (each at least its kinetic one; the
 mub_s       kinetic one when the file does not give it)
 kind        machine kind code (``design.KINDS``; ``eom.FIXED``)  machine.kind
 drag_swing  1.0 if the drag acts in stages 1-2 too, else 0.0      projectile.drag_during_swing
+mug, mut    the floating arm's guide and track Coulomb           losses.guide_friction, track_friction
+            coefficients
+mug_s,      their static coefficients (each at least its         losses.guide_static_friction,
+mut_s       kinetic one; the kinetic one when not given)         track_static_friction
 ==========  ===================================================  ==========================
 """
 
@@ -91,6 +95,10 @@ class Params(NamedTuple):
     mub_s: float
     kind: float
     drag_swing: float
+    mug: float
+    mut: float
+    mug_s: float
+    mut_s: float
 
 
 #: Length of a design row (``Params`` in order).
@@ -115,4 +123,5 @@ def params(design) -> Params:
         mua=losses.axle_friction, ra=losses.axle_radius, muh=losses.hinge_friction, rh=losses.hinge_radius,
         mub=losses.base_friction, mua_s=losses.static("axle"), muh_s=losses.static("hinge"),
         mub_s=losses.static("base"), kind=float(KINDS.index(m.kind)),
-        drag_swing=float(proj.drag_during_swing))
+        drag_swing=float(proj.drag_during_swing), mug=losses.guide_friction, mut=losses.track_friction,
+        mug_s=losses.static("guide"), mut_s=losses.static("track"))

@@ -64,6 +64,8 @@ FIELD_KINDS = {
     "release_angle": ANGLE, "starting_angle": ANGLE,
     "drag_coefficient": NUMBER, "drag_factor": NUMBER, "axle_friction": NUMBER, "hinge_friction": NUMBER, "base_friction": NUMBER,
     "axle_static_friction": NUMBER, "hinge_static_friction": NUMBER, "base_static_friction": NUMBER,
+    "guide_friction": NUMBER, "track_friction": NUMBER, "guide_static_friction": NUMBER,
+    "track_static_friction": NUMBER,
     "hinge_radius": LENGTH,
     "gravity": ACCELERATION, "max_projectile_acceleration": ACCELERATION,
     "air_density": DENSITY, "density": DENSITY,

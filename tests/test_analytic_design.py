@@ -353,3 +353,94 @@ def test_a_beam_arm_past_the_float_range_is_refused_by_name():
     mass, cg, inertia = BeamArm(0.05, 0.1, 700.0).properties(1.0, 0.3)
     assert (mass, cg) == (700.0 * 0.05 * 0.1 * 1.3, 0.35)   # the beam's own formulas (docstring)
     assert inertia == pytest.approx(mass * (1.3**2 + 0.1**2) / 12.0, rel=1e-15)
+
+
+# --------------------------------------------------------------------------- #
+# The floating arm's guide and track friction
+# --------------------------------------------------------------------------- #
+
+SLIDE_FIELDS = ["guide_friction", "track_friction", "guide_static_friction", "track_static_friction"]
+
+
+def _floating_file(losses: dict) -> dict:
+    data = table3_file()
+    data["machine"]["kind"] = "floating-arm"
+    del data["machine"]["counterweight_link"]
+    return {**data, "losses": losses}
+
+
+def test_a_floating_arm_reads_guide_and_track_friction_and_writes_it_back():
+    design = design_from_dict(_floating_file({"guide_friction": 0.2, "track_friction": 0.1,
+                                              "track_static_friction": 0.3}))
+    losses = design.losses
+    assert (losses.guide_friction, losses.track_friction) == (0.2, 0.1)
+    # A static coefficient not given is the kinetic one; a given one is kept.
+    assert (losses.static("guide"), losses.static("track")) == (0.2, 0.3)
+    assert not losses.ideal
+    assert design_from_dict(design_to_dict(design)) == design
+
+
+def test_guide_and_track_friction_are_ideal_by_default():
+    losses = design_from_dict(_floating_file({})).losses
+    assert (losses.guide_friction, losses.track_friction, losses.static("guide"), losses.static("track")) == \
+        (0.0, 0.0, 0.0, 0.0) and losses.ideal
+
+
+@pytest.mark.parametrize("kind", ["hinged", "fixed"])
+@pytest.mark.parametrize("name", SLIDE_FIELDS)
+def test_other_kinds_refuse_guide_and_track_friction(kind, name):
+    data = table3_file()
+    data["machine"]["kind"] = kind
+    if kind == "fixed":
+        del data["machine"]["counterweight_link"]
+    data["losses"] = {name: 0.25}
+    with _raises(f"losses.{name}", f"only a floating-arm machine has a guide and a track; a {kind} machine"):
+        design_from_dict(data)
+    data["losses"] = {name: 0.0}   # zero is the ideal slide every machine has
+    assert design_from_dict(data).losses.ideal
+
+
+@pytest.mark.parametrize("value, reason", [(-0.1, "must not be negative"), (math.nan, "must be finite"),
+                                           (math.inf, "must be finite"), ("0.2", "must be a number")],
+                         ids=["negative", "nan", "inf", "text"])
+@pytest.mark.parametrize("name", SLIDE_FIELDS)
+def test_bad_guide_and_track_coefficients_are_refused_naming_the_field(name, value, reason):
+    with _raises(f"losses.{name}", reason):
+        design_from_dict(_floating_file({name: value}))
+
+
+@pytest.mark.parametrize("slide", ["guide", "track"])
+def test_a_static_slide_coefficient_below_its_kinetic_one_is_refused(slide):
+    with _raises(f"losses.{slide}_static_friction", f"is below the kinetic coefficient losses.{slide}_friction"):
+        design_from_dict(_floating_file({f"{slide}_friction": 0.3, f"{slide}_static_friction": 0.2}))
+
+
+def test_the_slides_coefficients_reach_the_models_parameters():
+    from analytic.parameters import params
+
+    p = params(design_from_dict(_floating_file({"guide_friction": 0.2, "track_friction": 0.1,
+                                                "guide_static_friction": 0.4})))
+    assert (p.mug, p.mut, p.mug_s, p.mut_s) == (0.2, 0.1, 0.4, 0.1)
+
+
+@pytest.mark.parametrize("name", ["losses.guide_friction", "losses.track_static_friction"])
+def test_the_slides_coefficients_are_fields_the_tools_vary(name):
+    from analytic.fields import field
+
+    design = design_from_dict(_floating_file({"track_friction": 0.1}))
+    chosen = field(name)
+    assert chosen.unit == "" and chosen.label == name
+    assert chosen.get(design) == (0.0 if name == "losses.guide_friction" else 0.1)   # static: the kinetic one
+    assert chosen.get(chosen.replace(design, 0.5)) == 0.5
+
+
+def test_the_cli_refuses_track_friction_on_a_hinged_machine_with_exit_2(tmp_path, capsys):
+    from analytic.cli import EXIT_INVALID, main
+
+    data = table3_file()
+    data["losses"] = {"track_friction": 0.2}
+    path = tmp_path / "hinged.toml"
+    path.write_bytes(tomli_w.dumps(data).encode())
+    assert main(["simulate", str(path)]) == EXIT_INVALID
+    err = capsys.readouterr().err
+    assert "losses.track_friction = 0.2" in err and "only a floating-arm machine" in err

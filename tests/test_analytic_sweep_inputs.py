@@ -205,6 +205,8 @@ DIRECT_FIELDS = ("machine.pivot_height", "machine.arm_long", "machine.arm_short"
                  "environment.air_density", "environment.air_viscosity", "environment.wind_speed",
                  "losses.axle_friction", "losses.axle_radius", "losses.hinge_friction", "losses.hinge_radius",
                  "losses.base_friction")
+#: The floating arm's direct fields beyond those (its guide and track friction).
+FLOATING_FIELDS = ("losses.guide_friction", "losses.track_friction")
 
 
 def assert_rows_are_the_designs(base: spec.Base, columns: dict) -> None:
@@ -234,8 +236,16 @@ def test_rows_of_a_direct_design_varying_every_field_at_once(tmp_path):
 
     path.write_bytes(tomli_w.dumps(data).encode())
     base = sweep_from_dict({"design": str(path), "grid": {"projectile.mass": {"values": [0.05]}}}).base
-    assert set(DIRECT_FIELDS) == {f for f in designs.PARAM_OF_FIELD}
+    assert set(DIRECT_FIELDS + FLOATING_FIELDS) == {f for f in designs.PARAM_OF_FIELD}
     assert_rows_are_the_designs(base, jitter(base, DIRECT_FIELDS))
+
+
+def test_rows_of_a_floating_arm_varying_its_guide_and_track_friction():
+    """The static coefficients not given follow their kinetic ones in every row (``Losses.static``)."""
+    base = sweep_from_dict({"design": "paper_table3_floating", "grid": {"projectile.mass": {"values": [0.05]}}}).base
+    rng = np.random.default_rng(6)
+    columns = {f: rng.uniform(0.0, 0.5, 40) for f in FLOATING_FIELDS}
+    assert_rows_are_the_designs(base, {**columns, **jitter(base, ("machine.sling_length",))})
 
 
 @pytest.mark.parametrize("fields", [("machine.sling_length", "machine.release_angle"),
