@@ -35,9 +35,10 @@ from __future__ import annotations
 
 import math
 
-from analytic.eom import (joint_forces, joint_forces_in_gravity, joint_forces_sliding, machine_terms,
+from analytic.eom import (FLOATING, joint_forces, joint_forces_in_gravity, joint_forces_sliding, machine_terms,
                           rolling_terms, slide_constraint, slide_system, solve_pair, solve_symmetric,
                           symmetric_cofactors, terms)
+from analytic.floating_arm import support_forces
 
 
 # Coulomb friction at the axle (torque ta on the arm, relative rate theta'),
@@ -64,7 +65,7 @@ FRICTION_ITERATIONS = 30
 def lossy(p):
     """Whether the design has any friction (otherwise every function runs the ideal machine's arithmetic):
     a static coefficient is never below its kinetic one, so the static ones tell."""
-    return p.mua_s > 0.0 or p.muh_s > 0.0 or p.mub_s > 0.0
+    return p.mua_s > 0.0 or p.muh_s > 0.0 or p.mub_s > 0.0 or p.mug_s > 0.0 or p.mut_s > 0.0
 
 
 def kinetic_arm(joint, p):
@@ -74,7 +75,10 @@ def kinetic_arm(joint, p):
 
 def static_arm(joint, p):
     """``mu_s r`` of the joint (0 axle, 1 hinge), m: the most friction torque that holds it stuck, per
-    newton of load [10.9]; 0 for a joint without friction."""
+    newton of load [10.9]; 0 for a joint without friction. A floating arm's axle with any friction
+    on theta (the axle's, the guide's, the track's): 1, its load being the hold itself, N m [12.11]."""
+    if joint == 0 and p.kind == FLOATING:
+        return 1.0 if (p.mua_s * p.ra > 0.0 or slides_lossy(p)) else 0.0
     return p.mua_s * p.ra if joint == 0 else p.muh_s * p.rh
 
 
@@ -194,6 +198,10 @@ def swing_friction(theta, phi, psi, dtheta, dphi, dpsi, sa, sh, p):
     # The responses to a unit torque at the axle and at the hinge: M^-1's first two columns.
     c11, c12, c13, c22, c23, _, det = symmetric_cofactors(m11, m12, m13, m22, m23, m33)
     ua1, ua2, ua3 = c11 / det, c12 / det, c13 / det
+    if p.kind == FLOATING:
+        ddtheta, ddpsi, _, q, _, fg, ft, hold = slides_friction(theta, psi, dtheta, dpsi, a1, a3, 0.0, ua1, ua3,
+                                                                 0.0, sa, p)
+        return ddtheta, 0.0, ddpsi, q, fg, hold, ft
     uh1, uh2, uh3 = c12 / det, c22 / det, c23 / det
     return _joints(theta, phi, psi, dtheta, dphi, dpsi, a1, a2, a3, ua1, ua2, ua3, uh1, uh2, uh3, sa, sh, p)
 
@@ -208,6 +216,10 @@ def machine_friction(theta, phi, dtheta, dphi, sa, sh, m):
     m11, m12, m22, f1, f2 = machine_terms(theta, phi, dtheta, dphi, m)
     a1, a2 = solve_pair(m11, m12, m22, f1, f2)
     ua1, ua2 = solve_pair(m11, m12, m22, 1.0, 0.0)
+    if m.kind == FLOATING:
+        ddtheta, _, _, q, _, fg, ft, hold = slides_friction(theta, 0.0, dtheta, 0.0, a1, 0.0, 0.0, ua1, 0.0, 0.0,
+                                                             sa, m)
+        return ddtheta, 0.0, q, fg, hold, ft
     uh1, uh2 = solve_pair(m11, m12, m22, 0.0, 1.0)
     ddtheta, ddphi, _, ta, th, axle, hinge = _joints(theta, phi, 0.0, dtheta, dphi, 0.0, a1, a2, 0.0, ua1, ua2,
                                                      0.0, uh1, uh2, 0.0, sa, sh, m)
@@ -272,6 +284,10 @@ def slide_friction(theta, phi, dtheta, dphi, sa, sh, sb, p):
 
     a1, a2, a3, n0 = _slide_response(a, b, e, det, m13, m23, m33, s, c, lever, r1, r2, f3)
     ua1, ua2, ua3, uan = _slide_response(a, b, e, det, m13, m23, m33, s, 0.0, lever, 1.0, 0.0, 0.0)
+    if p.kind == FLOATING:
+        ddtheta, _, normal, q, _, fg, ft, hold = slides_friction(theta, psi, dtheta, dpsi, a1, a3, n0, ua1, ua3,
+                                                                  uan, sa, p)
+        return ddtheta, 0.0, normal, q, fg, ft, hold, 0.0, dx
     uh1, uh2, uh3, uhn = _slide_response(a, b, e, det, m13, m23, m33, s, 0.0, lever, 0.0, 1.0, 0.0)
     ub1, ub2, ub3, ubn = _slide_response(a, b, e, det, m13, m23, m33, s, 0.0, lever, dx, 0.0, dx_dpsi)
     bx, by, bhx, bhy, _, _ = joint_forces(theta, phi, psi, dtheta, dphi, dpsi, a1, a2, a3, n0, p)
@@ -312,9 +328,99 @@ def rest_balance(p):
     theta, phi = p.theta0, p.phi0
     _, _, _, r1, _, _, _, _, f3, s, _, sin_beta = slide_system(theta, phi, 0.0, 0.0, p)
     psi = slide_constraint(theta, 0.0, p)[0]
+    if p.kind == FLOATING:   # the axle's, the guide's and the track's hold together; no base friction [12.11]
+        return -r1, slide_friction(theta, phi, 0.0, 0.0, 0.0, 0.0, 0.0, p)[6], 0.0
     normal = -f3 / (-p.Ls * sin_beta)
     dx = slide_rate(theta, s, sin_beta, p)
     base_force = p.mub_s * normal if dx >= 0.0 else -p.mub_s * normal
     ax, ay, _, _, _, _ = joint_forces_sliding(theta, phi, psi, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, normal,
                                               base_force, p)
     return -r1, static_arm(0, p) * _size(ax, ay), base_force * dx
+
+
+# --------------------------------------------------------------------------- #
+# The floating arm's guide and track [12.8]
+# --------------------------------------------------------------------------- #
+# The guide's friction fg acts vertically on the counterweight (its sliding is
+# y_W' = Lb sin(theta) theta'), the track's ft horizontally on the axle
+# (x_A' = -Lb cos(theta) theta'): both slide exactly when the arm turns, so they
+# share the axle's mode sa. By virtual work all three act on theta alone, with
+# Q = ta + Lb sin(theta) fg - Lb cos(theta) ft [12.9]; the supports' normal forces
+# are the momentum balance (12.6) less the other support's friction,
+# G = sum m a_x - ft and T = sum m (a_y + g) - N - fg, and the axle's pin carries the
+# (massless) carriage's load (ft, T) [12.10].
+
+def slides_lossy(p):
+    """Whether a floating arm has friction on its guide or its track (static coefficients tell)."""
+    return p.mug_s > 0.0 or p.mut_s > 0.0
+
+
+def _sign(x):
+    return 1.0 if x > 0.0 else (-1.0 if x < 0.0 else 0.0)
+
+
+def slides_newton(theta, sa, guide0, guide_u, track0, track_u, ka, kg, kt, p):
+    """The floating arm's friction ``(ta, fg, ft)`` slipping with mode ``sa`` (+1/-1), by Newton's
+    method [12.10]: ``ta + ka sa |(ft, T)| = 0``, ``fg + kg sg |G| = 0``, ``ft + kt st |T| = 0``.
+
+    ``sg = sa sign(sin theta)`` and ``st = -sa sign(cos theta)`` are the signs of the counterweight's
+    and the axle's sliding; ``G = guide0 + Q guide_u - ft`` and ``T = track0 + Q track_u - fg`` with
+    ``Q = ta + Lb sin(theta) fg - Lb cos(theta) ft``: the supports' forces without the slides'
+    friction at ``Q = 0`` and their change per unit of Q (0 for a held arm). ``ka = mu r`` of the
+    axle, ``kg``, ``kt`` the guide's and the track's coefficients (kinetic, or static for the hold).
+    """
+    ls, lc = p.Lb * math.sin(theta), p.Lb * math.cos(theta)
+    sg, st = sa * _sign(ls), -sa * _sign(lc)
+    ta, fg, ft = 0.0, 0.0, 0.0
+    for _ in range(FRICTION_ITERATIONS):
+        q = ta + ls * fg - lc * ft
+        guide = guide0 + q * guide_u - ft
+        track = track0 + q * track_u - fg
+        axle = _size(ft, track)
+        # d(G, T)/d(ta, fg, ft): through Q, and each less the other support's friction.
+        g1, g2, g3 = guide_u, ls * guide_u, -lc * guide_u - 1.0
+        t1, t2, t3 = track_u, ls * track_u - 1.0, -lc * track_u
+        wa = ka * sa / axle if axle > 0.0 else 0.0
+        wg, wt = kg * sg * _sign(guide), kt * st * _sign(track)
+        r1 = ta + ka * sa * axle
+        r2 = fg + kg * sg * abs(guide)
+        r3 = ft + kt * st * abs(track)
+        da, dg, dt = _solve3(1.0 + wa * track * t1, wa * track * t2, wa * (ft + track * t3),
+                             wg * g1, 1.0 + wg * g2, wg * g3,
+                             wt * t1, wt * t2, 1.0 + wt * t3, r1, r2, r3)
+        ta, fg, ft = ta - da, fg - dg, ft - dt
+        if abs(da) + abs(dg) + abs(dt) <= FRICTION_STEP_TOLERANCE * (abs(ta) + abs(fg) + abs(ft)):
+            break
+    return ta, fg, ft
+
+
+def slides_friction(theta, psi, dtheta, dpsi, a1, a3, n0, ua1, ua3, uan, sa, p):
+    """A floating arm's friction and motion [12.10] from its accelerations without friction
+    ``(a1, a3, n0)`` (theta'', psi'', the base's push N) and their change per unit of Q on theta
+    ``(ua1, ua3, uan)``; ``sa`` is the mode.
+
+    Returns ``(theta'', psi'', N, Q, ta, fg, ft, hold)``: Q the friction's generalised force on theta
+    (N m), ta the axle's torque, fg and ft the guide's and the track's forces (N). Slipping,
+    ``hold`` is |(ft, T)|. Stuck (``sa`` 0), theta'' = 0, Q holds the arm, and ``hold`` is the most
+    static friction can (N m, ``static_arm`` being 1): every friction at its static limit against
+    the way Q's absence would turn the arm, at the held arm's forces; the three share the hold in
+    those proportions [12.11].
+    """
+    total_g = (p.mA + p.mW + p.mP) * p.g
+    track_u, guide_u = support_forces(theta, psi, 0.0, 0.0, ua1, ua3, uan, p)
+    track_u -= total_g
+    if sa != 0.0:
+        track0, guide0 = support_forces(theta, psi, dtheta, dpsi, a1, a3, n0, p)
+        ta, fg, ft = slides_newton(theta, sa, guide0, guide_u, track0, track_u, kinetic_arm(0, p), p.mug,
+                                   p.mut, p)
+        q = ta + p.Lb * math.sin(theta) * fg - p.Lb * math.cos(theta) * ft
+        track = track0 + q * track_u - fg
+        return a1 + q * ua1, a3 + q * ua3, n0 + q * uan, q, ta, fg, ft, _size(ft, track)
+    q = -a1 / ua1
+    ddpsi, normal = a3 + q * ua3, n0 + q * uan
+    track0, guide0 = support_forces(theta, psi, dtheta, dpsi, 0.0, ddpsi, normal, p)
+    ta, fg, ft = slides_newton(theta, 1.0 if q < 0.0 else -1.0, guide0, 0.0, track0, 0.0,
+                               p.mua_s * p.ra, p.mug_s, p.mut_s, p)
+    hold = ta + p.Lb * math.sin(theta) * fg - p.Lb * math.cos(theta) * ft
+    share = q / hold if hold != 0.0 else 0.0
+    return 0.0, ddpsi, normal, q, share * ta, share * fg, share * ft, abs(hold)

@@ -24,12 +24,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from analytic import eom, fast, kernel, stages
+from analytic.outcome import dissipated
 from analytic.design import Design
 from analytic.friction import lossy
 from analytic.limits import DEFAULT_ATOL, DEFAULT_RTOL
 from analytic.parameters import params
 from analytic.reference import FLIGHT_OUTPUT_STEP, HISTORY_SAMPLE_LIMIT, SWING_OUTPUT_STEP, spacing_argument
-from analytic.result import LOSS_NAMES, Shot
+from analytic.result import Shot
 from analytic.stages import FLIGHT, SLIDE, STATE_SIZE, SWING
 
 #: Rows of a recording beyond its grids': each stage's first and last sample.
@@ -138,7 +139,7 @@ def _completed(shot: Shot, motion: Motion, samples: np.ndarray, p) -> Shot:
             drag = float(_flight_energy(release, p) - _flight_energy(samples[-1, 2:6], p))
     if shot.ok and not p.rolling:
         fields.update(frame_landing_displacement=0.0, frame_landing_velocity=0.0)
-    losses = dict(zip(LOSS_NAMES, (*work, drag, _swing_drag(motion, p, work)), strict=True))
+    losses = dissipated(work, drag, _swing_drag(motion, p, work), p.kind == eom.FLOATING)
     return dataclasses.replace(shot, energy_dissipated=losses, **fields)
 
 

@@ -46,8 +46,24 @@ _CODES = {status: i for i, status in enumerate(_STATUSES)}
 #: The losses a shot accounts for (``Shot.energy_dissipated``'s keys), J: the
 #: main axle's friction, the counterweight hinge's, the base's (stage 1),
 #: the air's drag in flight, then its drag before release (``projectile.drag_during_swing``;
-#: 0 without it).
-LOSS_NAMES = ("axle", "hinge", "base", "drag", "swing_drag")
+#: 0 without it), and a floating arm's guide's and track's friction.
+LOSS_NAMES = ("axle", "hinge", "base", "drag", "swing_drag", "guide", "track")
+
+
+def friction_work_names(floating: bool) -> tuple[str, str, str]:
+    """The frictions whose work a shot's state carries (``analytic.stages.FRICTION_WORK``), in order:
+    the axle's, the hinge's and the base's, or a floating arm's axle's, guide's and track's (it
+    has no hinge and no friction on the base)."""
+    return ("axle", "guide", "track") if floating else ("axle", "hinge", "base")
+
+
+def dissipated(work, drag: float, swing_drag: float, floating: bool) -> dict[str, float]:
+    """``Shot.energy_dissipated``, keyed ``LOSS_NAMES``: the friction's ``work`` (its three slots,
+    ``friction_work_names``), the drag's in flight and before release, 0 for every other loss."""
+    losses = dict.fromkeys(LOSS_NAMES, 0.0)
+    losses.update(zip(friction_work_names(floating), work, strict=True))
+    losses.update(drag=drag, swing_drag=swing_drag)
+    return losses
 
 
 class Stage(enum.IntEnum):
@@ -71,8 +87,20 @@ class LiftoffFailure(enum.IntEnum):
 # What each outcome says
 # --------------------------------------------------------------------------- #
 
+#: Whose friction holds the arm at rest, in words: the axle's (``never_fires_message``) ...
+AXLE_HOLDS = "the axle's"
+#: ... or, on a floating arm with guide or track friction, the three that act on its turning together.
+SLIDES_HOLD = "the axle's, the guide's and the track's"
+
+
+def friction_holders(slides: bool) -> str:
+    """Whose friction holds the arm at rest: the axle's, or with a floating arm's guide or track
+    friction (``slides``) the axle's, the guide's and the track's."""
+    return SLIDES_HOLD if slides else AXLE_HOLDS
+
+
 def never_fires_message(arm_acceleration: float, drive: float | None = None, axle_hold: float | None = None,
-                        base_hold: float | None = None) -> str:
+                        base_hold: float | None = None, holders: str = AXLE_HOLDS) -> str:
     """``arm_acceleration``: the arm's angular acceleration at rest, rad/s^2 (clockwise is negative).
 
     With friction, the torque balance at rest, N m (``analytic.friction.rest_balance``;
@@ -80,14 +108,15 @@ def never_fires_message(arm_acceleration: float, drive: float | None = None, axl
     turning the arm clockwise, ``axle_hold`` and ``base_hold`` the most the axle's and
     the base's friction can hold against it. ``base_hold`` None: the model weighs the
     axle's alone (the engine), and the base holds, through the sling, what the axle does not.
+    ``holders``: whose friction ``axle_hold`` is, in words (``friction_holders``).
     """
     if drive is None:
         return (f"the counterweight cannot lift the arm: at rest the arm's angular "
                 f"acceleration is {arm_acceleration:+.4g} rad/s^2, not clockwise (negative)")
     axle = (f"gravity turns the arm clockwise with {drive:.4g} N m against at most {axle_hold:.4g} N m "
-            f"of the axle's static friction")
+            f"of {holders} static friction")
     if 0.0 < drive <= axle_hold:   # the same words from either model
-        return f"the counterweight cannot lift the arm: the axle's friction holds it at rest ({axle})"
+        return f"the counterweight cannot lift the arm: {holders} friction holds it at rest ({axle})"
     if base_hold is None:
         if drive <= 0.0:
             return f"the counterweight cannot lift the arm: {axle}"

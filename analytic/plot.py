@@ -122,7 +122,8 @@ def draw_energy(ax_energy, shot) -> None:
     # Each loss as its own band, stacked from the total up: together they close the audit
     # (the top edge is the energy at rest, 0).
     bottom = history.energy.total
-    for name, color in zip(LOSS_NAMES[:3], ("tab:red", "tab:olive", "tab:brown"), strict=True):
+    colors = ("tab:red", "tab:olive", "tab:brown", "tab:purple", "tab:cyan")
+    for name, color in zip((n for n in LOSS_NAMES if n not in ("drag", "swing_drag")), colors, strict=True):
         taken = history.energy.dissipated.get(name)
         if taken is None or not np.any(taken > 0.0):
             continue

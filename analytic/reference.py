@@ -24,7 +24,7 @@ from analytic.outcome import Stage, Status
 from analytic.parameters import Params, params
 from analytic.reference_loads import (FLOAT_ERRORS, NO_PEAKS, peak_fields, pieces_peaks, quietly, smallest_tension,
                                       sling_tension_at, stage_rhs)
-from analytic.result import LOSS_NAMES, EnergyBudget, History, Shot
+from analytic.result import EnergyBudget, History, Shot
 
 #: Sample spacing of the returned histories (stages 1-2, flight), s.
 SWING_OUTPUT_STEP = 5e-4
@@ -109,7 +109,8 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
     if not ddtheta0 < 0.0:
         if histories:
             history.append(_history(Stage.SLIDE, Segment(np.zeros(1), y1[None, :], None, 0.0, y1, {}), p))
-        balance = friction.rest_balance(p) if friction.lossy(p) else ()
+        balance = ((*friction.rest_balance(p), outcome.friction_holders(friction.slides_lossy(p)))
+                   if friction.lossy(p) else ())
         return finish(design, p, history, segments, Status.NEVER_FIRES,
                        outcome.failure_message(Status.NEVER_FIRES, fires=(ddtheta0, *balance)))
 
@@ -416,7 +417,7 @@ def _dissipated(p: Params, segments, drag: float) -> dict[str, float]:
         stage, segment = segments[-1]
         core = stages.STATE_SIZE[stage]
         work = tuple(float(w) for w in segment.y_end[core:core + 3])
-    return dict(zip(LOSS_NAMES, (*work, drag, swing_drag_work(segments, p)), strict=True))
+    return outcome.dissipated(work, drag, swing_drag_work(segments, p), p.kind == eom.FLOATING)
 
 
 def _support_extremes(stage: np.ndarray, raw: list, p: Params) -> dict[str, float]:
@@ -459,7 +460,8 @@ def _finish_shot(design: Design, p: Params, history, segments, status: Status, m
         path[i] = projectile_state(theta, psi, dtheta, dpsi, p.La, p.Ls)[:2]
         path[i, 0] += eom.frame_displacement(theta, phi, psi, p)   # on the ground, as the flight is
     energy = EnergyBudget(projectile=budget[:, 1], machine=budget[:, 0], total=budget.sum(axis=1),
-                          dissipated={name: work[:, i] for i, name in enumerate(LOSS_NAMES[:3])})
+                          dissipated={name: work[:, i] for i, name in
+                                      enumerate(outcome.friction_work_names(p.kind == eom.FLOATING))})
     fields["energy_dissipated"] = _dissipated(p, segments, fields.pop("drag_work", 0.0))
     frame_x = np.array([eom.frame_displacement(*state[:3], p) for state in state_rows])
     ground = np.array([eom.ground_force(*state, *stages.accelerations(int(k), y, p), p)

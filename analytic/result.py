@@ -42,8 +42,8 @@ class EnergyBudget:
     its start; ``machine`` likewise for arm and counterweight, and a rolling
     frame's kinetic energy (negative as the counterweight falls); ``total =
     projectile + machine`` is conserved by the ideal machine (drag acts only in
-    flight). ``dissipated`` maps the friction losses (``LOSS_NAMES`` but the
-    drag: axle, hinge, base) to the work each has taken so far, (n,) J, zeros
+    flight). ``dissipated`` maps the friction losses (``outcome.friction_work_names``:
+    axle, hinge, base; a floating arm's axle, guide, track) to the work each has taken so far, (n,) J, zeros
     for the ideal machine: ``total + sum(dissipated) = 0`` (the energy audit).
     """
 
@@ -218,6 +218,10 @@ class Shot:
         # (dataclasses.replace) passes them all back in, so keep each once.
         lines = tuple(self.warnings) + tuple(plausibility_warnings(self.design, self))
         object.__setattr__(self, "warnings", tuple(dict.fromkeys(lines)))
+        if self.energy_dissipated is not None and not set(LOSS_NAMES) <= set(self.energy_dissipated):
+            # A model may leave out a loss it does not have: none taken.
+            object.__setattr__(self, "energy_dissipated", {**dict.fromkeys(LOSS_NAMES, 0.0),
+                                                           **self.energy_dissipated})
 
     @property
     def axle_displacement_at_release(self) -> float | None:

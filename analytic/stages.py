@@ -56,8 +56,8 @@ import math
 from typing import NamedTuple
 
 from analytic.aero import drag_rate
-from analytic.eom import (frame_coupling, frame_displacement, frame_velocity, horizontal_moment, loads,
-                          loads_sliding, machine_accelerations, slide_accelerations, slide_constraint,
+from analytic.eom import (FLOATING, frame_coupling, frame_displacement, frame_velocity, horizontal_moment,
+                          joint_forces, loads, loads_sliding, machine_accelerations, slide_accelerations, slide_constraint,
                           swing_accelerations, total_mass)
 from analytic.floating_arm import support_forces
 from analytic.friction import (lossy, machine_friction, rest_balance, slide_friction, slide_rate, static_arm,
@@ -132,24 +132,30 @@ def derivative(stage, y, p, table, out):
             # smooth where a rate crosses zero inside a step whose event root then ends the
             # stretch (an absolute value would put a kink inside that step).
             out[4], out[5], out[6] = -ta * y[2], -th * y[3], -fb * dx * y[2]
+            if p.kind == FLOATING:
+                slides_powers(y[0], y[2], ta, th, fb, p, out, 4)
             out[7], out[8], out[9] = 0.0, 0.0, 0.0
             return
         ddtheta, ddphi, _ = slide_accelerations(y[0], y[1], y[2], y[3], p)
         out[0], out[1], out[2], out[3] = y[2], y[3], ddtheta, ddphi
     elif stage == SWING:
         if lossy(p):
-            a, b, c, ta, th, _, _ = swing_friction(y[0], y[1], y[2], y[3], y[4], y[5], y[9], y[10], p)
+            a, b, c, ta, th, _, hinge = swing_friction(y[0], y[1], y[2], y[3], y[4], y[5], y[9], y[10], p)
             out[0], out[1], out[2], out[3], out[4], out[5] = y[3], y[4], y[5], a, b, c
             out[6], out[7], out[8] = -ta * y[3], -th * y[4], 0.0
+            if p.kind == FLOATING:
+                slides_powers(y[0], y[3], ta, th, hinge, p, out, 6)
             out[9], out[10], out[11] = 0.0, 0.0, 0.0
             return
         a, b, c = swing_accelerations(y[0], y[1], y[2], y[3], y[4], y[5], p)
         out[0], out[1], out[2], out[3], out[4], out[5] = y[3], y[4], y[5], a, b, c
     elif stage == MACHINE:
         if lossy(p):
-            ddtheta, ddphi, ta, th, _, _ = machine_friction(y[0], y[1], y[2], y[3], y[7], y[8], p)
+            ddtheta, ddphi, ta, th, _, hinge = machine_friction(y[0], y[1], y[2], y[3], y[7], y[8], p)
             out[0], out[1], out[2], out[3] = y[2], y[3], ddtheta, ddphi
             out[4], out[5], out[6] = -ta * y[2], -th * y[3], 0.0
+            if p.kind == FLOATING:
+                slides_powers(y[0], y[2], ta, th, hinge, p, out, 4)
             out[7], out[8], out[9] = 0.0, 0.0, 0.0
             return
         ddtheta, ddphi = machine_accelerations(y[0], y[1], y[2], y[3], p)
@@ -159,6 +165,15 @@ def derivative(stage, y, p, table, out):
         vy = y[3]
         k = drag_rate(int(p.drag), vx_rel, vy, p.diameter, p.rho, p.mu, p.cd, p.area, p.mP, table)
         out[0], out[1], out[2], out[3] = y[2], vy, -k * vx_rel, -p.g - k * vy
+
+
+def slides_powers(theta, dtheta, q, fg, ft, p, out, at):
+    """A floating arm's friction powers into ``out[at:at + 3]``, W: the axle's, the guide's and the
+    track's, each its force against its sliding [12.12], from the friction's generalised force ``q``
+    on theta (N m) and the guide's and the track's forces ``fg``, ``ft`` (N)."""
+    ls, lc = p.Lb * math.sin(theta), p.Lb * math.cos(theta)
+    axle = q - ls * fg + lc * ft if p.mua > 0.0 else 0.0   # the axle's torque (exactly 0 without its friction)
+    out[at], out[at + 1], out[at + 2] = -axle * dtheta, -ls * fg * dtheta, lc * ft * dtheta
 
 
 def sling_off_vertical(theta, p):
@@ -331,6 +346,11 @@ class FrictionSolution(NamedTuple):
     force ``base_force`` in N, 0 off the base; the friction torques in N m and the
     joints' load magnitudes ``|A|``, ``|H|`` in N; ``slide_ratio`` dx_P/dtheta, m/rad
     (0 off the base).
+
+    A floating arm's [12.10]: ``axle_torque`` is the generalised force on theta of the axle's,
+    the guide's and the track's friction together, N m; ``hinge_torque`` and ``base_force`` are
+    the guide's and the track's friction forces, N (its hinge and base have none); ``axle_load``
+    is the hold of ``friction.slides_friction`` (``friction.static_arm`` is 1), ``hinge_load`` 0.
     """
 
     ddtheta: float
@@ -355,9 +375,12 @@ def friction_solution(stage, y, p):
         return FrictionSolution(ddtheta, ddphi, s * ddtheta + c, normal, ta, th, fb, axle, hinge, dx)
     if stage == MACHINE:
         ddtheta, ddphi, ta, th, axle, hinge = machine_friction(y[0], y[1], y[2], y[3], y[7], y[8], p)
-        return FrictionSolution(ddtheta, ddphi, 0.0, 0.0, ta, th, 0.0, axle, hinge, 0.0)
-    ddtheta, ddphi, ddpsi, ta, th, axle, hinge = swing_friction(y[0], y[1], y[2], y[3], y[4], y[5], y[9],
-                                                                y[10], p)
+        ddpsi = 0.0
+    else:
+        ddtheta, ddphi, ddpsi, ta, th, axle, hinge = swing_friction(y[0], y[1], y[2], y[3], y[4], y[5], y[9],
+                                                                    y[10], p)
+    if p.kind == FLOATING:   # the track's force comes back in the hinge's place
+        return FrictionSolution(ddtheta, ddphi, ddpsi, 0.0, ta, th, hinge, axle, 0.0, 0.0)
     return FrictionSolution(ddtheta, ddphi, ddpsi, 0.0, ta, th, 0.0, axle, hinge, 0.0)
 
 
@@ -402,7 +425,7 @@ def friction_event(stage, k, y, p):
     if not lossy(p):
         return 1.0
     if stage == SLIDE and k == ARM_STALLS:
-        return -y[2] if (p.mua_s > 0.0 or p.mub_s > 0.0) else 1.0
+        return -y[2] if (p.mua_s > 0.0 or p.mub_s > 0.0 or p.mug_s > 0.0 or p.mut_s > 0.0) else 1.0
     if stage == SLIDE and k == 6:
         if p.mub == 0.0:
             return 1.0
@@ -587,13 +610,22 @@ def machine_frame(y, m, momentum, start_time, start_y, start_x, time):
 def floating_supports(stage, y, p):
     """A floating arm's ``(track_y, guide_x)``, N (``analytic.floating_arm.support_forces``), at the
     stage-1 state ``[theta, phi, theta', phi']`` or the stage-2 state ``[theta, phi, psi, theta', phi', psi']``
-    (the axle's friction included)."""
-    ddtheta, _, ddpsi = accelerations(stage, y, p)
-    if stage != SLIDE:
-        return support_forces(y[0], y[2], y[3], y[5], ddtheta, ddpsi, 0.0, p)
-    normal = friction_solution(stage, y, p)[3] if lossy(p) else slide_accelerations(y[0], y[1], y[2], y[3], p)[2]
-    psi, dpsi, _, _, _ = slide_constraint(y[0], y[2], p)
-    return support_forces(y[0], psi, y[2], dpsi, ddtheta, ddpsi, normal, p)
+    (the axle's, the guide's and the track's friction included)."""
+    if lossy(p):
+        solution = friction_solution(stage, y, p)
+        ddtheta, ddpsi, normal = solution.ddtheta, solution.ddpsi, solution.normal
+        guide_friction, track_friction = solution.hinge_torque, solution.base_force
+    else:
+        ddtheta, _, ddpsi = accelerations(stage, y, p)
+        normal = slide_accelerations(y[0], y[1], y[2], y[3], p)[2] if stage == SLIDE else 0.0
+        guide_friction, track_friction = 0.0, 0.0
+    if stage == SLIDE:
+        psi, dpsi, _, _, _ = slide_constraint(y[0], y[2], p)
+    else:
+        psi, dpsi = y[2], y[5]
+    track, guide = support_forces(y[0], psi, y[2 if stage == SLIDE else 3], dpsi, ddtheta, ddpsi, normal, p)
+    # Each support's normal force is the momentum's rate less the other support's friction [12.10].
+    return track - guide_friction, guide - track_friction
 
 
 #: What ``loads_at`` returns, in order (``analytic.eom.loads``): N, N, N, m/s^2, N m.
@@ -604,7 +636,7 @@ def loads_after_step(stage, y, f, p):
     """``loads_at(stage, y, p)`` at a step's end, where the integrator already holds the derivative
     ``f`` at ``y``: stage 2 reads its accelerations from ``f`` (the same numbers ``loads_at`` would
     compute again), stage 1 computes them with the base's push."""
-    if stage == SWING:
+    if stage == SWING and (p.kind != FLOATING or not lossy(p)):
         return loads(y[0], y[1], y[2], y[3], y[4], y[5], f[3], f[4], f[5], 0.0, p)
     return loads_at(stage, y, p)
 
@@ -614,7 +646,9 @@ def loads_at(stage, y, p):
     state ``[theta, phi, psi, theta', phi', psi']``: the accelerations and the base's
     push from the stage's own equations (0 push in stage 2)."""
     if lossy(p):
-        ddtheta, ddphi, ddpsi, normal, _, _, fb, _, _, _ = friction_solution(stage, y, p)
+        ddtheta, ddphi, ddpsi, normal, _, th, fb, _, _, _ = friction_solution(stage, y, p)
+        if p.kind == FLOATING:
+            return _floating_loads(stage, y, ddtheta, ddpsi, normal, th, fb, p)
         if stage == SLIDE:
             psi, dpsi, _, _, _ = slide_constraint(y[0], y[2], p)
             return loads_sliding(y[0], y[1], psi, y[2], y[3], dpsi, ddtheta, ddphi, ddpsi, normal, fb, p)
@@ -625,3 +659,21 @@ def loads_at(stage, y, p):
         return loads(y[0], y[1], psi, y[2], y[3], dpsi, ddtheta, ddphi, s * ddtheta + c, normal, p)
     ddtheta, ddphi, ddpsi = swing_accelerations(y[0], y[1], y[2], y[3], y[4], y[5], p)
     return loads(y[0], y[1], y[2], y[3], y[4], y[5], ddtheta, ddphi, ddpsi, 0.0, p)
+
+
+def _floating_loads(stage, y, ddtheta, ddpsi, normal, guide_friction, track_friction, p):
+    """``loads_at`` of a floating arm with friction: ``eom.loads``, with the axle's load the carriage's
+    ``(ft, T)`` and the counterweight's mount's less the guide's friction too [12.10]."""
+    if stage == SLIDE:
+        psi, dpsi, _, _, _ = slide_constraint(y[0], y[2], p)
+        theta, phi, dtheta, dphi = y[0], y[1], y[2], y[3]
+    else:
+        theta, phi, psi, dtheta, dphi, dpsi = y[0], y[1], y[2], y[3], y[4], y[5]
+    _, _, tension, felt, bending = loads(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, 0.0, ddpsi, normal, p)
+    _, track, mount_x, mount_y, _, _ = joint_forces(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, 0.0, ddpsi,
+                                                    normal, p)
+    track -= guide_friction
+    mount_x += track_friction
+    mount_y -= guide_friction
+    return (math.sqrt(track_friction * track_friction + track * track),
+            math.sqrt(mount_x * mount_x + mount_y * mount_y), tension, felt, bending)

@@ -72,6 +72,7 @@ class Symbols:
         along_arm = sp.Matrix([-sp.sin(theta), sp.cos(theta)])
         # The axle: on a floating arm it rides the track y = 0, at x_A = -Lb sin(theta) (derivation 12.1).
         pivot = sp.Matrix([x - Lb * sp.sin(theta), 0]) if kind == "floating-arm" else sp.Matrix([x, 0])
+        self.pivot = pivot
         self.arm = pivot + d * along_arm
         if kind == "fixed":   # bolted on the arm's axis, turning with the arm (derivation 11.1)
             self.weight = pivot - Lb * along_arm
@@ -158,6 +159,7 @@ class Machine:
         self._power = compiled(with_accelerations, s.power)
         self._momentum_rate = compiled(with_accelerations, s.momentum_rate)
         self._generalised = compiled((s.q, s.qd, s.torques, s.prm), s.generalised)
+        self._slides = compiled(state, [s.weight.jacobian(s.q), s.pivot.jacobian(s.q)])
         self._forces = compiled((s.q, s.qd, s.qdd, s.torques[2], s.normal, s.prm), [s.axle, s.hinge, s.sling])
 
     # -- the Lagrangian's terms ------------------------------------------------ #
@@ -202,6 +204,14 @@ class Machine:
         """Q, the friction's generalised forces."""
         return np.asarray(self._generalised(_four(q), _four(qd), (axle_torque, hinge_torque, base_force),
                                             numbers(p)), dtype=float).ravel()
+
+    def slides(self, p, q, qd, guide_friction, track_friction) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """A floating arm's guide and track: the generalised force (4,) of a vertical force on the
+        counterweight and a horizontal one on the axle, by virtual work, ``J_W^T (0, fg) + J_A^T (ft, 0)``,
+        and the counterweight's and the axle's velocities, (2,) each."""
+        weight, pivot = (np.asarray(j, dtype=float) for j in self._slides(_four(q), _four(qd), numbers(p)))
+        generalised = weight.T @ np.array([0.0, guide_friction]) + pivot.T @ np.array([track_friction, 0.0])
+        return generalised, weight @ _four(qd), pivot @ _four(qd)
 
     def force_on_projectile(self, p, q, force) -> np.ndarray:
         """Q of a force ``(Fx, Fy)`` on the projectile: its virtual work, ``(d r_P / dq)^T F``, (4,)."""

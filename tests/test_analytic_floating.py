@@ -139,10 +139,11 @@ def test_axle_friction_is_coulombs_law_on_the_tracks_force_and_the_motion_the_la
     residual = (m @ acc - f - lagrangian.generalised(p, q4, qd4, ta, 0.0, 0.0))[[0, 2]]
     _close(residual, np.zeros(2), "M q'' - f - Q", float(np.max(np.abs(f))) + abs(ta))
     track = lagrangian.joint_forces(p, q4, qd4, acc)[0][1]
-    _close(axle, abs(track), "|A|", abs(track))
-    if mode == 0.0:
+    if mode == 0.0:   # held: the most the axle's static friction holds (friction.slides_friction)
         assert ddtheta == 0.0
+        _close(axle, p.mua_s * p.ra * abs(track), "mua_s ra |A|", p.mua_s * p.ra * abs(track))
     else:
+        _close(axle, abs(track), "|A|", abs(track))
         _close(ta, -mode * p.mua * p.ra * axle, "ta", abs(ta))
 
 

@@ -1,0 +1,204 @@
+"""A floating arm's guide and track friction (``docs/derivation.md`` 12.8-12.12), in both paths.
+
+The friction's generalised force, the supports' normal forces and Coulomb's law on each are
+checked against ``tests/sympy_model.py``'s ``machine("floating-arm")`` (virtual work of the two
+friction forces by sympy's Jacobians, Newton's law for the whole machine by its accelerations)
+at random states, slipping either way and held; whole shots by the energy audit, by the two
+paths' agreement and by a machine the friction holds at rest.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from analytic import friction, stages
+from analytic.design import Losses
+from analytic.design_file import load_design
+from analytic.fast import simulate_fast
+from analytic.parameters import params
+from analytic.result import Status
+
+from support import TABLE3_FLOATING_FILE
+from test_analytic_floating import REL_TOL, SLIDE, SWING, _close
+
+#: The coefficients of the random states: large enough that a wrong term shows at O(1) of the
+#: friction, small enough that every Coulomb system has one solution.
+COEFFICIENTS = dict(mua=0.3, ra=0.02, mug=0.25, mut=0.35, mua_s=0.4, mug_s=0.3, mut_s=0.45)
+
+
+@pytest.fixture(scope="module")
+def lagrangian():
+    from sympy_model import machine
+
+    return machine("floating-arm")
+
+
+def _supports(lagrangian, p, q4, qd4, acc, normal, fg, ft):
+    """Newton's law for the whole machine: the guide's and the track's normal forces (G, T), N, less
+    the other support's friction (the track's ft is horizontal, the guide's fg vertical)."""
+    rate = lagrangian.momentum_rate(p, q4, qd4, acc)
+    weight = (p.mA + p.mW + p.mP) * p.g
+    return rate[0] - ft, rate[1] + weight - normal - fg
+
+
+def _limit(lagrangian, p, q4, qd4, acc, normal, sa):
+    """Every friction at its static limit against turning with sign ``sa``, at the held arm's
+    accelerations: Coulomb's law by fixed-point iteration on sympy's forces (independent of the
+    model's Newton solve). Returns ``(ta, fg, ft)``."""
+    _, v_weight, v_axle = lagrangian.slides(p, q4, (sa, 0.0, 0.0, 0.0), 0.0, 0.0)   # the sliding's signs
+    sg, st = np.sign(v_weight[1]), np.sign(v_axle[0])
+    fg = ft = 0.0
+    for _ in range(200):
+        guide, track = _supports(lagrangian, p, q4, qd4, acc, normal, fg, ft)
+        fg, ft = -sg * p.mug_s * abs(guide), -st * p.mut_s * abs(track)
+    _, track = _supports(lagrangian, p, q4, qd4, acc, normal, fg, ft)
+    return -sa * p.mua_s * p.ra * math.hypot(ft, track), fg, ft
+
+
+@pytest.mark.parametrize("i", range(len(SWING)))
+@pytest.mark.parametrize("mode", [-1.0, 1.0, 0.0], ids=["slipping-back", "slipping-forward", "stuck"])
+def test_guide_and_track_friction_is_coulombs_law_and_the_motion_the_lagrangians(lagrangian, i, mode):
+    """Stage 2: M q'' = f + Q over (theta, psi), Q on theta alone; slipping, each friction is its
+    coefficient times its normal force against its sliding, and Q their virtual work; held,
+    theta'' = 0 and the hold is every friction at its static limit."""
+    p, q, qd = SWING[i]
+    p = p._replace(**COEFFICIENTS)
+    qd = (mode * abs(qd[0]), 0.0, qd[2])   # the arm turning the way it slips (held: still)
+    ddtheta, ddphi, ddpsi, q_theta, fg, hold, ft = friction.swing_friction(*q, *qd, mode, 0.0, p)
+    assert ddphi == 0.0
+    acc = np.array([ddtheta, 0.0, ddpsi, 0.0])
+    q4, qd4 = (*q, 0.0), (*qd, 0.0)
+    m, f = lagrangian.mass(p, q4, qd4), lagrangian.forcing(p, q4, qd4)
+    residual = (m @ acc - f)[[0, 2]] - [q_theta, 0.0]
+    _close(residual, np.zeros(2), "M q'' - f - Q", float(np.max(np.abs(f))) + abs(q_theta))
+    guide, track = _supports(lagrangian, p, q4, qd4, acc, 0.0, fg, ft)
+    slides, v_weight, v_axle = lagrangian.slides(p, q4, qd4, fg, ft)
+    scale = (p.mA + p.mW + p.mP) * p.g + abs(guide) + abs(track)
+    if mode == 0.0:
+        assert ddtheta == 0.0
+        ta, fg_limit, ft_limit = _limit(lagrangian, p, q4, qd4, acc, 0.0, -1.0 if q_theta > 0.0 else 1.0)
+        limit = ta + lagrangian.slides(p, q4, qd4, fg_limit, ft_limit)[0][0]
+        _close(hold, abs(limit), "the hold", abs(limit))
+        return
+    _close(fg, -np.sign(v_weight[1]) * p.mug * abs(guide), "guide friction fg", scale)
+    _close(ft, -np.sign(v_axle[0]) * p.mut * abs(track), "track friction ft", scale)
+    ta = -mode * p.mua * p.ra * math.hypot(ft, track)   # the axle's pin carries the carriage's (ft, T)
+    _close(hold, math.hypot(ft, track), "|A|", scale)
+    _close(q_theta, ta + slides[0], "Q: the axle's torque and the slides' virtual work", scale * p.Lb)
+    assert slides[1] == slides[2] == 0.0   # neither slide moves with phi or psi
+
+
+@pytest.mark.parametrize("i", range(len(SLIDE)))
+def test_on_the_base_the_friction_is_coulombs_law_and_n_the_lagrangians(lagrangian, i):
+    """Stage 1, slipping clockwise: the reduced system's theta'' and N with Q on theta, against
+    sympy's constrained Lagrangian (``base_reduction``) and Newton's law."""
+    p, theta, dtheta = SLIDE[i]
+    p = p._replace(**COEFFICIENTS)
+    dtheta = -abs(dtheta)
+    ddtheta, _, normal, q_theta, fg, ft, _, _, _ = friction.slide_friction(theta, 0.0, dtheta, 0.0, -1.0, 0.0,
+                                                                             0.0, p)
+    psi, dpsi, s, c, _ = stages.slide_constraint(theta, dtheta, p)
+    acc = np.array([ddtheta, 0.0, s * ddtheta + c, 0.0])
+    q4, qd4 = (theta, 0.0, psi, 0.0), (dtheta, 0.0, dpsi, 0.0)
+    m, f = lagrangian.mass(p, q4, qd4), lagrangian.forcing(p, q4, qd4)
+    jacobian = lagrangian.base_jacobian(p, q4)
+    residual = (m @ acc - f - jacobian * normal)[[0, 2]] - [q_theta, 0.0]
+    _close(residual, np.zeros(2), "M q'' - f - J^T N - Q", float(np.max(np.abs(f))) + abs(q_theta))
+    guide, track = _supports(lagrangian, p, q4, qd4, acc, normal, fg, ft)
+    _, v_weight, v_axle = lagrangian.slides(p, q4, qd4, fg, ft)
+    scale = (p.mA + p.mW + p.mP) * p.g + abs(guide) + abs(track)
+    _close(fg, -np.sign(v_weight[1]) * p.mug * abs(guide), "guide friction fg", scale)
+    _close(ft, -np.sign(v_axle[0]) * p.mut * abs(track), "track friction ft", scale)
+
+
+@pytest.mark.parametrize("i", range(len(SWING)))
+def test_the_supports_and_the_loads_carry_the_friction(lagrangian, i):
+    """``stages.floating_supports`` and ``stages.loads_at`` in stage 2: the guide's and the track's
+    normal forces are Newton's less the other's friction, the axle carries the carriage's (ft, T),
+    the counterweight's mount its Newton force less the guide's (G, fg)."""
+    p, q, qd = SWING[i]
+    p = p._replace(**COEFFICIENTS)
+    qd = (-abs(qd[0]), 0.0, qd[2])
+    y = [q[0], 0.0, q[2], qd[0], 0.0, qd[2], 0.0, 0.0, 0.0, -1.0, 0.0, 0.0]
+    ddtheta, _, ddpsi, _, fg, _, ft = friction.swing_friction(*q, *qd, -1.0, 0.0, p)
+    acc = np.array([ddtheta, 0.0, ddpsi, 0.0])
+    q4, qd4 = (*q, 0.0), (*qd, 0.0)
+    guide, track = _supports(lagrangian, p, q4, qd4, acc, 0.0, fg, ft)
+    scale = (p.mA + p.mW + p.mP) * p.g + abs(guide) + abs(track)
+    _close(stages.floating_supports(stages.SWING, y, p), [track, guide], "(T, G)", scale)
+    weight = lagrangian.joint_forces(p, q4, qd4, acc)[1]
+    loads = stages.loads_at(stages.SWING, y, p)
+    _close(loads[0], math.hypot(ft, track), "axle load |(ft, T)|", scale)
+    _close(loads[1], math.hypot(weight[0] - guide, weight[1] - fg), "mount load", scale)
+
+
+# --------------------------------------------------------------------------- #
+# Whole shots
+# --------------------------------------------------------------------------- #
+
+#: The energy audit closes to this, relative to the counterweight's released energy: the axle's
+#: friction's tolerance (tests/test_analytic_floating.py's AUDIT_TOL).
+AUDIT_TOL = 1e-8
+
+
+def _with_losses(**losses):
+    design = load_design(TABLE3_FLOATING_FILE)
+    return dataclasses.replace(design, losses=Losses(**losses), name="floating-" + "-".join(losses))
+
+
+#: Designs of the sample floating arm with its slides' friction (and the axle's).
+LOSSY = {"guide": _with_losses(guide_friction=0.3),
+         "track": _with_losses(track_friction=0.3),
+         "all": _with_losses(guide_friction=0.2, track_friction=0.25, axle_friction=0.2, axle_radius=0.02,
+                             guide_static_friction=0.4, track_static_friction=0.3, axle_static_friction=0.3)}
+
+
+@pytest.mark.parametrize("name", LOSSY)
+def test_the_energy_audit_closes_with_the_guides_and_the_tracks_friction(name):
+    from analytic.reference import simulate
+
+    shot = simulate(LOSSY[name])
+    assert shot.ok
+    e = shot.history.energy
+    assert np.max(np.abs(e.total + e.lost)) <= AUDIT_TOL * shot.counterweight_energy_released
+    losses = LOSSY[name].losses
+    for loss in ("guide", "track"):
+        assert (shot.energy_dissipated[loss] > 0.0) == (getattr(losses, f"{loss}_friction") > 0.0), loss
+        assert shot.energy_dissipated[loss] == e.dissipated[loss][-1]
+    assert (shot.energy_dissipated["axle"] > 0.0) == (losses.axle_friction > 0.0)
+    assert shot.energy_dissipated["hinge"] == shot.energy_dissipated["base"] == 0.0
+
+
+def test_more_friction_takes_more_and_throws_shorter():
+    from analytic.reference import simulate
+
+    shots = [simulate(_with_losses(guide_friction=mu, track_friction=mu), histories=False) for mu in (0.0, 0.1, 0.2)]
+    ranges = [shot.range for shot in shots]
+    taken = [shot.energy_dissipated["guide"] + shot.energy_dissipated["track"] for shot in shots]
+    assert ranges[0] > ranges[1] > ranges[2] and taken[0] == 0.0 < taken[1] < taken[2]
+
+
+#: Friction far beyond what gravity's torque can beat on the sample machine (which fires with
+#: 7.8 N m against its slides': 10.8 N m at a coefficient of 5).
+HELD = _with_losses(guide_friction=5.0, track_friction=5.0)
+
+
+@pytest.mark.parametrize("name", [*LOSSY, "held"])
+def test_the_two_paths_agree_with_the_slides_friction(name):
+    from test_analytic_fast import _assert_agree
+
+    _assert_agree(HELD if name == "held" else LOSSY[name])
+
+
+def test_a_machine_its_slides_hold_at_rest_never_fires_and_says_why():
+    from analytic.reference import simulate
+
+    for shot in (simulate(HELD), simulate_fast(HELD)):
+        assert shot.status is Status.NEVER_FIRES
+        assert "the axle's, the guide's and the track's friction holds it at rest" in shot.message
+    drive, hold, base = friction.rest_balance(params(HELD))
+    assert 0.0 < drive <= hold and base == 0.0
