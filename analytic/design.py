@@ -420,8 +420,8 @@ class Design:
     def _check_floating(self) -> None:
         """Refuse what the floating-arm machine does not model: a rolling frame (its axle already rides a
         track) and the base's friction (its generalised force is the hinged machine's, without the axle's
-        motion), and the drag before release (its generalised force, likewise); the axle's friction is
-        modelled."""
+        motion), and the drag before release (its generalised force, likewise); the axle's, the guide's
+        and the track's friction are modelled."""
         if self.base.rolling:
             raise DesignError("base.mobility", self.base.mobility,
                               "a floating-arm machine's axle already rides its track: its frame cannot roll; "

@@ -70,7 +70,8 @@ def format_shot(shot: Shot, units: str = "metric") -> str:
 
 #: How each loss is named in the summary.
 LOSS_LABELS = {"axle": "axle friction", "hinge": "hinge friction", "base": "base friction",
-               "drag": "air drag in flight", "swing_drag": "air drag before release"}
+               "drag": "air drag in flight", "swing_drag": "air drag before release",
+               "guide": "guide friction", "track": "track friction"}
 
 
 def _energy_rows(shot: Shot, row) -> None:
@@ -82,7 +83,7 @@ def _energy_rows(shot: Shot, row) -> None:
     # Its share in the projectile at release is the energy efficiency, just above.
     row("counterweight energy", released, "J", ".3f", " given up by release (counterweight and arm)")
     losses = shot.design.losses
-    for name in LOSS_NAMES:
+    for name in sorted(LOSS_NAMES, key=lambda loss: loss in ("drag", "swing_drag")):   # the friction first
         if name == "swing_drag" and not shot.design.projectile.drag_during_swing:
             continue
         if name not in ("drag", "swing_drag") and getattr(losses, f"{name}_friction") == 0.0:

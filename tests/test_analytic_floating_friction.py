@@ -202,3 +202,20 @@ def test_a_machine_its_slides_hold_at_rest_never_fires_and_says_why():
         assert "the axle's, the guide's and the track's friction holds it at rest" in shot.message
     drive, hold, base = friction.rest_balance(params(HELD))
     assert 0.0 < drive <= hold and base == 0.0
+
+
+def test_simulate_reports_the_guides_and_the_tracks_work(tmp_path, capsys):
+    import json
+
+    from analytic.cli import EXIT_OK, main
+    from analytic.design_file import save_design
+
+    path = tmp_path / "floating.toml"
+    save_design(LOSSY["all"], path)
+    assert main(["simulate", "--json", str(path)]) == EXIT_OK
+    taken = json.loads(capsys.readouterr().out)["energy_dissipated"]
+    assert taken["guide"] > 0.0 and taken["track"] > 0.0 and taken["hinge"] == taken["base"] == 0.0
+    assert main(["simulate", str(path)]) == EXIT_OK
+    table = capsys.readouterr().out
+    rows = [line.split()[0] for line in table.splitlines() if line.strip().endswith("% of it)")]
+    assert rows == ["axle", "guide", "track", "air"]   # the friction first, then the drag in flight

@@ -295,3 +295,18 @@ def test_the_report_tables_are_shown_in_the_chosen_units(table3):
     assert rows["imperial"]["theta release angle"] == rows["metric"]["theta release angle"]   # deg either way
     constraints = format_constraints(default_problem(), [("Table III", values, 35.9)], "imperial")
     assert constraints.startswith("Constraints at rest (in;")
+
+
+def test_the_report_states_a_floating_arms_guide_and_track_friction(table3):
+    import dataclasses
+
+    from analytic.design import Losses
+    from analytic.design_space import with_kind
+
+    problem = dataclasses.replace(with_kind(default_problem(), "floating-arm"),
+                                  losses=Losses(guide_friction=0.2, track_friction=0.1, track_static_friction=0.3))
+    from support import floating
+
+    text = format_tables(problem, [("Table III", variables_of(floating(table3).machine), 35.9)])
+    line = next(line for line in text.splitlines() if line.startswith("with losses"))
+    assert line.endswith("(Coulomb coefficients x pin radii), guide 0.2, track 0.1; static: track 0.3")

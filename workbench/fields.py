@@ -55,6 +55,10 @@ GROUPS = (
         ("axle_static_friction", "Static coefficient of the axle (empty: the kinetic one)."),
         ("hinge_static_friction", "Static coefficient of the hinge (empty: the kinetic one)."),
         ("base_static_friction", "Static coefficient of the projectile on the base (empty: the kinetic one)."),
+        ("guide_friction", "Coulomb coefficient of the counterweight on its guide (floating arm only)."),
+        ("track_friction", "Coulomb coefficient of the axle's carriage on its track (floating arm only)."),
+        ("guide_static_friction", "Static coefficient of the guide (empty: the kinetic one)."),
+        ("track_static_friction", "Static coefficient of the track (empty: the kinetic one)."),
     )),
 )
 

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
-from analytic.design import FRICTIONS
+from analytic.design import FRICTIONS, SLIDES
 from analytic.optimise.constraints import (CONSTRAINT_NAMES, axle_distance, constraint_values,
                                            footprint)
 from analytic.design_space import ANGLE_VARIABLES, FRAME_MASS, LOADS, Problem, design_at
@@ -105,6 +105,8 @@ def format_tables(problem: Problem, columns: list[tuple[str, np.ndarray, float]]
         lines.insert(1, f"with losses: axle {losses.axle_friction:g} x {1000 * losses.axle_radius:g} mm, "
                         f"hinge {losses.hinge_friction:g} x {1000 * losses.hinge_radius:g} mm, "
                         f"base {losses.base_friction:g} (Coulomb coefficients x pin radii)"
+                        + "".join(f", {slide} {getattr(losses, f'{slide}_friction'):g}" for slide in SLIDES
+                                  if losses.static(slide) > 0.0)
                         + (f"; static: {', '.join(static)}" if static else ""))
     dims = [dimensions(problem, values) for _, values, _ in columns]
     for label, key, unit in _DIMENSIONS:

@@ -5,7 +5,8 @@ const FIXED_SPANS = {
   "machine.release_angle": [-89, 89], "environment.wind_speed": [-20, 20],
   "losses.axle_friction": [0, 1], "losses.hinge_friction": [0, 1], "losses.base_friction": [0, 1],
   "losses.axle_static_friction": [0, 1], "losses.hinge_static_friction": [0, 1],
-  "losses.base_static_friction": [0, 1], "projectile.drag_factor": [0, 3],
+  "losses.base_static_friction": [0, 1], "losses.guide_friction": [0, 1], "losses.track_friction": [0, 1],
+  "losses.guide_static_friction": [0, 1], "losses.track_static_friction": [0, 1], "projectile.drag_factor": [0, 3],
 };
 // A positive value's slider spans value / SPREAD to value * SPREAD.
 const SPREAD = 3;
