@@ -58,7 +58,7 @@ from typing import NamedTuple
 from analytic.aero import drag_rate
 from analytic.eom import (frame_coupling, frame_displacement, frame_velocity, horizontal_moment, loads,
                           loads_sliding, machine_accelerations, slide_accelerations, slide_constraint,
-                          swing_accelerations, total_mass)
+                          swing_accelerations, swing_drag, total_mass)
 from analytic.floating_arm import support_forces
 from analytic.friction import (lossy, machine_friction, rest_balance, slide_friction, slide_rate, static_arm,
                                swing_friction)
@@ -587,13 +587,19 @@ def machine_frame(y, m, momentum, start_time, start_y, start_x, time):
 def floating_supports(stage, y, p):
     """A floating arm's ``(track_y, guide_x)``, N (``analytic.floating_arm.support_forces``), at the
     stage-1 state ``[theta, phi, theta', phi']`` or the stage-2 state ``[theta, phi, psi, theta', phi', psi']``
-    (the axle's friction included)."""
+    (the axle's friction and the drag during the swing included)."""
     ddtheta, _, ddpsi = accelerations(stage, y, p)
-    if stage != SLIDE:
-        return support_forces(y[0], y[2], y[3], y[5], ddtheta, ddpsi, 0.0, p)
-    normal = friction_solution(stage, y, p)[3] if lossy(p) else slide_accelerations(y[0], y[1], y[2], y[3], p)[2]
-    psi, dpsi, _, _, _ = slide_constraint(y[0], y[2], p)
-    return support_forces(y[0], psi, y[2], dpsi, ddtheta, ddpsi, normal, p)
+    if stage == SLIDE:
+        normal = friction_solution(stage, y, p)[3] if lossy(p) else slide_accelerations(y[0], y[1], y[2], y[3], p)[2]
+        psi, dpsi, _, _, _ = slide_constraint(y[0], y[2], p)
+        dtheta = y[2]
+    else:
+        psi, dtheta, dpsi, normal = y[2], y[3], y[5], 0.0
+    track_y, guide_x = support_forces(y[0], psi, dtheta, dpsi, ddtheta, ddpsi, normal, p)
+    if p.drag_swing > 0.0:   # the air pushes the projectile: the supports push so much less [13.5]
+        drag_x, drag_y = swing_drag(y[0], psi, dtheta, dpsi, p)
+        track_y, guide_x = track_y - drag_y, guide_x - drag_x
+    return track_y, guide_x
 
 
 #: What ``loads_at`` returns, in order (``analytic.eom.loads``): N, N, N, m/s^2, N m.

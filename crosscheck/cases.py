@@ -308,7 +308,8 @@ SWING_DRAG_WIND = 12.0
 def swing_drag_cases() -> list[Case]:
     """The drag acting in stages 1-2 too (``projectile.drag_during_swing``): the paper's golf ball as
     published and at 61 deg, into a headwind and with a tailwind, with every loss, on the bolted
-    machine, and the large machine's dense ball."""
+    machine, the large machine's dense ball, and the floating arm into the headwind (its axle's motion
+    in the projectile's velocity)."""
     t3 = default_design()
     on = {"drag_during_swing": True}
     designs = [
@@ -320,7 +321,10 @@ def swing_drag_cases() -> list[Case]:
         _variant(fixed_design(t3, "fixed-swing-drag"), "fixed-swing-drag", projectile=on),
         _variant(large_design("hinged"), "large-swing-drag", projectile=on),
     ]
-    return [Case(design.name, design, "swing-drag") for design in designs]
+    floating = _variant(floating_design(t3, "floating-swing-drag-headwind"), "floating-swing-drag-headwind",
+                        projectile=on, environment={"wind_speed": -SWING_DRAG_WIND})
+    return ([Case(design.name, design, "swing-drag") for design in designs]
+            + [Case(floating.name, floating, "swing-drag", engine_step_fraction=FLOATING_STEP_FRACTION)])
 
 
 def file_cases(paths: list[str]) -> list[Case]:

@@ -11,8 +11,9 @@ import pytest
 from crosscheck.cases import Case, default_suite, swing_drag_cases
 from crosscheck.comparison import compare, engine_simulate
 
-#: The group's slower designs (the large machine's long swing; every loss's friction joints): run as slow.
-SLOW = {"large-swing-drag", "swing-drag-all-losses"}
+#: The group's slower designs (the large machine's long swing; every loss's friction joints; the
+#: floating arm's finer engine steps): run as slow.
+SLOW = {"large-swing-drag", "swing-drag-all-losses", "floating-swing-drag-headwind"}
 
 
 @functools.cache
@@ -24,7 +25,7 @@ def test_the_swing_drag_group_is_in_the_default_suite_with_the_flag_on():
     cases = swing_drag_cases()
     assert {case.group for case in cases} == {"swing-drag"}
     assert all(case.design.projectile.drag_during_swing for case in cases)
-    assert {case.design.machine.kind for case in cases} == {"hinged", "fixed"}
+    assert {case.design.machine.kind for case in cases} == {"hinged", "fixed", "floating-arm"}
     assert {case.name for case in cases} <= {case.name for case in default_suite(sample=0)}
 
 
