@@ -289,3 +289,6 @@ def test_the_text_report_shows_the_support_loads():
     assert f"largest guide force  {loads['max_guide_force']:.4f}  N across the counterweight" in text
     assert "track force" not in format_shot(dataclasses.replace(shot, diagnostics=dataclasses.replace(
         shot.diagnostics, support_loads=None)))
+    # Positions are measured from where the guide meets the track, and the report says so.
+    assert f"range from guide     {shot.range:.4f}  m" in text
+    assert "pivot" not in text
