@@ -273,16 +273,9 @@ def fixed_cases(sample: int = FIXED_SAMPLE, seed: int = 0) -> list[Case]:
 #: (wooden) arm, their counterweight bolted on a floating arm. Not the light arm's: the engine holds a
 #: floating axle on its track through a carriage carrying part of the arm's mass
 #: (``engine_model.floating``), and a carriage of a gram or two under a 6.5 kg counterweight leaves
-#: pymunk's solver unconverged even at 1000 iterations (the track missing its target velocity by
-#: 7e-4 m/s against the 4e-4 limit on ``sample-0-001-light``).
+#: pymunk's solver unconverged (the arm's pivot on the carriage missing its target velocity by
+#: 0.17 m/s against the 4e-4 limit on ``sample-0-005-light`` at 1.25e-5 s, 2026-11-27).
 FLOATING_SAMPLE = 3
-#: The floating-arm cases' first engine step, a fraction of the default. The engine's energy error on
-#: a floating arm falls only in proportion to the step (3.2e-4, 1.6e-4, 8.1e-5 of the available energy
-#: at 2.5e-5, 1.25e-5, 6.25e-6 s on the paper's numbers, 2026-11-27), so every case is halved to
-#: 3.125e-6 s, where three of the five meet the trust limit and the paper's (4.1e-5) and
-#: ``sample-0-002`` (6.0e-5) are compared at the last halving; all agree within the tolerances.
-#: Starting at a quarter spares the two coarser runs each that would be thrown away.
-FLOATING_STEP_FRACTION = 0.25
 
 
 def floating_design(design: Design, name: str) -> Design:
@@ -299,8 +292,7 @@ def floating_cases(sample: int = FLOATING_SAMPLE, seed: int = 0) -> list[Case]:
     wooden = [case for case in sample_cases(2 * sample, seed) if "light" not in case.name][:sample]
     designs += [floating_design(case.design, f"{case.name}-floating-arm") for case in wooden]
     designs.append(large_design("floating-arm"))
-    return [Case(design.name, design, "floating-arm", engine_step_fraction=FLOATING_STEP_FRACTION)
-            for design in designs]
+    return [Case(design.name, design, "floating-arm") for design in designs]
 
 
 #: The wind of the drag-during-swing cases with wind, m/s: a strong headwind and a strong
@@ -323,11 +315,10 @@ def swing_drag_cases() -> list[Case]:
         dataclasses.replace(_variant(t3, "swing-drag-all-losses", projectile=on), losses=REALISTIC_LOSSES),
         _variant(fixed_design(t3, "fixed-swing-drag"), "fixed-swing-drag", projectile=on),
         _variant(large_design("hinged"), "large-swing-drag", projectile=on),
+        _variant(floating_design(t3, "floating-swing-drag-headwind"), "floating-swing-drag-headwind",
+                 projectile=on, environment={"wind_speed": -SWING_DRAG_WIND}),
     ]
-    floating = _variant(floating_design(t3, "floating-swing-drag-headwind"), "floating-swing-drag-headwind",
-                        projectile=on, environment={"wind_speed": -SWING_DRAG_WIND})
-    return ([Case(design.name, design, "swing-drag") for design in designs]
-            + [Case(floating.name, floating, "swing-drag", engine_step_fraction=FLOATING_STEP_FRACTION)])
+    return [Case(design.name, design, "swing-drag") for design in designs]
 
 
 def file_cases(paths: list[str]) -> list[Case]:

@@ -11,9 +11,8 @@ import pytest
 from crosscheck.cases import Case, default_suite, swing_drag_cases
 from crosscheck.comparison import compare, engine_simulate
 
-#: The group's slower designs (the large machine's long swing; every loss's friction joints; the
-#: floating arm's finer engine steps): run as slow.
-SLOW = {"large-swing-drag", "swing-drag-all-losses", "floating-swing-drag-headwind"}
+#: The group's slower designs (the large machine's long swing; every loss's friction joints): run as slow.
+SLOW = {"large-swing-drag", "swing-drag-all-losses"}
 
 
 @functools.cache
