@@ -420,8 +420,7 @@ class Design:
     def _check_floating(self) -> None:
         """Refuse what the floating-arm machine does not model: a rolling frame (its axle already rides a
         track) and the base's friction (its generalised force is the hinged machine's, without the axle's
-        motion), and the drag before release (its generalised force, likewise); the axle's, the guide's
-        and the track's friction are modelled."""
+        motion); the axle's, the guide's and the track's friction and the drag before release are modelled."""
         if self.base.rolling:
             raise DesignError("base.mobility", self.base.mobility,
                               "a floating-arm machine's axle already rides its track: its frame cannot roll; "
@@ -431,10 +430,6 @@ class Design:
             if value is not None and value > 0.0:
                 raise DesignError(f"losses.{name}", value,
                                   "the base's friction is not modelled on a floating-arm machine; leave it out (or 0)")
-        if self.projectile.drag_during_swing:
-            raise DesignError("projectile.drag_during_swing", True,
-                              "not modelled on a floating-arm machine (its generalised force would need the "
-                              "axle's motion in the projectile's velocity); leave it false")
 
 
 # --------------------------------------------------------------------------- #

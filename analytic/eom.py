@@ -79,6 +79,10 @@ def terms(theta, phi, psi, dtheta, dphi, dpsi, p):
     """
     if p.kind == FLOATING:
         m11, m13, m33, f1, f3 = floating_terms(theta, psi, dtheta, dpsi, p)
+        if p.drag_swing > 0.0:
+            q1, q3 = drag_generalised(theta, psi, dtheta, dpsi, p)
+            f1 += q1
+            f3 += q3
         return m11, 0.0, m13, 1.0, m33, f1, 0.0, f3
     s_phi, c_phi = math.sin(phi), math.cos(phi)
     s_psi, c_psi = math.sin(psi), math.cos(psi)
@@ -114,11 +118,12 @@ def terms(theta, phi, psi, dtheta, dphi, dpsi, p):
 
 def swing_drag(theta, psi, dtheta, dpsi, p):
     """The air's drag on the projectile ``(Dx, Dy)``, N, at a stage-1 or stage-2 state (eq. 13.1):
-    the flight's law (``aero.drag_rate``) on its velocity relative to the air, ``v - (wind, 0)``."""
+    the flight's law (``aero.drag_rate``) on its velocity relative to the air, ``v - (wind, 0)``
+    (a floating arm's projectile moves with its axle too, eq. 13.5)."""
     s_th, c_th = math.sin(theta), math.cos(theta)
     s_b, c_b = math.sin(theta + psi), math.cos(theta + psi)
     dbeta = dtheta + dpsi
-    vx_rel = -p.La * c_th * dtheta - p.Ls * c_b * dbeta - p.wind
+    vx_rel = -swing_drag_reach(p) * c_th * dtheta - p.Ls * c_b * dbeta - p.wind
     vy = -p.La * s_th * dtheta - p.Ls * s_b * dbeta
     k = drag_rate(int(p.drag), vx_rel, vy, p.diameter, p.rho, p.mu, p.cd, p.area, p.mP, DRAG_TABLE)
     return -p.mP * k * vx_rel, -p.mP * k * vy
@@ -126,12 +131,19 @@ def swing_drag(theta, psi, dtheta, dpsi, p):
 
 def drag_generalised(theta, psi, dtheta, dpsi, p):
     """The drag's generalised forces ``(Q_theta, Q_psi)``, N m: ``J^T D`` with ``J`` the Jacobian of the
-    projectile's position ``La u(theta) + Ls u(theta + psi)`` (eq. 13.2); Q_phi is 0."""
+    projectile's position ``La u(theta) + Ls u(theta + psi)`` (eq. 13.2; a floating arm's adds its
+    axle's ``(-Lb sin(theta), 0)``, eq. 13.5); Q_phi is 0."""
     dx, dy = swing_drag(theta, psi, dtheta, dpsi, p)
     s_th, c_th = math.sin(theta), math.cos(theta)
     s_b, c_b = math.sin(theta + psi), math.cos(theta + psi)
     q_psi = -p.Ls * (c_b * dx + s_b * dy)
-    return -p.La * (c_th * dx + s_th * dy) + q_psi, q_psi
+    return -swing_drag_reach(p) * c_th * dx - p.La * s_th * dy + q_psi, q_psi
+
+
+def swing_drag_reach(p):
+    """``-dx_P/dtheta`` of the long arm's tip over ``cos(theta)``, m: ``La``; a floating arm's
+    ``La + Lb``, its axle at ``x_A = -Lb sin(theta)`` carrying the tip (eq. 13.5)."""
+    return p.La + p.Lb if p.kind == FLOATING else p.La
 
 
 def swing_accelerations(theta, phi, psi, dtheta, dphi, dpsi, p):
@@ -439,7 +451,10 @@ def joint_forces_sliding(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, dd
     if p.drag_swing > 0.0:
         dx, dy = swing_drag(theta, psi, dtheta, dpsi, p)
         sling_x, sling_y = sling_x - dx, sling_y - dy
-        axle_x, axle_y = axle_x - dx, axle_y - dy
+        if p.kind == FLOATING:   # the guide's push is the machine's less D_x; the mount carries D_x back [13.5]
+            hinge_x, axle_y = hinge_x + dx, axle_y - dy
+        else:
+            axle_x, axle_y = axle_x - dx, axle_y - dy
     return axle_x, axle_y, hinge_x, hinge_y, sling_x, sling_y
 
 

@@ -341,17 +341,19 @@ def drag_work(flight: Segment, p: Params) -> float:
 
 def swing_drag_work(segments, p: Params) -> float:
     """The work the air's drag took from the projectile in stages 1-2, J (0 unless ``p.drag_swing``):
-    ``-integral of D . v dt`` on each stage's continuous solution (``eom.swing_drag``; a fixed frame,
-    so ``v`` is the projectile's velocity about the pivot), as ``drag_work`` integrates the flight's."""
+    ``-integral of D . v dt`` on each stage's continuous solution (``eom.swing_drag``; ``v`` the
+    projectile's ground velocity: about the pivot, plus a floating arm's axle's), as ``drag_work``
+    integrates the flight's."""
     if not p.drag_swing > 0.0:
         return 0.0
 
     def power(stage):
         def at(y):
-            theta, _, psi, dtheta, _, dpsi = (eom.slide_state(y[0], y[1], y[2], y[3], p) if stage is Stage.SLIDE
-                                              else y[:6])
+            theta, phi, psi, dtheta, dphi, dpsi = (eom.slide_state(y[0], y[1], y[2], y[3], p)
+                                                   if stage is Stage.SLIDE else y[:6])
             dx, dy = eom.swing_drag(theta, psi, dtheta, dpsi, p)
             _, _, vx, vy = projectile_state(theta, psi, dtheta, dpsi, p.La, p.Ls)
+            vx += eom.frame_velocity(theta, phi, psi, dtheta, dphi, dpsi, p)   # a floating arm's axle's
             return dx * vx + dy * vy
         return at
 

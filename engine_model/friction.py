@@ -469,13 +469,12 @@ def joint_rates(row: tuple, design: Design) -> tuple[float, ...]:
 
 def slide_rates(row, design: Design) -> tuple:
     """A floating arm's counterweight sliding along its guide (vertical) and axle along its track
-    (horizontal), relative to the frame, m/s, signed: at a state ``row`` (24 numbers) or, given the
-    transposed (24, n) rows, at each; 0 for the other kinds. In a floating arm's row the
-    counterweight's columns are its centre's, the arm's its axle's."""
+    (horizontal), m/s, signed: at a state ``row`` (24 numbers) or, given the transposed (24, n) rows,
+    at each; 0 for the other kinds. A floating arm's row holds its slider in the counterweight's
+    columns and its carriage in the frame's (``stepping.row_bodies``); its frame never rolls."""
     if design.machine.kind != "floating-arm":
         return 0.0, 0.0
-    return (row[kin.COUNTERWEIGHT + kin.VY] - row[kin.FRAME + kin.VY],
-            row[kin.ARM + kin.VX] - row[kin.FRAME + kin.VX])
+    return row[kin.COUNTERWEIGHT + kin.VY], row[kin.FRAME + kin.VX]
 
 
 def remove_base(friction: Friction, space: pymunk.Space) -> None:

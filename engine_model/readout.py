@@ -62,14 +62,27 @@ def mounted_row(arm: pymunk.Body, mount: tuple[float, float]) -> tuple[float, fl
     return position.x, position.y, _ANGLE(a), velocity.x, velocity.y, _SPIN(a)
 
 
+def slider_row(arm: pymunk.Body, slider: pymunk.Body) -> tuple[float, float, float, float, float, float]:
+    """``(x, y, angle, vx, vy, w)`` of a floating arm's counterweight: its centre, the slider on the
+    guide (a body that never turns, so its centre's reading is exact), with the arm's angle and spin
+    (the counterweight turns with the arm)."""
+    a, c = arm._body, slider._body
+    position, velocity = _POSITION(c), _VELOCITY(c)
+    return position.x, position.y, _ANGLE(a), velocity.x, velocity.y, _SPIN(a)
+
+
 def rig_row(arm: pymunk.Body, counterweight: pymunk.Body | None, projectile: pymunk.Body,
-            frame: pymunk.Body, mount: tuple[float, float] | None = None) -> tuple[float, ...]:
+            frame: pymunk.Body, mount: tuple[float, float] | None = None,
+            slider: pymunk.Body | None = None) -> tuple[float, ...]:
     """The 24 numbers of a state row: the arm's origin velocity, the others' centre-of-gravity one
     (their origin is their centre of gravity); a counterweight bolted to the arm (``counterweight``
-    None) is the arm's point ``mount`` (``mounted_row``)."""
+    None) is the arm's point ``mount`` (``mounted_row``), or a floating arm's ``slider``
+    (``slider_row``)."""
     a, p, f = arm._body, projectile._body, frame._body
     ap, av = _POSITION(a), _VELOCITY_AT(a, _ORIGIN)
-    if counterweight is None:
+    if slider is not None:
+        weight = slider_row(arm, slider)
+    elif counterweight is None:
         weight = mounted_row(arm, mount)
     else:
         c = counterweight._body
@@ -83,12 +96,13 @@ def rig_row(arm: pymunk.Body, counterweight: pymunk.Body | None, projectile: pym
 
 
 def row_reader(arm: pymunk.Body, counterweight: pymunk.Body | None, projectile: pymunk.Body,
-               frame: pymunk.Body, mount: tuple[float, float] | None = None) -> Callable[[], tuple[float, ...]]:
+               frame: pymunk.Body, mount: tuple[float, float] | None = None,
+               slider: pymunk.Body | None = None) -> Callable[[], tuple[float, ...]]:
     """``rig_row`` of these bodies as a function of nothing, for a loop of steps: the bodies'
     Chipmunk handles looked up once, and a static frame (a fixed base: Chipmunk never moves a
     static body) read once. 5.1 us a row against ``rig_row``'s 6.5 us; the same doubles."""
     if counterweight is None:
-        return lambda: rig_row(arm, None, projectile, frame, mount)
+        return lambda: rig_row(arm, None, projectile, frame, mount, slider)
     a, c, p = arm._body, counterweight._body, projectile._body
     position, angle, velocity, velocity_at, spin = _POSITION, _ANGLE, _VELOCITY, _VELOCITY_AT, _SPIN
     origin = _ORIGIN

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from analytic.result import Shot
+from analytic.result import Shot, origin_label
 from analytic.units import display
 
 #: (JSON key, label, unit, format) in the order printed; values are as in ``Shot.to_json``.
@@ -62,7 +62,9 @@ def format_shot(shot: Shot, units: str = "metric") -> str:
         number, shown = _shown(value, unit, units)
         return label, fmt.format(number), shown
 
-    rows += [row(label, data[key], unit, fmt) for key, label, unit, fmt in _FIELDS if data[key] is not None]
+    origin = origin_label(shot.design)   # the pivot; a floating arm's guide, where its track meets it
+    rows += [row(label.replace("pivot", origin), data[key], unit.replace("pivot", origin), fmt)
+             for key, label, unit, fmt in _FIELDS if data[key] is not None]
     if shot.min_sling_tension is not None and shot.min_sling_tension < 0.0:   # said only where it is so
         rows = [(label, value, f"{unit} (negative: the rigid sling pushed)" if label == "min sling tension"
                  else unit) for label, value, unit in rows]

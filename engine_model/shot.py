@@ -89,7 +89,7 @@ def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAU
         run, rig = stepping.run_machine(design, dt, iterations, sling, stepping.MACHINE_STEP_LIMIT)
     raw = np.array(run.raw)
     on_base = np.array(run.on_base)
-    sync = kin.synchronise(raw, design.base.rolling)
+    sync = kin.synchronise(raw, kin.origin_carried(design))
     drift = kin.joint_drift(raw, design, sling, on_base)
     steps = np.full(len(raw), dt)
     steps[0] = 0.5 * dt
@@ -232,10 +232,8 @@ def _friction_steps(run: stepping.Run, dt: float) -> dict[str, np.ndarray] | Non
 
 def _frame(state: np.ndarray, quantity: int, design: Design) -> float:
     """The frame's ``quantity`` (``kin.X`` or ``kin.VX``) in a row: 0.0 for a fixed frame; a floating
-    arm's axle's on its track (as ``analytic.result.Shot`` holds it for that kind)."""
-    if design.machine.kind == "floating-arm":
-        return float(state[kin.ARM + quantity])
-    return float(state[kin.FRAME + quantity]) if design.base.rolling else 0.0
+    arm's axle's on its track, its carriage's (as ``analytic.result.Shot`` holds it for that kind)."""
+    return float(state[kin.FRAME + quantity]) if kin.origin_carried(design) else 0.0
 
 
 def _assemble(design: Design, run: stepping.Run, times: np.ndarray, sync: np.ndarray,

@@ -67,7 +67,17 @@ class Run:
 
 def read_state(rig: Rig) -> tuple[float, ...]:
     """The 24 numbers of a state row (``engine_model.kinematics``) read from the bodies."""
-    return rig_row(rig.arm, rig.counterweight, rig.projectile, rig.frame, rig.mount)
+    return rig_row(*row_bodies(rig))
+
+
+def row_bodies(rig: Rig) -> tuple:
+    """What a state row is read from (``readout.rig_row``'s arguments): a floating arm's carriage
+    stands in the frame's columns (the arm's origin is pinned to it, as to a rolling frame) and its
+    slider in the counterweight's (the counterweight's centre, held on the guide)."""
+    if rig.supports:
+        carriage, slider = rig.supports[:2]
+        return rig.arm, None, rig.projectile, carriage, None, slider
+    return rig.arm, rig.counterweight, rig.projectile, rig.frame, rig.mount
 
 
 def run_machine(design: Design, dt: float, iterations: int, sling: str, limit: int = MACHINE_STEP_LIMIT,
@@ -160,7 +170,7 @@ def run_machine(design: Design, dt: float, iterations: int, sling: str, limit: i
         friction = fr.renew(friction, rig)
 
     step = stepper(rig.space)
-    read = row_reader(rig.arm, rig.counterweight, rig.projectile, rig.frame, rig.mount)
+    read = row_reader(*row_bodies(rig))
     # The loop runs up to hundreds of thousands of times: its lists' appends and the row's
     # indices are looked up once.
     keep_row, keep_on_base, keep_tension = run.raw.append, run.on_base.append, run.tension.append

@@ -21,12 +21,15 @@ from analytic.aero import DRAG_MODELS, drag_coefficient
 from analytic.design import DesignError
 from analytic.design_file import default_design, design_from_dict, design_to_dict
 from analytic.parameters import params
+from analytic import stages
 from analytic.stages import SLIDE, SWING, loads_at
 from test_analytic_friction import AUDIT_TOL
 from test_analytic_symbolic import SEED, assert_close, random_params, slide_state
 
 #: Random (parameters, state) samples per check.
 N_SAMPLES = 6
+#: The kinds whose counterweight is rigid on the arm (phi held at 0), by their ``Params.kind`` code.
+RIGID_KINDS = {"fixed": eom.FIXED, "floating-arm": eom.FLOATING}
 #: The drag models with a curve; each sample takes one in turn.
 MODELS = ("constant", "smooth-sphere", "golf-ball")
 
@@ -49,11 +52,11 @@ def swing_samples(kind):
     out = []
     for i in range(N_SAMPLES):
         p = with_drag(random_params(rng), rng, MODELS[i % len(MODELS)])
-        if kind == "fixed":
-            p = p._replace(kind=eom.FIXED, Lw=0.0)
-        q = (rng.uniform(-math.pi, math.pi), 0.0 if kind == "fixed" else rng.uniform(-math.pi, math.pi),
+        if kind != "hinged":
+            p = p._replace(kind=RIGID_KINDS[kind], Lw=0.0)
+        q = (rng.uniform(-math.pi, math.pi), 0.0 if kind != "hinged" else rng.uniform(-math.pi, math.pi),
              rng.uniform(-math.pi, math.pi))
-        qd = (*rng.normal(0.0, 4.0, 1), 0.0 if kind == "fixed" else rng.normal(0.0, 4.0), rng.normal(0.0, 4.0))
+        qd = (*rng.normal(0.0, 4.0, 1), 0.0 if kind != "hinged" else rng.normal(0.0, 4.0), rng.normal(0.0, 4.0))
         out.append((p, q, qd))
     return out
 
@@ -69,7 +72,7 @@ def slide_samples():
     return out
 
 
-SWING = [(kind, *sample) for kind in ("hinged", "fixed") for sample in swing_samples(kind)]
+SWING = [(kind, *sample) for kind in ("hinged", "fixed", "floating-arm") for sample in swing_samples(kind)]
 SWING_IDS = [f"{kind}-swing{i}" for i, (kind, *_) in enumerate(SWING)]
 SLIDE = slide_samples()
 SLIDE_IDS = [f"slide{i}" for i in range(len(SLIDE))]
@@ -86,9 +89,11 @@ def expected_drag(lagrangian, p, q, qd):
 
 
 @pytest.mark.parametrize("sample", SWING, ids=SWING_IDS)
-def test_drag_is_the_flights_law_on_the_projectiles_velocity(lagrangian, sample):
-    _, p, q, qd = sample
-    assert_close(eom.swing_drag(q[0], q[2], qd[0], qd[2], p), expected_drag(lagrangian, p, q, qd), "drag")
+def test_drag_is_the_flights_law_on_the_projectiles_velocity(sample):
+    from sympy_model import machine
+
+    kind, p, q, qd = sample
+    assert_close(eom.swing_drag(q[0], q[2], qd[0], qd[2], p), expected_drag(machine(kind), p, q, qd), "drag")
 
 
 @pytest.mark.parametrize("sample", SWING, ids=SWING_IDS)
@@ -97,7 +102,7 @@ def test_swing_accelerations_with_drag_solve_the_lagrangian_with_its_generalised
 
     kind, p, q, qd = sample
     lagrangian = machine(kind)
-    rows = [0, 2] if kind == "fixed" else [0, 1, 2]
+    rows = [0, 2] if kind != "hinged" else [0, 1, 2]
     m = lagrangian.mass(p, q, qd)[np.ix_(rows, rows)]
     f = lagrangian.forcing(p, q, qd)[rows]
     force = lagrangian.force_on_projectile(p, q, expected_drag(lagrangian, p, q, qd))[rows]
@@ -130,6 +135,56 @@ def test_sling_force_is_newtons_net_of_the_drag(lagrangian, sample):
     drag = expected_drag(lagrangian, p, q, qd)
     assert_close(forces[4:], sling - drag, "sling force")
     assert_close(forces[:2], axle - drag, "axle force")
+
+
+FLOATING_SWING = [sample for sample in SWING if sample[0] == "floating-arm"]
+
+
+@pytest.mark.parametrize("sample", FLOATING_SWING, ids=[f"floating{i}" for i in range(len(FLOATING_SWING))])
+def test_a_floating_arms_supports_push_the_machines_momentum_change_less_the_drag(sample):
+    """Derivation (13.5): the guide's push is sum m a_x - D_x, the track's sum m (a_y + g) - D_y; the
+    counterweight's mount carries its own force less the guide's; the sling's is net of the drag."""
+    from sympy_model import machine
+
+    _, p, q, qd = sample
+    lagrangian = machine("floating-arm")
+    qdd = eom.swing_accelerations(*q, *qd, p)
+    total, weight, sling = lagrangian.joint_forces(p, (*q, 0.0), (*qd, 0.0), (*qdd, 0.0))
+    drag = expected_drag(lagrangian, p, q, qd)
+    guide, track = total[0] - drag[0], total[1] - drag[1]
+    forces = eom.joint_forces(*q, *qd, *qdd, 0.0, p)
+    scale = max(float(np.max(np.abs(np.concatenate([total, weight, sling])))), (p.mA + p.mW + p.mP) * p.g)
+    assert_close(forces[:2], (0.0, track), "track force on the axle", scale=scale)
+    assert_close(forces[2:4], (weight[0] - guide, weight[1]), "mount force on the counterweight", scale=scale)
+    assert_close(forces[4:], sling - drag, "sling force", scale=scale)
+    y = np.array([*q, *qd])
+    assert_close(stages.floating_supports(stages.SWING, y, p), (track, guide), "supports", scale=scale)
+
+
+@pytest.mark.parametrize("sample", FLOATING_SWING, ids=[f"floating{i}" for i in range(len(FLOATING_SWING))])
+def test_a_floating_arms_slide_with_drag_solves_the_lagrangian_on_the_base(sample):
+    """Stage 1 of a floating arm with the drag: ``[[M, -J^T], [J, 0]] [q'', N] = [f + Q_D, -J' q']``
+    over (theta, psi), sympy's ``on_base`` plus the drag's part of the same linear system."""
+    from sympy_model import machine
+
+    _, p, _, qd = sample
+    lagrangian = machine("floating-arm")
+    theta = math.acos(-p.h / p.La) - 0.2   # the tip 0.2 rad above the base (random_params: La > h)
+    psi, dpsi, s, c, _ = eom.slide_constraint(theta, qd[0], p)
+    if math.isnan(psi):
+        pytest.skip("out of the sling's reach")
+    q, q_rate = (theta, 0.0, psi), (qd[0], 0.0, dpsi)
+    rows = [0, 2]
+    acc, normal = lagrangian.on_base(p, q, q_rate)
+    m = lagrangian.mass(p, q, q_rate)[np.ix_(rows, rows)]
+    jac = lagrangian.base_jacobian(p, (*q, 0.0))[rows]
+    force = lagrangian.force_on_projectile(p, q, expected_drag(lagrangian, p, q, q_rate))[rows]
+    system = np.block([[m, -jac[:, None]], [jac[None, :], np.zeros((1, 1))]])
+    extra = np.linalg.solve(system, np.append(force, 0.0))
+    ddtheta, _, got_normal = eom.slide_accelerations(theta, 0.0, qd[0], 0.0, p)
+    assert_close(ddtheta, acc[0] + extra[0], "theta'' on the base with drag")
+    assert_close(got_normal, normal + extra[2], "base push with drag",
+                 scale=(p.mA + p.mW + p.mP) * p.g + float(np.max(np.abs(force))))
 
 
 def test_the_flag_off_is_the_papers_model_to_the_bit():
@@ -195,3 +250,25 @@ def test_the_reports_show_the_drags_work_before_release_only_with_the_flag():
     assert "air drag before release" in format_shot(reference.simulate(on))
     assert "air drag before release" not in format_shot(reference.simulate(off))
     assert "drag before release" in engine_format_shot(engine_shot.simulate(on))
+
+
+@pytest.mark.parametrize("wind", [-12.0, 12.0], ids=["headwind", "tailwind"])
+def test_a_floating_arms_audit_closes_with_the_drag_before_release_and_the_paths_agree(wind):
+    """The drag's power on the projectile's ground velocity, the axle's motion in it (eq. 13.5):
+    the audit closes as the hinged machine's does, and the compiled path gives the same shot."""
+    from support import TABLE3_FLOATING_FILE
+    from test_analytic_fast import _assert_agree
+
+    from analytic.design import Losses
+    from analytic.design_file import load_design
+
+    floating = load_design(TABLE3_FLOATING_FILE)
+    design = dataclasses.replace(_swinging(wind, Losses(axle_friction=0.15, axle_radius=0.0064)),
+                                 machine=floating.machine, name=floating.name)
+    shot = reference.simulate(design)
+    assert shot.ok, shot.message
+    lost = shot.energy_dissipated
+    closing = shot.history.energy.total[-1] + lost["axle"] + lost["swing_drag"]
+    assert abs(closing) <= AUDIT_TOL * shot.counterweight_energy_released
+    assert lost["swing_drag"] != 0.0 and lost["axle"] > 0.0
+    _assert_agree(design)

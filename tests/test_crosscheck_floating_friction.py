@@ -10,10 +10,10 @@ import functools
 import pytest
 
 from analytic.design import Losses
-from crosscheck.cases import FLOATING_STEP_FRACTION, default_suite, floating_friction_cases
+from crosscheck.cases import default_suite, floating_friction_cases
 from crosscheck.comparison import compare, engine_simulate
 
-#: The group's slower designs (the large machine's long swing at the floating arm's quarter step).
+#: The group's slower designs (the large machine's long swing).
 SLOW = {"large-floating-arm-all-losses"}
 
 
@@ -26,7 +26,6 @@ def test_the_group_has_each_slide_alone_and_together_and_is_in_the_default_suite
     cases = floating_friction_cases()
     assert {case.group for case in cases} == {"floating-friction"}
     assert {case.design.machine.kind for case in cases} == {"floating-arm"}
-    assert {case.engine_step_fraction for case in cases} == {FLOATING_STEP_FRACTION}
     losses = {case.name: case.design.losses for case in cases}
     guide_only = [n for n, l in losses.items() if l.guide_friction > 0.0 and l.track_friction == 0.0]
     track_only = [n for n, l in losses.items() if l.track_friction > 0.0 and l.guide_friction == 0.0]

@@ -24,7 +24,7 @@ def test_the_swing_drag_group_is_in_the_default_suite_with_the_flag_on():
     cases = swing_drag_cases()
     assert {case.group for case in cases} == {"swing-drag"}
     assert all(case.design.projectile.drag_during_swing for case in cases)
-    assert {case.design.machine.kind for case in cases} == {"hinged", "fixed"}
+    assert {case.design.machine.kind for case in cases} == {"hinged", "fixed", "floating-arm"}
     assert {case.name for case in cases} <= {case.name for case in default_suite(sample=0)}
 
 

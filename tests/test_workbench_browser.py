@@ -73,6 +73,12 @@ def wait_for_next_shot(page, before: int):
     page.wait_for_function(f"Number(document.body.dataset.shots || 0) > {before}", timeout=SHOT_WAIT)
 
 
+def wait_until_current(page):
+    """Until the shot drawn is the one of the design's latest edit (a burst of edits sends several)."""
+    page.wait_for_function("document.body.dataset.shownVersion === document.body.dataset.requestedVersion",
+                           timeout=SHOT_WAIT)
+
+
 def range_shown(page) -> tuple[float, str]:
     text = page.get_by_test_id("range").inner_text()
     match = re.fullmatch(r"(-?[\d.]+) (\S+)", text)
@@ -112,7 +118,7 @@ def test_sling_length_slider_gives_the_command_lines_range(page, server, tmp_pat
         page.keyboard.press("ArrowRight")
     page.wait_for_function("document.querySelector('[name=\"machine.sling_length\"]').value !== '0.61'")
     wait_for_next_shot(page, count)
-    page.wait_for_load_state("networkidle")
+    wait_until_current(page)
     design = page.evaluate("window.workbench.state.design")
     assert design["machine"]["sling_length"] > 0.61
     shown, _ = range_shown(page)
@@ -485,7 +491,7 @@ def test_the_machine_picker_bolts_the_counterweight_and_back(page, server, tmp_p
     count = shots(page)
     page.select_option('[name="machine.kind"]', "fixed")
     wait_for_next_shot(page, count)
-    page.wait_for_load_state("networkidle")
+    wait_until_current(page)
     design = page.evaluate("window.workbench.state.design")
     assert design["machine"]["kind"] == "fixed" and "counterweight_link" not in design["machine"]
     assert link.is_hidden()

@@ -43,6 +43,7 @@ const sendShot = channel("/api/shot", (response, data, mine, started) => {
     showError($("fields"), null, "");
     $("design-error").hidden = true;
     shownVersion = mine;
+    document.body.dataset.shownVersion = String(mine);   // equal to requestedVersion: the shot drawn is current
     adopt(data);
     timings.push(performance.now() - started);
   } else if (mine === version) {
@@ -52,6 +53,7 @@ const sendShot = channel("/api/shot", (response, data, mine, started) => {
 
 export function requestShot() {
   version += 1;
+  document.body.dataset.requestedVersion = String(version);
   sendShot();
 }
 
