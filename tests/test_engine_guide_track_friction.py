@@ -237,3 +237,17 @@ def test_the_guide_alone_slows_the_start_as_its_coefficient_grows():
     assert rise > 0.0
     straight = inverse[0] + rise * np.array([0.0, 1.0, 2.0, 3.0]) / 3.0
     assert np.max(np.abs(np.array(inverse) - straight)) < LINE_TOL * rise, inverse
+
+
+def test_simulate_json_reports_the_guides_and_the_tracks_work(tmp_path, capsys):
+    import json
+
+    from analytic.design_file import save_design
+    from engine_model.cli import main
+
+    path = tmp_path / "floating.toml"
+    save_design(floating(**VARIANTS["all"]), path)
+    assert main(["simulate", str(path), "--json", "--dt", str(DT)]) == 0
+    taken = json.loads(capsys.readouterr().out)["energy_dissipated"]
+    assert taken["guide"] > 0.0 and taken["track"] > 0.0 and taken["axle"] > 0.0
+    assert taken["hinge"] == taken["base"] == 0.0
