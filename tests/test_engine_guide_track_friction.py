@@ -203,13 +203,10 @@ def test_the_work_grows_with_the_coefficient():
 
 @pytest.mark.parametrize("factor, holds", [(1.02, True), (0.98, False)], ids=["just-holds", "just-slips"])
 def test_the_track_holds_the_machine_at_rest_from_the_coefficient_the_balance_gives(factor, holds):
-    design = floating()
-    design = floating(track_friction=factor * track_threshold(design))
-    shot = simulate(design, dt=DT)
+    shot = simulate(floating(track_friction=factor * track_threshold(floating())), dt=DT)
     if holds:
-        assert shot.status is Status.NEVER_FIRES
+        assert shot.status is Status.NEVER_FIRES and shot.range is None
         assert "the track's friction holds the machine at rest" in shot.message, shot.message
-        assert shot.diagnostics.energy_error == 0.0 or len(shot.history.t) == 1
     else:
         assert shot.status is Status.OK, shot.message
 
