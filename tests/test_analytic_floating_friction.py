@@ -182,8 +182,8 @@ def test_more_friction_takes_more_and_throws_shorter():
     assert ranges[0] > ranges[1] > ranges[2] and taken[0] == 0.0 < taken[1] < taken[2]
 
 
-#: Friction far beyond what gravity's torque can beat on the sample machine (which fires with
-#: 7.8 N m against its slides': 10.8 N m at a coefficient of 5).
+#: Friction that holds the sample machine: gravity turns its arm with 7.8 N m at rest, and its
+#: slides hold 10.8 N m at a coefficient of 5 (``friction.rest_balance``; 7.1 N m at 0.5: it fires).
 HELD = _with_losses(guide_friction=5.0, track_friction=5.0)
 
 
