@@ -219,3 +219,16 @@ def test_simulate_reports_the_guides_and_the_tracks_work(tmp_path, capsys):
     table = capsys.readouterr().out
     rows = [line.split()[0] for line in table.splitlines() if line.strip().endswith("% of it)")]
     assert rows == ["axle", "guide", "track", "air"]   # the friction first, then the drag in flight
+
+
+@pytest.mark.parametrize("mu", [0.5, 0.6])
+def test_the_slides_hold_at_rest_decides_whether_it_fires(mu):
+    """Either side of the balance on the sample machine (``friction.rest_balance``: the hold is
+    7.15 N m at 0.5 and 8.26 N m at 0.6 against gravity's 7.76 N m), on both paths."""
+    from analytic.reference import simulate
+
+    design = _with_losses(guide_friction=mu, track_friction=mu)
+    drive, hold, _ = friction.rest_balance(params(design))
+    for shot in (simulate(design, histories=False), simulate_fast(design)):
+        assert (shot.status is Status.NEVER_FIRES) == (hold >= drive), (mu, shot.status)
+    assert (hold >= drive) == (mu == 0.6)
