@@ -57,8 +57,8 @@ from typing import NamedTuple
 
 from analytic.aero import drag_rate
 from analytic.eom import (FLOATING, frame_coupling, frame_displacement, frame_velocity, horizontal_moment,
-                          joint_forces, loads, loads_sliding, machine_accelerations, slide_accelerations, slide_constraint,
-                          swing_accelerations, swing_drag, total_mass)
+                          joint_forces, loads, loads_sliding, machine_accelerations, slide_accelerations,
+                          slide_constraint, swing_accelerations, swing_drag, total_mass)
 from analytic.floating_arm import support_forces
 from analytic.friction import (lossy, machine_friction, rest_balance, slide_friction, slide_rate, static_arm,
                                swing_friction)
@@ -639,7 +639,8 @@ LOAD_NAMES = ("axle_load", "hinge_load", "sling_tension", "projectile_accelerati
 def loads_after_step(stage, y, f, p):
     """``loads_at(stage, y, p)`` at a step's end, where the integrator already holds the derivative
     ``f`` at ``y``: stage 2 reads its accelerations from ``f`` (the same numbers ``loads_at`` would
-    compute again), stage 1 computes them with the base's push."""
+    compute again), stage 1 computes them with the base's push, and so does a floating arm with
+    friction (its loads need the guide's and the track's friction forces too)."""
     if stage == SWING and (p.kind != FLOATING or not lossy(p)):
         return loads(y[0], y[1], y[2], y[3], y[4], y[5], f[3], f[4], f[5], 0.0, p)
     return loads_at(stage, y, p)

@@ -182,8 +182,8 @@ def test_more_friction_takes_more_and_throws_shorter():
     assert ranges[0] > ranges[1] > ranges[2] and taken[0] == 0.0 < taken[1] < taken[2]
 
 
-#: Friction far beyond what gravity's torque can beat on the sample machine (which fires with
-#: 7.8 N m against its slides': 10.8 N m at a coefficient of 5).
+#: Friction that holds the sample machine: gravity turns its arm with 7.8 N m at rest, and its
+#: slides hold 10.8 N m at a coefficient of 5 (``friction.rest_balance``; 7.1 N m at 0.5: it fires).
 HELD = _with_losses(guide_friction=5.0, track_friction=5.0)
 
 
@@ -219,3 +219,69 @@ def test_simulate_reports_the_guides_and_the_tracks_work(tmp_path, capsys):
     table = capsys.readouterr().out
     rows = [line.split()[0] for line in table.splitlines() if line.strip().endswith("% of it)")]
     assert rows == ["axle", "guide", "track", "air"]   # the friction first, then the drag in flight
+
+
+@pytest.mark.parametrize("mu", [0.5, 0.6])
+def test_the_slides_hold_at_rest_decides_whether_it_fires(mu):
+    """Either side of the balance on the sample machine (``friction.rest_balance``: the hold is
+    7.15 N m at 0.5 and 8.26 N m at 0.6 against gravity's 7.76 N m), on both paths."""
+    from analytic.reference import simulate
+
+    design = _with_losses(guide_friction=mu, track_friction=mu)
+    drive, hold, _ = friction.rest_balance(params(design))
+    for shot in (simulate(design, histories=False), simulate_fast(design)):
+        assert (shot.status is Status.NEVER_FIRES) == (hold >= drive), (mu, shot.status)
+    assert (hold >= drive) == (mu == 0.6)
+
+
+def _slipping_solutions(theta, psi, dtheta, dpsi, sa, p):
+    """The guide's and the track's friction ``(fg, ft)`` of every slipping solution of (12.10) without
+    the axle's friction, found by trying each sign of G and T: the system is then linear (numpy)."""
+    from analytic import eom
+    from analytic.floating_arm import support_forces
+
+    m11, m12, m13, m22, m33, f1, f2, f3 = eom.terms(theta, 0.0, psi, dtheta, 0.0, dpsi, p)
+    a1, _, a3 = eom.solve_symmetric(m11, m12, m13, m22, 0.0, m33, f1, f2, f3)
+    u1, _, u3 = eom.solve_symmetric(m11, m12, m13, m22, 0.0, m33, 1.0, 0.0, 0.0)
+    track0, guide0 = support_forces(theta, psi, dtheta, dpsi, a1, a3, 0.0, p)
+    track_u, guide_u = support_forces(theta, psi, 0.0, 0.0, u1, u3, 0.0, p)
+    track_u -= (p.mA + p.mW + p.mP) * p.g
+    ls, lc = p.Lb * math.sin(theta), p.Lb * math.cos(theta)
+    sg, st = sa * np.sign(ls), -sa * np.sign(lc)
+    found = []
+    for eg in (-1.0, 1.0):
+        for et in (-1.0, 1.0):   # unknowns fg, ft, G, T with sign(G) = eg, sign(T) = et
+            system = np.array([[1.0, 0.0, sg * p.mug * eg, 0.0], [0.0, 1.0, 0.0, st * p.mut * et],
+                               [-guide_u * ls, guide_u * lc + 1.0, 1.0, 0.0],
+                               [1.0 - track_u * ls, track_u * lc, 0.0, 1.0]])
+            fg, ft, guide, track = np.linalg.solve(system, [0.0, 0.0, guide0, track0])
+            if guide * eg >= 0.0 and track * et >= 0.0:
+                found.append((fg, ft))
+    return found
+
+
+def test_a_jam_gives_nan_and_a_unique_slip_is_found():
+    """Large coefficients can leave Coulomb's law with no slipping motion (the guide and the track
+    jam) or several; the model's solve gives NaN where there is none (the integrator then rejects
+    the step), and the one solution where there is exactly one."""
+    from test_analytic_floating import _samples
+
+    rng = np.random.default_rng(SEED_JAM)
+    outcomes = {"none": 0, "one": 0}
+    for p, q, qd in _samples(150, SEED_JAM):
+        mu = rng.uniform(0.0, 2.0, 2)
+        p = p._replace(mug=mu[0], mut=mu[1], mug_s=mu[0], mut_s=mu[1])
+        qd = (abs(qd[0]), 0.0, qd[2])
+        solutions = _slipping_solutions(q[0], q[2], qd[0], qd[2], 1.0, p)
+        _, _, _, _, fg, _, ft = friction.swing_friction(*q, *qd, 1.0, 0.0, p)
+        if not solutions:
+            assert math.isnan(fg) and math.isnan(ft)
+            outcomes["none"] += 1
+        elif len(solutions) == 1:
+            _close([fg, ft], solutions[0], "the one slipping solution", max(1.0, *np.abs(solutions[0])))
+            outcomes["one"] += 1
+    assert outcomes["none"] > 0 and outcomes["one"] > 0, outcomes   # both cases met
+
+
+#: Draws of ``test_a_jam_gives_nan_and_a_unique_slip_is_found``.
+SEED_JAM = 28_128
