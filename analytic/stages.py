@@ -287,6 +287,8 @@ def fires(p):
     sa, sh, sb = rest_modes(p)
     ddtheta, _, normal, _, _, _, _, _, _ = slide_friction(p.theta0, p.phi0, 0.0, 0.0, sa, sh, sb, p)
     if not drive > axle_hold + base_hold:
+        if p.kind == FLOATING:   # held: its base push (slipping, its guide and track may jam [12.10])
+            normal = slide_friction(p.theta0, p.phi0, 0.0, 0.0, 0.0, sh, sb, p)[2]
         return 0.0, normal
     return ddtheta, normal
 

@@ -285,3 +285,19 @@ def test_a_jam_gives_nan_and_a_unique_slip_is_found():
 
 #: Draws of ``test_a_jam_gives_nan_and_a_unique_slip_is_found``.
 SEED_JAM = 28_128
+
+
+def test_a_held_machine_whose_slides_would_jam_slipping_is_held_not_failed():
+    """A 20 kg counterweight and coefficients of 1.2 on the sample machine: its friction holds it at
+    rest (``rest_balance``: 35.0 N m against 24.6), and slipping from rest the guide and the track
+    would jam (no solution, NaN): the shot never fires, on both paths, rather than failing."""
+    from analytic.reference import simulate
+
+    design = _with_losses(guide_friction=1.2, track_friction=1.2)
+    design = dataclasses.replace(design, machine=dataclasses.replace(design.machine, counterweight_mass=20.0))
+    p = params(design)
+    drive, hold, _ = friction.rest_balance(p)
+    assert 0.0 < drive < hold
+    assert math.isnan(friction.slide_friction(p.theta0, p.phi0, 0.0, 0.0, -1.0, 0.0, 0.0, p)[0])
+    for shot in (simulate(design), simulate_fast(design)):
+        assert shot.status is Status.NEVER_FIRES, shot.message
