@@ -58,6 +58,7 @@ from __future__ import annotations
 import math
 
 from analytic.aero import DRAG_TABLE, drag_rate
+from analytic.floating_arm import support_forces as floating_support_forces
 from analytic.floating_arm import terms as floating_terms
 from analytic.geometry import arm_long_side
 
@@ -138,6 +139,16 @@ def drag_generalised(theta, psi, dtheta, dpsi, p):
     s_b, c_b = math.sin(theta + psi), math.cos(theta + psi)
     q_psi = -p.Ls * (c_b * dx + s_b * dy)
     return -swing_drag_reach(p) * c_th * dx - p.La * s_th * dy + q_psi, q_psi
+
+
+def floating_supports_in_air(theta, psi, dtheta, dpsi, ddtheta, ddpsi, normal, p):
+    """A floating arm's ``(track_y, guide_x)``, N, before friction: ``floating_arm.support_forces``
+    less the drag during the swing, which pushes the machine too (eq. 13.5)."""
+    track_y, guide_x = floating_support_forces(theta, psi, dtheta, dpsi, ddtheta, ddpsi, normal, p)
+    if p.drag_swing > 0.0:
+        drag_x, drag_y = swing_drag(theta, psi, dtheta, dpsi, p)
+        track_y, guide_x = track_y - drag_y, guide_x - drag_x
+    return track_y, guide_x
 
 
 def swing_drag_reach(p):

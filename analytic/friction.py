@@ -35,9 +35,9 @@ from __future__ import annotations
 
 import math
 
-from analytic.eom import (FLOATING, joint_forces, joint_forces_in_gravity, joint_forces_sliding, machine_terms,
-                          rolling_terms, slide_constraint, slide_system, solve_pair, solve_symmetric,
-                          symmetric_cofactors, terms)
+from analytic.eom import (FLOATING, floating_supports_in_air, joint_forces, joint_forces_in_gravity,
+                          joint_forces_sliding, machine_terms, rolling_terms, slide_constraint, slide_system,
+                          solve_pair, solve_symmetric, symmetric_cofactors, terms)
 from analytic.floating_arm import support_forces
 
 
@@ -437,10 +437,10 @@ def slides_friction(theta, psi, dtheta, dpsi, a1, a3, n0, ua1, ua3, uan, sa, p):
     those proportions [12.11].
     """
     total_g = (p.mA + p.mW + p.mP) * p.g
-    track_u, guide_u = support_forces(theta, psi, 0.0, 0.0, ua1, ua3, uan, p)
+    track_u, guide_u = support_forces(theta, psi, 0.0, 0.0, ua1, ua3, uan, p)   # per unit Q: no drag
     track_u -= total_g
     if sa != 0.0:
-        track0, guide0 = support_forces(theta, psi, dtheta, dpsi, a1, a3, n0, p)
+        track0, guide0 = floating_supports_in_air(theta, psi, dtheta, dpsi, a1, a3, n0, p)
         ta, fg, ft = slides_newton(theta, sa, guide0, guide_u, track0, track_u, kinetic_arm(0, p), p.mug,
                                    p.mut, p)
         q = ta + p.Lb * math.sin(theta) * fg - p.Lb * math.cos(theta) * ft
@@ -448,7 +448,7 @@ def slides_friction(theta, psi, dtheta, dpsi, a1, a3, n0, ua1, ua3, uan, sa, p):
         return a1 + q * ua1, a3 + q * ua3, n0 + q * uan, q, ta, fg, ft, _size(ft, track)
     q = -a1 / ua1
     ddpsi, normal = a3 + q * ua3, n0 + q * uan
-    track0, guide0 = support_forces(theta, psi, dtheta, dpsi, 0.0, ddpsi, normal, p)
+    track0, guide0 = floating_supports_in_air(theta, psi, dtheta, dpsi, 0.0, ddpsi, normal, p)
     ta, fg, ft = slides_newton(theta, 1.0 if q < 0.0 else -1.0, guide0, 0.0, track0, 0.0,
                                p.mua_s * p.ra, p.mug_s, p.mut_s, p)
     hold = ta + p.Lb * math.sin(theta) * fg - p.Lb * math.cos(theta) * ft

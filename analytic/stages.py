@@ -56,10 +56,9 @@ import math
 from typing import NamedTuple
 
 from analytic.aero import drag_rate
-from analytic.eom import (FLOATING, frame_coupling, frame_displacement, frame_velocity, horizontal_moment,
-                          joint_forces, loads, loads_sliding, machine_accelerations, slide_accelerations,
-                          slide_constraint, swing_accelerations, swing_drag, total_mass)
-from analytic.floating_arm import support_forces
+from analytic.eom import (FLOATING, floating_supports_in_air, frame_coupling, frame_displacement, frame_velocity,
+                          horizontal_moment, joint_forces, loads, loads_sliding, machine_accelerations,
+                          slide_accelerations, slide_constraint, swing_accelerations, total_mass)
 from analytic.friction import (lossy, machine_friction, rest_balance, slide_friction, slide_rate, static_arm,
                                swing_friction)
 from analytic.geometry import projectile_state, release_at
@@ -610,7 +609,7 @@ def machine_frame(y, m, momentum, start_time, start_y, start_x, time):
 
 
 def floating_supports(stage, y, p):
-    """A floating arm's ``(track_y, guide_x)``, N (``analytic.floating_arm.support_forces``), at the
+    """A floating arm's ``(track_y, guide_x)``, N (``analytic.eom.floating_supports_in_air``), at the
     stage-1 state ``[theta, phi, theta', phi']`` or the stage-2 state ``[theta, phi, psi, theta', phi', psi']``
     (the axle's, the guide's and the track's friction and the drag during the swing included)."""
     if lossy(p):
@@ -626,10 +625,7 @@ def floating_supports(stage, y, p):
         dtheta = y[2]
     else:
         psi, dtheta, dpsi = y[2], y[3], y[5]
-    track_y, guide_x = support_forces(y[0], psi, dtheta, dpsi, ddtheta, ddpsi, normal, p)
-    if p.drag_swing > 0.0:   # the air pushes the projectile: the supports push so much less [13.5]
-        drag_x, drag_y = swing_drag(y[0], psi, dtheta, dpsi, p)
-        track_y, guide_x = track_y - drag_y, guide_x - drag_x
+    track_y, guide_x = floating_supports_in_air(y[0], psi, dtheta, dpsi, ddtheta, ddpsi, normal, p)
     # Each support's normal force is the momentum's rate less the other support's friction [12.10].
     return track_y - guide_friction, guide_x - track_friction
 

@@ -338,8 +338,9 @@ SWING_DRAG_WIND = 12.0
 def swing_drag_cases() -> list[Case]:
     """The drag acting in stages 1-2 too (``projectile.drag_during_swing``): the paper's golf ball as
     published and at 61 deg, into a headwind and with a tailwind, with every loss, on the bolted
-    machine, the large machine's dense ball, and the floating arm into the headwind (its axle's motion
-    in the projectile's velocity)."""
+    machine, the large machine's dense ball, and the floating arm into the headwind with every loss it
+    has (its axle's motion in the projectile's velocity, the drag in its guide's and track's normal
+    forces)."""
     t3 = default_design()
     on = {"drag_during_swing": True}
     designs = [
@@ -350,8 +351,9 @@ def swing_drag_cases() -> list[Case]:
         dataclasses.replace(_variant(t3, "swing-drag-all-losses", projectile=on), losses=REALISTIC_LOSSES),
         _variant(fixed_design(t3, "fixed-swing-drag"), "fixed-swing-drag", projectile=on),
         _variant(large_design("hinged"), "large-swing-drag", projectile=on),
-        _variant(floating_design(t3, "floating-swing-drag-headwind"), "floating-swing-drag-headwind",
-                 projectile=on, environment={"wind_speed": -SWING_DRAG_WIND}),
+        dataclasses.replace(_variant(floating_design(t3, "floating-swing-drag"), "floating-swing-drag-headwind",
+                                     projectile=on, environment={"wind_speed": -SWING_DRAG_WIND}),
+                            losses=FLOATING_LOSSES),
     ]
     return [Case(design.name, design, "swing-drag") for design in designs]
 

@@ -272,3 +272,33 @@ def test_a_floating_arms_audit_closes_with_the_drag_before_release_and_the_paths
     assert abs(closing) <= AUDIT_TOL * shot.counterweight_energy_released
     assert lost["swing_drag"] != 0.0 and lost["axle"] > 0.0
     _assert_agree(design)
+
+
+@pytest.mark.parametrize("mode", [-1.0, 1.0], ids=["slipping-back", "slipping-forward"])
+@pytest.mark.parametrize("sample", FLOATING_SWING, ids=[f"floating{i}" for i in range(len(FLOATING_SWING))])
+def test_a_floating_arms_slides_rub_on_normal_forces_net_of_the_drag(sample, mode):
+    """Guide and track friction with the drag (derivations 12.10, 13.5): Coulomb's law on the normal
+    forces of Newton's law for the whole machine, the drag among its outside forces, and
+    ``M q'' = f + Q_friction + J^T D`` over (theta, psi), all from sympy."""
+    from sympy_model import machine
+
+    from analytic import friction
+
+    _, p, q, qd = sample
+    p = p._replace(mua=0.3, ra=0.02, mug=0.25, mut=0.35, mua_s=0.4, mug_s=0.3, mut_s=0.45)
+    qd = (mode * abs(qd[0]), 0.0, qd[2])
+    lagrangian = machine("floating-arm")
+    ddtheta, _, ddpsi, q_theta, fg, _, ft = friction.swing_friction(*q, *qd, mode, 0.0, p)
+    q4, qd4, acc = (*q, 0.0), (*qd, 0.0), np.array([ddtheta, 0.0, ddpsi, 0.0])
+    drag = expected_drag(lagrangian, p, q, qd)
+    m, f = lagrangian.mass(p, q4, qd4), lagrangian.forcing(p, q4, qd4)
+    pushed = lagrangian.force_on_projectile(p, q, drag)
+    residual = (m @ acc - f - pushed)[[0, 2]] - [q_theta, 0.0]
+    assert_close(residual, np.zeros(2), "M q'' - f - J^T D - Q", scale=float(np.max(np.abs(f))) + abs(q_theta))
+    rate = lagrangian.momentum_rate(p, q4, qd4, acc)
+    guide = rate[0] - drag[0] - ft
+    track = rate[1] + (p.mA + p.mW + p.mP) * p.g - drag[1] - fg
+    _, v_weight, v_axle = lagrangian.slides(p, q4, qd4, fg, ft)
+    scale = (p.mA + p.mW + p.mP) * p.g + abs(guide) + abs(track)
+    assert_close(fg, -np.sign(v_weight[1]) * p.mug * abs(guide), "guide friction", scale=scale)
+    assert_close(ft, -np.sign(v_axle[0]) * p.mut * abs(track), "track friction", scale=scale)
