@@ -53,8 +53,10 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "quick"))
 #: Test files run whole on one pytest-xdist worker, in file order: one Dask cluster serves the
 #: whole module (its start costs 5 to 20 s, and its last test kills one of its workers); the
 #: engine's rolling shots, a module fixture per frame mass (5 s each), are set up once rather
-#: than on both workers, each time a worker came back to the module (measured: 36 s of setup).
-ONE_WORKER_FILES = {"tests/test_analytic_sweep_dask.py", "tests/test_engine_rolling.py"}
+#: than on both workers, each time a worker came back to the module (measured: 36 s of setup); the
+#: recorded motion's pairs of paths, each shot once for the two tests that read it (``_both_paths``).
+ONE_WORKER_FILES = {"tests/test_analytic_sweep_dask.py", "tests/test_engine_rolling.py",
+                    "tests/test_analytic_motion.py"}
 
 
 def pytest_collection_modifyitems(config, items):
