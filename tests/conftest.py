@@ -60,9 +60,10 @@ ONE_WORKER_FILES = {"tests/test_analytic_sweep_dask.py", "tests/test_engine_roll
 
 
 #: The longest tests, by their seconds on the 2-core machine the suite is timed on (``--durations``;
-#: the cross-check's and the calibration's from whole-suite runs, the bench's alone): they start first, the longest first, so that the last of them ends while
-#: short tests remain to even out the workers. Only the order depends on these figures; a test
-#: missing here runs after them, in file order with the other slow tests.
+#: the cross-check's and the calibration's from whole-suite runs, the bench's alone): they start
+#: first, the longest first, so that the last of them ends while short tests remain to even out
+#: the workers. Only the order depends on these figures; a test missing here runs after them, in
+#: file order with the other slow tests.
 LONGEST = {"tests/test_crosscheck.py::test_full_default_suite_agrees": 110,
            "tests/test_analytic_calibrate_predict.py::test_held_out_predictions_fall_within_their_bands_at_the_"
            "stated_rate": 70,
