@@ -6,8 +6,10 @@ of what is generated, and the tests as what must hold for it.
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import datetime
+import functools
 import math
 
 from hypothesis import strategies as st
@@ -29,34 +31,45 @@ SMALLEST_NORMAL = 2.2250738585072014e-308
 #: One value in this many is drawn from the ends of the valid range rather than from its bulk.
 EDGE_ODDS = 8
 
+# The strategies of numbers below are built once a process for each set of arguments
+# (``functools.cache``) rather than at every draw of a design: hypothesis checks a strategy it has
+# not seen before on its first draw, and that check was most of the time of the extreme designs'
+# fuzz tests (their shots, a fraction of a second a batch). The same strategies draw the same values.
 
+
+@functools.cache
 def log_uniform(low: float, high: float) -> st.SearchStrategy[float]:
     """Floats spread evenly over the decades from ``low`` to ``high`` (both positive)."""
     return st.floats(math.log10(low), math.log10(high)).map(lambda e: min(max(10.0**e, low), high))
 
 
-def sometimes(edges: list[float], bulk: st.SearchStrategy[float]) -> st.SearchStrategy[float]:
+@functools.cache
+def sometimes(edges: tuple[float, ...], bulk: st.SearchStrategy[float]) -> st.SearchStrategy[float]:
     """``bulk``, or one of the ``edges`` of the valid range about once in ``EDGE_ODDS``."""
     return st.integers(0, EDGE_ODDS - 1).flatmap(lambda i: st.sampled_from(edges) if i == 0 else bulk)
 
 
+@functools.cache
 def positive(low: float) -> st.SearchStrategy[float]:
     """A positive number: log-uniform from ``low`` up to the largest a file may hold, or an end
     of that range (the smallest positive float, the smallest normal one, the largest)."""
-    return sometimes([SMALLEST_POSITIVE, SMALLEST_NORMAL, MAX_MAGNITUDE], log_uniform(low, MAX_MAGNITUDE))
+    return sometimes((SMALLEST_POSITIVE, SMALLEST_NORMAL, MAX_MAGNITUDE), log_uniform(low, MAX_MAGNITUDE))
 
 
+@functools.cache
 def non_negative(low: float) -> st.SearchStrategy[float]:
     """``positive(low)``, or zero."""
     return st.one_of(st.just(0.0), positive(low))
 
 
+@functools.cache
 def signed(low: float) -> st.SearchStrategy[float]:
     """Zero, or a number of magnitude log-uniform from ``low`` to the largest, either sign."""
-    magnitude = sometimes([MAX_MAGNITUDE], log_uniform(low, MAX_MAGNITUDE))
+    magnitude = sometimes((MAX_MAGNITUDE,), log_uniform(low, MAX_MAGNITUDE))
     return st.one_of(st.just(0.0), magnitude, magnitude.map(lambda x: -x))
 
 
+@functools.cache
 def fraction() -> st.SearchStrategy[float]:
     """A number strictly between 0 and 1: uniform, or within a few decades of either end."""
     near_zero = log_uniform(1e-12, 0.5)
@@ -64,6 +77,7 @@ def fraction() -> st.SearchStrategy[float]:
                      near_zero.map(lambda x: 1.0 - x))
 
 
+@functools.cache
 def open_angle(limit: float) -> st.SearchStrategy[float]:
     """An angle strictly between ``-limit`` and ``limit``, rad: anywhere, or near either end or zero."""
     return st.one_of(st.floats(-limit, limit, exclude_min=True, exclude_max=True),
@@ -93,7 +107,7 @@ def mass_near(reference: float, low: float, high: float) -> st.SearchStrategy[fl
 def extreme_machines(draw) -> Machine:
     """A machine with every number across its valid range and the lengths in any proportion
     the contract allows (the long arm reaches the base, the counterweight clears it)."""
-    arm_long = draw(sometimes([MAX_MAGNITUDE], log_uniform(LENGTH_LOW, MAX_MAGNITUDE)))
+    arm_long = draw(sometimes((MAX_MAGNITUDE,), log_uniform(LENGTH_LOW, MAX_MAGNITUDE)))
     pivot_height = arm_long * draw(fraction())
     arm_short = pivot_height * draw(fraction())
     counterweight_link = (pivot_height - arm_short) * draw(fraction())
@@ -195,7 +209,14 @@ def extreme_batches(size: int) -> st.SearchStrategy[list[Design]]:
 
 def file_forms() -> dict[str, dict]:
     """The default design as each file form holds it: direct, the paper's variables, an arm cut
-    from a beam, and both alternatives together."""
+    from a beam, and both alternatives together. A fresh copy each call, for a draw to mutate."""
+    return copy.deepcopy(_file_forms())
+
+
+@functools.cache
+def _file_forms() -> dict[str, dict]:
+    """``file_forms``, built once a process: reading the default design's file for each form,
+    each draw, would be most of a draw's cost (63 % of the file-reading fuzz test's profile)."""
     beam = {"width": 0.019, "depth": 0.038, "density": 450.0}
 
     def form(paper: bool, with_beam: bool) -> dict:
@@ -272,7 +293,8 @@ def design_files(draw, numbers: st.SearchStrategy = ANY_NUMBERS) -> tuple[dict, 
     Each mutation puts a value of any kind TOML holds (``numbers`` or ``NOT_NUMBERS``) at an
     existing key or table, deletes one, or adds a stray key (``STRAY_KEYS``) to a table.
     """
-    data = file_forms()[draw(st.sampled_from(sorted(file_forms())))]
+    forms = _file_forms()
+    data = copy.deepcopy(forms[draw(st.sampled_from(sorted(forms)))])
     touched = []
     for _ in range(draw(st.integers(0, 3))):
         kind = draw(st.sampled_from(["set", "delete", "add"]))

@@ -9,6 +9,7 @@ stages 1-2. The flight's agree as closely as the two paths' ranges do
 from __future__ import annotations
 
 import dataclasses
+import functools
 
 import numpy as np
 import pytest
@@ -41,11 +42,20 @@ def _designs():
     return designs
 
 
+@functools.cache
+def _both_paths(design, spacing, flight_spacing):
+    """The compiled path's shot and motion, and the reference path's shot with its histories, of
+    ``design`` at these spacings: once a process, since the history test at the reference's own
+    spacings and the energy test read the same pair (seconds for the balloon that never lands).
+    ``tests/conftest.py`` keeps this module on one pytest-xdist worker, so it is once a run."""
+    return (simulate_motion(design, sample_step=spacing, flight_sample_step=flight_spacing),
+            simulate(design, sample_step=spacing, flight_sample_step=flight_spacing, sampled_loads=False))
+
+
 @pytest.mark.parametrize("spacing, flight_spacing", SPACINGS)
 @pytest.mark.parametrize("design", _designs(), ids=lambda d: d.name)
 def test_the_recorded_motion_is_the_reference_history(design, spacing, flight_spacing):
-    shot, motion = simulate_motion(design, sample_step=spacing, flight_sample_step=flight_spacing)
-    reference = simulate(design, sample_step=spacing, flight_sample_step=flight_spacing, sampled_loads=False)
+    (shot, motion), reference = _both_paths(design, spacing, flight_spacing)
     history = reference.history
     assert shot.status is reference.status
     np.testing.assert_array_equal(motion.stage, history.stage)
@@ -63,8 +73,7 @@ def test_the_recorded_motion_is_the_reference_history(design, spacing, flight_sp
 
 @pytest.mark.parametrize("design", _designs(), ids=lambda d: d.name)
 def test_the_energies_are_the_reference_paths(design):
-    shot, motion = simulate_motion(design)
-    reference = simulate(design, sampled_loads=False)
+    (shot, motion), reference = _both_paths(design, None, None)
     for name in ("counterweight_energy_released", "projectile_energy_at_release", "energy_efficiency"):
         assert (getattr(shot, name) is None) == (getattr(reference, name) is None), name
         if getattr(reference, name) is not None:
