@@ -44,7 +44,7 @@ from scipy.integrate import DOP853
 from analytic import kernel, outcome, stages
 from analytic.aero import DRAG_TABLE
 from analytic.design import Design, largest_length
-from analytic.friction import rest_balance, slides_lossy
+from analytic.friction import holders, rest_balance
 from analytic.limits import DEFAULT_ATOL, DEFAULT_RTOL, swing_time_limit
 from analytic.parameters import N_PARAMS, params
 from analytic.result import PEAK_NAMES, Shot, Shots, Status
@@ -253,7 +253,7 @@ def failure_message(design: Design, status: Status, detail: float, value: float,
     fires = (value,)
     if status is Status.NEVER_FIRES and not design.losses.ideal:
         p = params(design)
-        fires = (stages.fires(p)[0], *rest_balance(p), outcome.friction_holders(slides_lossy(p)))
+        fires = (stages.fires(p)[0], *rest_balance(p), outcome.friction_holders(*holders(p)))
     m = design.machine
     return outcome.failure_message(status, time=end_time - release_time if status is Status.NO_LANDING else end_time,
                                    detail=0 if math.isnan(detail) else int(detail), time_limit=t_limit,

@@ -361,6 +361,15 @@ def slides_lossy(p):
     return p.mug_s > 0.0 or p.mut_s > 0.0
 
 
+def holders(p):
+    """``(axle, guide, track)``: which joints' static friction holds the arm at rest, for the message
+    that says so (``outcome.friction_holders``); a hinged or fixed machine's is its axle's (the base's
+    is weighed apart)."""
+    if not slides_lossy(p):
+        return True, False, False
+    return p.mua_s > 0.0, p.mug_s > 0.0, p.mut_s > 0.0
+
+
 def _sign(x):
     return 1.0 if x > 0.0 else (-1.0 if x < 0.0 else 0.0)
 

@@ -87,20 +87,23 @@ class LiftoffFailure(enum.IntEnum):
 # What each outcome says
 # --------------------------------------------------------------------------- #
 
-#: Whose friction holds the arm at rest, in words: the axle's (``never_fires_message``) ...
+#: Whose friction holds the arm at rest, in words, where only the axle's can (``never_fires_message``).
 AXLE_HOLDS = "the axle's"
-#: ... or, on a floating arm with guide or track friction, the three that act on its turning together.
-SLIDES_HOLD = "the axle's, the guide's and the track's"
 
 
-def friction_holders(slides: bool) -> str:
-    """Whose friction holds the arm at rest: the axle's, or with a floating arm's guide or track
-    friction (``slides``) the axle's, the guide's and the track's."""
-    return SLIDES_HOLD if slides else AXLE_HOLDS
+def friction_holders(axle: bool = True, guide: bool = False, track: bool = False) -> str:
+    """Whose static friction holds the arm at rest, in words: the axle's, and a floating arm's guide's
+    and track's, each named where it has friction (``analytic.friction.holders``; the engine's
+    friction joints)."""
+    names = [name for name, present in ((AXLE_HOLDS, axle), ("the guide's", guide), ("the track's", track))
+             if present]
+    if len(names) <= 1:
+        return names[0] if names else AXLE_HOLDS
+    return f"{', '.join(names[:-1])} and {names[-1]}"
 
 
 def never_fires_message(arm_acceleration: float, drive: float | None = None, axle_hold: float | None = None,
-                        base_hold: float | None = None, holders: str = AXLE_HOLDS) -> str:
+                        base_hold: float | None = None, holders: str = AXLE_HOLDS, held_by: str | None = None) -> str:
     """``arm_acceleration``: the arm's angular acceleration at rest, rad/s^2 (clockwise is negative).
 
     With friction, the torque balance at rest, N m (``analytic.friction.rest_balance``;
@@ -108,8 +111,12 @@ def never_fires_message(arm_acceleration: float, drive: float | None = None, axl
     turning the arm clockwise, ``axle_hold`` and ``base_hold`` the most the axle's and
     the base's friction can hold against it. ``base_hold`` None: the model weighs the
     axle's alone (the engine), and the base holds, through the sling, what the axle does not.
-    ``holders``: whose friction ``axle_hold`` is, in words (``friction_holders``).
+    ``holders``: whose friction ``axle_hold`` is, in words (``friction_holders``). ``held_by``: whose
+    friction a model found holding the arm without weighing the torques (the engine's floating arm).
     """
+    if drive is None and held_by is not None:
+        return (f"the counterweight cannot lift the arm: {held_by} friction holds it at rest (at rest the "
+                f"arm's angular acceleration is {arm_acceleration:+.3g} rad/s^2)")
     if drive is None:
         return (f"the counterweight cannot lift the arm: at rest the arm's angular "
                 f"acceleration is {arm_acceleration:+.4g} rad/s^2, not clockwise (negative)")

@@ -109,7 +109,7 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
     if not ddtheta0 < 0.0:
         if histories:
             history.append(_history(Stage.SLIDE, Segment(np.zeros(1), y1[None, :], None, 0.0, y1, {}), p))
-        balance = ((*friction.rest_balance(p), outcome.friction_holders(friction.slides_lossy(p)))
+        balance = ((*friction.rest_balance(p), outcome.friction_holders(*friction.holders(p)))
                    if friction.lossy(p) else ())
         return finish(design, p, history, segments, Status.NEVER_FIRES,
                        outcome.failure_message(Status.NEVER_FIRES, fires=(ddtheta0, *balance)))

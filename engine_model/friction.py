@@ -58,6 +58,7 @@ import numpy as np
 import pymunk
 from pymunk._chipmunk import lib
 
+from analytic import outcome
 from analytic.design import Design
 from engine_model import kinematics as kin
 from engine_model.build import Rig, ballast_mass
@@ -359,12 +360,11 @@ def slides(friction: Friction | None) -> bool:
     return friction is not None and (friction.guide is not None or friction.track is not None)
 
 
-def held_by_slides_message(friction: Friction, arm_acceleration: float) -> str:
-    """Why a floating arm whose guide or track has friction never fires: friction holds it at rest."""
-    held = " and the ".join(name for name, joint in (("track's", friction.track), ("guide's", friction.guide),
-                                                     ("axle's", friction.axle)) if joint is not None)
-    return (f"the counterweight cannot lift the arm: the {held} friction holds the machine at rest "
-            f"(at rest the arm's angular acceleration is {arm_acceleration:+.3g} rad/s^2)")
+def holders(friction: Friction) -> str:
+    """Whose friction holds a floating arm at rest, in the words both models use
+    (``analytic.outcome.friction_holders``): each joint that has friction."""
+    return outcome.friction_holders(friction.axle is not None, friction.guide is not None,
+                                    friction.track is not None)
 
 
 def track_axle_load(friction: Friction, rig: Rig, step: float) -> float:

@@ -108,7 +108,8 @@ def run_machine(design: Design, dt: float, iterations: int, sling: str, limit: i
             run.tension.append(0.0)
             run.friction_impulse.append(fr.impulses(friction, True))
             run.status = Status.NEVER_FIRES
-            run.message = (fr.held_by_slides_message(friction, arm_acceleration) if fr.slides(friction) else
+            run.message = (outcome.never_fires_message(arm_acceleration, held_by=fr.holders(friction))
+                           if fr.slides(friction) else
                            outcome.never_fires_message(arm_acceleration, -balance.gravity_torque,
                                                        balance.holding_torque))
             return run, rig

@@ -199,7 +199,8 @@ def test_a_machine_its_slides_hold_at_rest_never_fires_and_says_why():
 
     for shot in (simulate(HELD), simulate_fast(HELD)):
         assert shot.status is Status.NEVER_FIRES
-        assert "the axle's, the guide's and the track's friction holds it at rest" in shot.message
+        # The words of either model, naming the frictions the design has (no axle friction here).
+        assert "the guide's and the track's friction holds it at rest" in shot.message, shot.message
     drive, hold, base = friction.rest_balance(params(HELD))
     assert 0.0 < drive <= hold and base == 0.0
 

@@ -206,15 +206,28 @@ def test_the_track_holds_the_machine_at_rest_from_the_coefficient_the_balance_gi
     shot = simulate(floating(track_friction=factor * track_threshold(floating())), dt=DT)
     if holds:
         assert shot.status is Status.NEVER_FIRES and shot.range is None
-        assert "the track's friction holds the machine at rest" in shot.message, shot.message
+        assert "the track's friction holds it at rest" in shot.message, shot.message
     else:
         assert shot.status is Status.OK, shot.message
+
+
+def test_both_models_say_which_friction_holds_the_machine_in_the_same_words():
+    """One message function (``analytic.outcome.never_fires_message``) for both models: the words
+    before each model's own figures agree, naming only the frictions the design has."""
+    from analytic.reference import simulate as analytic_simulate
+
+    design = floating(track_friction=1.05 * track_threshold(floating()))
+    engine, analytic = simulate(design, dt=DT), analytic_simulate(design, histories=False)
+    assert engine.status is analytic.status is Status.NEVER_FIRES
+    words = "the counterweight cannot lift the arm: the track's friction holds it at rest ("
+    assert engine.message.startswith(words) and analytic.message.startswith(words), (engine.message,
+                                                                                      analytic.message)
 
 
 def test_huge_friction_on_both_slides_keeps_the_machine_at_rest():
     shot = simulate(floating(guide_friction=50.0, track_friction=50.0), dt=DT)
     assert shot.status is Status.NEVER_FIRES
-    assert "the track's and the guide's friction holds" in shot.message
+    assert "the guide's and the track's friction holds it at rest" in shot.message
 
 
 def test_the_guide_alone_slows_the_start_as_its_coefficient_grows():
