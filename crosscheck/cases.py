@@ -25,9 +25,6 @@ class Case:
     design: Design
     group: str
     expected: str | None = None  # the status a failure case is known to end in
-    #: The engine's first step as a fraction of the run's ``dt``, for a machine known to need a finer
-    #: one (``crosscheck.comparison.compare`` halves from there when its diagnostics ask).
-    engine_step_fraction: float = 1.0
 
 
 #: The sample alternates the problem file's arm (the default design's pine beam)

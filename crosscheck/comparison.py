@@ -164,12 +164,12 @@ def compare(case: Case, dt: float = DEFAULT_DT, engine: Callable[[Design, float]
     Parameters
     ----------
     case : the design, its name and group.
-    dt : the engine's first step, s (times the case's ``engine_step_fraction``).
+    dt : the engine's first step, s.
     engine : ``(design, dt) -> Shot`` with ``EngineDiagnostics`` in ``shot.diagnostics``.
     analytic : ``design -> Shot``, used when ``analytic_shot`` is None.
     """
     a = with_dissipated_work(analytic(case.design) if analytic_shot is None else analytic_shot)
-    step = dt * case.engine_step_fraction
+    step = dt
     for halvings in range(tol.MAX_STEP_HALVINGS + 1):
         last = halvings == tol.MAX_STEP_HALVINGS
         try:

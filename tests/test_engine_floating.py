@@ -297,9 +297,9 @@ def test_the_text_report_shows_the_support_loads():
 def test_the_energy_is_kept_to_second_order_in_the_step():
     """The state rows read the axle's velocity from its carriage and the counterweight's from its
     slider (``stepping.row_bodies``): the arm's origin as read carries the pivot's first-order
-    correction speed, which on a moving axle entered the energies at 3e-4 of the available energy at
-    a 2.5e-5 s step (falling only in proportion to the step). Measured on the paper's floating arm:
-    5.9e-7 at 5e-5 s, 1.5e-7 at 2.5e-5 s."""
+    correction speed, which on a moving axle would enter the energies at 3e-4 of the available
+    energy at a 2.5e-5 s step (falling only in proportion to the step). Measured on the paper's
+    floating arm: 5.9e-7 at 5e-5 s, 1.5e-7 at 2.5e-5 s."""
     from crosscheck.tolerances import ENGINE_ENERGY_TRUST
 
     coarse, fine = (simulate(DESIGNS["paper"], dt=dt).diagnostics.energy_error for dt in (5e-5, 2.5e-5))
