@@ -12,6 +12,7 @@ from analytic.cli_shared import (EXIT_INVALID, EXIT_NO_THROW, EXIT_OK, OutputPat
 from analytic.design import Design, DesignError
 from analytic.design_file import chosen_units, default_design, load_design
 from analytic.report import format_shot
+from analytic.scope import SCOPES
 from analytic.units import LENGTH, NUMBER, Written, command_line_value, display, with_units
 
 
@@ -149,8 +150,8 @@ def _chart(args: argparse.Namespace) -> int:
 def _compile(args: argparse.Namespace) -> int:
     from analytic import fast
 
-    seconds = fast.compile(progress=True)
-    print(f"fast path ready ({seconds:.1f} s)")
+    seconds = fast.compile_all([s for s in SCOPES if s.name in args.scope] if args.scope else SCOPES, progress=True)
+    print("fast path ready (" + ", ".join(f"{name} {s:.1f} s" for name, s in seconds.items()) + ")")
     return EXIT_OK
 
 
@@ -204,6 +205,8 @@ def build_parser() -> argparse.ArgumentParser:
     cal.set_defaults(func=calibrate_cli.run)
     comp = commands.add_parser("compile", help="compile the fast path into its disk cache now "
                                                "(make does it on install; later runs load it)")
+    comp.add_argument("--scope", action="append", choices=[s.name for s in SCOPES],
+                      help="compile only this scope (repeatable; default: all of them, analytic.scope)")
     comp.set_defaults(func=_compile)
     ben = commands.add_parser("bench", add_help=False,
                               help="time both analytic paths (and the engine) on the same designs, as ratios in "

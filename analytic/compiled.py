@@ -6,9 +6,12 @@ which the reference path runs as it is. This module gives the compiled path
 the same functions, compiled (``compile_modules``): for each model module a
 namespace whose functions are numba dispatchers of the very same code
 objects, with their calls to each other rebound to the compiled versions.
-``kernel_twins`` are for compiled callers only (the kernel: ``Internal``
-dispatchers, compiled once per argument type and emitted as machine code only
-inside the one cached entry point ``kernel.shots``); ``callable_twins``
+``kernel_scope(scope)`` compiles the model and the kernel for compiled callers
+only (``Internal`` dispatchers, compiled once per argument type and emitted as
+machine code only inside the scope's one cached entry point, its
+``kernel.shots``), with the scope's switches in the model's globals
+(``analytic.scope``: what a smaller copy leaves out is pruned before it is
+typed); ``kernel_twins`` are the whole model's, for ``callable_twins``
 (``compiled.eom_``, ``compiled.stages_``, ...) are for Python callers (the
 tests compare them with the Python functions). numba's public
 ``register_jitable`` does the same job with less machinery, and was measured
@@ -17,8 +20,8 @@ bit-identical, but a cold compile 1.37x as long (30.8 against 22.5 s of CPU,
 median of three pairs), because each registered function is compiled and
 emitted as an entry point of its own; so the model is compiled here. Importing
 this module imports numba; ``import analytic`` and the reference path never
-do. Only ``kernel.shots`` is cached on disk; a cold compile takes tens of
-seconds of CPU (``python -m benchmarks --cold`` measures it).
+do. Only each scope's ``kernel.shots`` is cached on disk; a cold compile takes
+tens of seconds of CPU (``python -m benchmarks --cold`` measures each scope's).
 
 numba caches machine code on disk keyed on each function's own source file,
 not on the files it calls into: after an edit to ``eom.py`` the cached
@@ -43,7 +46,9 @@ from numba.core.registry import CPUDispatcher
 from llvmlite import binding as llvm
 from llvmlite import ir as llvmir
 
-from analytic import aero, eom, floating_arm, friction, geometry, limits, outcome, parameters, peaks, sequence, stages
+from analytic import (aero, eom, floating_arm, friction, geometry, limits, outcome, parameters, peaks, sequence, stages)
+from analytic import scope as switches   # (the scopes' switches; a parameter below is named scope)
+from analytic.scope import EVERYTHING, Scope
 
 #: The modules whose functions are compiled, each calling only those before it.
 MODEL_MODULES = (geometry, limits, peaks, aero, floating_arm, eom, friction, stages, sequence)
@@ -67,7 +72,7 @@ OPTIONS = dict(nogil=True, error_model="numpy")
 #: samples of a batch with them). These functions allocate nothing and return
 #: no array, and their callers hold every array they are given for the whole
 #: call, so the counts are not needed. A function that allocates is declared with
-#: ``internal(allocates=True)`` and counts as usual; numba refuses to compile
+#: ``analytic.marks.internal(allocates=True)`` and counts as usual; numba refuses to compile
 #: an allocation in one that is not.
 INTERNAL = dict(OPTIONS, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)
 #: Options of a function Python calls: with its wrappers, and cached.
@@ -90,8 +95,8 @@ INLINE = {"floating_arm": ("terms",),
 _HERE = Path(__file__).parent
 #: Every source whose change must invalidate the compiled cache: the model,
 #: the modules whose constants it reads at import, this module and the kernel.
-SOURCES = tuple(Path(module.__file__) for module in (*MODEL_MODULES, outcome, parameters)) + tuple(
-    _HERE / name for name in ("compiled.py", "dop853.py", "kernel_loads.py", "kernel.py"))
+SOURCES = tuple(Path(module.__file__) for module in (*MODEL_MODULES, outcome, parameters, switches)) + tuple(
+    _HERE / name for name in ("compiled.py", "marks.py", "dop853.py", "kernel_loads.py", "kernel.py"))
 #: Name of the stamp file beside the cached machine code.
 STAMP_NAME = "analytic-model-sources.sha256"
 
@@ -189,21 +194,15 @@ class Internal(CPUDispatcher):
                         "call analytic.compiled's Python-callable twin instead")
 
 
-def internal(function=None, *, allocates=False, **options):
-    """Decorator: ``function`` as an ``Internal`` dispatcher (``INTERNAL``'s options plus ``options``).
-
-    ``allocates``: the function creates or returns arrays, so it keeps numba's
-    reference counting (the others do without it: ``INTERNAL``).
-    """
-    if allocates:
-        options = {"_nrt": True, **options}
-
-    def wrap(f):
-        return Internal(py_func=f, locals={}, targetoptions={**INTERNAL, **options})
-    return wrap if function is None else wrap(function)
+def dispatcher(function, **options) -> Internal:
+    """``function`` as an ``Internal`` dispatcher: ``INTERNAL``'s options, then those its
+    ``analytic.marks.internal`` mark gives, then ``options``."""
+    return Internal(py_func=function, locals={},
+                    targetoptions={**INTERNAL, **getattr(function, "compile_options", {}), **options})
 
 
-def compile_modules(modules, compile_function, inline=None, callees=None) -> dict[str, types.ModuleType]:
+def compile_modules(modules, compile_function, inline=None, callees=None,
+                    constants=None) -> dict[str, types.ModuleType]:
     """numba twins of every function defined in ``modules``, by module short name.
 
     Each twin is a new function object on the original's code, with its own
@@ -214,7 +213,8 @@ def compile_modules(modules, compile_function, inline=None, callees=None) -> dic
 
     ``compile_function(function, inline)`` makes a dispatcher (``inline``:
     whether it is to be inlined into its callers); ``inline`` maps a short
-    module name to the functions to inline.
+    module name to the functions to inline. ``constants`` replaces those of
+    the modules' globals it names (a scope's switches: ``analytic.scope``).
 
     Returns
     -------
@@ -225,11 +225,13 @@ def compile_modules(modules, compile_function, inline=None, callees=None) -> dic
     namespaces = []
     for module in modules:
         namespace = dict(vars(module))
+        namespace.update({name: value for name, value in (constants or {}).items() if name in namespace})
         short = module.__name__.rsplit(".", 1)[-1]
         for name, value in vars(module).items():
             if isinstance(value, types.FunctionType) and value.__module__ == module.__name__:
                 twin = types.FunctionType(value.__code__, namespace, name, value.__defaults__, value.__closure__)
                 twin.__qualname__, twin.__module__, twin.__doc__ = value.__qualname__, value.__module__, value.__doc__
+                twin.__dict__.update(value.__dict__)   # (``internal``'s and ``entry``'s marks)
                 twins[value] = compile_function(twin, name in (inline or {}).get(short, ()))
         namespaces.append((module, namespace))
     compiled = {}
@@ -288,8 +290,50 @@ def drop_stale_cache(directory: Path, paths, stamp_name: str = STAMP_NAME) -> bo
     return True
 
 
-#: The model compiled for the kernel (``Internal`` dispatchers), by module short name.
-kernel_twins = compile_modules(MODEL_MODULES, lambda f, inline: internal(f, forceinline=inline), INLINE)
+def _scope_function(scope: Scope, label: bool = True):
+    """``compile_modules``' ``compile_function`` for ``scope``: its entry point as a cached
+    ``CALLABLE``, every other function an ``Internal`` dispatcher with its ``internal`` options.
+
+    With ``label``, each function's name ends in the scope's (``integrate_ideal``), and so
+    does its symbol in the machine code. numba names a symbol by the function's module, name
+    and a count of the functions its process has compiled, and assumes one definition per
+    symbol. Two scopes' kernels, compiled in different processes and loaded into one, could
+    otherwise hold different machine code under one symbol, and one kernel would call the
+    other's copy (measured: the ideal scope with its loads then ran the loads-free scope's
+    ``integrate``). The entry point's name also keys its disk cache (``shots_ideal``).
+    """
+    def compile_function(function, inline):
+        if label:
+            function.__qualname__ = f"{function.__qualname__}_{scope.name}"
+        if getattr(function, "entry_point", False):
+            return numba.njit(**CALLABLE)(function)
+        return dispatcher(function, forceinline=inline)
+    return compile_function
+
+
+_scopes: dict[str, dict[str, types.ModuleType]] = {}
+
+
+def kernel_scope(scope: Scope) -> dict[str, types.ModuleType]:
+    """The model and the kernel (``analytic.dop853``, ``kernel_loads``, ``kernel``) compiled in
+    ``scope``, by module short name: ``kernel_scope(scope)["kernel"].shots`` is its entry point.
+
+    Each scope has its own dispatchers, built on first use (compiled when first called, or
+    loaded from the disk cache); the model's globals hold the scope's switches, so numba
+    prunes what the scope leaves out before it types anything (``analytic.scope``).
+    """
+    if scope.name not in _scopes:
+        from analytic import dop853, kernel, kernel_loads   # (they import this module's decorators)
+        _scopes[scope.name] = compile_modules((*MODEL_MODULES, dop853, kernel_loads, kernel), _scope_function(scope),
+                                              INLINE, constants=scope.globals())
+    return _scopes[scope.name]
+
+
+#: The model compiled as the kernel calls it, in the scope that handles everything
+#: (``Internal`` dispatchers), by module short name: the callees of ``callable_twins``.
+#: (``kernel_scope`` builds each scope's own; the kernel's modules import this one.)
+kernel_twins = compile_modules(MODEL_MODULES, _scope_function(EVERYTHING, label=False), INLINE,
+                               constants=EVERYTHING.globals())
 #: The model compiled for Python callers (tests, the benchmark): each function
 #: with its wrappers and disk cache, calling the kernel's twins.
 callable_twins = compile_modules(MODEL_MODULES, lambda f, inline: numba.njit(**CALLABLE)(f),

@@ -16,11 +16,8 @@ import math
 
 import numpy as np
 
-from analytic.compiled import internal, kernel_twins
-from analytic.stages import ROOT_RELATIVE_TOLERANCE, ROOT_TIME_TOLERANCE
-
-# The model's functions, compiled (``analytic.compiled``).
-derivative, event_value = kernel_twins["stages"].derivative, kernel_twins["stages"].event_value
+from analytic.marks import internal
+from analytic.stages import ROOT_RELATIVE_TOLERANCE, ROOT_TIME_TOLERANCE, derivative, event_value
 
 # DOP853 step-size control (Hairer, Norsett & Wanner, "Solving Ordinary
 # Differential Equations I", 2nd ed., II.4 and II.10; the values scipy uses).

@@ -57,6 +57,7 @@ from __future__ import annotations
 
 import math
 
+from analytic.scope import FLOATING_ARM, ROLLING, SWING_DRAG   # what this copy handles (analytic.scope)
 from analytic.aero import DRAG_TABLE, drag_rate
 from analytic.floating_arm import support_forces as floating_support_forces
 from analytic.floating_arm import terms as floating_terms
@@ -78,9 +79,9 @@ def terms(theta, phi, psi, dtheta, dphi, dpsi, p):
     Returns ``(m11, m12, m13, m22, m33, f1, f2, f3)``; for a fixed machine ``m12 = 0``, ``m22 = 1``
     (eq. 11.4), as for a floating arm, whose (theta, psi) entries are ``analytic.floating_arm.terms``'s [12].
     """
-    if p.kind == FLOATING:
+    if FLOATING_ARM and p.kind == FLOATING:
         m11, m13, m33, f1, f3 = floating_terms(theta, psi, dtheta, dpsi, p)
-        if p.drag_swing > 0.0:
+        if SWING_DRAG and p.drag_swing > 0.0:
             q1, q3 = drag_generalised(theta, psi, dtheta, dpsi, p)
             f1 += q1
             f3 += q3
@@ -106,7 +107,7 @@ def terms(theta, phi, psi, dtheta, dphi, dpsi, p):
           + p.mP * p.La * p.Ls * s_psi * dpsi * (2.0 * dtheta + dpsi))
     f2 = -p.mW * p.Lw * (p.g * s_w + p.Lb * s_phi * dtheta * dtheta)
     f3 = p.mP * p.Ls * (p.g * s_b - p.La * s_psi * dtheta * dtheta)
-    if p.drag_swing > 0.0:
+    if SWING_DRAG and p.drag_swing > 0.0:
         q1, q3 = drag_generalised(theta, psi, dtheta, dpsi, p)
         f1 += q1
         f3 += q3
@@ -145,7 +146,7 @@ def floating_supports_in_air(theta, psi, dtheta, dpsi, ddtheta, ddpsi, normal, p
     """A floating arm's ``(track_y, guide_x)``, N, before friction: ``floating_arm.support_forces``
     less the drag during the swing, which pushes the machine too (eq. 13.5)."""
     track_y, guide_x = floating_support_forces(theta, psi, dtheta, dpsi, ddtheta, ddpsi, normal, p)
-    if p.drag_swing > 0.0:
+    if SWING_DRAG and p.drag_swing > 0.0:
         drag_x, drag_y = swing_drag(theta, psi, dtheta, dpsi, p)
         track_y, guide_x = track_y - drag_y, guide_x - drag_x
     return track_y, guide_x
@@ -154,7 +155,7 @@ def floating_supports_in_air(theta, psi, dtheta, dpsi, ddtheta, ddpsi, normal, p
 def swing_drag_reach(p):
     """``-dx_P/dtheta`` of the long arm's tip over ``cos(theta)``, m: ``La``; a floating arm's
     ``La + Lb``, its axle at ``x_A = -Lb sin(theta)`` carrying the tip (eq. 13.5)."""
-    return p.La + p.Lb if p.kind == FLOATING else p.La
+    return p.La + p.Lb if FLOATING_ARM and p.kind == FLOATING else p.La
 
 
 def swing_accelerations(theta, phi, psi, dtheta, dphi, dpsi, p):
@@ -163,7 +164,7 @@ def swing_accelerations(theta, phi, psi, dtheta, dphi, dpsi, p):
     Fixed frame: M q'' = f by block elimination (M23 = 0). Rolling frame:
     the reduced system of ``rolling_terms`` (M23 != 0), solved whole.
     """
-    if p.rolling:
+    if ROLLING and p.rolling:
         m11, m12, m13, m22, m23, m33, f1, f2, f3 = rolling_terms(theta, phi, psi, dtheta, dphi, dpsi, p)
         return solve_symmetric(m11, m12, m13, m22, m23, m33, f1, f2, f3)
     m11, m12, m13, m22, m33, f1, f2, f3 = terms(theta, phi, psi, dtheta, dphi, dpsi, p)
@@ -247,7 +248,7 @@ def machine_terms(theta, phi, dtheta, dphi, m):
     frame ``rolling_terms`` takes the machine's own mass and moment. A momentum
     the frame keeps from release changes nothing here (section 10.9).
     """
-    if m.rolling:
+    if ROLLING and m.rolling:
         m11, m12, _, m22, _, _, f1, f2, _ = rolling_terms(theta, phi, 0.0, dtheta, dphi, 0.0, m)
         return m11, m12, m22, f1, f2
     m11, m12, _, m22, _, f1, f2, _ = terms(theta, phi, 0.0, dtheta, dphi, 0.0, m)
@@ -282,13 +283,13 @@ def ground_force(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, p):
     turn_sling = s_b * (ddtheta + ddpsi) + c_b * (dtheta + dpsi) ** 2
     lift = (-p.mA * p.d * turn_arm + p.mW * (p.Lb * turn_arm + p.Lw * turn_weight)
             - p.mP * (p.La * turn_arm + p.Ls * turn_sling))
-    return (p.mA + p.mW + p.mP + (p.Mf if p.rolling else 0.0)) * p.g + lift
+    return (p.mA + p.mW + p.mP + (p.Mf if ROLLING and p.rolling else 0.0)) * p.g + lift
 
 
 def frame_velocity(theta, phi, psi, dtheta, dphi, dpsi, p):
     """X', m/s: ``-S' / Mt`` (zero momentum); 0 for a fixed frame; a floating arm's axle's x_A' [12]."""
-    if not p.rolling:
-        return -p.Lb * math.cos(theta) * dtheta if p.kind == FLOATING else 0.0
+    if not (ROLLING and p.rolling):
+        return -p.Lb * math.cos(theta) * dtheta if FLOATING_ARM and p.kind == FLOATING else 0.0
     b1, b2, b3, _ = frame_coupling(theta, phi, psi, dtheta, dphi, dpsi, p)
     return -(b1 * dtheta + b2 * dphi + b3 * dpsi) / total_mass(p)
 
@@ -299,8 +300,8 @@ def frame_displacement(theta, phi, psi, p):
     A floating arm's axle moves as a frame would: its ``x_A = -Lb sin(theta)`` from the guide [12], so that
     every position and velocity on the ground adds it as a rolling frame's.
     """
-    if not p.rolling:
-        return -p.Lb * math.sin(theta) if p.kind == FLOATING else 0.0
+    if not (ROLLING and p.rolling):
+        return -p.Lb * math.sin(theta) if FLOATING_ARM and p.kind == FLOATING else 0.0
     rest = horizontal_moment(p.theta0, p.phi0, -0.5 * math.pi - p.theta0, p)   # the sling along the base
     return (rest - horizontal_moment(theta, phi, psi, p)) / total_mass(p)
 
@@ -340,7 +341,7 @@ def slide_system(theta, phi, dtheta, dphi, p):
     With a rolling frame M and f are those of ``rolling_terms`` (M23 != 0).
     """
     psi, dpsi, s, c, sin_beta = slide_constraint(theta, dtheta, p)
-    if p.rolling:
+    if ROLLING and p.rolling:
         m11, m12, m13, m22, m23, m33, f1, f2, f3 = rolling_terms(theta, phi, psi, dtheta, dphi, dpsi, p)
         a = m11 + 2.0 * s * m13 + s * s * m33
         r1 = f1 + s * f3 - (m13 + s * m33) * c
@@ -363,7 +364,7 @@ def slide_accelerations(theta, phi, dtheta, dphi, p):
     ddtheta = (r1 * e - r2 * b) / det
     ddphi = (r2 * a - r1 * b) / det
     ddpsi = s * ddtheta + c
-    if p.rolling:
+    if ROLLING and p.rolling:
         normal = (m13 * ddtheta + m23 * ddphi + m33 * ddpsi - f3) / (-p.Ls * sin_beta)
     else:
         normal = (m13 * ddtheta + m33 * ddpsi - f3) / (-p.Ls * sin_beta)
@@ -398,7 +399,7 @@ def kinetic_energy(theta, phi, psi, dtheta, dphi, dpsi, p):
     dbeta = dtheta + dpsi
     projectile = 0.5 * p.mP * (p.La * p.La * dtheta * dtheta + p.Ls * p.Ls * dbeta * dbeta
                                + 2.0 * p.La * p.Ls * dtheta * dbeta * math.cos(psi))
-    if p.rolling or p.kind == FLOATING:
+    if (ROLLING and p.rolling) or (FLOATING_ARM and p.kind == FLOATING):
         # On the ground every part moves with X' (a floating arm's: its axle's) besides: the projectile
         # gains mP X' vx + mP X'^2 / 2, and the frame (counted with the machine) Mf X'^2 / 2.
         b1, b2, b3, _ = frame_coupling(theta, phi, psi, dtheta, dphi, dpsi, p)
@@ -406,7 +407,7 @@ def kinetic_energy(theta, phi, psi, dtheta, dphi, dpsi, p):
         dx = frame_velocity(theta, phi, psi, dtheta, dphi, dpsi, p)   # X'
         vx = -p.La * dtheta * math.cos(theta) - p.Ls * dbeta * math.cos(theta + psi)
         projectile += p.mP * dx * (vx + 0.5 * dx)
-        carried = total_mass(p) - p.mP if p.rolling else p.mA + p.mW
+        carried = total_mass(p) - p.mP if ROLLING and p.rolling else p.mA + p.mW
         machine += dx * (moment_rate - p.mP * vx) + 0.5 * carried * dx * dx
     return machine, projectile
 
@@ -422,8 +423,8 @@ def kinetic_energy(theta, phi, psi, dtheta, dphi, dpsi, p):
 
 def frame_acceleration(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, p):
     """X'', m/s^2: ``-(b.q'' + c) / Mt`` (zero momentum, [8]); 0 for a fixed frame; a floating arm's x_A''."""
-    if not p.rolling:
-        if p.kind == FLOATING:
+    if not (ROLLING and p.rolling):
+        if FLOATING_ARM and p.kind == FLOATING:
             return -p.Lb * (math.cos(theta) * ddtheta - math.sin(theta) * dtheta * dtheta)
         return 0.0
     b1, b2, b3, c = frame_coupling(theta, phi, psi, dtheta, dphi, dpsi, p)
@@ -459,10 +460,10 @@ def joint_forces_sliding(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, dd
     """
     axle_x, axle_y, hinge_x, hinge_y, sling_x, sling_y = joint_forces_in_gravity(
         theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, normal, base_force, p.g, p)
-    if p.drag_swing > 0.0:
+    if SWING_DRAG and p.drag_swing > 0.0:
         dx, dy = swing_drag(theta, psi, dtheta, dpsi, p)
         sling_x, sling_y = sling_x - dx, sling_y - dy
-        if p.kind == FLOATING:   # the guide's push is the machine's less D_x; the mount carries D_x back [13.5]
+        if FLOATING_ARM and p.kind == FLOATING:   # the guide's push is the machine's less D_x; the mount carries D_x back [13.5]
             hinge_x, axle_y = hinge_x + dx, axle_y - dy
         else:
             axle_x, axle_y = axle_x - dx, axle_y - dy
@@ -493,7 +494,7 @@ def joint_forces_in_gravity(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi,
     sling_y = p.mP * (gravity + p.La * arm_y + p.Ls * sling_uy) - normal
     axle_x = p.mA * (ddx + p.d * arm_x) + hinge_x + sling_x
     axle_y = p.mA * (gravity + p.d * arm_y) + hinge_y + sling_y
-    if p.kind == FLOATING:
+    if FLOATING_ARM and p.kind == FLOATING:
         # The supports: the track's vertical push at the axle and the guide's horizontal push on the
         # counterweight (axle_x above, the whole machine's), which its mount on the arm does not carry [12].
         return 0.0, axle_y, hinge_x - axle_x, hinge_y, sling_x, sling_y
@@ -548,7 +549,7 @@ def loads_sliding(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, no
     tension = sling_x * math.sin(beta) - sling_y * math.cos(beta)   # -S . (-sin beta, cos beta)
     felt_x = sling_x + base_force
     felt_y = sling_y + normal
-    if p.drag_swing > 0.0:   # an accelerometer in the projectile feels the air's push too
+    if SWING_DRAG and p.drag_swing > 0.0:   # an accelerometer in the projectile feels the air's push too
         dx, dy = swing_drag(theta, psi, dtheta, dpsi, p)
         felt_x, felt_y = felt_x + dx, felt_y + dy
     ddx = frame_acceleration(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, p)

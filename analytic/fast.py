@@ -22,8 +22,14 @@ functions; its energy audit does not: ``Shot.energy_dissipated`` is None
 here (the reference path integrates the drag's work on its continuous
 solution, which this path does not keep).
 
-The machine code is cached on disk (numba ``cache=True``): ``compile()``
-loads or builds it and says how long that took; the first shot calls it.
+The kernel is compiled in a few scopes (``analytic.scope``): the ideal
+machine without its peak loads, with them, and everything. A batch runs in the
+smallest scope that holds all its designs and what is asked of them (the
+same bits in any scope that holds it), and a scope compiles only when first
+needed. Each scope's machine code is cached on disk (numba ``cache=True``):
+``compile(scope)`` loads or builds it and says how long that took; the first
+shot in a scope calls it, and ``compile()`` (``python -m analytic compile``,
+which ``make`` runs) readies them all.
 """
 
 from __future__ import annotations
@@ -32,6 +38,7 @@ import contextlib
 import itertools
 import math
 import os
+import subprocess
 import sys
 import time
 from concurrent.futures import ThreadPoolExecutor
@@ -42,12 +49,14 @@ import numpy as np
 from scipy.integrate import DOP853
 
 from analytic import kernel, outcome, stages
+from analytic.compiled import kernel_scope
 from analytic.aero import DRAG_TABLE
 from analytic.design import Design, largest_length
 from analytic.friction import holders, rest_balance
 from analytic.limits import DEFAULT_ATOL, DEFAULT_RTOL, swing_time_limit
 from analytic.parameters import N_PARAMS, params
 from analytic.result import PEAK_NAMES, Shot, Shots, Status
+from analytic.scope import SCOPES, Scope, needed, needed_rows
 
 #: Designs a thread takes at a time in ``shoot``.
 BATCH_CHUNK = 4
@@ -80,7 +89,8 @@ def check_tolerances(rtol: float, atol: float) -> None:
 # Compilation
 # --------------------------------------------------------------------------- #
 
-_compile_seconds: float | None = None
+#: Seconds each scope's ``compile`` took, by scope name.
+_compile_seconds: dict[str, float] = {}
 #: ``kernel.shots``' recording arguments when it records nothing.
 _NO_RECORDING = np.empty(0)
 _NO_SAMPLES = np.empty((0, kernel.SAMPLE_WIDTH))
@@ -112,7 +122,7 @@ def _compile_settings():
 
 
 @contextlib.contextmanager
-def _compile_progress(enabled: bool):
+def _compile_progress(enabled: bool, scope: Scope):
     """While compiling (not while loading from the cache): a line on stderr, then a running count."""
     from numba.core import event
     from analytic.cli_shared import progress_bar
@@ -125,7 +135,7 @@ def _compile_progress(enabled: bool):
 
         def on_start(self, ev):
             if self.bar is None:
-                print("compiling the fast path once (tens of seconds); "
+                print(f"compiling the fast path's {scope.name} scope once (tens of seconds); "
                       "later runs load it from the cache in about 0.3 s", file=sys.stderr, flush=True)
                 self.bar = progress_bar(desc="compiling", unit=" functions", file=sys.stderr, mininterval=0.5,
                                 leave=False)   # gone when done: `analytic compile` then prints the time
@@ -145,7 +155,7 @@ def _compile_progress(enabled: bool):
         where LLVM optimises the whole kernel and emits its machine code."""
 
         def on_start(self, ev):
-            if (listener.bar is not None and ev.data["qualname"] == kernel.shots.py_func.__qualname__
+            if (listener.bar is not None and ev.data["qualname"] == entry_point(scope).py_func.__qualname__
                     and ev.data["name"].startswith("native_lowering")):
                 listener.bar.set_postfix_str("the whole kernel's machine code")
 
@@ -162,24 +172,71 @@ def _compile_progress(enabled: bool):
         listener.bar.close()
 
 
-def compile(*, progress: bool = False) -> float:
-    """Load the kernel's machine code from the disk cache, or compile and cache it; seconds taken.
+def entry_point(scope: Scope):
+    """``scope``'s compiled ``kernel.shots`` (``analytic.compiled.kernel_scope``)."""
+    return kernel_scope(scope)["kernel"].shots
 
-    Called by the first shot; later calls return the first call's time. In
-    a fresh checkout this compiles once (tens of seconds; ``make``
+
+def compile(scope: Scope | None = None, *, progress: bool = False) -> float:
+    """Load ``scope``'s kernel from the disk cache, or compile and cache it; seconds taken.
+
+    The first shot in a scope calls it; later calls return the first call's
+    time. In a fresh checkout a scope compiles once (tens of seconds; ``make``
     does it when it installs); afterwards it loads (about 0.3 s).
 
     Parameters
     ----------
+    scope : one of ``analytic.scope.SCOPES``; None: each of them in turn (the seconds summed).
     progress : when it compiles, say so on stderr and count the functions compiled.
     """
-    global _compile_seconds
-    if _compile_seconds is None:
+    if scope is None:
+        return sum(compile(each, progress=progress) for each in SCOPES)
+    if scope.name not in _compile_seconds:
         began = time.perf_counter()
-        with _compile_progress(progress), _compile_settings():
-            kernel.shots.compile(_entry_signature())
-        _compile_seconds = time.perf_counter() - began
-    return _compile_seconds
+        with _compile_progress(progress, scope), _compile_settings():
+            entry_point(scope).compile(_entry_signature())
+        _compile_seconds[scope.name] = time.perf_counter() - began
+    return _compile_seconds[scope.name]
+
+
+def compile_all(scopes: Sequence[Scope] = SCOPES, *, progress: bool = False) -> dict[str, float]:
+    """Ready each of ``scopes`` (``compile``): seconds each took, by scope name.
+
+    What ``python -m analytic compile`` (and so ``make``) runs, so that no later command
+    stalls on a compile. With two processors or more the scopes compile in child processes,
+    as many at a time as there are processors, the largest first (each scope has its own files
+    in the disk cache); this process then loads them. On 2 cores the three take about as
+    long as the largest alone.
+    """
+    workers = min(default_threads(), len(scopes))
+    if workers <= 1:
+        return {scope.name: compile(scope, progress=progress) for scope in scopes}
+
+    def child(scope: Scope) -> float:
+        code = f"from analytic import fast, scope; print(fast.compile(scope.{scope.name.upper()}))"
+        done = subprocess.run([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+        seconds = float(done.stdout.split()[-1]) if done.returncode == 0 else math.nan
+        if progress:
+            print(f"  {scope.name}: {seconds:.1f} s", file=sys.stderr, flush=True)
+        return seconds
+
+    if progress:
+        print(f"compiling the fast path's scopes ({', '.join(s.name for s in scopes)}), {workers} at a time, "
+              "once (tens of seconds); later runs load them from the cache", file=sys.stderr, flush=True)
+    largest_first = sorted(scopes, key=SCOPES.index, reverse=True)
+    with ThreadPoolExecutor(workers) as pool:
+        children = dict(zip((s.name for s in largest_first), pool.map(child, largest_first)))
+    # Load what the children compiled (or, where one failed, compile it here).
+    return {scope.name: max(children[scope.name], compile(scope)) if math.isfinite(children[scope.name])
+            else compile(scope, progress=progress) for scope in scopes}
+
+
+def _ready(scope: Scope):
+    """``scope``'s compiled entry point, loaded or compiled (with its progress shown on a
+    terminal: only a scope's first use in a checkout compiles)."""
+    if scope.name not in _compile_seconds:
+        compile(scope, progress=sys.stderr.isatty())
+    return entry_point(scope)
 
 
 # --------------------------------------------------------------------------- #
@@ -212,10 +269,12 @@ def shoot_one(design: Design, rtol: float, atol: float, loads: bool, rec: np.nda
               samples: np.ndarray = None) -> np.ndarray:
     """The kernel's result row (N_RESULT,) of one design; ``rec`` and ``samples`` record its motion
     (``analytic.kernel.shot``; None: not recorded)."""
-    compile()
+    p = params(design)
+    row = np.array(p, dtype=np.float64)[np.newaxis]
+    shots = _ready(needed(p, loads, recording=rec is not None))
     out = np.empty((1, kernel.N_RESULT))
-    kernel.shots(pack(design)[np.newaxis], 0, 1, DRAG_TABLE, COEFFICIENTS, rtol, atol, bool(loads), out,
-                 _NO_RECORDING if rec is None else rec, _NO_SAMPLES if samples is None else samples)
+    shots(row, 0, 1, DRAG_TABLE, COEFFICIENTS, rtol, atol, bool(loads), out,
+          _NO_RECORDING if rec is None else rec, _NO_SAMPLES if samples is None else samples)
     return out[0]
 
 
@@ -283,12 +342,12 @@ def _shoot_rows(rows: np.ndarray, rtol: float, atol: float, threads: int | None,
     loads = bool(loads)
     if threads < 1:
         raise ValueError(f"threads = {threads!r}: need at least one")
-    compile()
+    shots = _ready(needed_rows(rows, loads))
     n = len(rows)
     out = np.empty((n, kernel.N_RESULT))
     threads = min(threads, -(-n // BATCH_CHUNK))
     if threads <= 1:
-        kernel.shots(rows, 0, n, DRAG_TABLE, COEFFICIENTS, rtol, atol, loads, out, _NO_RECORDING, _NO_SAMPLES)
+        shots(rows, 0, n, DRAG_TABLE, COEFFICIENTS, rtol, atol, loads, out, _NO_RECORDING, _NO_SAMPLES)
         return out
     # Shots differ in cost (by 10x over the paper's bounds): each thread takes
     # the next few rows when it is done, rather than one block per thread.
@@ -299,13 +358,18 @@ def _shoot_rows(rows: np.ndarray, rtol: float, atol: float, threads: int | None,
         for start in starts:
             if start >= n:
                 return
-            kernel.shots(rows, start, min(start + BATCH_CHUNK, n), DRAG_TABLE, COEFFICIENTS, rtol, atol, loads,
-                         out, _NO_RECORDING, _NO_SAMPLES)
+            shots(rows, start, min(start + BATCH_CHUNK, n), DRAG_TABLE, COEFFICIENTS, rtol, atol, loads, out,
+                  _NO_RECORDING, _NO_SAMPLES)
 
     with ThreadPoolExecutor(threads) as pool:
         for done in [pool.submit(work) for _ in range(threads)]:
             done.result()
     return out
+
+
+def scope_for(designs: Sequence[Design], loads: bool = True) -> Scope:
+    """The scope ``simulate_fast_many(designs)`` (``loads``: ``shoot(designs, loads=...)``) runs in."""
+    return needed_rows(pack_many(designs), loads)
 
 
 def simulate_fast_many(designs: Sequence[Design], *, rtol: float = DEFAULT_RTOL,

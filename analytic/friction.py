@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import math
 
+from analytic.scope import FLOATING_ARM, ROLLING   # what this copy handles (analytic.scope)
 from analytic.eom import (FLOATING, floating_supports_in_air, joint_forces, joint_forces_in_gravity,
                           joint_forces_sliding, machine_terms, rolling_terms, slide_constraint, slide_system,
                           solve_pair, solve_symmetric, symmetric_cofactors, terms)
@@ -77,7 +78,7 @@ def static_arm(joint, p):
     """``mu_s r`` of the joint (0 axle, 1 hinge), m: the most friction torque that holds it stuck, per
     newton of load [10.9]; 0 for a joint without friction. A floating arm's axle with any friction
     on theta (the axle's, the guide's, the track's): 1, its load being the hold itself, N m [12.11]."""
-    if joint == 0 and p.kind == FLOATING:
+    if joint == 0 and FLOATING_ARM and p.kind == FLOATING:
         return 1.0 if (p.mua_s * p.ra > 0.0 or slides_lossy(p)) else 0.0
     return p.mua_s * p.ra if joint == 0 else p.muh_s * p.rh
 
@@ -189,7 +190,7 @@ def swing_friction(theta, phi, psi, dtheta, dphi, dpsi, sa, sh, p):
     rate's sign, 0 stuck). A stuck joint's acceleration is exactly 0 and its
     torque (``ta``, ``th``) is the one that holds it.
     """
-    if p.rolling:
+    if ROLLING and p.rolling:
         m11, m12, m13, m22, m23, m33, f1, f2, f3 = rolling_terms(theta, phi, psi, dtheta, dphi, dpsi, p)
     else:
         m11, m12, m13, m22, m33, f1, f2, f3 = terms(theta, phi, psi, dtheta, dphi, dpsi, p)
@@ -198,7 +199,7 @@ def swing_friction(theta, phi, psi, dtheta, dphi, dpsi, sa, sh, p):
     # The responses to a unit torque at the axle and at the hinge: M^-1's first two columns.
     c11, c12, c13, c22, c23, _, det = symmetric_cofactors(m11, m12, m13, m22, m23, m33)
     ua1, ua2, ua3 = c11 / det, c12 / det, c13 / det
-    if p.kind == FLOATING:
+    if FLOATING_ARM and p.kind == FLOATING:
         ddtheta, ddpsi, _, q, _, fg, ft, hold = slides_friction(theta, psi, dtheta, dpsi, a1, a3, 0.0, ua1, ua3,
                                                                  0.0, sa, p)
         return ddtheta, 0.0, ddpsi, q, fg, hold, ft
@@ -216,7 +217,7 @@ def machine_friction(theta, phi, dtheta, dphi, sa, sh, m):
     m11, m12, m22, f1, f2 = machine_terms(theta, phi, dtheta, dphi, m)
     a1, a2 = solve_pair(m11, m12, m22, f1, f2)
     ua1, ua2 = solve_pair(m11, m12, m22, 1.0, 0.0)
-    if m.kind == FLOATING:
+    if FLOATING_ARM and m.kind == FLOATING:
         ddtheta, _, _, q, _, fg, ft, hold = slides_friction(theta, 0.0, dtheta, 0.0, a1, 0.0, 0.0, ua1, 0.0, 0.0,
                                                              sa, m)
         return ddtheta, 0.0, q, fg, hold, ft
@@ -284,7 +285,7 @@ def slide_friction(theta, phi, dtheta, dphi, sa, sh, sb, p):
 
     a1, a2, a3, n0 = _slide_response(a, b, e, det, m13, m23, m33, s, c, lever, r1, r2, f3)
     ua1, ua2, ua3, uan = _slide_response(a, b, e, det, m13, m23, m33, s, 0.0, lever, 1.0, 0.0, 0.0)
-    if p.kind == FLOATING:
+    if FLOATING_ARM and p.kind == FLOATING:
         ddtheta, _, normal, q, _, fg, ft, hold = slides_friction(theta, psi, dtheta, dpsi, a1, a3, n0, ua1, ua3,
                                                                   uan, sa, p)
         return ddtheta, 0.0, normal, q, fg, ft, hold, 0.0, dx
@@ -328,7 +329,7 @@ def rest_balance(p):
     theta, phi = p.theta0, p.phi0
     _, _, _, r1, _, _, _, _, f3, s, _, sin_beta = slide_system(theta, phi, 0.0, 0.0, p)
     psi = slide_constraint(theta, 0.0, p)[0]
-    if p.kind == FLOATING:   # the axle's, the guide's and the track's hold together; no base friction [12.11]
+    if FLOATING_ARM and p.kind == FLOATING:   # the axle's, the guide's and the track's hold together; no base friction [12.11]
         return -r1, slide_friction(theta, phi, 0.0, 0.0, 0.0, 0.0, 0.0, p)[6], 0.0
     normal = -f3 / (-p.Ls * sin_beta)
     dx = slide_rate(theta, s, sin_beta, p)

@@ -28,33 +28,23 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 from numba.np.unsafe.ndarray import to_fixed_tuple
 
-from analytic.compiled import CALLABLE, internal, kernel_twins
+from analytic.marks import entry, internal
 from analytic.dop853 import (ERROR_ORDER, MAX_FACTOR, MIN_FACTOR, N_STAGES, SAFETY, brent, dense_eval, dense_prepare,
                              error_norm, event_at, initial_step, rk_step)
 from analytic.kernel_loads import N_LOADS, POOL_SLOTS, finish_peaks, keep_step, sample_loads, save_step
-from analytic.limits import STAGE_STEP_LIMITS
+from analytic.limits import STAGE_STEP_LIMITS, flight_time_limit
 from analytic.parameters import N_PARAMS, Params
+from analytic.scope import FRICTION, LOADS, RECORDING   # what this copy handles (analytic.scope)
 from analytic.sequence import (FAILED, FINISHED, NEVER_FIRES, NEVER_LIFTS_OFF, NEXT_STAGE, OK, OUT_OF_STEPS,
-                               REACHED_END, STEP_FAILED, SWITCH_MODE)
-from analytic.stages import FLIGHT, SLIDE, SWING, ZERO_START_PROBES
-
-# The model's functions, compiled (``analytic.compiled``).
-_stages, _limits, _sequence = kernel_twins["stages"], kernel_twins["limits"], kernel_twins["sequence"]
-derivative, event_value, event_direction = _stages.derivative, _stages.event_value, _stages.event_direction
-event_terminal, event_armed, event_count = _stages.event_terminal, _stages.event_armed, _stages.event_count
-first_event, fires = _stages.first_event, _stages.fires
-flight_start, frame_state = _stages.flight_start, _stages.frame_state
-loads_after_step, loads_at, slide_start, state_size = (_stages.loads_after_step, _stages.loads_at, _stages.slide_start,
-                                                      _stages.state_size)
-swing_start, switch_mode = _stages.swing_start, _stages.switch_mode
-flight_time_limit = _limits.flight_time_limit
-stretch_end, counted_crossing, past_root = _sequence.stretch_end, _sequence.counted_crossing, _sequence.past_root
-leaves_zero, probe_time, probe_update, probe_bracket = (_sequence.leaves_zero, _sequence.probe_time,
-                                                        _sequence.probe_update, _sequence.probe_bracket)
+                               REACHED_END, STEP_FAILED, SWITCH_MODE, counted_crossing, leaves_zero, past_root,
+                               probe_bracket, probe_time, probe_update, stretch_end)
+from analytic.stages import (FLIGHT, SLIDE, SWING, ZERO_START_PROBES, derivative, event_armed, event_count,
+                             event_direction, event_terminal, event_value, fires, first_event, flight_start,
+                             frame_state, loads_after_step, loads_at, slide_start, state_size, swing_start,
+                             switch_mode)
 
 
 # Layout of a result row.
@@ -128,7 +118,7 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
     """
     n = y0.shape[0]
     ne = event_count(stage, p)
-    if rec.shape[0] > 0:   # (a stage's first stretch after another stage: lift-off again, which the reader drops)
+    if RECORDING and rec.shape[0] > 0:   # (a stage's first stretch after another stage: lift-off again, which the reader drops)
         record_row(t0, stage, y0, rec, motion)
         rec[NEXT_SAMPLE] = t0 + (rec[FLIGHT_SPACING] if stage == FLIGHT else rec[SPACING])
     K2 = np.empty((2, N_STAGES + 4, n))   # the last two steps' stages, alternately
@@ -157,7 +147,7 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
     samples, sides = np.empty((N_LOADS, 6)), np.empty((N_LOADS, 2), dtype=np.int64)
     pending = np.empty(N_LOADS, dtype=np.bool_)
     last = np.empty(N_LOADS + 1)
-    slots = POOL_SLOTS if track else 0
+    slots = POOL_SLOTS if LOADS and track else 0
     pool_k, pool_y, pool_t = np.empty((slots, N_STAGES + 1, n)), np.empty((slots, 2, n)), np.empty((slots, 3))
     live_y, live_t = np.empty((2, 2, n)), np.empty((2, 3))
     for k in range(N_LOADS):
@@ -166,7 +156,7 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
         for j in range(0, 6, 2):
             samples[k, j] = math.nan
         sides[k, 0], sides[k, 1] = -1, -1
-    if track:
+    if LOADS and track:
         last[N_LOADS] = math.nan
         sample_loads(t0, loads_at(stage, y, p), -1, samples, sides, pending, last, False)
         counts[1] += 1
@@ -261,21 +251,21 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
         if hit_k >= 0:
             y_hit = np.empty(n)
             dense_eval(hit_t, t_old, h, y, F, y_hit)
-            if rec.shape[0] > 0:
+            if RECORDING and rec.shape[0] > 0:
                 record_step(stage, hit_t, t_old, h, y, F, tmp, rec, motion)
-            if track:
+            if LOADS and track:
                 keep_step(buffer, t_old, h, hit_t, y, y_new, live_y, live_t)
                 sample_loads(hit_t, loads_at(stage, y_hit, p), buffer, samples, sides, pending, last, True)
                 counts[1] += 1
                 finish_peaks(stage, samples, sides, K2, live_y, live_t, pool_k, pool_y, pool_t, peaks, coef, p,
                               table, counts)
             return hit_k, hit_t, y_hit, apex
-        if rec.shape[0] > 0 and rec[NEXT_SAMPLE] <= t_new:
+        if RECORDING and rec.shape[0] > 0 and rec[NEXT_SAMPLE] <= t_new:
             if not dense_ready:
                 dense_prepare(stage, t_old, h, y, y_new, f_new, coef, K, F, tmp, p, table)
                 counts[1] += 3
             record_step(stage, t_new, t_old, h, y, F, tmp, rec, motion)
-        if track:   # at the step's end the derivative is known (f_new): stage 2 reads the accelerations
+        if LOADS and track:   # at the step's end the derivative is known (f_new): stage 2 reads the accelerations
             keep_step(buffer, t_old, h, t_new, y, y_new, live_y, live_t)
             sample_loads(t_new, loads_after_step(stage, y_new, f_new, p), buffer, samples, sides, pending, last,
                           False)
@@ -285,7 +275,7 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
         for j in range(n):
             y[j] = y_new[j]
             f[j] = f_new[j]
-    if track:
+    if LOADS and track:
         finish_peaks(stage, samples, sides, K2, live_y, live_t, pool_k, pool_y, pool_t, peaks, coef, p, table,
                       counts)
     return REACHED_END, t, y, apex
@@ -321,12 +311,12 @@ def _run_stage(stage, t, y, switches, coef, rtol, atol, p, table, counts, peaks,
         code, t, y, _ = integrate(stage, t, y, p.t_limit, coef, rtol, atol, p, table, counts, peaks, track_loads,
                                   rec, motion)
         action, status, detail = stretch_end(stage, code, switches)
-        if action != SWITCH_MODE:
+        if not FRICTION or action != SWITCH_MODE:   # (only friction's events switch modes)
             break
         switches += 1
         switch_mode(stage, code, y, p)
     out[END_T] = t
-    if rec.shape[0] > 0 and rec[ROWS] > 0 and motion[int(rec[ROWS]) - 1, 0] < t:
+    if RECORDING and rec.shape[0] > 0 and rec[ROWS] > 0 and motion[int(rec[ROWS]) - 1, 0] < t:
         record_row(t, stage, y, rec, motion)
     if status == STEP_FAILED:
         _step_failed(out, code, stage)
@@ -370,7 +360,7 @@ def shot(P, table, coef, rtol, atol, track_loads, out, rec, motion):
     y1 = np.empty(state_size(SLIDE, p))
     slide_start(p, y1)
     switches, action, status, detail, t1, t2, y2 = 0, NEXT_STAGE, 0, 0, 0.0, 0.0, y1
-    if normal0 <= 0.0 and rec.shape[0] > 0:   # the sling already pulls harder than the projectile's weight
+    if normal0 <= 0.0 and RECORDING and rec.shape[0] > 0:   # the sling already pulls harder than the projectile's weight
         record_row(0.0, SLIDE, y1, rec, motion)
     if normal0 > 0.0:   # else the sling already pulls harder than the projectile's weight
         action, status, detail, switches, t1, y1 = _run_stage(SLIDE, 0.0, y1, switches, coef, rtol, atol, p, table,
@@ -403,11 +393,11 @@ def shot(P, table, coef, rtol, atol, track_loads, out, rec, motion):
     t_max = t2 + flight_time_limit(y + p.h, vy, p.g)
     y_release = np.empty(4)
     y_release[0], y_release[1], y_release[2], y_release[3] = x, y, vx, vy
-    if rec.shape[0] > 0:
+    if RECORDING and rec.shape[0] > 0:
         rec[FLIGHT_SPACING] = max(rec[FLIGHT_SPACING], (t_max - t2) / rec[SAMPLE_LIMIT])
     code, t3, y3, apex = integrate(FLIGHT, t2, y_release, t_max, coef, rtol, atol,
                                    p, table, counts, peaks, False, rec, motion)
-    if rec.shape[0] > 0 and rec[ROWS] > 0 and motion[int(rec[ROWS]) - 1, 0] < t3:
+    if RECORDING and rec.shape[0] > 0 and rec[ROWS] > 0 and motion[int(rec[ROWS]) - 1, 0] < t3:
         record_row(t3, FLIGHT, y3, rec, motion)
     out[STEPS], out[EVALS], out[END_T] = counts[0], counts[1], t3
     _, status, _ = stretch_end(FLIGHT, code, switches)
@@ -426,7 +416,7 @@ def _write_peaks(peaks, out):
         out[PEAKS + 2 * k], out[PEAKS + 2 * k + 1] = peaks[k, 0], peaks[k, 1]
 
 
-@numba.njit(**CALLABLE)
+@entry
 def shots(designs, start, stop, table, coef, rtol, atol, track_loads, out, rec, motion):
     """``shot`` for rows ``start:stop`` of ``designs`` (S, N_PARAMS) into those of ``out`` (S, N_RESULT).
 

@@ -13,16 +13,10 @@ import math
 
 import numpy as np
 
-from analytic.compiled import internal, kernel_twins
+from analytic.marks import internal
 from analytic.dop853 import N_STAGES, dense_eval, dense_prepare
-from analytic.stages import LOAD_NAMES
-
-# The model's functions, compiled (``analytic.compiled``).
-_peaks = kernel_twins["peaks"]
-search_golden, search_from, search_next, search_update = (_peaks.search_golden, _peaks.search_from,
-                                                          _peaks.search_next, _peaks.search_update)
-search_around, inside_end = _peaks.search_around, _peaks.inside_end
-loads_at = kernel_twins["stages"].loads_at
+from analytic.peaks import inside_end, search_around, search_from, search_golden, search_next, search_update
+from analytic.stages import LOAD_NAMES, loads_at
 
 N_LOADS = len(LOAD_NAMES)
 

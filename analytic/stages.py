@@ -55,6 +55,7 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
+from analytic.scope import FLOATING_ARM, FRICTION   # what this copy handles (analytic.scope)
 from analytic.aero import drag_rate
 from analytic.eom import (FLOATING, floating_supports_in_air, frame_coupling, frame_displacement, frame_velocity,
                           horizontal_moment, joint_forces, loads, loads_sliding, machine_accelerations,
@@ -124,36 +125,36 @@ def derivative(stage, y, p, table, out):
     with ``w = (wind, 0)``; ``table`` is ``analytic.aero.DRAG_TABLE``.
     """
     if stage == SLIDE:
-        if lossy(p):
+        if FRICTION and lossy(p):
             ddtheta, ddphi, _, ta, th, fb, _, _, dx = slide_friction(y[0], y[1], y[2], y[3], y[7], y[8], y[9], p)
             out[0], out[1], out[2], out[3] = y[2], y[3], ddtheta, ddphi
             # The friction's power, -t rate: |t rate| while the mode is consistent, and
             # smooth where a rate crosses zero inside a step whose event root then ends the
             # stretch (an absolute value would put a kink inside that step).
             out[4], out[5], out[6] = -ta * y[2], -th * y[3], -fb * dx * y[2]
-            if p.kind == FLOATING:
+            if FLOATING_ARM and p.kind == FLOATING:
                 slides_powers(y[0], y[2], ta, th, fb, p, out, 4)
             out[7], out[8], out[9] = 0.0, 0.0, 0.0
             return
         ddtheta, ddphi, _ = slide_accelerations(y[0], y[1], y[2], y[3], p)
         out[0], out[1], out[2], out[3] = y[2], y[3], ddtheta, ddphi
     elif stage == SWING:
-        if lossy(p):
+        if FRICTION and lossy(p):
             a, b, c, ta, th, _, hinge = swing_friction(y[0], y[1], y[2], y[3], y[4], y[5], y[9], y[10], p)
             out[0], out[1], out[2], out[3], out[4], out[5] = y[3], y[4], y[5], a, b, c
             out[6], out[7], out[8] = -ta * y[3], -th * y[4], 0.0
-            if p.kind == FLOATING:
+            if FLOATING_ARM and p.kind == FLOATING:
                 slides_powers(y[0], y[3], ta, th, hinge, p, out, 6)
             out[9], out[10], out[11] = 0.0, 0.0, 0.0
             return
         a, b, c = swing_accelerations(y[0], y[1], y[2], y[3], y[4], y[5], p)
         out[0], out[1], out[2], out[3], out[4], out[5] = y[3], y[4], y[5], a, b, c
     elif stage == MACHINE:
-        if lossy(p):
+        if FRICTION and lossy(p):
             ddtheta, ddphi, ta, th, _, hinge = machine_friction(y[0], y[1], y[2], y[3], y[7], y[8], p)
             out[0], out[1], out[2], out[3] = y[2], y[3], ddtheta, ddphi
             out[4], out[5], out[6] = -ta * y[2], -th * y[3], 0.0
-            if p.kind == FLOATING:
+            if FLOATING_ARM and p.kind == FLOATING:
                 slides_powers(y[0], y[2], ta, th, hinge, p, out, 4)
             out[7], out[8], out[9] = 0.0, 0.0, 0.0
             return
@@ -185,7 +186,7 @@ def sling_off_vertical(theta, p):
 def event_count(stage, p):
     """How many of ``stage``'s events (``EVENT_NAMES``, in order) the design ``p`` watches: the
     friction events only with friction (without it they are a constant 1 and never fire)."""
-    if lossy(p):
+    if FRICTION and lossy(p):
         return EVENT_COUNT[stage]
     return FIRST_FRICTION_EVENT[stage]
 
@@ -193,7 +194,7 @@ def event_count(stage, p):
 def event_value(stage, k, y, p):
     """Value of event ``k`` of ``stage`` at ``y`` (see the table above)."""
     if stage == SLIDE:
-        if k >= ARM_STALLS:
+        if FRICTION and k >= ARM_STALLS:   # (friction's events: watched only with friction, event_count)
             return friction_event(stage, k, y, p)
         off_vertical = sling_off_vertical(y[0], p)
         if k == 0:
@@ -201,19 +202,19 @@ def event_value(stage, k, y, p):
         if k == 1:
             if off_vertical <= 0.0:
                 return 1.0   # no lift-off under the tip: under_tip ends the stage there
-            if lossy(p):
+            if FRICTION and lossy(p):
                 return slide_friction(y[0], y[1], y[2], y[3], y[7], y[8], y[9], p)[2]
             return slide_accelerations(y[0], y[1], y[2], y[3], p)[2]
         return p.La * math.cos(y[0]) + p.h
     if stage == SWING:
-        if k >= FIRST_SWITCH[SWING]:
+        if FRICTION and k >= FIRST_SWITCH[SWING]:
             return friction_event(stage, k, y, p)
         if k == 0:
             vx, vy = ground_velocity(y, p)
             return release_at(int(p.rule), p.alpha, y[0], y[2], vx, vy)[0]
         return p.La * math.cos(y[0]) + p.Ls * math.cos(y[0] + y[2]) + p.h
     if stage == MACHINE:
-        return friction_event(stage, k, y, p)
+        return friction_event(stage, k, y, p) if FRICTION else 1.0
     if k == 0:
         return y[1] + p.h
     return y[3]
@@ -279,14 +280,14 @@ def fires(p):
     beats what the axle's and the base's friction can hold (``friction.rest_balance``),
     and theta'' is then the slipping machine's (0 when held).
     """
-    if not lossy(p):
+    if not (FRICTION and lossy(p)):
         ddtheta, _, normal = slide_accelerations(p.theta0, p.phi0, 0.0, 0.0, p)
         return ddtheta, normal
     drive, axle_hold, base_hold = rest_balance(p)
     sa, sh, sb = rest_modes(p)
     ddtheta, _, normal, _, _, _, _, _, _ = slide_friction(p.theta0, p.phi0, 0.0, 0.0, sa, sh, sb, p)
     if not drive > axle_hold + base_hold:
-        if p.kind == FLOATING:   # held: its base push (slipping, its guide and track may jam [12.10])
+        if FLOATING_ARM and p.kind == FLOATING:   # held: its base push (slipping, its guide and track may jam [12.10])
             normal = slide_friction(p.theta0, p.phi0, 0.0, 0.0, 0.0, sh, sb, p)[2]
         return 0.0, normal
     return ddtheta, normal
@@ -311,7 +312,7 @@ def rest_modes(p):
 def state_size(stage, p):
     """Length of ``stage``'s state for the design ``p``: ``STATE_SIZE`` plus, in stages 1-2
     of a design with friction, ``FRICTION_STATE``."""
-    if stage != FLIGHT and lossy(p):
+    if stage != FLIGHT and FRICTION and lossy(p):
         return STATE_SIZE[stage] + FRICTION_STATE
     return STATE_SIZE[stage]
 
@@ -320,7 +321,7 @@ def slide_start(p, y):
     """Write the state at rest into ``y`` (``state_size(SLIDE, p)``): the arm and the counterweight
     at their rest angles, still; with friction, nothing dissipated and the ``rest_modes``."""
     y[0], y[1], y[2], y[3] = p.theta0, p.phi0, 0.0, 0.0
-    if lossy(p):
+    if FRICTION and lossy(p):
         sa, sh, sb = rest_modes(p)
         y[4], y[5], y[6], y[7], y[8], y[9] = 0.0, 0.0, 0.0, sa, sh, sb
 
@@ -331,7 +332,7 @@ def swing_start(y, p, out):
     joints' modes (the base's off; a stuck joint is checked again: ``settle``)."""
     psi, dpsi, _, _, _ = slide_constraint(y[0], y[2], p)
     out[0], out[1], out[2], out[3], out[4], out[5] = y[0], y[1], psi, y[2], y[3], dpsi
-    if lossy(p):
+    if FRICTION and lossy(p):
         out[6], out[7], out[8], out[9], out[10], out[11] = y[4], y[5], y[6], y[7], y[8], 0.0
         settle(SWING, out, p)
 
@@ -380,7 +381,7 @@ def friction_solution(stage, y, p):
     else:
         ddtheta, ddphi, ddpsi, ta, th, axle, hinge = swing_friction(y[0], y[1], y[2], y[3], y[4], y[5], y[9],
                                                                     y[10], p)
-    if p.kind == FLOATING:   # the track's force comes back in the hinge's place
+    if FLOATING_ARM and p.kind == FLOATING:   # the track's force comes back in the hinge's place
         return FrictionSolution(ddtheta, ddphi, ddpsi, 0.0, ta, th, hinge, axle, 0.0, 0.0)
     return FrictionSolution(ddtheta, ddphi, ddpsi, 0.0, ta, th, 0.0, axle, hinge, 0.0)
 
@@ -423,7 +424,7 @@ def friction_event(stage, k, y, p):
     An event for a friction the design lacks, or for a joint in the other
     mode, is the constant 1 (it never fires).
     """
-    if not lossy(p):
+    if not (FRICTION and lossy(p)):
         return 1.0
     if stage == SLIDE and k == ARM_STALLS:
         return -y[2] if (p.mua_s > 0.0 or p.mub_s > 0.0 or p.mug_s > 0.0 or p.mut_s > 0.0) else 1.0
@@ -558,7 +559,7 @@ def switch_mode(stage, k, y, p):
 def accelerations(stage, y, p):
     """``(theta'', phi'', psi'')`` at the stage-1 state ``[theta, phi, theta', phi', ...]`` or the
     stage-2 state ``[theta, phi, psi, theta', phi', psi', ...]``, friction included."""
-    if lossy(p):
+    if FRICTION and lossy(p):
         solution = friction_solution(stage, y, p)
         return solution[0], solution[1], solution[2]
     if stage == SLIDE:
@@ -588,7 +589,7 @@ def machine_start(y, m, out):
     release: ``(theta, phi, theta', phi')``, then with friction the work so far and the joints' modes,
     a stuck joint checked again without the sling's pull (``settle``). ``m``: ``machine_params``."""
     out[0], out[1], out[2], out[3] = y[0], y[1], y[3], y[4]
-    if lossy(m):
+    if FRICTION and lossy(m):
         out[4], out[5], out[6], out[7], out[8], out[9] = y[6], y[7], y[8], y[9], y[10], 0.0
         settle(MACHINE, out, m)
 
@@ -612,7 +613,7 @@ def floating_supports(stage, y, p):
     """A floating arm's ``(track_y, guide_x)``, N (``analytic.eom.floating_supports_in_air``), at the
     stage-1 state ``[theta, phi, theta', phi']`` or the stage-2 state ``[theta, phi, psi, theta', phi', psi']``
     (the axle's, the guide's and the track's friction and the drag during the swing included)."""
-    if lossy(p):
+    if FRICTION and lossy(p):
         solution = friction_solution(stage, y, p)
         ddtheta, ddpsi, normal = solution.ddtheta, solution.ddpsi, solution.normal
         guide_friction, track_friction = solution.hinge_torque, solution.base_force
@@ -639,7 +640,7 @@ def loads_after_step(stage, y, f, p):
     ``f`` at ``y``: stage 2 reads its accelerations from ``f`` (the same numbers ``loads_at`` would
     compute again), stage 1 computes them with the base's push, and so does a floating arm with
     friction (its loads need the guide's and the track's friction forces too)."""
-    if stage == SWING and (p.kind != FLOATING or not lossy(p)):
+    if stage == SWING and (not (FLOATING_ARM and p.kind == FLOATING) or not (FRICTION and lossy(p))):
         return loads(y[0], y[1], y[2], y[3], y[4], y[5], f[3], f[4], f[5], 0.0, p)
     return loads_at(stage, y, p)
 
@@ -648,9 +649,9 @@ def loads_at(stage, y, p):
     """``eom.loads`` at the stage-1 state ``[theta, phi, theta', phi']`` or the stage-2
     state ``[theta, phi, psi, theta', phi', psi']``: the accelerations and the base's
     push from the stage's own equations (0 push in stage 2)."""
-    if lossy(p):
+    if FRICTION and lossy(p):
         ddtheta, ddphi, ddpsi, normal, _, th, fb, _, _, _ = friction_solution(stage, y, p)
-        if p.kind == FLOATING:
+        if FLOATING_ARM and p.kind == FLOATING:
             return _floating_loads(stage, y, ddtheta, ddpsi, normal, th, fb, p)
         if stage == SLIDE:
             psi, dpsi, _, _, _ = slide_constraint(y[0], y[2], p)

@@ -29,11 +29,18 @@ def best_time(run: Callable[[], object], repeat: int) -> tuple[float, object]:
     return best, first
 
 
-def cold_compile_seconds(folder: Path | None = None, env: dict | None = None) -> tuple[float, float]:
+def cold_compile_seconds(folder: Path | None = None, env: dict | None = None,
+                         scope: str = "everything") -> tuple[float, float]:
     """(compile, import) seconds of the fast path in a fresh process with an empty numba cache:
-    this checkout's, or that of the sources in ``folder`` (run there, with ``env``)."""
-    code = ("import time; t = time.perf_counter(); from analytic import fast; "
-            "i = time.perf_counter() - t; print(fast.compile(), i)")
+    this checkout's, or that of the sources in ``folder`` (run there, with ``env``).
+
+    A checkout that compiles its kernel in scopes (``analytic.scope``) compiles the one named
+    ``scope``; the one that handles every design by default, as a checkout before the
+    scopes compiled its only kernel.
+    """
+    code = ("import time; t = time.perf_counter(); from analytic import fast; i = time.perf_counter() - t\n"
+            "try:\n    from analytic import scope\nexcept ImportError:\n    print(fast.compile(), i)\n"
+            f"else:\n    print(fast.compile(getattr(scope, {scope.upper()!r})), i)")
     with tempfile.TemporaryDirectory(prefix="numba-cold-") as cache:
         env = dict(os.environ if env is None else env, NUMBA_CACHE_DIR=cache)
         done = subprocess.run([sys.executable, "-c", code], env=env, cwd=folder, check=True, capture_output=True,

@@ -66,8 +66,9 @@ def run(cases: list[Case] | None = None, *, dt: float = DEFAULT_DT, workers: int
     """
     cases = default_suite() if cases is None else list(cases)
     workers = min(2, os.cpu_count() or 1) if workers is None else workers
-    fast.compile(progress=progress)
-    analytic = fast.simulate_fast_many([case.design for case in cases])
+    designs = [case.design for case in cases]
+    fast.compile(fast.scope_for(designs), progress=progress)
+    analytic = fast.simulate_fast_many(designs)
     bar = progress_bar(total=len(cases), desc="cross-check", unit="design", disable=not progress, file=sys.stderr)
     results = []
     if workers <= 1:

@@ -25,9 +25,9 @@ _MODEL = {
     "eqs.py": "from toy.geo import lever\n\ndef force(x, p):\n    return lever(x, p) + p[1]\n",
     "kernel.py": textwrap.dedent("""\
         import numba
-        from analytic.compiled import CALLABLE, cache_directory, compile_modules, drop_stale_cache, internal
+        from analytic.compiled import CALLABLE, cache_directory, compile_modules, dispatcher, drop_stale_cache
         from toy import eqs, geo
-        modules = compile_modules((geo, eqs), lambda function, inline: internal(function))
+        modules = compile_modules((geo, eqs), lambda function, inline: dispatcher(function))
         force = modules["eqs"].force
 
         @numba.njit(**CALLABLE)
@@ -103,7 +103,7 @@ def test_an_internal_function_is_compiled_once_per_type_not_per_constant():
     def scaled(k, x):
         return x * (k + 1)
 
-    shared, plain = compiled.internal(scaled), numba.njit(scaled)
+    shared, plain = compiled.dispatcher(scaled), numba.njit(scaled)
 
     def caller(f):
         @numba.njit
@@ -154,7 +154,7 @@ def test_internal_functions_are_emitted_as_machine_code_only_inside_their_entry_
 
     from numba.core.registry import cpu_target
     assert compiled.LinkOnlyLibrary(cpu_target.target_context.codegen(), "probe").fits_this_numba()
-    assert chain(compiled.internal)(1.0) == chain(numba.njit)(1.0) == 3.0 * 5.0 - 1.0
+    assert chain(compiled.dispatcher)(1.0) == chain(numba.njit)(1.0) == 3.0 * 5.0 - 1.0
     names = [name.rsplit(".", 1)[-1] for name in emitted]
     assert names.count("entry_point") == 2          # one per chain
     assert names.count("inner_step") == names.count("outer_step") == 1   # the plain numba chain's only

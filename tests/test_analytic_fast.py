@@ -34,6 +34,7 @@ from benchmarks.suite import MISMATCH_KEYS
 from analytic.parameters import N_PARAMS, params
 from analytic.reference import DEFAULT_ATOL, DEFAULT_RTOL, simulate
 from analytic.result import Status
+from analytic.scope import IDEAL
 from support import (examples, failure_designs, fixed_designs, fixed_failure_designs, lossy_designs, paper_designs,
                      table3_variants, table_ii_sample, with_environment, with_machine, with_projectile)
 
@@ -423,14 +424,15 @@ def test_looser_tolerance_stays_within_the_target(table3):
 # Compilation is cached on disk; the benchmark command
 # --------------------------------------------------------------------------- #
 
-def test_a_new_process_loads_the_machine_code_from_the_disk_cache():
-    code = ("from analytic import fast, kernel; fast.compile(); "
-            "print(kernel.shots.stats.cache_hits and sum(kernel.shots.stats.cache_hits.values()), "
-            "sum(kernel.shots.stats.cache_misses.values()))")
+def test_a_new_process_loads_every_scope_s_machine_code_from_the_disk_cache():
+    code = ("from analytic import fast; fast.compile()\n"
+            "for s in fast.SCOPES:\n"
+            "    stats = fast.entry_point(s).stats\n"
+            "    print(s.name, sum(stats.cache_hits.values()), sum(stats.cache_misses.values()))")
     done = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True,
                           env=dict(os.environ))
-    hits, misses = (int(v) for v in done.stdout.split())
-    assert hits >= 1 and misses == 0
+    counts = {name: (int(hits), int(misses)) for name, hits, misses in map(str.split, done.stdout.splitlines())}
+    assert counts == {scope.name: (1, 0) for scope in fast.SCOPES}
 
 
 def test_bench_json_has_the_figures_and_the_paths_agree(capsys):
@@ -490,11 +492,11 @@ def test_compile_progress_counts_names_the_last_step_and_clears_itself(capsys, m
     def shots(x):
         return x + 1.0
 
-    shots.__qualname__ = kernel.shots.py_func.__qualname__
-    with fast._compile_progress(True):
+    shots.__qualname__ = fast.entry_point(IDEAL).py_func.__qualname__
+    with fast._compile_progress(True, IDEAL):
         assert numba.njit(shots)(1.0) == 2.0
     err = capsys.readouterr().err
-    assert err.startswith("compiling the fast path once")
+    assert err.startswith("compiling the fast path's ideal scope once")
     assert "compiling: " in err and "the whole kernel's machine code" in err
     if terminal:
         assert "\rcompiling: " in err

@@ -38,11 +38,11 @@ ANALYTIC_LAYERS = {
               "analytic.fields", "analytic.aero", "analytic.eom", "analytic.friction", "analytic.geometry",
               "analytic.limits", "analytic.outcome", "analytic.parameters", "analytic.peaks",
               "analytic.plausibility", "analytic.stages", "analytic.sequence", "analytic.result", "analytic.data",
-              "analytic.suggest", "analytic.floating_arm",
+              "analytic.suggest", "analytic.floating_arm", "analytic.scope",
               # the exit codes and checks every command line shares: it imports nothing
               "analytic.cli_shared"},
     "paths": {"analytic.reference", "analytic.reference_loads", "analytic.integrate", "analytic.compiled", "analytic.kernel", "analytic.fast",
-              "analytic.dop853", "analytic.kernel_loads", "analytic.motion",
+              "analytic.dop853", "analytic.kernel_loads", "analytic.motion", "analytic.marks",
               # the public names, loaded on first use from the model and the paths
               "analytic"},
     "tools": {"analytic.aim", "analytic.chart", "analytic.plot", "analytic.plot_units", "analytic.report", "analytic.calibrate*",

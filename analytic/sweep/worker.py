@@ -44,7 +44,7 @@ def _model_identity(kind: str, name: str) -> dict:
 
 
 class LoadKernel(WorkerPlugin):
-    """Load (or compile) the fast path's kernel once per worker process, as it starts."""
+    """Load (or compile) the fast path's kernels, every scope, once per worker process, as it starts."""
 
     name = "analytic-load-kernel"
     idempotent = True
@@ -54,4 +54,4 @@ class LoadKernel(WorkerPlugin):
 
         # Off the worker's event loop: a cold compile takes a minute, and the
         # loop must keep answering the scheduler meanwhile.
-        await asyncio.get_running_loop().run_in_executor(None, fast.compile)
+        await asyncio.get_running_loop().run_in_executor(None, fast.compile_all)
