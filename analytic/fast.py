@@ -285,10 +285,9 @@ def to_shot(design: Design, out: np.ndarray) -> Shot:
     fields = {}
     if not math.isnan(row[kernel.LIFTOFF_T]):
         fields["liftoff_time"] = row[kernel.LIFTOFF_T]
-    for k, name in enumerate(PEAK_NAMES):
-        if math.isfinite(row[kernel.PEAKS + 2 * k]):
-            fields[name] = row[kernel.PEAKS + 2 * k]
-            fields[f"{name}_time"] = row[kernel.PEAKS + 2 * k + 1]
+    for column, name, time_name in _PEAK_COLUMNS:
+        if math.isfinite(row[column]):
+            fields[name], fields[time_name] = row[column], row[column + 1]
     if not math.isnan(row[kernel.RELEASE_T]):
         fields.update(release_time=row[kernel.RELEASE_T],
                       release_position=out[kernel.RELEASE_X:kernel.RELEASE_Y + 1].copy(),
@@ -304,6 +303,10 @@ def to_shot(design: Design, out: np.ndarray) -> Shot:
         message = failure_message(design, status, row[kernel.DETAIL], row[kernel.VALUE], row[kernel.END_T],
                                   row[kernel.RELEASE_T], t_limit)
     return Shot(design, status, message, **fields)
+
+
+#: Each peak load's column in a result row, its ``Shot`` field and its time's field.
+_PEAK_COLUMNS = tuple((kernel.PEAKS + 2 * k, name, f"{name}_time") for k, name in enumerate(PEAK_NAMES))
 
 
 def failure_message(design: Design, status: Status, detail: float, value: float, end_time: float,
