@@ -49,6 +49,14 @@ def cold_compile_seconds(folder: Path | None = None, env: dict | None = None,
     return compile_s, import_s
 
 
+def cache_load_seconds() -> float:
+    """Seconds a fresh process takes to load every scope of the fast path from this checkout's
+    (warm) disk cache: what each later run pays before its first shot."""
+    code = "from analytic import fast; print(fast.compile())"
+    done = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True)
+    return float(done.stdout.split()[-1])
+
+
 def machine_facts() -> dict:
     """When and where the figures were measured: date (UTC), processors, CPU model, versions, commit."""
     model = None
