@@ -64,8 +64,9 @@ def main(argv: list[str] | None = None) -> int:
     comparisons = list(report.comparisons)
     study = None
     if args.report:
-        reference = next((c.design for c in cases if c.name == "table3"), cases[0].design)
-        study = step_study(reference)
+        # The step study's analytic shot is the run's own (no second shot, nor a compile of another scope).
+        i = next((i for i, c in enumerate(cases) if c.name == "table3"), 0)
+        study = step_study(cases[i].design, analytic=lambda design: report.analytic_shots[i])
         paths = write_report(args.report, comparisons, study)
     if args.json:
         print(json.dumps(report.to_json(), indent=2))

@@ -5,7 +5,7 @@ from __future__ import annotations
 import os
 import sys
 from concurrent.futures import ProcessPoolExecutor
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import partial
 
 from analytic import fast
@@ -24,10 +24,13 @@ class Report:
     comparisons : each case's ``Comparison`` (both models' statuses and every
         compared quantity with its difference and tolerance), in the order of the cases.
     dt : the engine's step, s.
+    analytic_shots : the analytic model's ``Shot`` of each case (the fast path's summary), in
+        the same order.
     """
 
     comparisons: tuple[Comparison, ...]
     dt: float
+    analytic_shots: tuple[Shot, ...] = field(default=(), repr=False, compare=False)
 
     @property
     def agree(self) -> bool:
@@ -81,7 +84,7 @@ def run(cases: list[Case] | None = None, *, dt: float = DEFAULT_DT, workers: int
                 results.append(result)
                 bar.update()
     bar.close()
-    return Report(tuple(results), dt)
+    return Report(tuple(results), dt, tuple(analytic))
 
 
 def _compare_shot(case: Case, shot: Shot, dt: float) -> Comparison:
