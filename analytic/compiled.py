@@ -46,7 +46,8 @@ from numba.core.registry import CPUDispatcher
 from llvmlite import binding as llvm
 from llvmlite import ir as llvmir
 
-from analytic import (aero, eom, floating_arm, friction, geometry, limits, outcome, parameters, peaks, sequence, stages)
+from analytic import (aero, dop853, eom, floating_arm, friction, geometry, kernel, kernel_loads, limits, outcome,
+                      parameters, peaks, sequence, stages)
 from analytic import scope as switches   # (the scopes' switches; a parameter below is named scope)
 from analytic.scope import EVERYTHING, Scope
 
@@ -297,9 +298,9 @@ def _scope_function(scope: Scope, label: bool = True):
     With ``label``, each function's name ends in the scope's (``integrate_ideal``), and so
     does its symbol in the machine code. numba names a symbol by the function's module, name
     and a count of the functions its process has compiled, and assumes one definition per
-    symbol. Two scopes' kernels, compiled in different processes and loaded into one, could
+    symbol. Two scopes' kernels, compiled in different processes and loaded into one, would
     otherwise hold different machine code under one symbol, and one kernel would call the
-    other's copy (measured: the ideal scope with its loads then ran the loads-free scope's
+    other's copy (the ideal scope with its loads would run the loads-free scope's
     ``integrate``). The entry point's name also keys its disk cache (``shots_ideal``).
     """
     def compile_function(function, inline):
@@ -323,7 +324,6 @@ def kernel_scope(scope: Scope) -> dict[str, types.ModuleType]:
     prunes what the scope leaves out before it types anything (``analytic.scope``).
     """
     if scope.name not in _scopes:
-        from analytic import dop853, kernel, kernel_loads   # (they import this module's decorators)
         _scopes[scope.name] = compile_modules((*MODEL_MODULES, dop853, kernel_loads, kernel), _scope_function(scope),
                                               INLINE, constants=scope.globals())
     return _scopes[scope.name]
@@ -331,7 +331,7 @@ def kernel_scope(scope: Scope) -> dict[str, types.ModuleType]:
 
 #: The model compiled as the kernel calls it, in the scope that handles everything
 #: (``Internal`` dispatchers), by module short name: the callees of ``callable_twins``.
-#: (``kernel_scope`` builds each scope's own; the kernel's modules import this one.)
+#: (``kernel_scope`` builds each scope's own.)
 kernel_twins = compile_modules(MODEL_MODULES, _scope_function(EVERYTHING, label=False), INLINE,
                                constants=EVERYTHING.globals())
 #: The model compiled for Python callers (tests, the benchmark): each function

@@ -28,7 +28,7 @@ smallest scope that holds all its designs and what is asked of them (the
 same bits in any scope that holds it), and a scope compiles only when first
 needed. Each scope's machine code is cached on disk (numba ``cache=True``):
 ``compile(scope)`` loads or builds it and says how long that took; the first
-shot in a scope calls it, and ``compile()`` (``python -m analytic compile``,
+shot in a scope calls it, and ``compile_all`` (``python -m analytic compile``,
 which ``make`` runs) readies them all.
 """
 

@@ -10,9 +10,9 @@ The compiled path (``analytic.compiled.kernel_scope``) compiles the kernel
 in a few ``Scope``s, each with its own copy of the model's globals. numba
 reads a global as a constant and prunes a branch on a constant before it
 types the code (its dead-branch pruning), so a scope that turns a part off
-never types, lowers or optimises it: the ideal scope compiles in about a
-third of the time of the whole model (10-12 s against 29-36 s, measured cold
-in fresh processes), and its shots skip the tests of what they do not use. A design runs in the smallest scope that holds it (``needed``);
+never types, lowers or optimises it: the ideal scope compiles in a fraction
+of the time of the whole model (``python -m benchmarks --cold`` measures each
+scope's), and its shots skip the tests of what they do not use. A design runs in the smallest scope that holds it (``needed``);
 the same arithmetic in every scope gives the same bits.
 """
 
