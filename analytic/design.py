@@ -363,8 +363,7 @@ class Losses:
 
     def static(self, friction: str) -> float:
         """The static coefficient of ``friction`` (one of ``FRICTIONS``): as given, or its kinetic one."""
-        static = getattr(self, f"{friction}_static_friction")
-        return getattr(self, f"{friction}_friction") if static is None else static
+        return static_coefficient(getattr(self, f"{friction}_static_friction"), getattr(self, f"{friction}_friction"))
 
     @property
     def ideal(self) -> bool:
@@ -496,8 +495,19 @@ def initial_angles(machine: Machine) -> np.ndarray:
     counterweight hangs plumb (``theta + phi = 0``) and the sling lies along the
     base pointing forward (``theta + psi = -pi/2``).
     """
-    theta = math.acos(-machine.pivot_height / machine.arm_long)
+    theta = rest_angle(machine)
     return np.array([theta, -theta, -math.pi / 2 - theta])
+
+
+def rest_angle(machine: Machine) -> float:
+    """The arm's angle at rest before firing, rad: its long-arm tip on the base
+    (``arm_long cos theta = -h``)."""
+    return math.acos(-machine.pivot_height / machine.arm_long)
+
+
+def static_coefficient(static: float | None, kinetic: float) -> float:
+    """A joint's static Coulomb coefficient: ``static`` as given, or ``kinetic`` when not given (None)."""
+    return kinetic if static is None else static
 
 
 def largest_length(machine: Machine) -> float:

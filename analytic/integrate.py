@@ -214,8 +214,11 @@ def step_interpolant(fun: Callable[[float, np.ndarray], np.ndarray], t_start: fl
     derivative), so the same interpolant: cheaper than keeping every step's
     interpolant for the few that hold a peak.
     """
-    solver = DOP853(fun, t_start, np.asarray(y_start, dtype=float), t_end, rtol=rtol, atol=atol)
-    solver.h_abs = 2.0 * (t_end - t_start)   # clipped to the bound, t_end: the step's own size
+    # A first step given spares scipy's choice of one (a derivative and two norms); then twice it, which
+    # the step clips to the bound, so that it ends at t_end to the bit, as the step did.
+    solver = DOP853(fun, t_start, np.asarray(y_start, dtype=float), t_end, rtol=rtol, atol=atol,
+                    first_step=t_end - t_start)
+    solver.h_abs = 2.0 * (t_end - t_start)
     solver.step()
     return solver.dense_output()
 

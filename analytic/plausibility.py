@@ -67,7 +67,8 @@ def plausibility_warnings(design, shot) -> tuple[str, ...]:
         found.append(f"environment.gravity = {env.gravity:g} m/s^2 is outside {low:g}-{high:g} m/s^2,"
                      f" the Moon to Jupiter")
     if shot.release_velocity is not None:
-        speed = math.hypot(*(float(v) for v in shot.release_velocity))
+        vx, vy = shot.release_velocity
+        speed = float(math.hypot(vx, vy))
         if speed > SPEED_OF_SOUND:
             found.append(f"the release speed, {speed:.4g} m/s, is beyond the speed of sound"
                          f" ({SPEED_OF_SOUND:g} m/s): the drag curves hold only well below it")
