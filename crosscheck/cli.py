@@ -13,7 +13,7 @@ from analytic.design import DesignError
 from crosscheck.cases import QUICK_CASES, default_suite, file_cases, quick_suite, sample_cases
 from crosscheck.comparison import DEFAULT_DT, step_study
 from crosscheck.report import format_plain, format_summary, format_table, write_report
-from crosscheck.runner import run
+from crosscheck.runner import PATHS, run
 
 #: The exit codes under the names of what they mean here.
 EXIT_AGREE, EXIT_DISAGREE = EXIT_OK, EXIT_FAILED
@@ -38,6 +38,10 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--workers", type=positive_int, default=min(2, os.cpu_count() or 1),
                         help="processes (default: 2, the machine's cores)")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    parser.add_argument("--path", choices=PATHS, default=PATHS[0],
+                        help="the analytic model's path: fast (the default: compiled once per checkout, tens of "
+                             "seconds, then a millisecond a design) or reference (scipy: no compile, the same "
+                             "numbers to round-off, tens of milliseconds a design; what make run uses)")
     return parser
 
 
@@ -60,11 +64,12 @@ def main(argv: list[str] | None = None) -> int:
         print(f"invalid design: {error}", file=sys.stderr)
         return EXIT_INVALID
 
-    report = run(cases, dt=args.dt, workers=args.workers, progress=not args.no_progress)
+    report = run(cases, dt=args.dt, workers=args.workers, progress=not args.no_progress, path=args.path)
     comparisons = list(report.comparisons)
     study = None
     if args.report:
-        # The step study's analytic shot is the run's own (no second shot, nor a compile of another scope).
+        # The step study's analytic shot is the run's own (no second shot, nor a compile of another scope,
+        # nor any compile with --path reference).
         i = next((i for i, c in enumerate(cases) if c.name == "table3"), 0)
         study = step_study(cases[i].design, analytic=lambda design: report.analytic_shots[i])
         paths = write_report(args.report, comparisons, study)

@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 from functools import partial
 
 from analytic import fast
+from analytic.reference import simulate
 from analytic.cli_shared import progress_bar
 from analytic.result import Shot
 from crosscheck.cases import Case, default_suite
@@ -24,8 +25,8 @@ class Report:
     comparisons : each case's ``Comparison`` (both models' statuses and every
         compared quantity with its difference and tolerance), in the order of the cases.
     dt : the engine's step, s.
-    analytic_shots : the analytic model's ``Shot`` of each case (the fast path's summary), in
-        the same order.
+    analytic_shots : the analytic model's ``Shot`` of each case (the summary of ``run``'s
+        ``path``), in the same order.
     """
 
     comparisons: tuple[Comparison, ...]
@@ -47,8 +48,12 @@ class Report:
         return {"agree": self.agree, "comparisons": [c.to_json() for c in self.comparisons]}
 
 
+#: The analytic model's paths ``run`` can shoot its side on (``analytic.optimise``'s ``--path`` names).
+PATHS = ("fast", "reference")
+
+
 def run(cases: list[Case] | None = None, *, dt: float = DEFAULT_DT, workers: int | None = None,
-        progress: bool = False) -> Report:
+        progress: bool = False, path: str = "fast") -> Report:
     """Compare every case on both models.
 
     The analytic side of every case is shot first, in one fast-path batch
@@ -62,16 +67,25 @@ def run(cases: list[Case] | None = None, *, dt: float = DEFAULT_DT, workers: int
     dt : the engine's step, s.
     workers : processes for the engine runs (default: up to 2, the cores there are).
     progress : show a progress bar on stderr.
+    path : the analytic model's path, one of ``PATHS``: ``"fast"``, or
+        ``"reference"``, the scipy path's summaries (``analytic.reference.simulate``): the same
+        numbers to round-off, without the compile that a checkout's first fast shot pays (tens
+        of seconds), at tens of milliseconds a design (seconds for one that flies for minutes).
 
     Returns
     -------
     Report
     """
+    if path not in PATHS:
+        raise ValueError(f"path = {path!r}: must be one of {', '.join(PATHS)}")
     cases = default_suite() if cases is None else list(cases)
     workers = min(2, os.cpu_count() or 1) if workers is None else workers
     designs = [case.design for case in cases]
-    fast.compile(fast.scope_for(designs), progress=progress)
-    analytic = fast.simulate_fast_many(designs)
+    if path == "fast":
+        fast.compile(fast.scope_for(designs), progress=progress)
+        analytic = fast.simulate_fast_many(designs)
+    else:
+        analytic = [simulate(design, histories=False) for design in designs]
     bar = progress_bar(total=len(cases), desc="cross-check", unit="design", disable=not progress, file=sys.stderr)
     results = []
     if workers <= 1:

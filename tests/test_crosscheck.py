@@ -18,6 +18,7 @@ from crosscheck.cases import (LOSS_VARIANTS, QUICK_CASES, REALISTIC_LOSSES, defa
                               friction_cases, paper_cases, quick_suite, sample_cases, stage1_event_cases)
 from crosscheck.cli import EXIT_AGREE, EXIT_DISAGREE, main
 from crosscheck.comparison import compare, compare_shots, engine_simulate, step_study, with_dissipated_work
+from crosscheck.runner import run
 from engine_model import DEFAULT_DT, EngineError
 from support import failure_designs, with_machine
 
@@ -316,9 +317,11 @@ def test_cli_quick_runs_the_quick_suite_and_agrees(capsys):
 
 
 def test_cli_quick_says_in_a_sentence_whether_the_models_agree_with_the_detail_in_the_report(tmp_path, capsys):
-    # ``make run``'s check: a sentence a newcomer reads, the deliberate failure introduced as
-    # such, and every quantity (with the engine's step, drift and convergence) in table.txt.
-    assert main(["--quick", "--workers", "1", "--no-progress", "--report", str(tmp_path)]) == 0
+    # ``make run``'s check, as the Makefile runs it (on the reference path): a sentence a newcomer
+    # reads, the deliberate failure introduced as such, and every quantity (with the engine's step,
+    # drift and convergence) in table.txt.
+    assert main(["--quick", "--workers", "1", "--no-progress", "--path", "reference",
+                 "--report", str(tmp_path)]) == 0
     printed = capsys.readouterr().out.splitlines()
     assert printed[0].startswith(f"the engine and the analytic model agree on all {len(QUICK_CASES)} designs, "
                                  f"to ") and printed[0].endswith("of the range at worst"), printed
@@ -327,6 +330,24 @@ def test_cli_quick_says_in_a_sentence_whether_the_models_agree_with_the_detail_i
     assert len(printed) == 2 + len(failures) and printed[-1].endswith(str(tmp_path / "table.txt"))
     table = (tmp_path / "table.txt").read_text()
     assert "largest joint drift" in table and "worst case per quantity" in table
+
+
+def test_the_reference_path_s_run_takes_its_summaries_and_the_fast_path_s_numbers():
+    # ``--path reference`` (make run's): the scipy path's summary of each case, which the
+    # fast path's lacks the loss budget of, and the same range to round-off.
+    case = next(c for c in quick_suite() if c.name == "table3-all-losses")
+    report = run([case], workers=1, path="reference")
+    shot, = report.analytic_shots
+    assert report.agree and shot.energy_dissipated is not None and shot.history is None
+    assert shot.range == pytest.approx(simulate_fast(case.design).range, rel=1e-9)
+
+
+def test_an_unknown_analytic_path_is_refused_before_any_work(capsys):
+    with pytest.raises(ValueError, match="path = 'slow': must be one of fast, reference"):
+        run(quick_suite(), path="slow")
+    with pytest.raises(SystemExit) as exit_:
+        main(["--quick", "--path", "slow"])
+    assert exit_.value.code == 2 and "--path: invalid choice: 'slow'" in capsys.readouterr().err
 
 
 # --------------------------------------------------------------------------- #
