@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Callable
+from typing import Callable, NamedTuple
 
 import numpy as np
 from scipy.integrate import DOP853, OdeSolution
@@ -75,8 +75,8 @@ class Segment:
     step_y : (k, m) the states there.
     step_f : (k, m) the derivative there, as the integrator computed it (a row of NaN where it
         did not: the start and an event's root).
-    last_step_end : where the step that holds the end would have ended, s (the end itself unless
-        an event stopped the step short).
+    steps : each accepted step whole, as a ``Step`` (``step_interpolant`` builds its dense output
+        from it): ``steps[j]`` is the one from ``step_t[j]`` (an event's root ends the last early).
     """
 
     t: np.ndarray
@@ -89,8 +89,21 @@ class Segment:
     step_t: np.ndarray | None = None
     step_y: np.ndarray | None = None
     step_f: np.ndarray | None = None
-    last_step_end: float | None = None
+    steps: tuple[Step, ...] | None = None
 
+
+class Step(NamedTuple):
+    """One accepted DOP853 step, whole: from ``(t_old, y_old)`` to ``(t, y)`` (derivative ``f``
+    there) by ``h``, with its twelve stages' derivatives and the first at its start (``K``,
+    (13, m)): what the step's dense output is made of (``step_interpolant``)."""
+
+    t_old: float
+    t: float
+    h: float
+    y_old: np.ndarray
+    y: np.ndarray
+    f: np.ndarray
+    K: np.ndarray
 
 
 def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.ndarray,
@@ -124,6 +137,7 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
     step_t, step_y = [t0], [solver.y.copy()]
     unknown = np.full(len(solver.y), np.nan)
     step_f = [unknown]
+    steps_taken = []
     sampled = output_step is not None
     record = sampled or continuous
     roots: dict[str, list[tuple[float, np.ndarray]]] = {e.name: [] for e in events if not e.terminal}
@@ -140,7 +154,7 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
             step_f.append(unknown)
         segment = Segment(np.array(times), np.array(states), None, t_last, y_last.copy(), roots,
                           OdeSolution(step_ends, interpolants) if interpolants else None,
-                          np.array(step_t), np.array(step_y), np.array(step_f), t_last)
+                          np.array(step_t), np.array(step_y), np.array(step_f), tuple(steps_taken))
         return IntegrationError(message, solver.t, step_limit, segment)
 
     if not np.isfinite(solver.h_abs):
@@ -160,6 +174,9 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
             raise failure(f"integration failed at t = {solver.t:.6g} s: {message}", solver.t, solver.y)
         if not np.all(np.isfinite(solver.y)):
             raise failure(f"non-finite state at t = {solver.t:.6g} s", solver.t_old, solver.y_old)
+        # scipy gives each step new y and f arrays, and writes the next step's stages over K.
+        steps_taken.append(Step(solver.t_old, solver.t, solver.h_previous, solver.y_old, solver.y, solver.f,
+                                solver.K.copy()))
         dense = solver.dense_output() if record else _LazyDense(solver)
         if record:
             step_ends.append(solver.t)
@@ -196,30 +213,30 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
                 roots[name] = [(t, y) for t, y in roots[name] if t <= t_hit]
             return Segment(np.array(times), np.array(states), event.name, t_hit, y_hit, roots,
                            OdeSolution(step_ends, interpolants) if record else None,
-                           np.array(step_t), np.array(step_y), np.array(step_f), solver.t)
+                           np.array(step_t), np.array(step_y), np.array(step_f), tuple(steps_taken))
 
     if times[-1] < solver.t:
         times.append(solver.t)
         states.append(solver.y.copy())
     solution = OdeSolution(step_ends, interpolants) if interpolants else None
     return Segment(np.array(times), np.array(states), None, solver.t, solver.y.copy(), roots, solution,
-                   np.array(step_t), np.array(step_y), np.array(step_f), solver.t)
+                   np.array(step_t), np.array(step_y), np.array(step_f), tuple(steps_taken))
 
 
-def step_interpolant(fun: Callable[[float, np.ndarray], np.ndarray], t_start: float, y_start: np.ndarray,
-                     t_end: float, *, rtol: float, atol: float):
-    """The dense output of the accepted step from ``(t_start, y_start)`` to ``t_end``, taken again.
+def step_interpolant(fun: Callable[[float, np.ndarray], np.ndarray], step: Step, *, rtol: float, atol: float):
+    """The dense output of an accepted ``step`` (a ``Segment``'s ``steps``), as scipy built it
+    for that step: its stages kept, only the interpolant's three extra ones evaluated.
 
-    The same arithmetic as when ``integrate`` took it (the same start, step and
-    derivative), so the same interpolant: cheaper than keeping every step's
-    interpolant for the few that hold a peak.
+    Cheaper than keeping every step's interpolant for the few that hold a peak (3
+    derivatives each), or than taking the step again (16). scipy's ``DOP853`` builds it from
+    the state of its last step, which this sets (``t_old``, ``y_old``, ``h_previous`` and the
+    stages ``K``: attributes of scipy's solver, not its documented interface;
+    ``tests/test_analytic_integrate.py`` checks the result against the step taken again).
     """
-    # A first step given spares scipy's choice of one (a derivative and two norms); then twice it, which
-    # the step clips to the bound, so that it ends at t_end to the bit, as the step did.
-    solver = DOP853(fun, t_start, np.asarray(y_start, dtype=float), t_end, rtol=rtol, atol=atol,
-                    first_step=t_end - t_start)
-    solver.h_abs = 2.0 * (t_end - t_start)
-    solver.step()
+    solver = DOP853(fun, step.t_old, step.y_old, step.t, rtol=rtol, atol=atol, first_step=step.t - step.t_old)
+    solver.t_old, solver.y_old, solver.h_previous = step.t_old, step.y_old, step.h
+    solver.t, solver.y, solver.f = step.t, step.y, step.f
+    solver.K[:] = step.K
     return solver.dense_output()
 
 

@@ -124,8 +124,7 @@ def stage_peaks(stage: Stage, segment: Segment, p: Params, loads: bool, rtol: fl
     def interpolant(j: int):
         """The dense output of the step from sample j to sample j + 1 (its full length)."""
         if j not in built:
-            end = segment.last_step_end if j + 2 == len(times) else times[j + 1]
-            built[j] = step_interpolant(rhs, times[j], segment.step_y[j], end, rtol=rtol, atol=atol)
+            built[j] = step_interpolant(rhs, segment.steps[j], rtol=rtol, atol=atol)
         return built[j]
 
     peaks = np.empty((values.shape[1], 2))

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from analytic.integrate import Event, integrate
+from analytic.integrate import Event, integrate, step_interpolant
 
 TOL = dict(rtol=1e-12, atol=1e-12, output_step=0.01)
 
@@ -87,3 +87,23 @@ def test_a_value_that_starts_at_zero_and_comes_back_within_the_first_step_is_fou
     assert seg.t_end == pytest.approx(0.01, abs=1e-14)
     monkeypatch.setattr(analytic.integrate, "ZERO_START_PROBES", 1)   # no probes: missed
     assert run().event is None
+
+
+def test_a_step_s_interpolant_rebuilt_from_its_record_is_scipy_s_own_for_that_step():
+    # ``step_interpolant`` sets scipy's solver to a kept step's state and asks it for the dense
+    # output; the interpolants scipy built while integrating (``continuous``) are the reference.
+    def pendulum(t, y):
+        return np.array([y[1], -9.81 * math.sin(y[0]) - 0.3 * y[1] * abs(y[1])])
+
+    segment = integrate(pendulum, 0.0, np.array([2.5, 0.0]), 3.0, rtol=1e-10, atol=1e-10, output_step=None,
+                        continuous=True)
+    own = segment.solution.interpolants
+    assert len(segment.steps) == len(own) > 20
+    for step, interpolant in zip(segment.steps, own, strict=True):
+        rebuilt = step_interpolant(pendulum, step, rtol=1e-10, atol=1e-10)
+        times = np.linspace(step.t_old, step.t, 7)
+        assert np.array_equal(rebuilt(times), interpolant(times))   # to the bit
+    # The control: the previous step's record gives another interpolant.
+    other = step_interpolant(pendulum, segment.steps[3], rtol=1e-10, atol=1e-10)
+    middle = 0.5 * (segment.steps[4].t_old + segment.steps[4].t)
+    assert not np.array_equal(other(middle), own[4](middle))
