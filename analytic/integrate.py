@@ -228,10 +228,11 @@ def step_interpolant(fun: Callable[[float, np.ndarray], np.ndarray], step: Step,
     for that step: its stages kept, only the interpolant's three extra ones evaluated.
 
     Cheaper than keeping every step's interpolant for the few that hold a peak (3
-    derivatives each), or than taking the step again (16). scipy's ``DOP853`` builds it from
-    the state of its last step, which this sets (``t_old``, ``y_old``, ``h_previous`` and the
-    stages ``K``: attributes of scipy's solver, not its documented interface;
-    ``tests/test_analytic_integrate.py`` checks the result against the step taken again).
+    derivatives a step), or than taking the step again (16 derivatives: a solver's first, the
+    twelve stages, the three). scipy's ``DOP853`` builds it from the state of its last step,
+    which this sets (``t_old``, ``y_old``, ``h_previous`` and the stages ``K``: attributes of
+    scipy's solver, not its documented interface; ``tests/test_analytic_integrate.py`` checks
+    the result, to the bit, against the interpolants scipy built while integrating).
     """
     solver = DOP853(fun, step.t_old, step.y_old, step.t, rtol=rtol, atol=atol, first_step=step.t - step.t_old)
     solver.t_old, solver.y_old, solver.h_previous = step.t_old, step.y_old, step.h
