@@ -48,7 +48,7 @@ compile: $(COMPILED_ALL)
 # job's report is printed whole as it ends (--output-sync), under 40 lines in all.
 # None of them needs the fast path: the shot draws the scipy path's history, and the
 # quick cross-check's four designs take its summaries (--path reference: the same
-# numbers to round-off, about 4 s in all, where compiling the fast path takes 25-35 s).
+# numbers to round-off, in seconds, where compiling the fast path takes tens of them).
 run: $(STAMP)
 	@$(MAKE) --no-print-directory -j2 --output-sync=target run-shot run-frames run-crosscheck
 

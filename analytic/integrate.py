@@ -94,12 +94,12 @@ class Segment:
 
 class Step(NamedTuple):
     """One accepted DOP853 step, whole: from ``(t_old, y_old)`` to ``(t, y)`` (derivative ``f``
-    there) by ``h``, with its twelve stages' derivatives and the first at its start (``K``,
-    (13, m)): what the step's dense output is made of (``step_interpolant``)."""
+    there), with its twelve stages' derivatives and the first at its start (``K``, (13, m)):
+    what the step's dense output is made of (``step_interpolant``). Its size is ``t - t_old``,
+    as scipy computes it."""
 
     t_old: float
     t: float
-    h: float
     y_old: np.ndarray
     y: np.ndarray
     f: np.ndarray
@@ -175,8 +175,7 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
         if not np.all(np.isfinite(solver.y)):
             raise failure(f"non-finite state at t = {solver.t:.6g} s", solver.t_old, solver.y_old)
         # scipy gives each step new y and f arrays, and writes the next step's stages over K.
-        steps_taken.append(Step(solver.t_old, solver.t, solver.h_previous, solver.y_old, solver.y, solver.f,
-                                solver.K.copy()))
+        steps_taken.append(Step(solver.t_old, solver.t, solver.y_old, solver.y, solver.f, solver.K.copy()))
         dense = solver.dense_output() if record else _LazyDense(solver)
         if record:
             step_ends.append(solver.t)
@@ -235,7 +234,7 @@ def step_interpolant(fun: Callable[[float, np.ndarray], np.ndarray], step: Step,
     the result, to the bit, against the interpolants scipy built while integrating).
     """
     solver = DOP853(fun, step.t_old, step.y_old, step.t, rtol=rtol, atol=atol, first_step=step.t - step.t_old)
-    solver.t_old, solver.y_old, solver.h_previous = step.t_old, step.y_old, step.h
+    solver.t_old, solver.y_old, solver.h_previous = step.t_old, step.y_old, step.t - step.t_old
     solver.t, solver.y, solver.f = step.t, step.y, step.f
     solver.K[:] = step.K
     return solver.dense_output()

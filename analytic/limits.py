@@ -15,6 +15,11 @@ import math
 DEFAULT_RTOL = 1e-10
 DEFAULT_ATOL = 1e-10
 
+#: The analytic model's two paths, as the tools' ``--path`` options name them: the compiled
+#: ``analytic.fast`` and scipy's ``analytic.reference``.
+FAST, REFERENCE = "fast", "reference"
+PATHS = (FAST, REFERENCE)
+
 #: Stage 1 ends as never_lifts_off once the sling is this close to vertical
 #: (|sin beta|, within about 0.57 deg): the projectile is being dragged under
 #: the arm tip, and the reduced stage-1 equations become singular there.

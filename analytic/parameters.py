@@ -108,9 +108,9 @@ N_PARAMS = len(Params._fields)
 def params(design) -> Params:
     """The ``Params`` of an ``analytic.design.Design``.
 
-    Built positionally, one line per group of fields in ``Params``' order (a keyword call
-    costs 4 us of a 150 us fast-path shot; ``tests/test_analytic_parameters.py`` checks
-    each field against its design field by name).
+    Built positionally, one line per group of fields in ``Params``' order (a keyword call of
+    40 fields costs about three times as much, on every fast-path shot);
+    ``tests/test_analytic_parameters.py`` checks each field against its design field by name.
     """
     m, proj, env, losses, base = design.machine, design.projectile, design.environment, design.losses, design.base
     theta0 = rest_angle(m)   # design.initial_angles' first two, as floats

@@ -68,7 +68,7 @@ def plausibility_warnings(design, shot) -> tuple[str, ...]:
                      f" the Moon to Jupiter")
     if shot.release_velocity is not None:
         vx, vy = shot.release_velocity
-        speed = float(math.hypot(vx, vy))
+        speed = math.hypot(vx, vy)
         if speed > SPEED_OF_SOUND:
             found.append(f"the release speed, {speed:.4g} m/s, is beyond the speed of sound"
                          f" ({SPEED_OF_SOUND:g} m/s): the drag curves hold only well below it")

@@ -10,10 +10,11 @@ import sys
 from analytic.cli_shared import (EXIT_FAILED, EXIT_INVALID, EXIT_OK, OutputPathError, negative_numbers_as_values,
                                  output_folder, positive_float, positive_int)
 from analytic.design import DesignError
+from analytic.limits import PATHS
 from crosscheck.cases import QUICK_CASES, default_suite, file_cases, quick_suite, sample_cases
 from crosscheck.comparison import DEFAULT_DT, step_study
 from crosscheck.report import format_plain, format_summary, format_table, write_report
-from crosscheck.runner import PATHS, run
+from crosscheck.runner import run
 
 #: The exit codes under the names of what they mean here.
 EXIT_AGREE, EXIT_DISAGREE = EXIT_OK, EXIT_FAILED

@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 from functools import partial
 
 from analytic import fast
+from analytic.limits import FAST, PATHS
 from analytic.reference import simulate
 from analytic.cli_shared import progress_bar
 from analytic.result import Shot
@@ -48,12 +49,8 @@ class Report:
         return {"agree": self.agree, "comparisons": [c.to_json() for c in self.comparisons]}
 
 
-#: The analytic model's paths ``run`` can shoot its side on (``analytic.optimise``'s ``--path`` names).
-PATHS = ("fast", "reference")
-
-
 def run(cases: list[Case] | None = None, *, dt: float = DEFAULT_DT, workers: int | None = None,
-        progress: bool = False, path: str = "fast") -> Report:
+        progress: bool = False, path: str = FAST) -> Report:
     """Compare every case on both models.
 
     The analytic side of every case is shot first, in one fast-path batch
@@ -67,7 +64,7 @@ def run(cases: list[Case] | None = None, *, dt: float = DEFAULT_DT, workers: int
     dt : the engine's step, s.
     workers : processes for the engine runs (default: up to 2, the cores there are).
     progress : show a progress bar on stderr.
-    path : the analytic model's path, one of ``PATHS``: ``"fast"``, or
+    path : the analytic model's path, one of ``analytic.limits.PATHS``: ``"fast"``, or
         ``"reference"``, the scipy path's summaries (``analytic.reference.simulate``): the same
         numbers to round-off, without the compile that a checkout's first fast shot pays (tens
         of seconds), at tens of milliseconds a design (seconds for one that flies for minutes).
@@ -81,7 +78,7 @@ def run(cases: list[Case] | None = None, *, dt: float = DEFAULT_DT, workers: int
     cases = default_suite() if cases is None else list(cases)
     workers = min(2, os.cpu_count() or 1) if workers is None else workers
     designs = [case.design for case in cases]
-    if path == "fast":
+    if path == FAST:
         fast.compile(fast.scope_for(designs), progress=progress)
         analytic = fast.simulate_fast_many(designs)
     else:

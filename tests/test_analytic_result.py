@@ -2,11 +2,15 @@
 
 from __future__ import annotations
 
+import dataclasses
+import pickle
+
 import numpy as np
 import pytest
 
 from analytic import fast
-from analytic.result import SHOT_COLUMNS, Shots, Status
+from analytic.design_file import default_design
+from analytic.result import SHOT_COLUMNS, Shot, Shots, Status
 from support import failure_designs, table_ii_sample
 
 
@@ -71,3 +75,37 @@ def test_a_fast_shot_has_no_history_and_a_reference_one_has_all_of_it(designs):
                         if name not in ("designs", "shot_at")})
     with pytest.raises(TypeError):
         stand_in[0]
+
+
+# --------------------------------------------------------------------------- #
+# Shot's own __init__: the dataclass's fields, filled at once
+# --------------------------------------------------------------------------- #
+
+def test_every_field_after_the_message_has_a_plain_default():
+    # Shot.__init__ fills them from one dict of defaults: a default_factory would be shared.
+    later = dataclasses.fields(Shot)[3:]
+    assert [f.name for f in dataclasses.fields(Shot)[:3]] == ["design", "status", "message"]
+    assert all(f.default is not dataclasses.MISSING and f.default_factory is dataclasses.MISSING for f in later)
+
+
+def test_a_shot_holds_what_it_was_given_and_none_for_the_rest():
+    design = default_design()
+    shot = Shot(design, Status.OK, "thrown", apex_height=3.5, warnings=["a", "a"])
+    assert (shot.design, shot.status, shot.message, shot.apex_height) == (design, Status.OK, "thrown", 3.5)
+    assert shot.release_time is None and shot.history is None and shot.warnings == ("a",)
+    assert list(vars(shot)) == [f.name for f in dataclasses.fields(Shot)]
+
+
+def test_an_unknown_field_is_refused_as_the_dataclass_would():
+    with pytest.raises(TypeError, match="unexpected keyword arguments: apex, rnage"):
+        Shot(default_design(), Status.OK, "thrown", rnage=3.0, apex=1.0)
+
+
+def test_a_shot_stays_frozen_and_copies_replaces_and_pickles_whole():
+    shot = Shot(default_design(), Status.OK, "thrown", apex_height=3.5, landing_position=np.array([45.0, -0.6]))
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        shot.apex_height = 4.0
+    moved = dataclasses.replace(shot, apex_height=4.0)
+    assert moved.apex_height == 4.0 and moved.landing_position is shot.landing_position
+    back = pickle.loads(pickle.dumps(shot))
+    assert back.apex_height == 3.5 and back.range == shot.range == 45.0

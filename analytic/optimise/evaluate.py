@@ -27,6 +27,7 @@ import numpy as np
 from analytic import fast
 from analytic.design import DesignError
 from analytic.design_space import LOADS, Problem, design_at
+from analytic.limits import FAST, PATHS, REFERENCE   # the two ways of shooting candidates (module docstring)
 from analytic.optimise.robust import Scatter, expected, release_scatter
 from analytic.result import PEAK_NAMES, Status
 from analytic.reference import simulate
@@ -41,9 +42,6 @@ NO_SCATTER = release_scatter(0.0)
 #: Failure kinds besides ``Status``: cannot be built / the simulator raised
 #: (it promises a ``Status`` for every valid design; counted, should it break that).
 DESIGN_ERROR, SIMULATOR_ERROR = "design_error", "simulator_error"
-#: The two ways of shooting candidates (module docstring).
-FAST, REFERENCE = "fast", "reference"
-PATHS = (FAST, REFERENCE)
 #: Worker processes of the reference path unless told otherwise.
 DEFAULT_PROCESSES = 2
 
