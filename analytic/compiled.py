@@ -84,17 +84,14 @@ CALLABLE = dict(OPTIONS, cache=True)
 #: shots takes about 1.2x as long. With friction, the joint forces are taken
 #: three times per evaluation at the same angles; inlined, LLVM computes
 #: their sines and cosines once (a batch with friction 1.26-1.35x as fast,
-#: the same bits, the same cold compile). The friction's Newton solve is inlined too:
-#: called, it takes its four 7-tuples and the design's numbers by value at every
-#: evaluation, a cost that shows in a shot with friction (the commit that inlined it
-#: has the figures). numba's own inlining (``inline="always"``,
+#: the same bits, the same cold compile). numba's own inlining (``inline="always"``,
 #: at its IR level) gives shots a few per cent faster but copies and re-types
 #: each callee at every call site: it made a cold compile 1.2x-1.6x as long.
 INLINE = {"floating_arm": ("terms",),
           "eom": ("terms", "slide_constraint", "slide_system", "slide_accelerations", "swing_accelerations",
                   "joint_forces", "joint_forces_sliding", "joint_forces_in_gravity", "frame_acceleration",
                   "frame_coupling", "total_mass", "solve_symmetric", "symmetric_cofactors"),
-          "friction": ("_force_response", "_joints", "swing_friction", "slide_friction", "friction_newton"),
+          "friction": ("_force_response", "_joints", "swing_friction", "slide_friction"),
           "stages": ("derivative",)}
 _HERE = Path(__file__).parent
 #: Every source whose change must invalidate the compiled cache: the model,
