@@ -136,7 +136,7 @@ def _compile_progress(enabled: bool, scope: Scope):
         def on_start(self, ev):
             if self.bar is None:
                 print(f"compiling the fast path's {scope.name} scope once (tens of seconds); "
-                      "later runs load it from the cache in about 0.3 s", file=sys.stderr, flush=True)
+                      "later runs load it from the cache in under a second", file=sys.stderr, flush=True)
                 self.bar = progress_bar(desc="compiling", unit=" functions", file=sys.stderr, mininterval=0.5,
                                 leave=False)   # gone when done: `analytic compile` then prints the time
             function = ev.data["dispatcher"].py_func
@@ -182,7 +182,7 @@ def compile(scope: Scope | None = None, *, progress: bool = False) -> float:
 
     The first shot in a scope calls it; later calls return the first call's
     time. In a fresh checkout a scope compiles once (tens of seconds; ``make``
-    does it when it installs); afterwards it loads (about 0.3 s).
+    does it when it installs); afterwards it loads, in under a second.
 
     Parameters
     ----------
@@ -232,10 +232,12 @@ def compile_all(scopes: Sequence[Scope] = SCOPES, *, progress: bool = False) -> 
 
 
 def _ready(scope: Scope):
-    """``scope``'s compiled entry point, loaded or compiled (with its progress shown on a
-    terminal: only a scope's first use in a checkout compiles)."""
+    """``scope``'s compiled entry point, loaded or compiled: only a scope's first use in a
+    checkout compiles, and then says so on stderr with its progress, on a terminal as a bar
+    and elsewhere (a notebook, a log, a pipe) as a line every few seconds
+    (``cli_shared.progress_bar``); loading from the cache says nothing."""
     if scope.name not in _compile_seconds:
-        compile(scope, progress=sys.stderr.isatty())
+        compile(scope, progress=True)
     return entry_point(scope)
 
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 import inspect
+import io
 import json
 import math
 import os
@@ -503,6 +504,17 @@ def test_compile_progress_counts_names_the_last_step_and_clears_itself(capsys, m
         assert err.rsplit("\r", 1)[-1].strip() == ""    # the bar is gone (tqdm leave=False)
     else:
         assert "\r" not in err and err.endswith("\n")   # a log of whole lines
+
+
+def test_a_first_use_shows_its_compile_wherever_stderr_goes(monkeypatch):
+    # Not only on a terminal: a notebook's or a log's stderr sees why the first shot stalls
+    # (the progress itself is said only while compiling, not while loading from the cache).
+    asked = []
+    monkeypatch.setattr(fast, "_compile_seconds", {})
+    monkeypatch.setattr(fast, "compile", lambda scope, progress=False: asked.append((scope, progress)))
+    monkeypatch.setattr(fast.sys, "stderr", io.StringIO())
+    fast._ready(IDEAL)
+    assert asked == [(IDEAL, True)]
 
 
 def test_a_batch_finds_the_peak_loads_only_when_asked():
