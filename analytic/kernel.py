@@ -29,14 +29,13 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba.np.unsafe.ndarray import to_fixed_tuple
 
 from analytic.marks import entry, internal
 from analytic.dop853 import (ERROR_ORDER, MAX_FACTOR, MIN_FACTOR, N_STAGES, SAFETY, brent, dense_eval, dense_prepare,
                              error_norm, event_at, initial_step, rk_step)
 from analytic.kernel_loads import N_LOADS, POOL_SLOTS, finish_peaks, keep_step, sample_loads, save_step
 from analytic.limits import STAGE_STEP_LIMITS, flight_time_limit
-from analytic.parameters import N_PARAMS, Params
+from analytic.parameters import PARAMS_DTYPE
 from analytic.scope import FRICTION, LOADS, RECORDING   # what this copy handles (analytic.scope)
 from analytic.sequence import (FAILED, FINISHED, NEVER_FIRES, NEVER_LIFTS_OFF, NEXT_STAGE, OK, OUT_OF_STEPS,
                                REACHED_END, STEP_FAILED, SWITCH_MODE, counted_crossing, leaves_zero, past_root,
@@ -287,8 +286,9 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
 
 @internal
 def params(P):
-    """The ``Params`` of a design row."""
-    return Params(*to_fixed_tuple(P, N_PARAMS))
+    """The ``Params`` of a design row, as a record over the row itself (``parameters.PARAMS_DTYPE``):
+    read in place, and passed to each function as a pointer instead of a 40-number tuple."""
+    return P.view(PARAMS_DTYPE)[0]
 
 
 @internal

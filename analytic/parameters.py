@@ -50,6 +50,8 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
+import numpy as np
+
 from analytic.aero import DRAG_MODELS
 from analytic.design import KINDS, largest_length, rest_angle, static_coefficient
 from analytic.limits import swing_time_limit
@@ -133,3 +135,8 @@ def params(design) -> Params:
         static_coefficient(losses.guide_static_friction, losses.guide_friction),            # mug_s
         static_coefficient(losses.track_static_friction, losses.track_friction)))           # mut_s
 
+
+#: ``Params`` as a numpy record type, field for field: the compiled kernel reads each design row
+#: through it in place (``kernel.params``); numba passes a record to a function as one pointer,
+#: a ``Params`` tuple as its 40 numbers.
+PARAMS_DTYPE = np.dtype([(name, np.float64) for name in Params._fields])

@@ -2,7 +2,8 @@
 
 ``params`` builds the tuple positionally (a keyword call is 4 us of a fast shot), so a field
 written in the wrong place would pass anything that reads the tuple by position. This test
-reads every field by name, on designs whose numbers all differ, so a swap of any two fails.
+reads every field by name, on designs whose numbers all differ, so a swap of any two fails,
+and so does the compiled kernel's record over a packed row (``kernel.params``).
 """
 
 from __future__ import annotations
@@ -15,9 +16,11 @@ import pytest
 from analytic.aero import DRAG_MODELS
 from analytic.design import (KINDS, Base, Design, Environment, Losses, Machine, Projectile,
                              initial_angles, largest_length)
+from analytic.fast import pack
 from analytic.geometry import RELEASE_RULES
+from analytic.kernel import params as row_params
 from analytic.limits import swing_time_limit
-from analytic.parameters import Params, params
+from analytic.parameters import PARAMS_DTYPE, Params, params
 
 
 def distinct_design(*, statics: bool, drag: str, kind: str, rolling: bool) -> Design:
@@ -80,6 +83,19 @@ def test_each_field_holds_its_design_field(statics, drag, kind, rolling):
     for name, value in want.items():
         actual = getattr(got, name)
         assert type(actual) is float, name
+        assert actual == value or (math.isnan(value) and math.isnan(actual)), (name, actual, value)
+
+
+@pytest.mark.parametrize("statics", [True, False])
+@pytest.mark.parametrize("drag, kind, rolling", CASES)
+def test_the_kernels_record_over_a_packed_row_reads_each_field_by_name(statics, drag, kind, rolling):
+    # The kernel reads a design row through PARAMS_DTYPE (kernel.params, the same function it compiles):
+    # each named field of the record must be the one Params has under that name.
+    design = distinct_design(statics=statics, drag=drag, kind=kind, rolling=rolling)
+    record = row_params(pack(design))
+    assert record.dtype == PARAMS_DTYPE and PARAMS_DTYPE.names == Params._fields
+    for name, value in expected(design).items():
+        actual = float(record[name])
         assert actual == value or (math.isnan(value) and math.isnan(actual)), (name, actual, value)
 
 
