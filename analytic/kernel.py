@@ -287,7 +287,7 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
 @internal
 def params(P):
     """The ``Params`` of a design row, as a record over the row itself (``parameters.PARAMS_DTYPE``):
-    read in place, and passed to each function as a pointer instead of a 40-number tuple."""
+    read in place, and passed to each function as one pointer."""
     return P.view(PARAMS_DTYPE)[0]
 
 

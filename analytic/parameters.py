@@ -2,8 +2,9 @@
 
 ``Params`` is what every function of the model takes (``analytic.eom``,
 ``analytic.stages``); its field order is also the layout of a design row, the
-form in which the compiled path receives designs (``analytic.fast.pack``):
-the order is written here once, and both paths read it by name.
+form in which the compiled path receives designs (``analytic.fast.pack``) and
+reads them, as a record of the same fields (``PARAMS_DTYPE``): the order is
+written here once, and both paths read it by name.
 
 Symbols (``docs/derivation.md``):
 

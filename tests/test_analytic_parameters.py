@@ -72,18 +72,22 @@ def expected(design: Design) -> dict[str, float]:
         mut_s=losses.static("track"))
 
 
+def assert_fields(read, design: Design) -> None:
+    """Each field ``read(name)`` gives is the design's number that ``expected`` names."""
+    for name, value in expected(design).items():
+        actual = read(name)
+        assert actual == value or (math.isnan(value) and math.isnan(actual)), (name, actual, value)
+
+
 @pytest.mark.parametrize("statics", [True, False])
 @pytest.mark.parametrize("drag, kind, rolling", CASES)
 def test_each_field_holds_its_design_field(statics, drag, kind, rolling):
     design = distinct_design(statics=statics, drag=drag, kind=kind, rolling=rolling)
     got = params(design)
     assert isinstance(got, Params)
-    want = expected(design)
-    assert list(want) == list(Params._fields)
-    for name, value in want.items():
-        actual = getattr(got, name)
-        assert type(actual) is float, name
-        assert actual == value or (math.isnan(value) and math.isnan(actual)), (name, actual, value)
+    assert list(expected(design)) == list(Params._fields)
+    assert all(type(value) is float for value in got), [type(value) for value in got]
+    assert_fields(lambda name: getattr(got, name), design)
 
 
 @pytest.mark.parametrize("statics", [True, False])
@@ -94,9 +98,7 @@ def test_the_kernels_record_over_a_packed_row_reads_each_field_by_name(statics, 
     design = distinct_design(statics=statics, drag=drag, kind=kind, rolling=rolling)
     record = row_params(pack(design))
     assert record.dtype == PARAMS_DTYPE and PARAMS_DTYPE.names == Params._fields
-    for name, value in expected(design).items():
-        actual = float(record[name])
-        assert actual == value or (math.isnan(value) and math.isnan(actual)), (name, actual, value)
+    assert_fields(lambda name: float(record[name]), design)
 
 
 def test_every_two_fields_differ_in_some_design():
