@@ -91,7 +91,7 @@ INLINE = {"floating_arm": ("terms",),
           "eom": ("terms", "slide_constraint", "slide_system", "slide_accelerations", "swing_accelerations",
                   "joint_forces", "joint_forces_sliding", "joint_forces_in_gravity", "frame_acceleration",
                   "frame_coupling", "total_mass", "solve_symmetric", "symmetric_cofactors"),
-          "friction": ("_force_response", "_joints", "swing_friction", "slide_friction"),
+          "friction": ("_force_response", "_joints", "swing_friction", "slide_friction", "_linearisation_error"),
           "stages": ("derivative",)}
 _HERE = Path(__file__).parent
 #: Every source whose change must invalidate the compiled cache: the model,

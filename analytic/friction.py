@@ -55,10 +55,10 @@ from analytic.floating_arm import support_forces
 # rate's sign; the friction opposes it) or stuck (0: its rate and
 # acceleration are 0, and its torque is whatever holds it) [10.4].
 
-#: Newton's method on the friction unknowns stops when an update is this small
-#: relative to the unknowns (a few units in the last place), or after
-#: ``FRICTION_ITERATIONS`` (the maps are affine and the friction small, so it
-#: takes 2-4).
+#: Newton's method on the friction unknowns stops when an update, or a bound on
+#: the next one, is this small relative to the unknowns (a few units in the
+#: last place), or after ``FRICTION_ITERATIONS`` (the maps are affine and the
+#: friction small, so it takes 2-3).
 FRICTION_STEP_TOLERANCE = 1e-15
 FRICTION_ITERATIONS = 30
 
@@ -81,6 +81,19 @@ def static_arm(joint, p):
     if joint == 0 and FLOATING_ARM and p.kind == FLOATING:
         return 1.0 if (p.mua_s * p.ra > 0.0 or slides_lossy(p)) else 0.0
     return p.mua_s * p.ra if joint == 0 else p.muh_s * p.rh
+
+
+def _linearisation_error(curve, inverse_k2, lx, ly, dx, dy):
+    """The most a row ``r + k s |L|`` (``curve = k / |L|``, ``inverse_k2 = 1 / k^2``) can err after
+    Newton's update changed its load ``L = (lx, ly)`` by ``-(dx, dy)`` [10.3]: ``k |dL_across|^2 / |L|``,
+    valid while the change takes at most half of the load away along it (else inf). 0 for an affine row
+    (curve 0)."""
+    if curve == 0.0:
+        return 0.0
+    if lx * dx + ly * dy > 0.5 * (lx * lx + ly * ly):
+        return math.inf
+    across = (lx * dy - ly * dx) * curve   # k |dL_across|: the cross product over |L|, times k
+    return curve * across * across * inverse_k2
 
 
 def _solve3(a11, a12, a13, a21, a22, a23, a31, a32, a33, r1, r2, r3):
@@ -130,12 +143,17 @@ def friction_newton(base, unit_a, unit_h, unit_b, sa, sh, sb, p):
     stuck_a = sa == 0.0 and static_arm(0, p) > 0.0
     stuck_h = sh == 0.0 and static_arm(1, p) > 0.0
     on_base = p.mub > 0.0 and sb != 0.0
+    inverse_ka2 = 1.0 / (ka * ka) if ka > 0.0 else 0.0
+    inverse_kh2 = 1.0 / (kh * kh) if kh > 0.0 else 0.0
     ta, th, fb = 0.0, 0.0, 0.0
-    for _ in range(FRICTION_ITERATIONS):
+    for iteration in range(FRICTION_ITERATIONS):
         ax = base[0] + ta * unit_a[0] + th * unit_h[0] + fb * unit_b[0]
         ay = base[1] + ta * unit_a[1] + th * unit_h[1] + fb * unit_b[1]
         hx = base[2] + ta * unit_a[2] + th * unit_h[2] + fb * unit_b[2]
         hy = base[3] + ta * unit_a[3] + th * unit_h[3] + fb * unit_b[3]
+        # curve_a, curve_h: a slipping row's k / |load|, its curvature (inf at a zero load, where it
+        # is not smooth); 0 for an affine row (stuck, or without friction).
+        curve_a, curve_h = 0.0, 0.0
         if stuck_a:
             r1 = base[5] + ta * unit_a[5] + th * unit_h[5] + fb * unit_b[5]
             j11, j12, j13 = unit_a[5], unit_h[5], unit_b[5]
@@ -143,6 +161,7 @@ def friction_newton(base, unit_a, unit_h, unit_b, sa, sh, sb, p):
             size = math.sqrt(ax * ax + ay * ay)
             r1 = ta + ka * sa * size
             g = ka * sa / size if size > 0.0 else 0.0
+            curve_a = ka / size if size > 0.0 else math.inf
             j11 = 1.0 + g * (ax * unit_a[0] + ay * unit_a[1])
             j12 = g * (ax * unit_h[0] + ay * unit_h[1])
             j13 = g * (ax * unit_b[0] + ay * unit_b[1])
@@ -155,6 +174,7 @@ def friction_newton(base, unit_a, unit_h, unit_b, sa, sh, sb, p):
             size = math.sqrt(hx * hx + hy * hy)
             r2 = th + kh * sh * size
             g = kh * sh / size if size > 0.0 else 0.0
+            curve_h = kh / size if size > 0.0 else math.inf
             j21 = g * (hx * unit_a[2] + hy * unit_a[3])
             j22 = 1.0 + g * (hx * unit_h[2] + hy * unit_h[3])
             j23 = g * (hx * unit_b[2] + hy * unit_b[3])
@@ -165,11 +185,34 @@ def friction_newton(base, unit_a, unit_h, unit_b, sa, sh, sb, p):
             r3 = fb + p.mub * sb * normal
             j31, j32, j33 = p.mub * sb * unit_a[4], p.mub * sb * unit_h[4], 1.0 + p.mub * sb * unit_b[4]
             da, dh, db = _solve3(j11, j12, j13, j21, j22, j23, j31, j32, j33, r1, r2, r3)
+            # |J^-1 e|_1 <= sum over j of e_j |row j of J's cofactors| / |det J|, for e = (e1, e2, 0)
+            c1 = abs(j22 * j33 - j23 * j32) + abs(j23 * j31 - j21 * j33) + abs(j21 * j32 - j22 * j31)
+            c2 = abs(j13 * j32 - j12 * j33) + abs(j11 * j33 - j13 * j31) + abs(j12 * j31 - j11 * j32)
+            det = abs(j11 * (j22 * j33 - j23 * j32) + j12 * (j23 * j31 - j21 * j33) + j13 * (j21 * j32 - j22 * j31))
         else:   # F = 0: _solve3 with the row (0, 0, 1) and r3 = 0, term for term (the same bits)
             da, dh = _solve2(j11, j12, j21, j22, r1, r2)
             db = 0.0
+            c1, c2, det = abs(j22) + abs(j21), abs(j12) + abs(j11), abs(j11 * j22 - j12 * j21)
         ta, th, fb = ta - da, th - dh, fb - db
-        if abs(da) + abs(dh) + abs(db) <= FRICTION_STEP_TOLERANCE * (abs(ta) + abs(th) + abs(fb)):
+        scale = FRICTION_STEP_TOLERANCE * (abs(ta) + abs(th) + abs(fb))
+        if abs(da) + abs(dh) + abs(db) <= scale:
+            break
+        if iteration == 0:   # (the first update, from 0, is never the last but in an affine system)
+            continue
+        # The next update, bounded [10.3]: at the new unknowns each affine row's residual is 0, and a
+        # slipping row's is k (|L + dL| - |L| - L.dL / |L|) for its load L and the load's change dL:
+        # between 0 and k |dL_across|^2 / |L| while L.dL >= -|L|^2 / 2 (|dL_across|: dL's part across
+        # L). The next update is J^-1 of those residuals; twice the bound allows for J at the new
+        # unknowns (its slipping rows turn with L, by |dL_across| / |L|, 1e-7 or less where this
+        # test can pass). Below the tolerance, that update is not taken: the unknowns are already
+        # those it would give, to within the tolerance.
+        dax = da * unit_a[0] + dh * unit_h[0] + db * unit_b[0]
+        day = da * unit_a[1] + dh * unit_h[1] + db * unit_b[1]
+        dhx = da * unit_a[2] + dh * unit_h[2] + db * unit_b[2]
+        dhy = da * unit_a[3] + dh * unit_h[3] + db * unit_b[3]
+        e1 = _linearisation_error(curve_a, inverse_ka2, ax, ay, dax, day)
+        e2 = _linearisation_error(curve_h, inverse_kh2, hx, hy, dhx, dhy)
+        if 2.0 * (c1 * e1 + c2 * e2) <= scale * det:
             break
     return ta, th, fb
 

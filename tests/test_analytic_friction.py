@@ -807,3 +807,51 @@ def test_energy_audit_closes_on_every_friction_case_of_the_cross_check():
         assert _audit(shot) <= AUDIT_TOL, case.name
         checked += 1
     assert checked >= 8
+
+
+def _coulomb_root(base, unit_a, unit_h, unit_b, sa, sh, sb, p, start):
+    """The root of ``friction_newton``'s equations in 40 digits (mpmath's own Newton's method from
+    ``start``): the rows as its docstring states them, nothing of the module's arithmetic."""
+    mpmath = pytest.importorskip("mpmath")
+    mp = mpmath.mp.clone()
+    mp.dps = 40
+    ka, kh = mp.mpf(p.mua) * p.ra, mp.mpf(p.muh) * p.rh
+
+    def combine(x, i):
+        return base[i] + x[0] * unit_a[i] + x[1] * unit_h[i] + x[2] * unit_b[i]
+
+    def rows(ta, th, fb):
+        x = (ta, th, fb)
+        axle = combine(x, 5) if sa == 0.0 else ta + ka * sa * mp.sqrt(combine(x, 0) ** 2 + combine(x, 1) ** 2)
+        hinge = combine(x, 6) if sh == 0.0 else th + kh * sh * mp.sqrt(combine(x, 2) ** 2 + combine(x, 3) ** 2)
+        return axle, hinge, fb + p.mub * sb * combine(x, 4)
+
+    return tuple(float(v) for v in mp.findroot(rows, tuple(mp.mpf(v) for v in start), tol=mp.mpf(10) ** -35))
+
+
+def test_newtons_method_stops_within_its_tolerance_of_the_root():
+    """``friction_newton`` stops once a bound on its next update is below its tolerance (most
+    often after 2 updates instead of 3): its unknowns are the root's to that tolerance.
+
+    Random affine systems of the shape the machine gives (``_joints``, ``slide_friction``): loads
+    of kN, a few N per N m of friction, the stuck rows' accelerations of O(1) per kN m; every mode.
+    Reference: the same equations solved in 40 digits by mpmath. Allowed: 1e-14 of the unknowns,
+    the tolerance (1e-15) with room for the round-off of the loads (1e-16 of kN) through J^-1.
+    A stop that came an update early (after the first, say) would miss by 1e-4 of them or more.
+    """
+    rng = np.random.default_rng(SEED)
+    p = params(dataclasses.replace(default_design(), losses=Losses(
+        axle_friction=0.4, axle_radius=0.02, hinge_friction=0.4, hinge_radius=0.02, base_friction=0.3)))
+    worst = 0.0
+    for sa, sh, sb in [(sa, sh, sb) for sa in (-1.0, 0.0, 1.0) for sh in (-1.0, 0.0, 1.0) for sb in (-1.0, 0.0, 1.0)]:
+        for _ in range(12):
+            base = (*rng.uniform(-3e3, 3e3, 4), rng.uniform(5e2, 3e3), *rng.uniform(-20.0, 20.0, 2))
+            unit_a, unit_h = (tuple(np.concatenate([rng.uniform(-5.0, 5.0, 5), rng.uniform(-1e-2, 1e-2, 2)]))
+                              for _ in range(2))
+            unit_b = tuple(np.concatenate([rng.uniform(-2.0, 2.0, 5), rng.uniform(-1e-2, 1e-2, 2)])
+                           ) if sb != 0.0 else (0.0,) * 7
+            solved = friction.friction_newton(base, unit_a, unit_h, unit_b, sa, sh, sb, p)
+            root = _coulomb_root(base, unit_a, unit_h, unit_b, sa, sh, sb, p, solved)
+            error = sum(abs(a - b) for a, b in zip(solved, root)) / sum(abs(b) for b in root)
+            worst = max(worst, error)
+    assert worst <= 1e-14, worst
