@@ -73,12 +73,27 @@ FLOATING = 2.0
 # --------------------------------------------------------------------------- #
 
 
+def sines(theta, phi, psi):
+    """``(sin, cos)`` of theta, phi, psi, theta + phi (w, the link's angle) and theta + psi (beta,
+    the sling's), in that order: three sines and cosines, the sums' by the addition formulas
+    (each a function the right-hand side calls takes the same products, which the compiled
+    path then computes once: with friction the joint forces need no sine of their own)."""
+    s_th, c_th = math.sin(theta), math.cos(theta)
+    s_phi, c_phi = math.sin(phi), math.cos(phi)
+    s_psi, c_psi = math.sin(psi), math.cos(psi)
+    return (s_th, c_th, s_phi, c_phi, s_psi, c_psi, s_th * c_phi + c_th * s_phi, c_th * c_phi - s_th * s_phi,
+            s_th * c_psi + c_th * s_psi, c_th * c_psi - s_th * s_psi)
+
+
 def terms(theta, phi, psi, dtheta, dphi, dpsi, p):
     """Entries of M (M23 = 0) and f = -(dM/dt) q' + dT/dq - dV/dq, eqs. (3.3)-(3.4).
 
     Returns ``(m11, m12, m13, m22, m33, f1, f2, f3)``; for a fixed machine ``m12 = 0``, ``m22 = 1``
     (eq. 11.4), as for a floating arm, whose (theta, psi) entries are ``analytic.floating_arm.terms``'s [12].
     """
+    # First, on every machine: compiled, the sines then serve whatever follows at these angles (the
+    # joint forces), which a copy past the floating arm's branch would not.
+    s_th, c_th, s_phi, c_phi, s_psi, c_psi, s_w, _, s_b, _ = sines(theta, phi, psi)
     if FLOATING_ARM and p.kind == FLOATING:
         m11, m13, m33, f1, f3 = floating_terms(theta, psi, dtheta, dpsi, p)
         if SWING_DRAG and p.drag_swing > 0.0:
@@ -86,11 +101,6 @@ def terms(theta, phi, psi, dtheta, dphi, dpsi, p):
             f1 += q1
             f3 += q3
         return m11, 0.0, m13, 1.0, m33, f1, 0.0, f3
-    s_phi, c_phi = math.sin(phi), math.cos(phi)
-    s_psi, c_psi = math.sin(psi), math.cos(psi)
-    s_th, c_th = math.sin(theta), math.cos(theta)
-    s_w = s_th * c_phi + c_th * s_phi   # sin(theta + phi): five sines and cosines, not seven
-    s_b = s_th * c_psi + c_th * s_psi   # sin(theta + psi) = sin(beta)
     m12 = p.IW + p.mW * (p.Lw * p.Lw + p.Lb * p.Lw * c_phi)
     m13 = p.mP * (p.Ls * p.Ls + p.La * p.Ls * c_psi)
     m22 = p.IW + p.mW * p.Lw * p.Lw
@@ -215,9 +225,7 @@ def horizontal_moment(theta, phi, psi, p):
 
 def frame_coupling(theta, phi, psi, dtheta, dphi, dpsi, p):
     """``(b1, b2, b3, c)``: ``b = dS/dq`` and ``c = q'^T (d2S/dq2) q'``, so that ``S'' = b.q'' + c``."""
-    c_th, s_th = math.cos(theta), math.sin(theta)
-    c_w, s_w = math.cos(theta + phi), math.sin(theta + phi)
-    c_b, s_b = math.cos(theta + psi), math.sin(theta + psi)
+    s_th, c_th, _, _, _, _, s_w, c_w, s_b, c_b = sines(theta, phi, psi)
     b1 = -p.mA * p.d * c_th + p.mW * (p.Lb * c_th + p.Lw * c_w) - p.mP * (p.La * c_th + p.Ls * c_b)
     b2 = p.mW * p.Lw * c_w
     b3 = -p.mP * p.Ls * c_b
@@ -233,10 +241,30 @@ def rolling_terms(theta, phi, psi, dtheta, dphi, dpsi, p):
     Returns ``(m11, m12, m13, m22, m23, m33, f1, f2, f3)`` (M23 is no longer 0).
     """
     m11, m12, m13, m22, m33, f1, f2, f3 = terms(theta, phi, psi, dtheta, dphi, dpsi, p)
+    return frame_eliminated(m11, m12, m13, m22, m33, f1, f2, f3, theta, phi, psi, dtheta, dphi, dpsi, p)
+
+
+def frame_eliminated(m11, m12, m13, m22, m33, f1, f2, f3, theta, phi, psi, dtheta, dphi, dpsi, p):
+    """``terms``' system ``(m11, m12, m13, m22, m33, f1, f2, f3)`` with the rolling frame eliminated
+    (``rolling_terms``): ``(m11, m12, m13, m22, m23, m33, f1, f2, f3)``."""
     b1, b2, b3, c = frame_coupling(theta, phi, psi, dtheta, dphi, dpsi, p)
     k = 1.0 / total_mass(p)
     return (m11 - k * b1 * b1, m12 - k * b1 * b2, m13 - k * b1 * b3, m22 - k * b2 * b2, -k * b2 * b3,
             m33 - k * b3 * b3, f1 + k * b1 * c, f2 + k * b2 * c, f3 + k * b3 * c)
+
+
+def swing_terms(theta, phi, psi, dtheta, dphi, dpsi, p):
+    """The swing's ``(m11, m12, m13, m22, m23, m33, f1, f2, f3)`` on the design's frame: ``terms``
+    (M23 = 0) on a fixed one, ``rolling_terms`` on a rolling one.
+
+    ``terms`` comes first on both, outside the frame's test: compiled, its sines then serve the
+    joint forces that friction takes at the same angles (``sines``), which a copy inside one
+    branch would not.
+    """
+    m11, m12, m13, m22, m33, f1, f2, f3 = terms(theta, phi, psi, dtheta, dphi, dpsi, p)
+    if ROLLING and p.rolling:
+        return frame_eliminated(m11, m12, m13, m22, m33, f1, f2, f3, theta, phi, psi, dtheta, dphi, dpsi, p)
+    return m11, m12, m13, m22, 0.0, m33, f1, f2, f3
 
 
 def machine_terms(theta, phi, dtheta, dphi, m):
@@ -248,10 +276,7 @@ def machine_terms(theta, phi, dtheta, dphi, m):
     frame ``rolling_terms`` takes the machine's own mass and moment. A momentum
     the frame keeps from release changes nothing here (section 10.9).
     """
-    if ROLLING and m.rolling:
-        m11, m12, _, m22, _, _, f1, f2, _ = rolling_terms(theta, phi, 0.0, dtheta, dphi, 0.0, m)
-        return m11, m12, m22, f1, f2
-    m11, m12, _, m22, _, f1, f2, _ = terms(theta, phi, 0.0, dtheta, dphi, 0.0, m)
+    m11, m12, _, m22, _, _, f1, f2, _ = swing_terms(theta, phi, 0.0, dtheta, dphi, 0.0, m)
     return m11, m12, m22, f1, f2
 
 
@@ -341,14 +366,11 @@ def slide_system(theta, phi, dtheta, dphi, p):
     With a rolling frame M and f are those of ``rolling_terms`` (M23 != 0).
     """
     psi, dpsi, s, c, sin_beta = slide_constraint(theta, dtheta, p)
-    if ROLLING and p.rolling:
-        m11, m12, m13, m22, m23, m33, f1, f2, f3 = rolling_terms(theta, phi, psi, dtheta, dphi, dpsi, p)
-        a = m11 + 2.0 * s * m13 + s * s * m33
-        r1 = f1 + s * f3 - (m13 + s * m33) * c
-        return a, m12 + s * m23, m22, r1, f2 - m23 * c, m13, m23, m33, f3, s, c, sin_beta
-    m11, m12, m13, m22, m33, f1, f2, f3 = terms(theta, phi, psi, dtheta, dphi, dpsi, p)
+    m11, m12, m13, m22, m23, m33, f1, f2, f3 = swing_terms(theta, phi, psi, dtheta, dphi, dpsi, p)
     a = m11 + 2.0 * s * m13 + s * s * m33
     r1 = f1 + s * f3 - (m13 + s * m33) * c
+    if ROLLING and p.rolling:
+        return a, m12 + s * m23, m22, r1, f2 - m23 * c, m13, m23, m33, f3, s, c, sin_beta
     return a, m12, m22, r1, f2, m13, 0.0, m33, f3, s, c, sin_beta
 
 
@@ -474,9 +496,7 @@ def joint_forces_in_gravity(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi,
                             p):
     """``joint_forces_sliding`` with ``gravity`` for ``p.g`` (0: the part linear in the accelerations and
     in N and F, which ``analytic.friction`` builds its affine maps from)."""
-    s_th, c_th = math.sin(theta), math.cos(theta)
-    s_w, c_w = math.sin(theta + phi), math.cos(theta + phi)
-    s_b, c_b = math.sin(theta + psi), math.cos(theta + psi)
+    s_th, c_th, _, _, _, _, s_w, c_w, s_b, c_b = sines(theta, phi, psi)
     dw, db = dtheta + dphi, dtheta + dpsi
     ddw, ddb = ddtheta + ddphi, ddtheta + ddpsi
     ddx = frame_acceleration(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, p)

@@ -35,10 +35,10 @@ from __future__ import annotations
 
 import math
 
-from analytic.scope import FLOATING_ARM, ROLLING   # what this copy handles (analytic.scope)
+from analytic.scope import FLOATING_ARM   # what this copy handles (analytic.scope)
 from analytic.eom import (FLOATING, floating_supports_in_air, joint_forces, joint_forces_in_gravity,
-                          joint_forces_sliding, machine_terms, rolling_terms, slide_constraint, slide_system,
-                          solve_pair, solve_symmetric, symmetric_cofactors, terms)
+                          joint_forces_sliding, machine_terms, slide_constraint, slide_system, solve_pair,
+                          solve_symmetric, swing_terms, symmetric_cofactors)
 from analytic.floating_arm import support_forces
 
 
@@ -233,11 +233,7 @@ def swing_friction(theta, phi, psi, dtheta, dphi, dpsi, sa, sh, p):
     rate's sign, 0 stuck). A stuck joint's acceleration is exactly 0 and its
     torque (``ta``, ``th``) is the one that holds it.
     """
-    if ROLLING and p.rolling:
-        m11, m12, m13, m22, m23, m33, f1, f2, f3 = rolling_terms(theta, phi, psi, dtheta, dphi, dpsi, p)
-    else:
-        m11, m12, m13, m22, m33, f1, f2, f3 = terms(theta, phi, psi, dtheta, dphi, dpsi, p)
-        m23 = 0.0
+    m11, m12, m13, m22, m23, m33, f1, f2, f3 = swing_terms(theta, phi, psi, dtheta, dphi, dpsi, p)
     a1, a2, a3 = solve_symmetric(m11, m12, m13, m22, m23, m33, f1, f2, f3)
     # The responses to a unit torque at the axle and at the hinge: M^-1's first two columns.
     c11, c12, c13, c22, c23, _, det = symmetric_cofactors(m11, m12, m13, m22, m23, m33)
