@@ -101,22 +101,25 @@ def terms(theta, phi, psi, dtheta, dphi, dpsi, p):
             f1 += q1
             f3 += q3
         return m11, 0.0, m13, 1.0, m33, f1, 0.0, f3
-    m12 = p.IW + p.mW * (p.Lw * p.Lw + p.Lb * p.Lw * c_phi)
-    m13 = p.mP * (p.Ls * p.Ls + p.La * p.Ls * c_psi)
-    m22 = p.IW + p.mW * p.Lw * p.Lw
+    # Each number of the design read once (the reference path runs this in Python, where
+    # reading a field costs more than the product it enters; the arithmetic is unchanged).
+    IW, mW, Lw, Lb, mP, Ls, La, g = p.IW, p.mW, p.Lw, p.Lb, p.mP, p.Ls, p.La, p.g
+    m12 = IW + mW * (Lw * Lw + Lb * Lw * c_phi)
+    m13 = mP * (Ls * Ls + La * Ls * c_psi)
+    m22 = IW + mW * Lw * Lw
     if p.kind == FIXED:
         # Bolted (Lw = 0, so f2 = 0): phi is held at rest, its row phi'' = 0 uncoupled from the rest [11.4].
         m12, m22 = 0.0, 1.0
-    m33 = p.mP * p.Ls * p.Ls
-    m11 = (p.IA + p.mA * p.d * p.d + p.IW
-           + p.mW * (p.Lb * p.Lb + p.Lw * p.Lw + 2.0 * p.Lb * p.Lw * c_phi)
-           + p.mP * (p.La * p.La + p.Ls * p.Ls + 2.0 * p.La * p.Ls * c_psi))
-    f1 = (p.g * (p.mA * p.d * s_th - p.mW * (p.Lb * s_th + p.Lw * s_w)
-                 + p.mP * (p.La * s_th + p.Ls * s_b))
-          + p.mW * p.Lb * p.Lw * s_phi * dphi * (2.0 * dtheta + dphi)
-          + p.mP * p.La * p.Ls * s_psi * dpsi * (2.0 * dtheta + dpsi))
-    f2 = -p.mW * p.Lw * (p.g * s_w + p.Lb * s_phi * dtheta * dtheta)
-    f3 = p.mP * p.Ls * (p.g * s_b - p.La * s_psi * dtheta * dtheta)
+    m33 = mP * Ls * Ls
+    m11 = (p.IA + p.mA * p.d * p.d + IW
+           + mW * (Lb * Lb + Lw * Lw + 2.0 * Lb * Lw * c_phi)
+           + mP * (La * La + Ls * Ls + 2.0 * La * Ls * c_psi))
+    f1 = (g * (p.mA * p.d * s_th - mW * (Lb * s_th + Lw * s_w)
+               + mP * (La * s_th + Ls * s_b))
+          + mW * Lb * Lw * s_phi * dphi * (2.0 * dtheta + dphi)
+          + mP * La * Ls * s_psi * dpsi * (2.0 * dtheta + dpsi))
+    f2 = -mW * Lw * (g * s_w + Lb * s_phi * dtheta * dtheta)
+    f3 = mP * Ls * (g * s_b - La * s_psi * dtheta * dtheta)
     if SWING_DRAG and p.drag_swing > 0.0:
         q1, q3 = drag_generalised(theta, psi, dtheta, dpsi, p)
         f1 += q1
