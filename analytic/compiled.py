@@ -88,10 +88,12 @@ CALLABLE = dict(OPTIONS, cache=True)
 #: at its IR level) gives shots a few per cent faster but copies and re-types
 #: each callee at every call site: it made a cold compile 1.2x-1.6x as long.
 INLINE = {"floating_arm": ("terms",),
-          "eom": ("sines", "terms", "swing_terms", "frame_eliminated", "machine_terms", "slide_constraint", "slide_system", "slide_accelerations", "swing_accelerations",
-                  "joint_forces", "joint_forces_sliding", "joint_forces_in_gravity", "frame_acceleration",
-                  "frame_coupling", "total_mass", "solve_symmetric", "symmetric_cofactors"),
-          "friction": ("_force_response", "_joints", "swing_friction", "slide_friction", "_linearisation_error"),
+          "eom": ("sines", "terms", "swing_terms", "frame_eliminated", "machine_terms", "slide_constraint",
+                  "slide_system", "slide_accelerations", "swing_accelerations", "joint_forces", "joint_forces_sliding",
+                  "joint_forces_in_gravity", "frame_acceleration", "frame_coupling", "total_mass", "solve_symmetric",
+                  "symmetric_cofactors"),
+          "friction": ("_force_response", "_joints", "swing_friction", "slide_friction", "_linearisation_error",
+                       "_cofactors3"),
           "stages": ("derivative",)}
 _HERE = Path(__file__).parent
 #: Every source whose change must invalidate the compiled cache: the model,

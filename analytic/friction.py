@@ -58,7 +58,7 @@ from analytic.floating_arm import support_forces
 #: Newton's method on the friction unknowns stops when an update, or a bound on
 #: the next one, is this small relative to the unknowns (a few units in the
 #: last place), or after ``FRICTION_ITERATIONS`` (the maps are affine and the
-#: friction small, so it takes 2-3).
+#: friction small, so it takes a few).
 FRICTION_STEP_TOLERANCE = 1e-15
 FRICTION_ITERATIONS = 30
 
@@ -96,13 +96,22 @@ def _linearisation_error(curve, inverse_k2, lx, ly, dx, dy):
     return curve * across * across * inverse_k2
 
 
-def _solve3(a11, a12, a13, a21, a22, a23, a31, a32, a33, r1, r2, r3):
-    """``x`` with ``A x = r`` for a general 3x3 ``A`` (Cramer's rule; A is a small
-    perturbation of the identity or has acceleration rows of O(1))."""
+def _cofactors3(a11, a12, a13, a21, a22, a23, a31, a32, a33):
+    """The cofactors of a general 3x3 ``A``'s first two rows and its determinant:
+    ``(c11, c12, c13, c21, c22, c23, det)`` (``A^-1`` is the cofactors' transpose over det)."""
     c11 = a22 * a33 - a23 * a32
     c12 = a23 * a31 - a21 * a33
     c13 = a21 * a32 - a22 * a31
-    det = a11 * c11 + a12 * c12 + a13 * c13
+    c21 = a13 * a32 - a12 * a33
+    c22 = a11 * a33 - a13 * a31
+    c23 = a12 * a31 - a11 * a32
+    return c11, c12, c13, c21, c22, c23, a11 * c11 + a12 * c12 + a13 * c13
+
+
+def _solve3(a11, a12, a13, a21, a22, a23, a31, a32, a33, r1, r2, r3):
+    """``x`` with ``A x = r`` for a general 3x3 ``A`` (Cramer's rule; A is a small
+    perturbation of the identity or has acceleration rows of O(1))."""
+    c11, c12, c13, _, _, _, det = _cofactors3(a11, a12, a13, a21, a22, a23, a31, a32, a33)
     x1 = (r1 * c11 + a12 * (r3 * a23 - r2 * a33) + a13 * (r2 * a32 - r3 * a22)) / det
     x2 = (a11 * (r2 * a33 - r3 * a23) + r1 * c12 + a13 * (r3 * a21 - r2 * a31)) / det
     x3 = (a11 * (r3 * a22 - r2 * a32) + a12 * (r2 * a31 - r3 * a21) + r1 * c13) / det
@@ -186,9 +195,8 @@ def friction_newton(base, unit_a, unit_h, unit_b, sa, sh, sb, p):
             j31, j32, j33 = p.mub * sb * unit_a[4], p.mub * sb * unit_h[4], 1.0 + p.mub * sb * unit_b[4]
             da, dh, db = _solve3(j11, j12, j13, j21, j22, j23, j31, j32, j33, r1, r2, r3)
             # |J^-1 e|_1 <= sum over j of e_j |row j of J's cofactors| / |det J|, for e = (e1, e2, 0)
-            c1 = abs(j22 * j33 - j23 * j32) + abs(j23 * j31 - j21 * j33) + abs(j21 * j32 - j22 * j31)
-            c2 = abs(j13 * j32 - j12 * j33) + abs(j11 * j33 - j13 * j31) + abs(j12 * j31 - j11 * j32)
-            det = abs(j11 * (j22 * j33 - j23 * j32) + j12 * (j23 * j31 - j21 * j33) + j13 * (j21 * j32 - j22 * j31))
+            c11, c12, c13, c21, c22, c23, det = _cofactors3(j11, j12, j13, j21, j22, j23, j31, j32, j33)
+            c1, c2, det = abs(c11) + abs(c12) + abs(c13), abs(c21) + abs(c22) + abs(c23), abs(det)
         else:   # F = 0: _solve3 with the row (0, 0, 1) and r3 = 0, term for term (the same bits)
             da, dh = _solve2(j11, j12, j21, j22, r1, r2)
             db = 0.0

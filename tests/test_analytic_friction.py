@@ -812,7 +812,8 @@ def test_energy_audit_closes_on_every_friction_case_of_the_cross_check():
 def _coulomb_root(base, unit_a, unit_h, unit_b, sa, sh, sb, p, start):
     """The root of ``friction_newton``'s equations in 40 digits (mpmath's own Newton's method from
     ``start``): the rows as its docstring states them, nothing of the module's arithmetic."""
-    mpmath = pytest.importorskip("mpmath")
+    import mpmath   # (sympy's own dependency)
+
     mp = mpmath.mp.clone()
     mp.dps = 40
     ka, kh = mp.mpf(p.mua) * p.ra, mp.mpf(p.muh) * p.rh
