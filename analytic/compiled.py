@@ -84,7 +84,9 @@ CALLABLE = dict(OPTIONS, cache=True)
 #: shots takes about 1.2x as long. With friction, the joint forces are taken
 #: three times per evaluation at the same angles; inlined, LLVM computes
 #: their sines and cosines once (a batch with friction 1.26-1.35x as fast,
-#: the same bits, the same cold compile). numba's own inlining (``inline="always"``,
+#: the same bits, the same cold compile). The sites a shot passes only a few
+#: times call ``dop853.derivative_call`` instead: one copy of the model for
+#: them all (a shorter compile). numba's own inlining (``inline="always"``,
 #: at its IR level) gives shots a few per cent faster but copies and re-types
 #: each callee at every call site: it made a cold compile 1.2x-1.6x as long.
 INLINE = {"floating_arm": ("terms",),

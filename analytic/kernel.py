@@ -32,7 +32,7 @@ import numpy as np
 
 from analytic.marks import entry, internal
 from analytic.dop853 import (ERROR_ORDER, MAX_FACTOR, MIN_FACTOR, N_STAGES, SAFETY, brent, dense_eval, dense_prepare,
-                             error_norm, event_at, initial_step, rk_step)
+                             derivative_call, error_norm, event_at, initial_step, rk_step)
 from analytic.kernel_loads import N_LOADS, POOL_SLOTS, finish_peaks, keep_step, sample_loads, save_step
 from analytic.limits import STAGE_STEP_LIMITS, flight_time_limit
 from analytic.parameters import PARAMS_DTYPE
@@ -40,7 +40,7 @@ from analytic.scope import FRICTION, LOADS, RECORDING   # what this copy handles
 from analytic.sequence import (FAILED, FINISHED, NEVER_FIRES, NEVER_LIFTS_OFF, NEXT_STAGE, OK, OUT_OF_STEPS,
                                REACHED_END, STEP_FAILED, SWITCH_MODE, counted_crossing, leaves_zero, past_root,
                                probe_bracket, probe_time, probe_update, stretch_end)
-from analytic.stages import (FLIGHT, SLIDE, SWING, ZERO_START_PROBES, derivative, event_armed, event_count,
+from analytic.stages import (FLIGHT, SLIDE, SWING, ZERO_START_PROBES, event_armed, event_count,
                              event_direction, event_terminal, event_value, fires, first_event, flight_start,
                              frame_state, loads_after_step, loads_at, slide_start, state_size, swing_start,
                              switch_mode)
@@ -129,7 +129,7 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
     f, f_new = np.empty(n), np.empty(n)
     tmp, y_root = np.empty(n), np.empty(n)
     previous = np.empty(ne)
-    derivative(stage, y, p, table, f)
+    derivative_call(stage, y, p, table, f)
     for k in range(ne):
         previous[k] = event_value(stage, k, y, p)
     t = t0
