@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import gc
 import json
 import math
 import subprocess
@@ -60,3 +61,19 @@ def test_module_entry_point_runs():
                           capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
     assert json.loads(done.stdout)["status"] == "ok"
+
+
+def test_only_the_process_own_command_freezes_the_collector(tmp_path):
+    """``main`` hides the objects of start-up from the collector (``gc.freeze``) when it runs
+    the process's own command line, and leaves a caller's collector alone (a test process
+    that froze would keep every cycle it had not yet collected)."""
+    path = tmp_path / "bad.toml"
+    path.write_text(dumps_design(default_design()).replace("sling_length = 0.61", "sling_length = -0.61"))
+    before = gc.get_freeze_count()
+    assert main(["simulate", str(path)]) == EXIT_INVALID
+    assert gc.get_freeze_count() == before
+    code = ("import gc, sys; from analytic.cli import main; "
+            f"sys.argv = ['analytic', 'simulate', {str(path)!r}]; "
+            "code = main(); print(code, gc.get_freeze_count() > 0)")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert done.stdout.split() == [str(EXIT_INVALID), "True"], done.stderr
