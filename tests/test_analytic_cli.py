@@ -77,3 +77,12 @@ def test_only_the_process_own_command_freezes_the_collector(tmp_path):
             "code = main(); print(code, gc.get_freeze_count() > 0)")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert done.stdout.split() == [str(EXIT_INVALID), "True"], done.stderr
+
+
+def test_simulate_on_the_command_line_never_imports_numba():
+    """``python -m analytic simulate`` runs the reference path, which needs no compiler: the parser
+    of every command must not import the fast path (numba: a tenth of a second of every such run)."""
+    code = ("import sys; from analytic.cli import main; sys.argv = ['analytic', 'simulate', '--json']; "
+            "code = main(); print(code, 'numba' in sys.modules, file=sys.stderr)")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert done.stderr.split()[-2:] == [str(EXIT_OK), "False"], done.stderr

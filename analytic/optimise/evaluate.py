@@ -24,7 +24,6 @@ from typing import Self
 
 import numpy as np
 
-from analytic import fast
 from analytic.design import DesignError
 from analytic.design_space import LOADS, Problem, design_at
 from analytic.limits import FAST, PATHS, REFERENCE   # the two ways of shooting candidates (module docstring)
@@ -90,6 +89,8 @@ def fast_throws(problem: Problem, values: np.ndarray, tolerance: float,
     shares them among ``threads`` threads (default: every processor); ``loads``: find the
     peak loads too.
     """
+    from analytic import fast   # (here, not at the top: importing it imports numba, see ``Evaluator``)
+
     results: list[Throw | None] = [None] * len(values)
     built, rows = [], []
     for i, v in enumerate(values):
@@ -146,8 +147,13 @@ class Evaluator:
     def __init__(self, problem: Problem, *, path: str = FAST, workers: int | None = None):
         if path not in PATHS:
             raise ValueError(f"path = {path!r}: must be one of {', '.join(PATHS)}")
+        # The fast path is imported where it is used: importing it imports numba (half a second),
+        # which the reference path never needs, nor the command line's other tools, whose
+        # parser imports this module.
+        from analytic.fast import default_threads
+
         if workers is None:
-            workers = fast.default_threads() if path == FAST else DEFAULT_PROCESSES
+            workers = default_threads() if path == FAST else DEFAULT_PROCESSES
         if workers < 1:
             raise ValueError(f"workers = {workers!r}: need at least one")
         self.problem = problem
