@@ -234,7 +234,7 @@ def main(argv: list[str] | None = None) -> int:
     that exist by then (the imported modules: numpy, scipy, numba, the tools' own) out of
     the garbage collector's sight (``gc.freeze``): they live as long as the process, yet
     each full collection walked all of them again. In the optimiser's default run that was
-    0.34 s of collections, 0.14 s after; a process that runs one command and exits loses
+    0.34 s of collections, 0.12 s after; a process that runs one command and exits loses
     nothing by it. A caller that passes ``argv`` (a test, in its own long process) keeps
     its collector as it was.
     """
