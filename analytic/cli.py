@@ -3,13 +3,12 @@
 from __future__ import annotations
 
 import argparse
-import gc
 import json
 import subprocess
 import sys
 
-from analytic.cli_shared import (EXIT_INVALID, EXIT_NO_THROW, EXIT_OK, OutputPathError, negative_numbers_as_values,
-                                 output_file, output_folder, units_argument)
+from analytic.cli_shared import (EXIT_INVALID, EXIT_NO_THROW, EXIT_OK, OutputPathError, output_file,
+                                 output_folder, read_command_line, units_argument)
 from analytic.design import Design, DesignError
 from analytic.design_file import chosen_units, default_design, load_design
 from analytic.report import format_shot
@@ -228,21 +227,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run the command ``argv`` names (default: the process's own, ``sys.argv[1:]``); its exit code.
-
-    Running the process's own command, once the arguments are read, it moves the objects
-    that exist by then (the imported modules: numpy, scipy, numba, the tools' own) out of
-    the garbage collector's sight (``gc.freeze``): they live as long as the process, yet
-    each full collection walked all of them again. In the optimiser's default run that was
-    0.34 s of collections, 0.12 s after; a process that runs one command and exits loses
-    nothing by it. A caller that passes ``argv`` (a test, in its own long process) keeps
-    its collector as it was.
-    """
-    own_command = argv is None
-    argv = sys.argv[1:] if own_command else list(argv)
-    if argv[:1] == ["bench"]:   # every option after it is python -m benchmarks's
-        return _bench(argv[1:])
-    args = build_parser().parse_args(negative_numbers_as_values(argv))
-    if own_command:
-        gc.freeze()
+    """Run the command ``argv`` names (default: the process's own, ``cli_shared.read_command_line``);
+    its exit code."""
+    given = sys.argv[1:] if argv is None else list(argv)
+    if given[:1] == ["bench"]:   # every option after it is python -m benchmarks's
+        return _bench(given[1:])
+    args = read_command_line(build_parser(), argv)
     return args.func(args)

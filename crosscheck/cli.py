@@ -7,8 +7,8 @@ import json
 import os
 import sys
 
-from analytic.cli_shared import (EXIT_FAILED, EXIT_INVALID, EXIT_OK, OutputPathError, negative_numbers_as_values,
-                                 output_folder, positive_float, positive_int)
+from analytic.cli_shared import (EXIT_FAILED, EXIT_INVALID, EXIT_OK, OutputPathError, output_folder,
+                                 positive_float, positive_int, read_command_line)
 from analytic.design import DesignError
 from analytic.limits import PATHS
 from crosscheck.cases import QUICK_CASES, default_suite, file_cases, quick_suite, sample_cases
@@ -47,7 +47,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(negative_numbers_as_values(sys.argv[1:] if argv is None else argv))
+    args = read_command_line(build_parser(), argv)
     if args.report:
         try:
             output_folder(args.report, "--report")

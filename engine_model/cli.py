@@ -7,7 +7,7 @@ import json
 import sys
 
 from analytic.cli_shared import (EXIT_FAILED, EXIT_INVALID, EXIT_NO_THROW, EXIT_OK, OutputPathError,
-                                 negative_numbers_as_values, output_folder, positive_float, positive_int,
+                                 output_folder, positive_float, positive_int, read_command_line,
                                  units_argument)
 from analytic.design import Design, DesignError
 from analytic.design_file import chosen_units, default_design, load_design
@@ -113,5 +113,5 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Run the command line on ``argv`` (default ``sys.argv[1:]``); returns the exit code."""
-    args = build_parser().parse_args(negative_numbers_as_values(sys.argv[1:] if argv is None else argv))
+    args = read_command_line(build_parser(), argv)
     return args.func(args)

@@ -15,7 +15,7 @@ import math
 import sys
 from pathlib import Path
 
-from analytic.cli_shared import (EXIT_INVALID, EXIT_OK, OutputPathError, negative_numbers_as_values, output_folder,
+from analytic.cli_shared import (EXIT_INVALID, EXIT_OK, OutputPathError, output_folder, read_command_line,
                                  units_argument)
 from analytic.design import KINDS, DesignError
 from analytic.design_file import chosen_units, save_design
@@ -96,7 +96,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m analytic optimise",
                                      description="Maximise range over the paper's design variables.")
     add_arguments(parser)
-    return run(parser.parse_args(negative_numbers_as_values(sys.argv[1:] if argv is None else argv)))
+    return run(read_command_line(parser, argv))
 
 
 def write_outputs(result: Optimisation, out: Path, system: str = "metric") -> str:
