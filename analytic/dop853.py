@@ -35,7 +35,7 @@ def derivative_call(stage, y, p, table, out):
     unrolls the dense output's loop of three: seven copies of the whole model in the machine
     code, five of them at sites a shot passes a few times. Called here, they are one copy,
     and only ``rk_step`` inlines it: the ``everything`` scope's optimised module 0.65x the
-    instructions, its cold compile 0.89x as long (17.0 against 19.05 s, two pairs), the shots as fast
+    instructions, its cold compile 0.89x as long (17.0/17.1 against 18.9/19.2 s, two pairs), the shots as fast
     and bit-identical on the bench's 200 designs, ideal and with typical losses.
     """
     derivative(stage, y, p, table, out)

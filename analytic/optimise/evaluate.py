@@ -89,7 +89,9 @@ def fast_throws(problem: Problem, values: np.ndarray, tolerance: float,
     shares them among ``threads`` threads (default: every processor); ``loads``: find the
     peak loads too.
     """
-    from analytic import fast   # (here, not at the top: importing it imports numba, see ``Evaluator``)
+    # Imported here, not at the top: importing the fast path imports numba, which the reference
+    # path never needs, nor the command line's other tools, whose parser imports this module.
+    from analytic import fast
 
     results: list[Throw | None] = [None] * len(values)
     built, rows = [], []
@@ -147,13 +149,12 @@ class Evaluator:
     def __init__(self, problem: Problem, *, path: str = FAST, workers: int | None = None):
         if path not in PATHS:
             raise ValueError(f"path = {path!r}: must be one of {', '.join(PATHS)}")
-        # The fast path is imported where it is used: importing it imports numba (half a second),
-        # which the reference path never needs, nor the command line's other tools, whose
-        # parser imports this module.
-        from analytic.fast import default_threads
+        if workers is None and path == FAST:
+            from analytic.fast import default_threads   # (imported where used: see fast_throws)
 
-        if workers is None:
-            workers = default_threads() if path == FAST else DEFAULT_PROCESSES
+            workers = default_threads()
+        elif workers is None:
+            workers = DEFAULT_PROCESSES
         if workers < 1:
             raise ValueError(f"workers = {workers!r}: need at least one")
         self.problem = problem
