@@ -33,6 +33,7 @@ loaded from it.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import types
 from pathlib import Path
@@ -43,8 +44,6 @@ from numba.core import types as nbtypes
 from numba.core.codegen import JITCodeLibrary
 from numba.core.dispatcher import _FunctionCompiler
 from numba.core.registry import CPUDispatcher
-from llvmlite import binding as llvm
-from llvmlite import ir as llvmir
 
 from analytic import (aero, dop853, eom, floating_arm, friction, geometry, kernel, kernel_loads, limits, outcome,
                       parameters, peaks, sequence, stages)
@@ -106,9 +105,6 @@ SOURCES = tuple(Path(module.__file__) for module in (*MODEL_MODULES, outcome, pa
 STAMP_NAME = "analytic-model-sources.sha256"
 
 
-_ENV_PREFIX = "_ZN08NumbaEnv"
-
-
 class LinkOnlyLibrary(JITCodeLibrary):
     """The machine code library of a function only compiled code calls: linked into its callers, never run alone.
 
@@ -116,59 +112,128 @@ class LinkOnlyLibrary(JITCodeLibrary):
     it links in the whole call tree below it, optimises that module again and
     emits it as machine code. Along a chain of callees that repeats the same
     work at every level, and the machine code is never run: only the entry
-    point's (``kernel.shots``) is. This library links its callees and stops
-    there; each function is still optimised on its own as it is added
-    (numba's per-function passes), and the entry point optimises and emits
-    the whole tree once. Measured (three cold compiles each, interleaved):
-    26 s of CPU instead of 35 s, and the shots as fast.
+    point's (``kernel.shots``) is. This library holds its own function,
+    optimised on its own as it is added (numba's per-function passes); an
+    ``EntryLibrary`` links every library of its call tree once and optimises
+    and emits the whole tree once. Measured (three cold compiles each,
+    interleaved): 26 s of CPU instead of 35 s, and the shots as fast. Linking
+    each library once at the entry point, not its whole tree again at every
+    level of callers, made the ``everything`` scope's cold compile 0.93x as
+    long (14.6-15.1 s against 15.6-16.5 s, three alternated pairs), with the
+    same numbers to the bit (the bench's 200 designs, ideal and lossy).
 
-    Each function's environment pointer still needs a home in the engine
-    (numba sets it as the function compiles); only those globals are emitted.
-    Nothing reads them at run time: a kernel loaded from the disk cache never
-    sets its callees' either.
+    A caller numba compiles on its own (a plain ``numba.njit`` function) links
+    ``_get_module_for_linking``: this function with its whole call tree.
+
+    numba gives each compiled function an environment and points a global of
+    the machine code at it (``set_env``); nothing reads a callee's at run time
+    (a kernel loaded from the disk cache never sets its callees' either), so
+    this library's codegen leaves it alone and no global of it is emitted.
     """
 
     #: numba's internals (0.68) this library relies on, checked before it is used.
-    NUMBA_INTERNALS = ("_linking_libraries", "_final_module", "_reload_init", "_codegen",
+    NUMBA_INTERNALS = ("_linking_libraries", "_final_module", "_reload_init", "_codegen", "_shared_module",
                        "_get_module_for_linking", "_raise_if_finalized", "_finalized")
 
+    def __init__(self, codegen, name):
+        super().__init__(codegen, name)
+        self._tree_module = None
+
     def fits_this_numba(self) -> bool:
-        return all(hasattr(self, name) for name in self.NUMBA_INTERNALS) and hasattr(self._codegen, "_engine")
+        return all(hasattr(self, name) for name in self.NUMBA_INTERNALS) and hasattr(self._codegen, "set_env")
+
+    @property
+    def codegen(self):
+        return _CodegenWithoutEnv(self._codegen)
 
     def finalize(self):
         self._raise_if_finalized()
-        seen = set()
         for library in self._linking_libraries:
-            if library not in seen:
-                seen.add(library)
-                self._reload_init.update(library._reload_init)
-                self._final_module.link_in(library._get_module_for_linking(), preserve=True)
+            self._reload_init.update(library._reload_init)
         self._finalized = True
-        # numba stores each compiled function's environment pointer in a global
-        # of the engine (``set_env``) as it compiles it; define just those globals.
-        names = [g.name for g in self._final_module.global_variables
-                 if g.name.startswith(_ENV_PREFIX) and not g.is_declaration]
-        if names:
-            module = llvmir.Module(self.name)
-            for name in names:
-                variable = llvmir.GlobalVariable(module, llvmir.IntType(8).as_pointer(), name)
-                variable.linkage = "common"
-                variable.initializer = llvmir.Constant(variable.type.pointee, None)
-            self._codegen._engine.add_module(llvm.parse_assembly(str(module)))
-            self._codegen._engine.finalize_object()
+
+    def own_module(self):
+        """This library's own functions, fit for linking (exported ones made ``linkonce_odr``)."""
+        return super()._get_module_for_linking()
+
+    def _get_module_for_linking(self):
+        if self._tree_module is None:
+            self._tree_module = self.own_module().clone()
+            for library in call_tree(self._linking_libraries):
+                self._tree_module.link_in(module_for_linking(library), preserve=True)
+        return self._tree_module
 
 
-class _InternalCompiler(_FunctionCompiler):
-    """numba's function compiler, giving each compiled function a ``LinkOnlyLibrary``."""
+class _CodegenWithoutEnv:
+    """A codegen whose ``set_env`` keeps nothing (``LinkOnlyLibrary``): everything else is the codegen's."""
+
+    def __init__(self, codegen):
+        self._wrapped = codegen
+
+    def __getattr__(self, name):
+        return getattr(self._wrapped, name)
+
+    def set_env(self, env_name, env):
+        pass
+
+
+def call_tree(libraries) -> list:
+    """``libraries`` and every library a ``LinkOnlyLibrary`` among them links, each once, callers first."""
+    tree, seen, pending = [], set(), list(reversed(libraries))
+    while pending:
+        library = pending.pop()
+        if library in seen:
+            continue
+        seen.add(library)
+        tree.append(library)
+        if isinstance(library, LinkOnlyLibrary):
+            pending.extend(reversed(library._linking_libraries))
+    return tree
+
+
+def module_for_linking(library):
+    """What a caller links of ``library``: a ``LinkOnlyLibrary``'s own functions (the caller links the
+    rest of its tree), any other library's module with its tree."""
+    return library.own_module() if isinstance(library, LinkOnlyLibrary) else library._get_module_for_linking()
+
+
+class EntryLibrary(JITCodeLibrary):
+    """The machine code library of an entry point: its whole call tree linked once, then numba's finalising
+    (the optimisation and machine code of the whole module)."""
+
+    def finalize(self):
+        self._raise_if_finalized()
+        for library in call_tree(self._linking_libraries):
+            self._reload_init.update(library._reload_init)
+            self._final_module.link_in(module_for_linking(library), preserve=True)
+        self._linking_libraries = []   # (linked above)
+        super().finalize()
+
+
+@functools.cache
+def _fits_this_numba() -> bool:
+    """Whether the numba installed has the internals ``LinkOnlyLibrary`` relies on."""
+    from numba.core.registry import cpu_target
+    return LinkOnlyLibrary(cpu_target.target_context.codegen(), "probe").fits_this_numba()
+
+
+class _LibraryCompiler(_FunctionCompiler):
+    """numba's function compiler, giving each compiled function a library of the class ``library_class``."""
+
+    def __init__(self, py_func, targetdescr, targetoptions, locals, pipeline_class, library_class):
+        super().__init__(py_func, targetdescr, targetoptions, locals, pipeline_class)
+        self.library_class = library_class
 
     def _compile_core(self, args, return_type):
         flags = nbcompiler.Flags()
         self.targetdescr.options.parse_as_flags(flags, self.targetoptions)
         flags = self._customize_flags(flags)
         context = self.targetdescr.target_context
-        library = LinkOnlyLibrary(context.codegen(), self.py_func.__qualname__)
-        if not library.fits_this_numba():
+        library = self.library_class(context.codegen(), self.py_func.__qualname__)
+        if not _fits_this_numba():
             library = None   # numba's own library: a slower cold compile, the same machine code
+        else:
+            library.enable_object_caching()   # (numba makes its own so, for the disk cache)
         return nbcompiler.compile_extra(self.targetdescr.typing_context, context, self._get_implementation(args, {}),
                                         args=args, return_type=return_type, flags=flags, locals=self.locals,
                                         library=library, pipeline_class=self.pipeline_class)
@@ -188,7 +253,8 @@ class Internal(CPUDispatcher):
 
     def __init__(self, py_func, locals=None, targetoptions=None, pipeline_class=nbcompiler.Compiler):
         super().__init__(py_func, locals=locals, targetoptions=targetoptions, pipeline_class=pipeline_class)
-        self._compiler = _InternalCompiler(py_func, self.targetdescr, self.targetoptions, self.locals, pipeline_class)
+        self._compiler = _LibraryCompiler(py_func, self.targetdescr, self.targetoptions, self.locals, pipeline_class,
+                                          LinkOnlyLibrary)
 
     def get_call_template(self, args, kws):
         return super().get_call_template(tuple(nbtypes.unliteral(a) for a in args),
@@ -204,6 +270,15 @@ def dispatcher(function, **options) -> Internal:
     ``analytic.marks.internal`` mark gives, then ``options``."""
     return Internal(py_func=function, locals={},
                     targetoptions={**INTERNAL, **getattr(function, "compile_options", {}), **options})
+
+
+def entry(function):
+    """``function`` as a dispatcher Python calls, with its wrappers and disk cache (``CALLABLE``), whose
+    machine code links its call tree of ``Internal`` functions once (``EntryLibrary``)."""
+    compiled = numba.njit(**CALLABLE)(function)
+    compiled._compiler = _LibraryCompiler(function, compiled.targetdescr, compiled.targetoptions, compiled.locals,
+                                          compiled._compiler.pipeline_class, EntryLibrary)
+    return compiled
 
 
 def compile_modules(modules, compile_function, inline=None, callees=None,
@@ -311,7 +386,7 @@ def _scope_function(scope: Scope, label: bool = True):
         if label:
             function.__qualname__ = f"{function.__qualname__}_{scope.name}"
         if getattr(function, "entry_point", False):
-            return numba.njit(**CALLABLE)(function)
+            return entry(function)
         return dispatcher(function, forceinline=inline)
     return compile_function
 
@@ -340,7 +415,7 @@ kernel_twins = compile_modules(MODEL_MODULES, _scope_function(EVERYTHING, label=
                                constants=EVERYTHING.globals())
 #: The model compiled for Python callers (tests, the benchmark): each function
 #: with its wrappers and disk cache, calling the kernel's twins.
-callable_twins = compile_modules(MODEL_MODULES, lambda f, inline: numba.njit(**CALLABLE)(f),
+callable_twins = compile_modules(MODEL_MODULES, lambda f, inline: entry(f),
                                  callees=kernel_twins)
 geometry_ = callable_twins["geometry"]   # trailing underscore: not the Python module of that name
 limits_ = callable_twins["limits"]

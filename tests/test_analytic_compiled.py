@@ -158,3 +158,45 @@ def test_internal_functions_are_emitted_as_machine_code_only_inside_their_entry_
     names = [name.rsplit(".", 1)[-1] for name in emitted]
     assert names.count("entry_point") == 2          # one per chain
     assert names.count("inner_step") == names.count("outer_step") == 1   # the plain numba chain's only
+
+
+def test_an_entry_point_links_each_function_of_its_call_tree_once(monkeypatch):
+    """A diamond (the top calls two functions that both call the leaf), compiled as the kernel is:
+    the entry point links the four functions once each, and none of them links its callees."""
+    from llvmlite.binding.module import ModuleRef
+
+    links = []
+    link_in = ModuleRef.link_in
+
+    def counting(module, other, preserve=False):
+        if preserve:   # a library's module linked into a caller's (a function's own IR is linked without)
+            links.append(other)
+        return link_in(module, other, preserve)
+
+    def leaf(x):
+        return x + 1.0
+
+    def left(x):
+        return 2.0 * leaf_(x)
+
+    def right(x):
+        return leaf_(x) - 3.0
+
+    def top(x):
+        return left_(x) * right_(x)
+
+    leaf_, left_, right_, top_ = (compiled.dispatcher(f) for f in (leaf, left, right, top))
+
+    def diamond(x):
+        return top_(x)
+
+    entry_point = compiled.entry(diamond)
+    monkeypatch.setattr(ModuleRef, "link_in", counting)
+    assert entry_point(1.0) == (2.0 * 2.0) * (2.0 - 3.0)
+    defined = [[f.name for f in module.functions if not f.is_declaration] for module in links]
+    for name in ("leaf", "left", "right", "top"):
+        # (numba names a function's symbol with its qualified name's length before it: 4leaf, 3top)
+        assert sum(any(f"{len(name)}{name}B" in symbol for symbol in symbols) for symbols in defined) == 1, name
+    libraries = [next(iter(f.overloads.values())).library for f in (leaf_, left_, right_, top_)]
+    assert all(isinstance(library, compiled.LinkOnlyLibrary) for library in libraries)
+    assert all(library._tree_module is None for library in libraries)
