@@ -204,28 +204,39 @@ def compile_all(scopes: Sequence[Scope] = SCOPES, *, progress: bool = False) -> 
 
     What ``python -m analytic compile`` (and so ``make``) runs, so that no later command
     stalls on a compile. With two processors or more the scopes compile in child processes,
-    as many at a time as there are processors, the largest first (each scope has its own files
-    in the disk cache); this process then loads them. On 2 cores the three take about as
-    long as the largest alone.
+    one per processor (each scope has its own files in the disk cache): the largest each in
+    a child of its own, the smallest in turn in the last; this process then loads them. On 2
+    cores the largest compiles beside the other two, which take about as long together.
     """
     workers = min(default_threads(), len(scopes))
     if workers <= 1:
         return {scope.name: compile(scope, progress=progress) for scope in scopes}
 
-    def child(scope: Scope) -> float:
-        code = f"from analytic import fast, scope; print(fast.compile(scope.{scope.name.upper()}))"
-        done = subprocess.run([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
-        seconds = float(done.stdout.split()[-1]) if done.returncode == 0 else math.nan
-        if progress:
-            print(f"  {scope.name}: {seconds:.1f} s", file=sys.stderr, flush=True)
+    def child(group: Sequence[Scope]) -> dict[str, float]:
+        # Each scope's seconds on a line as it is ready; then the child leaves at once (os._exit),
+        # its cache written: tearing down what a cold compile leaves behind takes a second, for nothing.
+        code = ("import os; from analytic import fast, scope\n"
+                + "".join(f"print('{s.name}', fast.compile(scope.{s.name.upper()}), flush=True)\n" for s in group)
+                + "os._exit(0)")
+        seconds = dict.fromkeys((s.name for s in group), math.nan)
+        with subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True) as running:
+            for line in running.stdout:
+                name, _, value = line.partition(" ")
+                if name in seconds:
+                    seconds[name] = float(value)
+                    if progress:
+                        print(f"  {name}: {seconds[name]:.1f} s", file=sys.stderr, flush=True)
         return seconds
 
     if progress:
         print(f"compiling the fast path's scopes ({', '.join(s.name for s in scopes)}), {workers} at a time, "
               "once (tens of seconds); later runs load them from the cache", file=sys.stderr, flush=True)
     largest_first = sorted(scopes, key=SCOPES.index, reverse=True)
+    groups = [[scope] for scope in largest_first[:workers - 1]] + [largest_first[workers - 1:]]
+    children: dict[str, float] = {}
     with ThreadPoolExecutor(workers) as pool:
-        children = dict(zip((s.name for s in largest_first), pool.map(child, largest_first)))
+        for seconds in pool.map(child, groups):
+            children.update(seconds)
     # Load what the children compiled (or, where one failed, compile it here).
     return {scope.name: max(children[scope.name], compile(scope)) if math.isfinite(children[scope.name])
             else compile(scope, progress=progress) for scope in scopes}

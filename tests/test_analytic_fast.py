@@ -35,7 +35,7 @@ from benchmarks.suite import MISMATCH_KEYS
 from analytic.parameters import N_PARAMS, params
 from analytic.reference import DEFAULT_ATOL, DEFAULT_RTOL, simulate
 from analytic.result import Status
-from analytic.scope import IDEAL
+from analytic.scope import EVERYTHING, IDEAL, IDEAL_LOADS
 from support import (examples, failure_designs, fixed_designs, fixed_failure_designs, lossy_designs, paper_designs,
                      table3_variants, table_ii_sample, with_environment, with_machine, with_projectile)
 
@@ -515,6 +515,26 @@ def test_a_first_use_shows_its_compile_wherever_stderr_goes(monkeypatch):
     monkeypatch.setattr(fast.sys, "stderr", io.StringIO())
     fast._ready(IDEAL)
     assert asked == [(IDEAL, True)]
+
+
+def test_compile_all_readies_the_scopes_in_children_and_says_each_as_it_is_ready(monkeypatch, capsys):
+    # The suite's caches are warm (make compiles first), so the children only load: a second each.
+    monkeypatch.setattr(fast, "default_threads", lambda: 2)
+    seconds = fast.compile_all([IDEAL, IDEAL_LOADS, EVERYTHING], progress=True)
+    assert list(seconds) == ["ideal", "ideal_loads", "everything"]
+    assert all(math.isfinite(s) and s >= 0.0 for s in seconds.values())
+    err = capsys.readouterr().err
+    assert "2 at a time" in err
+    assert all(f"  {name}: " in err for name in seconds)
+
+
+def test_compile_all_compiles_here_what_a_child_could_not(monkeypatch):
+    monkeypatch.setattr(fast, "default_threads", lambda: 2)
+    monkeypatch.setattr(fast.sys, "executable", "false")     # every child fails, saying nothing
+    asked = []
+    monkeypatch.setattr(fast, "compile", lambda scope, progress=False: asked.append(scope.name) or 1.0)
+    assert fast.compile_all([IDEAL, EVERYTHING]) == {"ideal": 1.0, "everything": 1.0}
+    assert sorted(asked) == ["everything", "ideal"]
 
 
 def test_a_batch_finds_the_peak_loads_only_when_asked():
