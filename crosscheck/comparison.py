@@ -16,7 +16,10 @@ from analytic.result import LOSS_NAMES, PEAK_NAMES, Shot
 from crosscheck import tolerances as tol
 from crosscheck.cases import Case
 import engine_model
+from crosscheck.sensitivity import spread
 from engine_model import DEFAULT_DT, EngineError
+from engine_model.flight import FLIGHT_STEP_LIMIT
+from engine_model.stepping import MACHINE_STEP_LIMIT
 
 
 def engine_simulate(design: Design, dt: float) -> Shot:
@@ -63,9 +66,34 @@ class Row:
     ok: bool
 
 
+#: A case's verdicts (``Comparison.verdict``), as ``python -m crosscheck --json`` names them: the
+#: models agree; they differ; the design amplifies a difference of a few parts in 1e9 in its own
+#: inputs past a tolerance, so a difference there says nothing (``crosscheck.sensitivity``); the
+#: engine could not run it (it raised, or its worker died); the engine's error could not be brought
+#: under the tolerance within its budget (``tolerances.MAX_REFINEMENTS``).
+AGREE, DISAGREE, SENSITIVE, ENGINE_FAILED, ENGINE_UNTRUSTED = (
+    "agree", "disagree", "sensitive", "engine_failed", "engine_untrusted")
+VERDICTS = (AGREE, DISAGREE, SENSITIVE, ENGINE_FAILED, ENGINE_UNTRUSTED)
+#: The verdicts that count as agreement (``Comparison.agree``): a sensitive case is neither a pass
+#: nor a failure, and is listed as such, but it is no evidence against either model.
+AGREEING = (AGREE, SENSITIVE)
+
+
 @dataclass(frozen=True)
 class Comparison:
-    """Both models' verdict on one case."""
+    """Both models' verdict on one case.
+
+    Attributes
+    ----------
+    verdict : one of ``VERDICTS``; when not given, ``engine_failed`` with an ``error``, else
+        ``agree`` or ``disagree`` by the rows.
+    sensitivity : where the models differed, the spread of each compared quantity when the design's
+        inputs move by a few parts in 1e9 (``crosscheck.sensitivity.spread``), in its unit; None
+        where they agreed at once (nothing to explain).
+    engine_error : where the engine's step was refined (``refinements`` halvings past
+        ``engine_dt``'s first trusted step), its estimated error on each quantity compared, from
+        its last two steps (``tolerances.ENGINE_ORDER``); None otherwise.
+    """
 
     case: str
     group: str
@@ -77,19 +105,48 @@ class Comparison:
     engine_dt: float | None = None
     engine_energy_error: float | None = None
     kind: str = "hinged"
+    verdict: str = ""
+    sensitivity: dict[str, float] | None = None
+    engine_error: dict[str, float] | None = None
+    refinements: int = 0
+
+    def __post_init__(self) -> None:
+        if not self.verdict:
+            verdict = (ENGINE_FAILED if self.error is not None
+                       else AGREE if all(row.ok for row in self.rows) else DISAGREE)
+            object.__setattr__(self, "verdict", verdict)
+        elif self.verdict not in VERDICTS:
+            raise ValueError(f"verdict = {self.verdict!r}: must be one of {', '.join(VERDICTS)}")
 
     @property
     def agree(self) -> bool:
-        return self.error is None and all(row.ok for row in self.rows)
+        """Whether the case counts as agreement: verdict ``agree`` or ``sensitive``."""
+        return self.verdict in AGREEING
 
     def to_json(self) -> dict:
         """The comparison as ``python -m crosscheck --json`` prints it: the machine's ``kind`` on the
-        design's record and on each of its quantity's rows."""
-        return {"case": self.case, "group": self.group, "kind": self.kind, "agree": self.agree,
-                "analytic_status": self.analytic_status, "engine_status": self.engine_status,
-                "max_joint_drift": self.max_joint_drift, "error": self.error,
-                "engine_dt": self.engine_dt, "engine_energy_error": self.engine_energy_error,
-                "rows": [{**row.__dict__, "kind": self.kind} for row in self.rows]}
+        design's record and on each of its quantity's rows; ``sensitivity`` where it was measured,
+        ``engine_error`` where the engine's step was refined."""
+        record = {"case": self.case, "group": self.group, "kind": self.kind, "agree": self.agree,
+                  "verdict": self.verdict,
+                  "analytic_status": self.analytic_status, "engine_status": self.engine_status,
+                  "max_joint_drift": self.max_joint_drift, "error": self.error,
+                  "engine_dt": self.engine_dt, "engine_energy_error": self.engine_energy_error,
+                  "refinements": self.refinements,
+                  "rows": [{**row.__dict__, "kind": self.kind} for row in self.rows]}
+        if self.sensitivity is not None:
+            record["sensitivity"] = dict(self.sensitivity)
+        if self.engine_error is not None:
+            record["engine_error"] = dict(self.engine_error)
+        return record
+
+
+def verdict_counts(comparisons) -> dict[str, int]:
+    """How many of ``comparisons`` have each verdict, every verdict listed (0 where none)."""
+    counts = dict.fromkeys(VERDICTS, 0)
+    for c in comparisons:
+        counts[c.verdict] += 1
+    return counts
 
 
 def _numeric(quantity: str, unit: str, a: float, e: float, tolerance: float) -> Row:
@@ -142,8 +199,9 @@ def compare_shots(a: Shot, e: Shot) -> tuple[Row, ...]:
 
 def compare(case: Case, dt: float = DEFAULT_DT, engine: Callable[[Design, float], Shot] = engine_simulate,
             analytic: Callable[[Design], Shot] = simulate_fast,
-            analytic_shot: Shot | None = None) -> Comparison:
-    """Simulate ``case`` in both models and compare.
+            analytic_shot: Shot | None = None,
+            sensitivity: Callable[[Design, Callable], dict[str, float]] = spread) -> Comparison:
+    """Simulate ``case`` in both models, compare, and say what a difference means.
 
     The analytic side is the compiled fast path by default (the same numbers as
     ``analytic.reference.simulate`` to round-off or the integrator's own error,
@@ -152,14 +210,28 @@ def compare(case: Case, dt: float = DEFAULT_DT, engine: Callable[[Design, float]
     all cases in one batch). Either way a valid design gives a ``Shot``, whose
     status names any failure. A thrown shot without the work each loss took
     (the fast path's) gets it from the reference summary (``with_dissipated_work``,
-    in the worker that runs its engine: 2.3 s for the default suite's 57 thrown designs).
+    in the worker that runs its engine).
 
     The engine runs at ``dt``; where its own diagnostics say the run is not
     accurate enough (energy error above ``ENGINE_ENERGY_TRUST``, or an
     ``EngineError``: unstable, joints apart, a flight gone non-finite), the step
-    is halved, at most ``MAX_STEP_HALVINGS`` times, and the step used is
-    reported. An engine that still cannot be trusted is a disagreement with its
-    message (``Comparison.error``), not an exception.
+    is halved, at most ``MAX_STEP_HALVINGS`` times. An engine that raises at
+    every step is ``engine_failed``, with its message (``Comparison.error``).
+
+    Where every quantity agrees, that is the verdict. Where one differs, the
+    difference is explained before it is called a disagreement:
+
+    1. the design's own sensitivity is measured (``sensitivity``: the analytic
+       model on copies of the design moved by parts in 1e9); a quantity whose
+       spread alone exceeds its tolerance cannot be compared;
+    2. the engine's step is halved while its error on a differing quantity
+       that can be compared, estimated from its last two steps, is over
+       ``ENGINE_ERROR_SHARE`` of the tolerance (``refine``), within its budget.
+
+    The verdict is then ``agree`` (the refined engine agrees), ``sensitive``
+    (every quantity still apart is one the design amplifies), ``engine_untrusted``
+    (the budget ran out with the engine's error still too large for one of them)
+    or ``disagree``.
 
     Parameters
     ----------
@@ -167,25 +239,168 @@ def compare(case: Case, dt: float = DEFAULT_DT, engine: Callable[[Design, float]
     dt : the engine's first step, s.
     engine : ``(design, dt) -> Shot`` with ``EngineDiagnostics`` in ``shot.diagnostics``.
     analytic : ``design -> Shot``, used when ``analytic_shot`` is None.
+    sensitivity : ``(design, compare_rows) -> {quantity: spread}`` (``crosscheck.sensitivity.spread``).
     """
     a = with_dissipated_work(analytic(case.design) if analytic_shot is None else analytic_shot)
+    kind = case.design.machine.kind
+    e, step, error = _trusted_run(case.design, dt, engine)
+    if e is None:
+        return Comparison(case.name, case.group, a.status.value, "error", (), None, error, engine_dt=step,
+                          kind=kind, verdict=ENGINE_FAILED)
+    rows = compare_shots(a, e)
+    measured = estimates = None
+    refined = 0
+    verdict, error = AGREE, None
+    if not all(row.ok for row in rows):
+        measured = sensitivity(case.design, compare_shots)
+        amplified = {row.quantity for row in rows if _amplified(row, measured)}
+        refinement = refine(case.design, a, e, step, engine, amplified)
+        e, step, rows, estimates, refined = (refinement.shot, refinement.dt, refinement.rows,
+                                             refinement.estimates, refinement.halvings)
+        apart = [row for row in rows if not row.ok]
+        unexplained = [row for row in apart if row.quantity not in amplified]
+        unresolved = [row for row in unexplained if row.quantity in refinement.unresolved]
+        if not apart:
+            verdict = AGREE
+        elif not unexplained:
+            verdict = SENSITIVE
+        elif unresolved:
+            verdict, error = ENGINE_UNTRUSTED, _untrusted_message(unresolved, estimates, step, refinement.stopped)
+        else:
+            verdict = DISAGREE
+    return Comparison(case.name, case.group, a.status.value, e.status.value, rows,
+                      float(e.diagnostics.max_joint_drift), error, engine_dt=step,
+                      engine_energy_error=float(e.diagnostics.energy_error), kind=kind, verdict=verdict,
+                      sensitivity=measured, engine_error=estimates, refinements=refined)
+
+
+def _trusted_run(design: Design, dt: float, engine: Callable[[Design, float], Shot]):
+    """``(shot, step, None)``: the engine's shot at ``dt``, or at ``dt`` halved up to
+    ``MAX_STEP_HALVINGS`` times while its energy error is over ``ENGINE_ENERGY_TRUST`` or it raises
+    (the last run is kept whatever its energy error); ``(None, step, message)`` when it raised at
+    every step."""
     step = dt
     for halvings in range(tol.MAX_STEP_HALVINGS + 1):
         last = halvings == tol.MAX_STEP_HALVINGS
         try:
-            e = engine(case.design, step)
+            e = engine(design, step)
         except EngineError as error:
             if last:
-                return Comparison(case.name, case.group, a.status.value, "error", (), None,
-                                  f"{type(error).__name__}: {error}", engine_dt=step, kind=case.design.machine.kind)
+                return None, step, f"{type(error).__name__}: {error}"
             step /= 2.0
             continue
         if e.diagnostics.energy_error <= tol.ENGINE_ENERGY_TRUST or last:
-            break
+            return e, step, None
         step /= 2.0
-    return Comparison(case.name, case.group, a.status.value, e.status.value, compare_shots(a, e),
-                      float(e.diagnostics.max_joint_drift), engine_dt=step,
-                      engine_energy_error=float(e.diagnostics.energy_error), kind=case.design.machine.kind)
+    raise AssertionError("unreachable: the last halving returns")
+
+
+def _amplified(row: Row, measured: dict[str, float]) -> bool:
+    """Whether the design's own spread of ``row``'s quantity is over its tolerance (the outcome's
+    tolerance is none: any other status in a perturbed copy is over it)."""
+    if row.quantity not in measured:
+        return False
+    return measured[row.quantity] > (0.0 if row.tolerance is None else row.tolerance)
+
+
+@dataclass(frozen=True)
+class Refinement:
+    """``refine``'s result: the engine's last ``shot`` at step ``dt`` (s) after ``halvings`` halvings,
+    its ``rows`` against the analytic shot, its estimated error on each quantity (``estimates``,
+    None before any halving), the differing quantities it could not resolve (``unresolved``) and
+    why it stopped (``stopped``: ``"resolved"``, ``"halvings"``, ``"steps"`` or the engine's error)."""
+
+    shot: Shot
+    dt: float
+    rows: tuple[Row, ...]
+    estimates: dict[str, float] | None
+    halvings: int
+    unresolved: frozenset[str]
+    stopped: str
+
+
+def refine(design: Design, a: Shot, e: Shot, dt: float, engine: Callable[[Design, float], Shot],
+           skip: set[str] = frozenset()) -> Refinement:
+    """Halve the engine's step until its estimated error on every quantity that differs from the
+    analytic shot ``a`` (but those in ``skip``) is at most ``ENGINE_ERROR_SHARE`` of its tolerance.
+
+    A run's error is estimated from it and the run at twice its step: ``|q(h/2) - q(h)| / (2**p - 1)``
+    with ``p`` the quantity's order (``tolerances.ENGINE_ORDER``); the outcome's is 0 where both
+    runs end alike, unbounded where they do not. The budget: at most ``MAX_REFINEMENTS`` halvings,
+    and no run past ``engine_budget``'s steps.
+    """
+    rows = compare_shots(a, e)
+    estimates: dict[str, float] | None = None
+    halvings = 0
+    stopped = "resolved"
+    while True:
+        unresolved = frozenset(row.quantity for row in rows if not row.ok and row.quantity not in skip
+                               and not _resolved(row, estimates))
+        if not unresolved:
+            stopped = "resolved"
+            break
+        if halvings == tol.MAX_REFINEMENTS:
+            stopped = "halvings"
+            break
+        if not engine_budget(e):
+            stopped = "steps"
+            break
+        try:
+            finer = engine(design, dt / 2.0)
+        except EngineError as error:
+            stopped = f"{type(error).__name__}: {error}"
+            break
+        estimates = error_estimates(e, finer)
+        e, dt, halvings = finer, dt / 2.0, halvings + 1
+        rows = compare_shots(a, e)
+    return Refinement(e, dt, rows, estimates, halvings, unresolved, stopped)
+
+
+def _resolved(row: Row, estimates: dict[str, float] | None) -> bool:
+    if estimates is None or row.quantity not in estimates:
+        return False
+    allowed = 0.0 if row.tolerance is None else tol.ENGINE_ERROR_SHARE * row.tolerance
+    return estimates[row.quantity] <= allowed
+
+
+def error_estimates(coarse: Shot, fine: Shot) -> dict[str, float]:
+    """The engine's estimated error of ``fine`` (a run at half ``coarse``'s step) on each quantity
+    both reach, in its unit: ``|fine - coarse| / (2**p - 1)`` (``tolerances.ENGINE_ORDER``); the
+    outcome's is 0 where both end alike, ``inf`` where they do not."""
+    estimates = {}
+    for row in compare_shots(fine, coarse):
+        if row.quantity == "outcome":
+            estimates["outcome"] = 0.0 if row.ok else math.inf
+        elif row.difference is not None:
+            order = tol.ENGINE_ORDER.get(row.quantity, tol.ENGINE_DEFAULT_ORDER)
+            estimates[row.quantity] = abs(row.difference) / (2.0**order - 1.0)
+    return estimates
+
+
+def engine_budget(shot: Shot) -> bool:
+    """Whether a run at half ``shot``'s step stays within the engine's step limits (about twice
+    its steps in each stage): ``engine_model.stepping.MACHINE_STEP_LIMIT`` for the swing and a
+    rolling machine's run after release, ``engine_model.flight.FLIGHT_STEP_LIMIT`` for the flight."""
+    d = shot.diagnostics
+    return (2 * d.machine_steps <= MACHINE_STEP_LIMIT and 2 * d.after_release_steps <= MACHINE_STEP_LIMIT
+            and 2 * d.flight_steps <= FLIGHT_STEP_LIMIT)
+
+
+def _untrusted_message(rows: list[Row], estimates: dict[str, float] | None, dt: float, stopped: str) -> str:
+    """What the engine reached where it could not resolve a difference, and why it stopped."""
+    why = {"halvings": f"after {tol.MAX_REFINEMENTS} halvings of its step (MAX_REFINEMENTS)",
+           "steps": "within its step limits"}.get(stopped, f"it raised {stopped}")
+    parts = []
+    for row in rows:
+        estimate = None if estimates is None else estimates.get(row.quantity)
+        if estimate is None:
+            parts.append(f"{row.quantity}: no estimate")
+        elif row.tolerance:
+            parts.append(f"{row.quantity}: {estimate / row.tolerance:.3g} of its tolerance")
+        else:
+            parts.append(f"{row.quantity}: {'changed' if estimate else 'unchanged'} with the step")
+    return (f"the engine's error could not be brought under {tol.ENGINE_ERROR_SHARE:g} of the tolerance "
+            f"{why}: at dt = {dt:.3g} s its estimated error is " + "; ".join(parts))
 
 
 @dataclass(frozen=True)

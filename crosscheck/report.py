@@ -10,7 +10,7 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from crosscheck.comparison import Comparison, StepStudy
+from crosscheck.comparison import AGREE, SENSITIVE, Comparison, Row, StepStudy, verdict_counts
 
 
 def _display(value, unit: str) -> tuple[str, str]:
@@ -30,17 +30,52 @@ def format_table(comparisons: list[Comparison]) -> str:
     lines = []
     for c in comparisons:
         if c.error:
-            lines.append((c.case, "engine", c.analytic_status, "error", "-", "-", "FAIL: " + c.error))
+            lines.append((c.case, "engine", c.analytic_status, c.engine_status, "-", "-",
+                          f"{c.verdict.upper()}: {c.error}"))
         for row in c.rows:
             a, unit = _display(row.analytic, row.unit)
             e, _ = _display(row.engine, row.unit)
             d, _ = _display(row.difference, row.unit)
             t, _ = _display(row.tolerance, row.unit)
             lines.append((c.case, f"{row.quantity} ({unit})" if unit else row.quantity, a, e, d, t,
-                          "ok" if row.ok else "FAIL"))
+                          row_verdict(c, row)))
     widths = [max(len(str(r[i])) for r in [header, *lines]) for i in range(len(header))]
     return "\n".join("  ".join(str(v).ljust(w) for v, w in zip(r, widths, strict=True)).rstrip()
                      for r in [header, *lines])
+
+
+def row_verdict(comparison: Comparison, row: Row) -> str:
+    """One quantity's verdict: ``ok``; ``sensitive`` where it is apart but the design's own spread
+    of it is over its tolerance (``Comparison.sensitivity``); ``FAIL`` otherwise."""
+    if row.ok:
+        return "ok"
+    spread = (comparison.sensitivity or {}).get(row.quantity)
+    if spread is not None and spread > (row.tolerance or 0.0):
+        return "sensitive"
+    return "FAIL"
+
+
+def format_verdicts(comparisons: list[Comparison]) -> list[str]:
+    """A line per case whose verdict is not ``agree``: the verdict and why (empty when all agree)."""
+    lines = []
+    for c in comparisons:
+        if c.verdict == AGREE:
+            continue
+        if c.verdict == SENSITIVE:
+            apart = [row for row in c.rows if not row.ok]
+            worst = max(apart, key=lambda row: c.sensitivity.get(row.quantity, 0.0) / (row.tolerance or 1.0))
+            spread, unit = _display(c.sensitivity[worst.quantity], worst.unit)
+            tolerance, _ = _display(worst.tolerance, worst.unit)
+            why = (f"{len(apart)} quantities apart, each moved past its tolerance by the design itself: "
+                   f"{worst.quantity} spreads {spread} {unit} (tolerance {tolerance}) when the inputs "
+                   f"move by parts in 1e9")
+        elif c.error:
+            why = c.error
+        else:
+            apart = [row.quantity for row in c.rows if not row.ok]
+            why = f"apart on {', '.join(apart)}"
+        lines.append(f"  {c.case}: {c.verdict} ({why})")
+    return lines
 
 
 def worst_cases(comparisons: list[Comparison]) -> dict[str, dict]:
@@ -48,7 +83,7 @@ def worst_cases(comparisons: list[Comparison]) -> dict[str, dict]:
     worst: dict[str, dict] = {}
     for c in comparisons:
         for row in c.rows:
-            if row.difference is None:
+            if row.difference is None or row_verdict(c, row) == "sensitive":
                 continue
             ratio = abs(row.difference) / row.tolerance
             # 0 against 0 (a fixed frame's displacement, an absent loss's work) is no difference.
@@ -70,8 +105,14 @@ def format_summary(comparisons: list[Comparison], study: StepStudy | None, steps
     for c in comparisons:
         outcomes[c.analytic_status] = outcomes.get(c.analytic_status, 0) + 1
     lines = [("" if title is None else f"{title}: ") + f"{agreed} of {len(comparisons)} designs agree "
-             f"(analytic outcomes: {', '.join(f'{k} {v}' for k, v in sorted(outcomes.items()))})",
-             "worst case per quantity (|difference| as a fraction of its tolerance):"]
+             f"(analytic outcomes: {', '.join(f'{k} {v}' for k, v in sorted(outcomes.items()))})"]
+    others = format_verdicts(comparisons)
+    if others:
+        counts = verdict_counts(comparisons)
+        lines.append("verdicts: " + ", ".join(f"{name} {n}" for name, n in counts.items() if n))
+        lines += others
+    lines.append("worst case per quantity (|difference| as a fraction of its tolerance; "
+                 "sensitive quantities left out):")
     worst = worst_cases(comparisons)
     width = max(map(len, worst), default=0)
     for quantity, w in worst.items():
@@ -101,14 +142,19 @@ def format_plain(comparisons: list[Comparison], details: str | None = None) -> s
     """The cross-check in words a newcomer reads: whether the two models agree, how closely on
     the range, what a deliberate failure case is there for, and where the details are (``details``)."""
     agreed = [c for c in comparisons if c.agree]
+    sensitive = [c.case for c in comparisons if c.verdict == SENSITIVE]
     ranges = [abs(row.difference) / abs(row.analytic) for c in comparisons for row in c.rows
-              if row.quantity == "range" and row.difference is not None and row.analytic]
+              if row.quantity == "range" and row.difference is not None and row.analytic and c.verdict == AGREE]
     closeness = f", to {max(ranges):.1g} of the range at worst" if ranges else ""
     if len(agreed) == len(comparisons):
         lines = [f"the engine and the analytic model agree on all {len(comparisons)} designs{closeness}"]
     else:
         lines = [f"the engine and the analytic model DISAGREE on {len(comparisons) - len(agreed)} of "
-                 f"{len(comparisons)} designs: {', '.join(c.case for c in comparisons if not c.agree)}"]
+                 f"{len(comparisons)} designs: "
+                 + ", ".join(f"{c.case} ({c.verdict})" for c in comparisons if not c.agree)]
+    if sensitive:
+        lines.append(f"  too sensitive to compare (the design itself moves past a tolerance when its inputs "
+                     f"move by parts in 1e9): {', '.join(sensitive)}")
     for c in comparisons:
         if c.group == "failure":
             lines.append(f"  ({c.case} is a design made to fail on purpose, ending in "
@@ -126,7 +172,7 @@ def write_report(directory: str | Path, comparisons: list[Comparison], study: St
     out.mkdir(parents=True, exist_ok=True)
     table = out / "table.txt"
     table.write_text(format_table(comparisons) + "\n\n" + format_summary(comparisons, study) + "\n")
-    report = {"agree": all(c.agree for c in comparisons),
+    report = {"agree": all(c.agree for c in comparisons), "verdicts": verdict_counts(comparisons),
               "comparisons": [c.to_json() for c in comparisons],
               "worst": worst_cases(comparisons),
               "step_study": None if study is None else study.to_json()}

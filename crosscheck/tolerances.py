@@ -145,3 +145,41 @@ FRAME_DISPLACEMENT_REL = 1e-3
 #: not at all), and its error is then the event time's; 1e-3 of 1 mm is 1 um,
 #: over 200x the 100 kg frame's error (3.8e-9 m).
 FRAME_DISPLACEMENT_FLOOR = 1e-3
+
+# --------------------------------------------------------------------------- #
+# A difference resolved: the engine refined, the design's own sensitivity measured
+# --------------------------------------------------------------------------- #
+
+#: The share of a quantity's tolerance that the engine's own error may take where the two models
+#: differ. A case whose quantities all agree needs no more; where one differs, the engine's step is
+#: halved until its error, estimated from the last two steps (``ENGINE_ORDER``), is at most this
+#: share of each differing quantity's tolerance (``crosscheck.comparison.refine``), so that what is
+#: left of the difference is the models'. Half: a difference still over the tolerance is then at
+#: least half a tolerance outside anything the engine's step explains.
+ENGINE_ERROR_SHARE = 0.5
+
+#: The engine's order of convergence in its step, by quantity, for the estimate of a run's error
+#: from two steps ``h`` and ``h/2``: ``|q(h/2) - q(h)| / (2**p - 1)``. Order 2 for the events, the
+#: release, the flight and the loads (``tests/test_crosscheck.py`` holds the release and the
+#: range to it; the peak loads converge alike, see ``PEAK_LOAD_REL``); order 1 for the arm's
+#: bending moment, which rests on the arm body's angular acceleration (``ARM_BENDING_MOMENT_REL``).
+ENGINE_ORDER = {"peak_arm_bending_moment": 1}
+#: The order of every quantity ``ENGINE_ORDER`` does not name.
+ENGINE_DEFAULT_ORDER = 2
+
+#: How many times past the step it trusted the cross-check may halve the engine's step to resolve
+#: a difference. With ``MAX_STEP_HALVINGS`` that is 1/128 of the default step at the finest, and
+#: every run is held to ``engine_model.stepping.MACHINE_STEP_LIMIT`` steps besides
+#: (``engine_budget``): a design whose error the budget cannot bring under the share above is
+#: ``engine_untrusted``, reported with the error reached, never a disagreement.
+MAX_REFINEMENTS = 5
+
+#: The largest relative change of each input in the sensitivity runs (``crosscheck.sensitivity``):
+#: a few parts in 1e9, far below anything a builder measures and far above the last bit (2.2e-16),
+#: so the spread it gives is the design's own amplification, not round-off.
+SENSITIVITY_PERTURBATION = 4e-9
+
+#: How many perturbed copies of a design the sensitivity runs shoot: four draws of every input,
+#: each with its own signs, enough to find a direction the outcome is sensitive in (an amplified
+#: difference shows in every draw that moves the amplifying input at all).
+SENSITIVITY_RUNS = 4

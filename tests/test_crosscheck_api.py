@@ -25,7 +25,10 @@ def test_run_cross_checks_one_design():
     quantities = {row.quantity for row in comparison.rows}
     assert {"outcome", "range", "release_time"} <= quantities
     assert report.agree and report.disagreements == ()
-    assert report.to_json() == {"agree": True, "comparisons": [comparison.to_json()]}
+    assert comparison.verdict == "agree" and comparison.to_json()["verdict"] == "agree"
+    assert report.to_json() == {"agree": True, "comparisons": [comparison.to_json()],
+                                "verdicts": {"agree": 1, "disagree": 0, "sensitive": 0, "engine_failed": 0,
+                                             "engine_untrusted": 0}}
 
 
 def test_a_disagreement_is_reported_not_raised():

@@ -5,6 +5,14 @@ const $ = (id) => document.getElementById(id);
 const CLIENT = Math.random().toString(36).slice(2);
 const POLL_MS = 100;
 let current = null;
+// The cross-check's verdicts (crosscheck.comparison.VERDICTS), as the table's caption says them.
+const VERDICT_CAPTIONS = {
+  agree: "The models agree",
+  disagree: "The models differ",
+  sensitive: "Too sensitive to compare: the design itself moves past a tolerance when its inputs move by parts in 1e9",
+  engine_failed: "The engine could not run this design",
+  engine_untrusted: "The engine could not reach the accuracy this design needs",
+};
 
 async function runJob(state, tool, inputs, api) {
   if (current) return null;
@@ -115,10 +123,15 @@ export function setupTools(state, api) {
   $("crosscheck").addEventListener("click", async () => {
     const result = await runJob(state, "crosscheck", {}, api);
     if (!result) return;
-    const rows = result.rows.map((r) => `<tr class="${r.ok ? "ok" : "failed"}"><td>${r.quantity}</td>`
+    // A quantity apart only because the design itself amplifies a change of parts in 1e9 is
+    // "sensitive" (crosscheck.report.row_verdict), not a difference between the models.
+    const rowVerdict = (r) => r.ok ? "agree"
+      : (result.sensitivity?.[r.quantity] ?? -1) > (r.tolerance ?? 0) ? "sensitive" : "DIFFER";
+    const rows = result.rows.map((r) => `<tr class="${r.ok ? "ok" : rowVerdict(r) === "sensitive" ? "sensitive" : "failed"}">`
+      + `<td>${r.quantity}</td>`
       + `<td>${fmt(r.analytic)}</td><td>${fmt(r.engine)}</td><td>${fmt(r.difference)}</td>`
-      + `<td>${fmt(r.tolerance)}</td><td>${r.unit}</td><td>${r.ok ? "agree" : "DIFFER"}</td></tr>`).join("");
-    $("crosscheck-table").innerHTML = `<caption>${result.agree ? "The models agree" : "The models differ"}`
+      + `<td>${fmt(r.tolerance)}</td><td>${r.unit}</td><td>${rowVerdict(r)}</td></tr>`).join("");
+    $("crosscheck-table").innerHTML = `<caption data-verdict="${result.verdict}">${VERDICT_CAPTIONS[result.verdict]}`
       + `${result.error ? `: ${result.error}` : ""}</caption><tr><th>quantity</th><th>analytic</th><th>engine</th>`
       + `<th>difference</th><th>tolerance</th><th>unit</th><th></th></tr>${rows}`;
     $("crosscheck-table").hidden = false;
