@@ -27,6 +27,11 @@ RANGE_REL = 1e-7
 #: Stages 1-2 samples, rad and rad/s: round-off of the same arithmetic in two orders (observed 1e-14
 #: and 3e-13 on the paper's design; a thousand times that leaves room for other CPUs' last bits).
 ANGLE_ABS, RATE_ABS = 1e-11, 1e-9
+#: ... and relative to a rate, where the motion itself amplifies round-off: fails-never_lifts_off's sling
+#: rate, as the sling passes under the tip, parted from 8e-11 to 1.5e-9 rad/s of its 10.5 rad/s in the
+#: shot's last 2 ms on an AMD EPYC (2026-11-29): 1.5e-10 of the rate. (The paths' range agreement,
+#: RANGE_REL, is a thousand times looser still.)
+RATE_REL = 1e-9
 #: The page's spacings (``workbench.shot``), and the reference's own (None).
 SPACINGS = [(2e-3, 2e-2), (None, None)]
 
@@ -61,7 +66,7 @@ def test_the_recorded_motion_is_the_reference_history(design, spacing, flight_sp
     np.testing.assert_array_equal(motion.stage, history.stage)
     np.testing.assert_allclose(motion.t, history.t, rtol=0.0, atol=1e-12)
     np.testing.assert_allclose(motion.q, history.q, rtol=0.0, atol=ANGLE_ABS)
-    np.testing.assert_allclose(motion.qdot, history.qdot, rtol=0.0, atol=RATE_ABS)
+    np.testing.assert_allclose(motion.qdot, history.qdot, rtol=RATE_REL, atol=RATE_ABS)
     frame_x = history.frame_x if len(history.frame_x) else np.zeros(len(history.t))
     np.testing.assert_allclose(motion.frame_x, frame_x, rtol=0.0, atol=1e-12)
     assert len(motion.flight_t) == len(history.flight_t)
