@@ -140,7 +140,8 @@ def run_after_release(design: Design, release_time: float, release_state: np.nda
             # The first whole step's readings are off (``friction.renew``): the half step's stand in.
             measured = _loads(friction, rig, raw[-2], raw[-1], design, dt) if i > 1 else opening_loads
             earlier, loads = loads, measured
-            fr.set_limits(friction, fr.predicted_loads(loads, earlier, fr.steady(modes, slips)), slips)
+            steady = fr.steady(modes, slips, coupled=bool(rig.supports))
+            fr.set_limits(friction, fr.predicted_loads(loads, earlier, steady), slips)
             modes.append(slips)
             fr.aim(friction, rig, dt)
         step(dt)

@@ -39,6 +39,38 @@ SUPPORT_HALF_LENGTH_FACTOR = 10.0
 #: moment about its centre of gravity (``carriage_mass``): half, so the arm's moment stays at least
 #: half its own and its counterweight's.
 CARRIAGE_SHARE = 0.5
+#: Solver iterations of a floating arm's opening half step (in place of
+#: ``engine_model.stepping.STARTUP_ITERATIONS``, 1000) and of the steps ``resolves`` names. Its small
+#: carriage (``carriage_mass``) slows the solver's convergence: on the paper's machine held at rest by
+#: its track's friction (three times the coefficient that just holds it) the arm's angular
+#: acceleration read from the opening half step (against ``friction.HELD_ACCELERATION``) was
+#: -2.8e-2 rad/s^2 after 1000 iterations, -2.2e-7 after 4000 and the same after 16000, at 5e-5 s; at
+#: 1.25e-5 s -3.5e-6 from 4000 on. Without friction, 1000 left the track's push at rest on the
+#: cross-check's ``sample-8-004-wooden-floating-arm`` (seed 8) 1.0 % low: 65.100 N, against 65.735 N
+#: after 4000 or 16000 and from the analytic model.
+STARTUP_ITERATIONS = 8000
+
+
+def resolves(steps_taken: int, modes: list[tuple[bool, ...]]) -> bool:
+    """Whether a floating arm's coming step is solved with ``STARTUP_ITERATIONS``, after ``steps_taken``
+    whole steps, ``modes`` the friction joints' modes of each step (``engine_model.friction.limits``'
+    ``slips``, the coming step's last; empty without friction).
+
+    Chipmunk starts each step's solver from the impulses of the step before, applied scaled by the
+    ratio of the steps but kept unscaled: after the opening half step (a ratio of 2) the first whole
+    step keeps half the impulse it applied, and the second starts from that half. The floating arm's
+    solver, slowed by the carriage, took about 95 steps of 200 iterations to make it up, and the loads
+    read from the bodies' momentum rang for as long: on the cross-check's
+    ``sample-8-004-wooden-floating-arm`` the axle's swung between 52 and 80 N about its 65.7 N, and
+    its 70.21 N at the 20th step, the first the peaks are taken from
+    (``engine_model.loads.SETTLING_STEPS``), was the peak, 4.9 % above the analytic model's 66.93 N.
+    A friction joint that sticks, breaks free or turns back moves every support's impulse within a
+    step as well, and the solver rang after it the same way: on
+    ``sample-8-000-wooden-floating-arm-all-losses``, where its guide's sliding turns back, the axle's
+    load rang up to 1.6 N above the analytic model's peak (102.47 N) even with the limits' lines
+    stopped (``friction.steady``). So the step whose modes differ from the step before's too.
+    """
+    return steps_taken == 1 or (len(modes) > 1 and modes[-1] != modes[-2])
 
 
 def carriage_mass(design: Design) -> float:

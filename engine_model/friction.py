@@ -254,11 +254,19 @@ def static_loads(design: Design) -> tuple[float, float, float, float, float]:
 STEADY_STEPS = 4
 
 
-def steady(modes: list[tuple[bool, ...]], coming: tuple[bool, ...]) -> tuple[bool, ...]:
+def steady(modes: list[tuple[bool, ...]], coming: tuple[bool, ...], coupled: bool = False) -> tuple[bool, ...]:
     """Which joints kept their mode (``limits``' ``slips``) through the steps ``modes`` (oldest first,
-    the last ``STEADY_STEPS - 1`` steps taken) and the ``coming`` one: those whose load may be extrapolated."""
+    the last ``STEADY_STEPS - 1`` steps taken) and the ``coming`` one: those whose load may be extrapolated.
+
+    ``coupled``: each joint's load jumps where any joint's mode changes, so none is extrapolated
+    unless all kept theirs. So on a floating arm, whose supports' pushes each take up the others'
+    friction: where its guide's sliding turns back, the axle's load jumps with the guide's friction
+    (95.7 N to 102.5 N on ``sample-8-000-wooden-floating-arm-all-losses``), and a line through the
+    jump set the track's limit 1.3 N high for a step, which its loads then rang from for ten steps.
+    """
     recent = modes[1 - STEADY_STEPS:]
-    return tuple(all(mode[joint] == slip for mode in recent) for joint, slip in enumerate(coming))
+    kept = tuple(all(mode[joint] == slip for mode in recent) for joint, slip in enumerate(coming))
+    return (False,) * len(kept) if coupled and not all(kept) else kept
 
 
 def predicted_loads(loads: tuple[float, ...], earlier: tuple[float, ...] | None,
@@ -325,16 +333,6 @@ def set_limits(friction: Friction, loads: tuple[float, ...], slips: tuple[bool, 
     if friction.point_hinge:   # its groove's force, the torque over the link
         _SET_MAX_FORCE(friction.hinge._constraint, found[1] / friction.design.machine.counterweight_link)
     return found
-
-
-#: Solver iterations of the opening half step of a floating arm whose guide or track has friction
-#: (in place of ``engine_model.stepping.STARTUP_ITERATIONS``). Its small carriage (``engine_model.floating.carriage_mass``) slows the
-#: solver's convergence: on the paper's machine held at rest by its track's friction (three times
-#: the coefficient that just holds it) the arm's angular acceleration read from the opening half
-#: step was -2.8e-2 rad/s^2 after 1000 iterations (``stepping.STARTUP_ITERATIONS``), -2.2e-7 after
-#: 4000 and the same after 16000, at 5e-5 s; at 1.25e-5 s -3.5e-6 from 4000 on. Whether it is
-#: held is read from it against ``HELD_ACCELERATION``.
-SLIDE_STARTUP_ITERATIONS = 8000
 
 
 #: Most times a floating arm's opening half step is taken again with the limits its own loads give

@@ -20,6 +20,7 @@ from analytic.geometry import RELEASE_RULES, release_value
 from analytic.limits import SLING_VERTICAL_LIMIT, swing_time_limit
 from analytic.outcome import LiftoffFailure
 from analytic.result import Status
+from engine_model import floating
 from engine_model import friction as fr
 from engine_model import kinematics as kin
 from engine_model.build import EngineError, Rig, build
@@ -94,7 +95,8 @@ def run_machine(design: Design, dt: float, iterations: int, sling: str, limit: i
 
     rig = build(design, sling=sling, iterations=iterations)
     friction = _attach_friction(rig, design, True, dt)
-    startup = fr.SLIDE_STARTUP_ITERATIONS if fr.slides(friction) else STARTUP_ITERATIONS
+    floating_arm = bool(rig.supports)
+    startup = floating.STARTUP_ITERATIONS if floating_arm else STARTUP_ITERATIONS
     row = _opening_step(rig, dt, iterations, drag, startup)
     # From rest the opening half step gives the arm omega = alpha dt/2 (pymunk
     # updates velocities first), so this is its angular acceleration at rest.
@@ -191,7 +193,8 @@ def run_machine(design: Design, dt: float, iterations: int, sling: str, limit: i
     k = 0
     while True:
         if friction is not None:
-            predicted = fr.predicted_loads(loads, earlier_loads, fr.steady(run.friction_slips, slips))
+            steady = fr.steady(run.friction_slips, slips, coupled=floating_arm)
+            predicted = fr.predicted_loads(loads, earlier_loads, steady)
             run.friction_limit.append(fr.set_limits(friction, predicted, slips))
             run.friction_slips.append(slips)
             fr.aim(friction, rig, dt)
@@ -203,7 +206,12 @@ def run_machine(design: Design, dt: float, iterations: int, sling: str, limit: i
             limit = more
         if drag is not None:
             force = _push_drag(drag, rig, previous, run.raw[-2] if len(run.raw) > 1 else previous)
+        resolve = floating_arm and floating.resolves(k, run.friction_slips)
+        if resolve:
+            rig.space.iterations = startup
         step(dt)
+        if resolve:
+            rig.space.iterations = iterations
         k += 1
         row = read()
         if not math.isfinite(sum(row)):
@@ -355,8 +363,8 @@ def _opening_step(rig: Rig, dt: float, iterations: int, drag=None,
 
     Later steps start their solver from the previous step's impulses; this one
     starts from nothing, so it gets ``startup`` iterations to converge (``STARTUP_ITERATIONS``: with
-    the usual count the sling tension rings by 10 % for a dozen steps; more for a floating arm's
-    friction, ``friction.SLIDE_STARTUP_ITERATIONS``).
+    the usual count the sling tension rings by 10 % for a dozen steps; more for a floating arm,
+    ``floating.STARTUP_ITERATIONS``).
     """
     rig.space.iterations = max(startup, iterations)
     if drag is not None:
