@@ -66,11 +66,12 @@ crosscheck: $(COMPILED)
 	@$(PY) -m crosscheck --report $(OUT)/crosscheck
 
 # On every core (pytest-xdist): each worker takes the next test as it finishes one, the
-# slow ones first, and a Dask-cluster module whole on one worker (tests/conftest.py).
+# slow ones first (tests/conftest.py), and each module marked xdist_group (a Dask cluster's,
+# the rolling shots', the recorded motion's) whole on one worker (--dist loadgroup).
 # `$(PY) -m pytest` alone still runs the whole suite in one process. Then the
 # documentation site, so that a broken link or reference fails the tests too.
 test: compile browser
-	$(PY) -m pytest -n auto
+	$(PY) -m pytest -n auto --dist loadgroup
 	@$(MAKE) --no-print-directory docs
 
 # The workbench: the whole project in a local web page (python -m workbench), opened in the browser.

@@ -40,7 +40,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--baseline", metavar="REV",
                         help="also time commit REV of this repository (its sources in a temporary folder, run with "
                              "this interpreter) beside this checkout, the two interleaved shot by shot on one "
-                             "CPU, and give each headline figure as a ratio to it")
+                             "CPU, and give each headline figure as a ratio to it; needs the checkout's git "
+                             "history (a clone holding REV, not a source archive)")
     parser.add_argument("--markdown", metavar="FILE.md",
                         help="write the documentation's performance page from these figures")
     parser.add_argument("--quiet", action="store_true", help="no progress bars")

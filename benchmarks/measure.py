@@ -16,6 +16,9 @@ from typing import Callable
 import numba
 import scipy
 
+#: This checkout: the sources these modules are, and the repository whose commit the figures name.
+CHECKOUT = Path(__file__).resolve().parents[1]
+
 
 def best_time(run: Callable[[], object], repeat: int) -> tuple[float, object]:
     """Best wall-clock seconds of ``repeat`` calls of ``run``, and the first call's result."""
@@ -57,8 +60,27 @@ def cache_load_seconds() -> float:
     return float(done.stdout.split()[-1])
 
 
+def git_output(repository: Path, *arguments: str) -> str:
+    """``git arguments`` run in ``repository``: its output, stripped (CalledProcessError if it fails,
+    OSError without git)."""
+    return subprocess.run(["git", *arguments], cwd=repository, capture_output=True, text=True,
+                          check=True).stdout.strip()
+
+
+def checkout_commit(repository: Path = CHECKOUT) -> str | None:
+    """The full id of the commit ``repository`` has checked out; None where it is not a git checkout of
+    its own (a source archive, even one unpacked inside another repository's folder) or git is missing."""
+    try:
+        if Path(git_output(repository, "rev-parse", "--show-toplevel")).resolve() != Path(repository).resolve():
+            return None
+        return git_output(repository, "rev-parse", "--verify", "HEAD^{commit}")
+    except (OSError, subprocess.CalledProcessError):
+        return None
+
+
 def machine_facts() -> dict:
-    """When and where the figures were measured: date (UTC), processors, CPU model, versions, commit."""
+    """When and where the figures were measured: date (UTC), processors, CPU model, versions, commit
+    (its first 7 digits; None for sources outside git, such as an unpacked archive)."""
     model = None
     try:
         for line in Path("/proc/cpuinfo").read_text().splitlines():
@@ -67,12 +89,9 @@ def machine_facts() -> dict:
                 break
     except OSError:
         pass
-    try:
-        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=Path(__file__).parent,
-                                capture_output=True, text=True, check=True).stdout.strip()
-    except (OSError, subprocess.CalledProcessError):
-        commit = None
+    commit = checkout_commit()
     return {"date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
             "cpu_count": os.cpu_count(), "cpu_model": model, "python": platform.python_version(),
-            "numba": numba.__version__, "scipy": scipy.__version__, "commit": commit}
+            "numba": numba.__version__, "scipy": scipy.__version__,
+            "commit": None if commit is None else commit[:7]}
 

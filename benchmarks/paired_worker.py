@@ -18,7 +18,7 @@ each other. It reads one JSON request per line on stdin and answers one JSON lin
     run the single shots on CPU C only (the batch runs on every CPU).
 
 It uses only what every commit since the fast path's first has: ``analytic.fast``'s
-``simulate_fast``, ``pack_many``, ``shoot`` and ``compile``, the reference's ``simulate``, and
+``simulate_fast``, ``pack_many``, ``shoot`` and ``compile``, the reference's ``simulate`` (``REFERENCES``), and
 the benchmark's design sample (``DESIGN_SAMPLES``).
 A commit's fast path without a ``loads`` switch times its only shot for ``fast_no_loads``.
 """
@@ -41,31 +41,47 @@ import numpy as np
 
 #: Where the benchmark's design sample has lived, newest first.
 DESIGN_SAMPLES = ("benchmarks.designs", "crosscheck.benchmark", "analytic.bench")
+#: Where the reference path's ``simulate`` has lived, newest first.
+REFERENCES = ("analytic.reference", "analytic.simulate")
+
+
+def _own(name: str):
+    """Module ``name`` of the sources (the working folder), or None where they lack it. A copy of this
+    project installed elsewhere on the path does not count, nor does it get to run: an editable
+    install's finder would hand out its own module for any that the sources lack (``analytic.reference``
+    to a commit that has only ``analytic.simulate``), so each package on the way is located before
+    anything of it is imported."""
+    import importlib
+    import importlib.util
+    from pathlib import Path
+
+    sources, parts = Path.cwd().resolve(), name.split(".")
+    for depth in range(1, len(parts) + 1):
+        try:
+            spec = importlib.util.find_spec(".".join(parts[:depth]))
+        except ImportError:
+            return None
+        if spec is None or spec.origin is None or not Path(spec.origin).resolve().is_relative_to(sources):
+            return None
+    return importlib.import_module(name)
 
 
 def _designs(count: int, seed: int) -> list:
-    """The benchmark's designs, from the first of ``DESIGN_SAMPLES`` the sources (the working
-    folder) hold: an installed copy of this checkout elsewhere on the path does not count."""
-    import importlib
-    from pathlib import Path
-
-    sources = Path.cwd().resolve()
+    """The benchmark's designs, from the first of ``DESIGN_SAMPLES`` the sources hold."""
     for name in DESIGN_SAMPLES:
-        try:
-            module = importlib.import_module(name)
-        except ImportError:
-            continue
-        if Path(module.__file__).resolve().is_relative_to(sources) and hasattr(module, "bench_designs"):
+        module = _own(name)
+        if module is not None and hasattr(module, "bench_designs"):
             return module.bench_designs(count, seed)
-    raise ImportError(f"none of {', '.join(DESIGN_SAMPLES)} in {sources}")
+    raise ImportError(f"none of {', '.join(DESIGN_SAMPLES)} in {os.getcwd()}")
 
 
 def _reference():
-    try:
-        from analytic.reference import simulate
-    except ImportError:
-        from analytic.simulate import simulate
-    return simulate
+    """The reference path's ``simulate``, from the first of ``REFERENCES`` the sources hold."""
+    for name in REFERENCES:
+        module = _own(name)
+        if module is not None:
+            return module.simulate
+    raise ImportError(f"none of {', '.join(REFERENCES)} in {os.getcwd()}")
 
 
 class Side:

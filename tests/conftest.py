@@ -50,25 +50,16 @@ for _name, _values in PROFILES.items():
     settings.register_profile(_name, **_values)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "quick"))
 
-#: Test files run whole on one pytest-xdist worker, in file order: one Dask cluster serves the
-#: whole module (its start costs 5 to 20 s, and its last test kills one of its workers); the
-#: engine's rolling shots, a module fixture per frame mass (5 s each), are set up once rather
-#: than on both workers, each time a worker came back to the module (measured: 36 s of setup); the
-#: recorded motion's pairs of paths, each shot once for the two tests that read it (``_both_paths``).
-ONE_WORKER_FILES = {"tests/test_analytic_sweep_dask.py", "tests/test_engine_rolling.py",
-                    "tests/test_analytic_motion.py"}
-
-
 #: The longest tests, by their seconds on the 2-core machine the suite is timed on (``--durations``;
-#: the cross-check's and the calibration's from whole-suite runs, the bench's alone): they start
-#: first, the longest first, so that the last of them ends while short tests remain to even out
-#: the workers. Only the order depends on these figures; a test missing here runs after them, in
-#: file order with the other slow tests.
-LONGEST = {"tests/test_crosscheck.py::test_full_default_suite_agrees": 110,
-           "tests/test_analytic_calibrate_predict.py::test_held_out_predictions_fall_within_their_bands_at_the_"
+#: the calibration's from whole-suite runs, the bench's alone): they start first, the longest first,
+#: so that the last of them ends while short tests remain to even out the workers. Only the order
+#: depends on these figures; a test missing here runs after them, in file order with the other slow
+#: tests. (A module marked ``xdist_group`` is one unit of work under ``--dist loadgroup``; xdist
+#: hands out the units of several tests before the single tests, largest first.)
+LONGEST = {"tests/test_analytic_calibrate_predict.py::test_held_out_predictions_fall_within_their_bands_at_the_"
            "stated_rate": 70,
-           "tests/test_analytic_fast.py::test_bench_times_a_baseline_beside_this_checkout_and_writes_the_page_"
-           "from_its_figures": 62}
+           "tests/test_benchmarks.py::test_bench_times_a_baseline_beside_this_checkout_and_writes_the_page_"
+           "from_its_figures": 28}
 
 
 def pytest_collection_modifyitems(config, items):
@@ -79,25 +70,6 @@ def pytest_collection_modifyitems(config, items):
     In one process the order stays pytest's own, so that a module's fixtures are set up once."""
     if hasattr(config, "workerinput"):
         items.sort(key=lambda item: (item.get_closest_marker("slow") is None, -LONGEST.get(item.nodeid, 0)))
-
-
-@pytest.hookimpl(optionalhook=True)
-def pytest_xdist_make_scheduler(config, log):
-    """``-n N`` with xdist's default ``--dist load``: each test is its own unit of work, given to the
-    next free worker in collection order (the sort above), but every test of a file in
-    ``ONE_WORKER_FILES`` goes, as one unit, to one worker. (xdist's own ``--dist loadgroup`` would
-    do this with a mark, but with pytest 9.2 it silently stopped grouping: pytest-xdist issue 1386.)
-    Any other ``--dist`` is left to xdist."""
-    if config.getvalue("dist") != "load":
-        return None
-    from xdist.scheduler import LoadScopeScheduling
-
-    class OneWorkerFilesScheduling(LoadScopeScheduling):
-        def _split_scope(self, nodeid: str) -> str:
-            path = nodeid.split("::", 1)[0]
-            return path if path in ONE_WORKER_FILES else nodeid
-
-    return OneWorkerFilesScheduling(config, log)
 
 
 @pytest.fixture(scope="session")

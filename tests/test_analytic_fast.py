@@ -18,7 +18,6 @@ import os
 import re
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -545,60 +544,3 @@ def test_a_batch_finds_the_peak_loads_only_when_asked():
     assert thrown.any() and np.all(np.isfinite(with_loads.peak_sling_tension[thrown]))
     # The loads are outputs only: the shot itself is the same either way.
     np.testing.assert_array_equal(without.range, with_loads.range)
-
-
-def test_bench_refuses_a_baseline_that_is_not_a_commit(capsys):
-    assert bench_main(["--designs", "1", "--repeat", "1", "--quiet", "--sweep-shots", "0",
-                       "--baseline", "no-such-revision-here"]) == 2
-    err = capsys.readouterr().err
-    assert "--baseline no-such-revision-here" in err and "not a commit" in err
-
-
-@pytest.mark.slow
-def test_bench_times_a_baseline_beside_this_checkout_and_writes_the_page_from_its_figures(tmp_path, capsys,
-                                                                                           monkeypatch):
-    # bfde05d, the pre-friction commit the performance page compares with: its sources copied out
-    # (its fast path compiled there), timed interleaved with this checkout's by benchmarks.paired.
-    # It has the older names (analytic.simulate, analytic.bench, no loads switch), which the
-    # worker must find; and its fast path must shoot the same designs to the same ranges.
-    # Its kernel is compiled cold in every run, here without LLVM's optimisation passes
-    # (NUMBA_OPT=0 in its worker's environment only: this checkout's side loads its own cache,
-    # compiled with them, and never writes one without them): the test checks the protocol, the
-    # names and the ranges, not the figures' sizes, and the ranges must still match this
-    # checkout's to 1e-6 (no fast-math: the passes keep IEEE arithmetic). Measured alone on the
-    # shared 2-core machine: 83 s with the passes, 62 s without.
-    from benchmarks import baseline as baseline_module
-    from benchmarks.paired import paired_env
-
-    here = Path(__file__).resolve().parents[1]
-    monkeypatch.setattr(baseline_module, "paired_env", lambda folder: (
-        paired_env(folder) if Path(folder).resolve() == here else dict(paired_env(folder), NUMBA_OPT="0")))
-    page = tmp_path / "performance.md"
-    assert bench_main(["--json", "--designs", "2", "--repeat", "1", "--quiet", "--sweep-shots", "0",
-                       "--baseline", "bfde05d", "--markdown", str(page)]) == 0
-    figures = json.loads(capsys.readouterr().out)
-    baseline = figures["baseline"]
-    assert baseline["rev"] == "bfde05d" and baseline["commit"].startswith("bfde05d")
-    assert baseline["designs"] == 3 and baseline["same_designs"]
-    for key in ("fast_median_shot_s", "fast_no_loads_median_shot_s", "batch_shots_per_s",
-                "reference_median_shot_s", "batch_one_thread_shots_per_s"):
-        entry = baseline["figures"][key]
-        assert entry["this"] > 0.0 and entry["baseline"] > 0.0
-    text = page.read_text()
-    assert f"at commit `{figures['commit']}`, on {figures['cpu_count']} processors" in text
-    assert f"| {figures['batch_shots_per_s']:,.0f} shots/s | `batch_shots_per_s` |" in text
-    entry = baseline["figures"]["reference_median_shot_s"]
-    assert f"| `reference_median_shot_s` | {entry['this'] * 1e3:.3f} ms | {entry['baseline'] * 1e3:.3f} ms |" in text
-    assert f"{figures['date']}" in text
-
-
-def test_a_baselines_sources_are_the_whole_commit_and_its_bench_is_its_own(tmp_path):
-    # The pre-friction commit: its own analytic package, whose bench had no loads to leave out.
-    from benchmarks.baseline import baseline_source
-
-    commit = baseline_source("bfde05d", tmp_path)
-    assert commit.startswith("bfde05d")
-    assert (tmp_path / "analytic" / "bench.py").is_file() and not (tmp_path / "analytic" / "peaks.py").exists()
-    done = subprocess.run([sys.executable, "-c", "import analytic; print(analytic.__file__)"], cwd=tmp_path,
-                          env=dict(os.environ, PYTHONPATH=str(tmp_path)), capture_output=True, text=True, check=True)
-    assert done.stdout.strip() == str(tmp_path / "analytic" / "__init__.py")

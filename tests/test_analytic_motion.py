@@ -22,6 +22,10 @@ from analytic.result import Status
 from benchmarks.designs import ROLLING_FRAME, TYPICAL_LOSSES
 from support import failure_designs, table3_variants, table_ii_sample
 
+#: Each design's pair of paths is shot once for the two tests that read it (``_both_paths``): under
+#: pytest-xdist (``make test``: ``--dist loadgroup``) the module runs whole on one worker.
+pytestmark = pytest.mark.xdist_group("analytic-motion")
+
 #: The fast and reference paths' agreement on the range (``tests/test_analytic_fast.py``).
 RANGE_REL = 1e-7
 #: Stages 1-2 samples, rad and rad/s: round-off of the same arithmetic in two orders (observed 1e-14

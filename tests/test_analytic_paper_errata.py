@@ -1,6 +1,7 @@
-"""Errata of the paper's printed equations (8)-(43): which are right, which are wrong, and the corrections.
+"""The paper's printed equations (8)-(43), checked: which are right, which are wrong, and the corrections.
 
-These tests check the paper, not the code. Every equation the paper prints for
+These tests check the paper, not the code: they carry the ``paper`` mark
+(``-m "not paper"`` leaves them out). Every equation the paper prints for
 stage 1 (eqs. 8-13, 17-21), stage 2 (22-32), the release velocity (34-35) and
 the flight (42-43) is transcribed as printed in ``tests/paper_equations.py``
 and evaluated here at random states against the sympy Lagrangian of
@@ -59,6 +60,8 @@ import paper_equations as paper
 from analytic.design_file import default_design
 from analytic.parameters import Params
 from paper_equations import PaperParams
+
+pytestmark = pytest.mark.paper
 
 #: Agreement asked of a right equation, relative to the natural size of the
 #: quantity (largest matrix entry, force or acceleration scale): the paper's

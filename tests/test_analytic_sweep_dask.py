@@ -13,8 +13,10 @@ import pytest
 from analytic.sweep import OnDask, read_table, run_sweep, storage, sweep_from_dict
 
 #: Starting two spawned workers (each imports numba and loads the kernel)
-#: takes 5 to 20 s on two busy cores; one cluster serves the whole module.
-pytestmark = pytest.mark.slow
+#: takes 5 to 20 s on two busy cores; one cluster serves the whole module, so under pytest-xdist
+#: (``make test``: ``--dist loadgroup``) the module runs whole on one worker, in file order (its
+#: last test kills one of the cluster's workers).
+pytestmark = [pytest.mark.slow, pytest.mark.xdist_group("sweep-dask")]
 
 GRID_WITH_FAILURES = {"design": "paper_table3", "chunk_size": 40, "grid": {
     "machine.counterweight_mass": {"from": 0.05, "to": 6.5, "steps": 12},

@@ -1,4 +1,5 @@
-"""The cross-check: the models agree on a fast subset, the suite can fail, the CLI reports."""
+"""The cross-check: the models agree on the paper, exercise, failure, friction and stage-1-events groups
+case by case, the suite can fail, the CLI reports."""
 
 from __future__ import annotations
 
@@ -22,7 +23,9 @@ from crosscheck.runner import run
 from engine_model import DEFAULT_DT, EngineError
 from support import failure_designs, with_machine
 
-FAST = {"table3", "sling-rule", "constant-drag", "fails-never_fires", "fails-never_lifts_off"}
+#: The paper, exercise and failure groups' slower designs, run as slow (measured one by one on the
+#: shared, busy 2-core machine, 2026-11-29: 3.0 and 7.1 s, where the others take 1.3 s or less).
+SLOW = {"fails-hits_base_before_release", "fails-never_releases"}
 
 #: Modelling mistakes an engine could make, each a change to the machine it is handed.
 MISTAKES = {
@@ -31,20 +34,22 @@ MISTAKES = {
 }
 
 
-def _fast_cases():
-    return [c for c in paper_cases() + exercise_cases() + failure_cases() if c.name in FAST]
+def _cases():
+    """The default suite's paper, exercise and failure groups."""
+    return paper_cases() + exercise_cases() + failure_cases()
 
 
 @functools.cache
 def _compared(name: str, mistake: str | None = None):
-    """``compare`` on a case of the fast subset, once a session; with ``mistake``, against an
+    """``compare`` on a case of ``_cases``, once a session; with ``mistake``, against an
     engine handed the mistaken machine."""
-    case = next(c for c in _fast_cases() if c.name == name)
+    case = next(c for c in _cases() if c.name == name)
     return compare(case) if mistake is None else compare(case, engine=_engine_with_changes(MISTAKES[mistake]))
 
 
-@pytest.mark.parametrize("case", _fast_cases(), ids=lambda c: c.name)
-def test_models_agree_on_the_fast_subset(case):
+@pytest.mark.parametrize("case", [pytest.param(c, marks=pytest.mark.slow) if c.name in SLOW else c
+                                  for c in _cases()], ids=lambda c: c.name)
+def test_models_agree_on_the_paper_exercise_and_failure_groups(case):
     result = _compared(case.name)
     failing = [(r.quantity, r.analytic, r.engine, r.tolerance) for r in result.rows if not r.ok]
     assert result.agree, f"{case.name}: {result.error or failing}"
@@ -183,20 +188,24 @@ def test_engine_converges_with_order_two():
     assert 1.8 < study.speed_order < 2.2 and 1.8 < study.range_order < 2.2
 
 
-@pytest.mark.slow
-def test_full_default_suite_agrees(tmp_path, capsys):
-    code = main(["--report", str(tmp_path), "--no-progress"])
-    report = json.loads((tmp_path / "crosscheck.json").read_text())
-    failing = [c["case"] for c in report["comparisons"] if not c["agree"]]
-    assert code == EXIT_AGREE, f"disagreeing designs: {failing}"
-    assert {p.name for p in tmp_path.iterdir()} == {"crosscheck.json", "table.txt", "agreement.png", "errors.png",
-                                                    "convergence.png"}
+@pytest.mark.slow   # --report runs the engine's step study
+def test_the_report_holds_its_files_and_the_terminal_a_summary_of_a_few_lines(tmp_path, capsys, table3):
+    # Two designs, one thrown and one that never fires, as the full suite's hundred would be reported.
+    paths, unfired = [tmp_path / "t3.toml", tmp_path / "unfired.toml"], failure_designs()[Status.NEVER_FIRES]
+    save_design(table3, paths[0])
+    save_design(unfired, paths[1])
+    report = tmp_path / "report"
+    assert main([*map(str, paths), "--report", str(report), "--workers", "1", "--no-progress"]) == EXIT_AGREE
+    assert {p.name for p in report.iterdir()} == {"crosscheck.json", "table.txt", "agreement.png", "errors.png",
+                                                  "convergence.png"}
+    written = json.loads((report / "crosscheck.json").read_text())
+    assert [c["case"] for c in written["comparisons"]] == ["t3", unfired.name]
     # The terminal gets the verdict and the worst case per quantity; every design's rows go to table.txt.
     printed = capsys.readouterr().out.splitlines()
-    compared = {row["quantity"] for c in report["comparisons"] for row in c["rows"] if row["difference"] is not None}
+    compared = {row["quantity"] for c in written["comparisons"] for row in c["rows"] if row["difference"] is not None}
     # verdict, header, a line per quantity, the engine's step and drift, the files
-    assert len(printed) <= 2 + len(compared) + 3 and printed[0].startswith(f"{len(report['comparisons'])} of ")
-    assert len((tmp_path / "table.txt").read_text().splitlines()) > 10 * len(report["comparisons"])
+    assert len(printed) <= 2 + len(compared) + 3 and printed[0].startswith("2 of 2 designs agree")
+    assert len((report / "table.txt").read_text().splitlines()) > 10 * len(written["comparisons"])
 
 
 @pytest.mark.slow   # --report runs the engine's step study
@@ -216,10 +225,15 @@ def test_the_full_table_is_printed_only_when_asked(tmp_path, capsys, table3):
 # Friction
 # --------------------------------------------------------------------------- #
 
-#: The friction cases cheap enough for every run: the paper's design with each loss and all.
+#: The friction cases cheap enough for every run: the paper's design with each loss and all. The
+#: group's others (at 61 deg, the point counterweight, the sampled designs) are compared as slow.
 FAST_FRICTION = {"table3-axle-friction", "table3-hinge-friction", "table3-base-friction", "table3-all-losses",
                  "table3-held-by-its-axle", "table3-all-losses-static", "table3-sticking-hinge-static",
                  "table3-held-by-static-friction"}
+#: The group's case compared by tests of its own below: on the fast path with every quantity the
+#: default cross-check compares, and on the reference path with the frame's place at landing (its
+#: engine steps on through the whole flight: 15 s).
+ROLLING_FRICTION = "table3-rolling-10kg-all-losses"
 
 
 def test_the_friction_group_has_each_loss_alone_and_together_and_is_in_the_default_suite():
@@ -256,7 +270,8 @@ def test_the_friction_cases_run_in_the_engine_with_their_energy_accounted(case):
             assert (shot.energy_dissipated[name] > 0.0) == (getattr(losses, f"{name}_friction") > 0.0), name
 
 
-@pytest.mark.parametrize("case", [c for c in friction_cases() if c.name in FAST_FRICTION], ids=lambda c: c.name)
+@pytest.mark.parametrize("case", [c if c.name in FAST_FRICTION else pytest.param(c, marks=pytest.mark.slow)
+                                  for c in friction_cases() if c.name != ROLLING_FRICTION], ids=lambda c: c.name)
 def test_models_agree_on_the_friction_cases(case):
     # On the reference path, which reports the work each loss took (the fast path does not):
     # a case that throws is compared on them too.
@@ -290,7 +305,7 @@ def test_the_rolling_frame_at_landing_is_compared_and_holds_the_joints_friction_
     from analytic import stages
     from analytic.reference import simulate
 
-    case = next(c for c in friction_cases() if c.name == "table3-rolling-10kg-all-losses")
+    case = next(c for c in friction_cases() if c.name == ROLLING_FRICTION)
     engine = engine_simulate(case.design, DEFAULT_DT)
     rows = {row.quantity: row for row in compare_shots(simulate(case.design, histories=False, after_release=True),
                                                         engine)}
@@ -357,7 +372,7 @@ def test_an_unknown_analytic_path_is_refused_before_any_work(capsys):
 def test_the_default_cross_check_compares_each_losss_work_the_peak_loads_and_the_frame():
     from analytic.reference import simulate
 
-    case = next(c for c in friction_cases(sample=0) if c.design.base.rolling)
+    case = next(c for c in friction_cases(sample=0) if c.name == ROLLING_FRICTION)
     result = compare(case)   # the fast path's shot, as ``python -m crosscheck`` runs it
     assert result.agree, result.rows
     rows = {row.quantity: row for row in result.rows}

@@ -20,6 +20,12 @@ from engine_model import DEFAULT_DT, EngineError, simulate
 from engine_model import kinematics as kin
 from engine_model.build import build, frame_body_mass
 
+#: The rolling shots are module fixtures, one per frame mass (5 s each): under pytest-xdist
+#: (``make test``: ``--dist loadgroup``) the module runs whole on one worker, so each is shot once
+#: (spread over two workers, they were set up again each time a worker came back to the module:
+#: 36 s of setup, measured).
+pytestmark = pytest.mark.xdist_group("engine-rolling")
+
 #: Horizontal momentum through stages 1-2, as a fraction of the largest momentum
 #: the frame takes up (``EngineDiagnostics.momentum_error``). pymunk's impulses
 #: conserve it to round-off; what is left is the synchronised velocities'
