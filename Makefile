@@ -31,13 +31,16 @@ install: $(STAMP)
 # It is compiled in scopes (analytic/scope.py): the full cross-check needs the one
 # that handles every design; the suite runs all three (the ideal machine's two
 # smaller ones beside the largest, on the two cores: about as long as it alone).
+# Every source of the analytic package, the two paths' rooms (analytic/fast/, analytic/reference/)
+# and the tools' subpackages included: a stamp older than any of them compiles again.
+ANALYTIC_SOURCES := $(shell find analytic -name '*.py' -not -path '*/__pycache__/*')
 COMPILED := $(VENV)/.compiled-stamp
-$(COMPILED): $(STAMP) $(wildcard analytic/*.py)
+$(COMPILED): $(STAMP) $(ANALYTIC_SOURCES)
 	@$(PY) -m analytic compile --scope everything
 	@touch $(COMPILED)
 
 COMPILED_ALL := $(VENV)/.compiled-all-stamp
-$(COMPILED_ALL): $(STAMP) $(wildcard analytic/*.py)
+$(COMPILED_ALL): $(STAMP) $(ANALYTIC_SOURCES)
 	@$(PY) -m analytic compile
 	@touch $(COMPILED) $(COMPILED_ALL)
 

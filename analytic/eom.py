@@ -2,7 +2,7 @@
 
 The one place these equations are written. Plain ``math`` on floats: the
 reference path (``analytic.reference``) runs these functions as they are, the
-compiled path compiles the same source (``analytic.compiled``). ``p`` is the
+compiled path compiles the same source (``analytic.fast.compiled``). ``p`` is the
 design's ``analytic.parameters.Params``.
 
 Symbols (``docs/derivation.md``, section numbers in brackets):

@@ -8,7 +8,7 @@ accelerations (``docs/derivation.md``, section 10; the equations of sections
 3, 4, 8 and the joint forces of section 9 are ``analytic.eom``'s). Plain
 ``math`` on floats, like ``analytic.eom``: the reference path runs these
 functions as they are and the compiled path compiles the same source
-(``analytic.compiled``). ``p`` is the design's ``analytic.parameters.Params``.
+(``analytic.fast.compiled``). ``p`` is the design's ``analytic.parameters.Params``.
 
 Symbols (``docs/derivation.md`` section 10):
 

@@ -3,7 +3,7 @@
 Scalar functions of the coordinates (theta, phi, psi) and their rates in the
 conventions of ``analytic.design`` and ``docs/derivation.md``: the reference
 path runs them as they are, the compiled path compiles the same source
-(``analytic.compiled``), and the engine model and the plots use them too (they
+(``analytic.fast.compiled``), and the engine model and the plots use them too (they
 hold no dynamics, so the engine may import this module).
 
 ``machine_points`` is the array form for plots and rendering.

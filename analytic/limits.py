@@ -1,7 +1,7 @@
 """The limits that end a stage or a shot, written once for both analytic paths and the engine.
 
 Plain ``math`` on floats: the reference path runs these functions as they
-are, the compiled path compiles the same source (``analytic.compiled``), and
+are, the compiled path compiles the same source (``analytic.fast.compiled``), and
 the engine model imports them (they hold no dynamics).
 """
 

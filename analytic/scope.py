@@ -6,7 +6,7 @@ and whether the design needs it: ``if FRICTION and lossy(p)``,
 ``if FLOATING_ARM and p.kind == FLOATING``. Each switch here is a module
 global, True for the Python model the reference path runs.
 
-The compiled path (``analytic.compiled.kernel_scope``) compiles the kernel
+The compiled path (``analytic.fast.compiled.kernel_scope``) compiles the kernel
 in a few ``Scope``s, each with its own copy of the model's globals. numba
 reads a global as a constant and prunes a branch on a constant before it
 types the code (its dead-branch pruning), so a scope that turns a part off
@@ -39,7 +39,7 @@ FLOATING_ARM = True
 SWING_DRAG = True
 #: The peak loads (the kernel's ``track_loads``).
 LOADS = True
-#: Recording the motion (the kernel's ``rec``, for ``analytic.motion``).
+#: Recording the motion (the kernel's ``rec``, for ``analytic.fast.motion``).
 RECORDING = True
 
 

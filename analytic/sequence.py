@@ -3,12 +3,12 @@
 A shot is stage 1 (the slide), stage 2 (the swing) and stage 3 (the flight);
 in a design with friction a stage is integrated in stretches, one per set of
 joint modes, each ended by an event (``stages.EVENT_NAMES``). Both paths
-integrate a stretch with their own integrator (``analytic.integrate`` with
-scipy's DOP853 on the reference path, ``analytic.kernel`` compiled) and then
+integrate a stretch with their own integrator (``analytic.reference.ode`` with
+scipy's DOP853 on the reference path, ``analytic.fast.kernel`` compiled) and then
 ask ``stretch_end`` what follows: a switch of the friction modes and another
 stretch of the same stage, the next stage, or the end of the shot with its
 status. This module is plain Python on numbers, which the reference path runs
-as it is and ``analytic.compiled`` compiles for the kernel, like the model.
+as it is and ``analytic.fast.compiled`` compiles for the kernel, like the model.
 
 The event-root policy is here too: which sign changes of an event's value
 count (``counted_crossing``), where the search for a later root goes on after

@@ -3,7 +3,7 @@
 A stage is integrated from a start state until one of its terminal events
 (or its time limit). Both analytic paths drive the same functions: the
 reference path (``analytic.reference``) runs them under scipy's DOP853, the
-compiled path (``analytic.kernel``) compiles the same source. Plain ``math``
+compiled path (``analytic.fast.kernel``) compiles the same source. Plain ``math``
 on floats and indexing into ``y`` and ``out``, nothing else.
 
 =====  ===========================================  ================================================

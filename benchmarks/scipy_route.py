@@ -6,7 +6,8 @@ import numpy as np
 from numba import njit
 from scipy.integrate import solve_ivp
 
-from analytic import compiled, fast, stages
+from analytic import fast, stages
+from analytic.fast import compiled
 from analytic.aero import DRAG_TABLE
 from analytic.parameters import params
 from analytic.reference import DEFAULT_ATOL, DEFAULT_RTOL, simulate

@@ -101,7 +101,7 @@ def test_the_machine_without_friction_satisfies_the_sympy_equations(lagrangian, 
 def test_compiled_machine_after_release_is_bit_identical_to_the_python_one():
     """Stage 4 is compiled into the fast path's kernel with the rest of ``analytic.stages`` (which runs
     none of it): its right-hand side, events and mode switches give the Python bits."""
-    from analytic import compiled
+    from analytic.fast import compiled
     from analytic.aero import DRAG_TABLE
 
     rng = np.random.default_rng(SEED + 8)

@@ -23,7 +23,8 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, event, example, given, settings
 
-from analytic import aero, compiled, eom, fast, geometry, kernel, stages
+from analytic import aero, eom, fast, geometry, stages
+from analytic.fast import compiled, kernel
 from analytic.aero import DRAG_TABLE
 from analytic.design import Base
 from analytic.design_file import default_design

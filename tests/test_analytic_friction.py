@@ -407,7 +407,7 @@ def test_the_drag_work_is_the_flights_loss_of_mechanical_energy(paper):
     flight's velocity at landing comes from a separate run of the flight alone)."""
     from analytic import reference
     from analytic.aero import DRAG_TABLE
-    from analytic.integrate import integrate
+    from analytic.reference.ode import integrate
 
     design = with_losses(paper, **ALL)
     shot = simulate(design, histories=False)
@@ -758,7 +758,7 @@ def test_a_losses_table_is_read_and_simulated(tmp_path, capsys):
 def test_compiled_friction_is_bit_identical_to_the_python_one():
     """The compiled path runs the same friction functions: right-hand sides, events and mode switches
     give the same bits at random states in every mode, on a fixed and a rolling frame."""
-    from analytic import compiled
+    from analytic.fast import compiled
     from analytic.aero import DRAG_TABLE
 
     rng = np.random.default_rng(SEED + 2)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from analytic.integrate import Event, integrate, step_interpolant
+from analytic.reference.ode import Event, integrate, step_interpolant
 
 TOL = dict(rtol=1e-12, atol=1e-12, output_step=0.01)
 
@@ -75,7 +75,7 @@ def test_a_value_that_starts_at_zero_and_comes_back_within_the_first_step_is_fou
     until t = T = 0.01 s and falls through 0 there, inside the first step (a quadratic is exact
     for DOP853; a second state keeps the first step from being tiny): 0 at the step's start and a
     negative value at its end, which a sign test alone misses (without the probes, no event)."""
-    import analytic.integrate
+    import analytic.reference.ode
 
     def run():
         return integrate(lambda t, y: np.array([1.0 - 2.0 * t / 0.01, 0.0]), 0.0, np.array([0.0, 100.0]), 10.0,
@@ -85,7 +85,7 @@ def test_a_value_that_starts_at_zero_and_comes_back_within_the_first_step_is_fou
     seg = run()
     assert seg.event == "back" and len(seg.step_t) == 2     # found in the first step
     assert seg.t_end == pytest.approx(0.01, abs=1e-14)
-    monkeypatch.setattr(analytic.integrate, "ZERO_START_PROBES", 1)   # no probes: missed
+    monkeypatch.setattr(analytic.reference.ode, "ZERO_START_PROBES", 1)   # no probes: missed
     assert run().event is None
 
 

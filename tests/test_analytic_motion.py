@@ -1,4 +1,4 @@
-"""The compiled path's recorded motion (``analytic.motion``) against the reference path's histories.
+"""The compiled path's recorded motion (``analytic.fast.motion``) against the reference path's histories.
 
 Both paths take the same DOP853 steps (``tests/test_analytic_fast.py``) and read
 their samples off the same interpolants, so the samples agree to round-off in
@@ -14,9 +14,10 @@ import functools
 import numpy as np
 import pytest
 
-from analytic import fast, kernel
+from analytic import fast
+from analytic.fast import kernel
 from analytic.design import Base
-from analytic.motion import simulate_motion
+from analytic.fast.motion import simulate_motion
 from analytic.reference import simulate
 from analytic.result import Status
 from benchmarks.designs import ROLLING_FRAME, TYPICAL_LOSSES

@@ -18,7 +18,7 @@ from analytic.design import (KINDS, Base, Design, Environment, Losses, Machine, 
                              initial_angles, largest_length)
 from analytic.fast import pack
 from analytic.geometry import RELEASE_RULES
-from analytic.kernel import params as row_params
+from analytic.fast.kernel import params as row_params
 from analytic.limits import swing_time_limit
 from analytic.parameters import PARAMS_DTYPE, Params, params
 

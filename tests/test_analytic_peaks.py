@@ -54,7 +54,7 @@ def test_a_load_rising_to_the_steps_end_peaks_there():
 def _step_together(python, native):
     """Run a Python and a compiled search of ``_skewed`` side by side, asserting the same state at
     every step; returns the time found."""
-    from analytic import compiled
+    from analytic.fast import compiled
 
     assert tuple(python) == tuple(native)
     while True:
@@ -68,7 +68,7 @@ def _step_together(python, native):
 
 
 def test_the_compiled_search_takes_the_same_steps():
-    from analytic import compiled
+    from analytic.fast import compiled
 
     h = 4e-3
     for offset in (-0.3, 0.1, 0.45):
@@ -124,7 +124,7 @@ def test_just_inside_a_stretchs_end_is_one_search_tolerance_in(at_start):
 
 
 def test_the_compiled_search_from_three_samples_takes_the_same_steps():
-    from analytic import compiled
+    from analytic.fast import compiled
 
     for before, peak, after in AROUND:
         args = (T0 + before, _skewed(T0 + before), T0 + peak, _skewed(T0 + peak), T0 + after, _skewed(T0 + after))

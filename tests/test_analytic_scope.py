@@ -19,7 +19,8 @@ import sys
 import numpy as np
 import pytest
 
-from analytic import fast, kernel
+from analytic import fast
+from analytic.fast import kernel
 from analytic.aero import DRAG_TABLE
 from analytic.design import Losses
 from analytic.design_file import default_design
@@ -117,7 +118,8 @@ def test_the_ideal_scope_compiles_nothing_of_what_it_leaves_out(tmp_path):
     # numba compiles a function only where a call to it survives the pruning.
     code = """if True:
         import json
-        from analytic import compiled, fast, scope
+        from analytic import fast, scope
+        from analytic.fast import compiled
         fast.compile(scope.IDEAL)
         twins = compiled.kernel_scope(scope.IDEAL)
         print(json.dumps({module: sorted(name for name, f in vars(namespace).items() if getattr(f, "overloads", None))

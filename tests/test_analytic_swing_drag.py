@@ -226,7 +226,7 @@ def _swinging(wind, losses=None):
 @pytest.mark.parametrize("wind", [-12.0, 0.0, 12.0], ids=["headwind", "still", "tailwind"])
 def test_energy_audit_closes_at_release_with_the_drags_work_before_it(wind):
     from analytic.design import Losses
-    from analytic.motion import simulate_motion
+    from analytic.fast.motion import simulate_motion
 
     design = _swinging(wind, Losses(axle_friction=0.15, axle_radius=0.0064, base_friction=0.3))
     shot = reference.simulate(design)

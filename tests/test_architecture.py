@@ -41,8 +41,8 @@ ANALYTIC_LAYERS = {
               "analytic.suggest", "analytic.floating_arm", "analytic.scope",
               # the exit codes and checks every command line shares: it imports nothing
               "analytic.cli_shared"},
-    "paths": {"analytic.reference", "analytic.reference_loads", "analytic.integrate", "analytic.compiled", "analytic.kernel", "analytic.fast",
-              "analytic.dop853", "analytic.kernel_loads", "analytic.motion", "analytic.marks",
+    "paths": {"analytic.reference", "analytic.reference.loads", "analytic.reference.ode", "analytic.fast.compiled", "analytic.fast.kernel", "analytic.fast",
+              "analytic.fast.dop853", "analytic.fast.kernel_loads", "analytic.fast.motion", "analytic.fast.marks",
               # the public names, loaded on first use from the model and the paths
               "analytic"},
     "tools": {"analytic.aim", "analytic.chart", "analytic.plot", "analytic.plot_units", "analytic.report", "analytic.calibrate*",
@@ -242,6 +242,76 @@ def test_every_known_breach_is_still_there():
     # An entry of KNOWN whose import is gone must go too, so the list never hides a new one.
     for name, target in KNOWN:
         assert target in GRAPH.get(name, set()), f"{name} no longer imports {target}: remove it from KNOWN"
+
+
+#: The layout's documented map: a table of every module (``docs/contributing.md``, "Module by module").
+MAP = ROOT / "docs" / "contributing.md"
+
+
+def documented_map(text: str) -> list[tuple[str, str]]:
+    """``(path, layer)`` of each row of the map's table, in order: rows whose first cell is a
+    module's path in backticks (``| `analytic/eom.py` | model | ... |``)."""
+    rows = []
+    for line in text.splitlines():
+        cells = [cell.strip() for cell in line.strip().strip("|").split("|")]
+        if len(cells) >= 2 and cells[0].startswith("`") and cells[0].endswith(".py`"):
+            rows.append((cells[0].strip("`"), cells[1]))
+    return rows
+
+
+def map_mismatches(rows: list[tuple[str, str]], modules: dict[str, Path], root: Path) -> list[str]:
+    """What the map gets wrong about the tree: a module listed twice, listed but absent, present but
+    not listed, or in another analytic layer than the rules' (``ANALYTIC_LAYERS``)."""
+    paths = {str(path.relative_to(root)): name for name, path in modules.items()}
+    listed = [path for path, _ in rows]
+    wrong = [f"{path} is listed {listed.count(path)} times" for path in sorted(set(listed)) if listed.count(path) > 1]
+    wrong += [f"{path} is listed but is not in the tree" for path in sorted(set(listed) - set(paths))]
+    wrong += [f"{path} is in the tree but not in the map" for path in sorted(set(paths) - set(listed))]
+    layers = list(ANALYTIC_LAYERS)
+    for path, layer in rows:
+        name = paths.get(path)
+        if name is not None and name.split(".")[0] == "analytic":
+            rule = layers[_analytic_layer(name)]
+            if layer != rule:
+                wrong.append(f"{path}: the map says {layer!r}, the rules {rule!r}")
+        elif name is not None and layer != name.split(".")[0]:
+            wrong.append(f"{path}: the map says {layer!r}, its package is {name.split('.')[0]!r}")
+    return wrong
+
+
+def test_the_documented_map_lists_every_module_once_in_the_layer_the_rules_give_it():
+    rows = documented_map(MAP.read_text())
+    assert not map_mismatches(rows, module_names(ROOT), ROOT), "\n".join(map_mismatches(rows, module_names(ROOT), ROOT))
+
+
+def test_the_map_check_can_fail():
+    modules = module_names(ROOT)
+    rows = documented_map(MAP.read_text())
+    first = rows[0]
+    mangled = rows[1:] + [("analytic/nowhere.py", "model"), rows[1]]
+    mangled = [(path, "tools") if path == "analytic/eom.py" else (path, layer) for path, layer in mangled]
+    wrong = map_mismatches(mangled, modules, ROOT)
+    assert f"{first[0]} is in the tree but not in the map" in wrong
+    assert "analytic/nowhere.py is listed but is not in the tree" in wrong
+    assert f"{rows[1][0]} is listed 2 times" in wrong
+    assert "analytic/eom.py: the map says 'tools', the rules 'model'" in wrong
+
+
+#: The two paths' rooms: the model never imports them, and within analytic only the fast path's imports
+#: numba (the benchmarks, above it, may).
+ROOMS = ("analytic.reference", "analytic.fast")
+
+
+def test_the_two_paths_live_in_their_own_rooms():
+    model = set(ANALYTIC_LAYERS["model"])
+    for name, targets in GRAPH.items():
+        if name in model:
+            assert not {t for t in targets if t.startswith(ROOMS)}, f"{name} imports a path's room"
+    numba_users = {name for name, path in module_names(ROOT).items()
+                   if "numba" in {m.split(".")[0] for m in _imported(name, path)[0]}}
+    inside = {name for name in numba_users if name.split(".")[0] == "analytic"}
+    assert inside and all(name.startswith("analytic.fast") for name in inside), inside
+    assert len(list((ROOT / "analytic").glob("*.py"))) <= 30   # the package's own top level stays small
 
 
 # --------------------------------------------------------------------------- #

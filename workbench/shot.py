@@ -9,7 +9,7 @@ import numpy as np
 from analytic.design import Design
 from analytic.fast import simulate_fast
 from analytic.geometry import machine_points
-from analytic.motion import Motion, simulate_motion
+from analytic.fast.motion import Motion, simulate_motion
 from analytic.reference import FLIGHT_OUTPUT_STEP, SWING_OUTPUT_STEP
 from analytic.result import History, Shot
 
@@ -41,7 +41,7 @@ def shot_json(design: Design, sample_step: float | None = None,
     and ``history`` (``history_json``), its samples ``sample_step`` and ``flight_sample_step``
     apart (None: the reference path's own).
 
-    From the compiled path with its motion recorded (``analytic.motion.simulate_motion``): the
+    From the compiled path with its motion recorded (``analytic.fast.motion.simulate_motion``): the
     same numbers and samples as the reference shot to round-off, but for ``min_sling_tension``,
     ``min_ground_force``, ``max_frame_speed`` and a rolling frame's place at landing, which it
     does not sample (null), without the reference path's integration in Python."""

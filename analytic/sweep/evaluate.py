@@ -56,7 +56,7 @@ def model_identity(sweep: Sweep) -> dict:
         from importlib.metadata import version
 
         return {"function": sweep.base.name, "salib": version("SALib")}
-    from analytic import compiled
+    from analytic.fast import compiled
     from analytic.limits import DEFAULT_ATOL, DEFAULT_RTOL
 
     return {"sources_sha256": compiled.source_fingerprint(compiled.SOURCES), "rtol": DEFAULT_RTOL,

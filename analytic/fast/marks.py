@@ -1,9 +1,9 @@
-"""How the kernel's functions are compiled: marks that ``analytic.compiled`` reads.
+"""How the kernel's functions are compiled: marks that ``analytic.fast.compiled`` reads.
 
-The kernel's modules (``analytic.dop853``, ``kernel_loads``, ``kernel``) are plain
-Python; ``analytic.compiled.kernel_scope`` compiles them in each scope
+The kernel's modules (``analytic.fast.dop853``, ``kernel_loads``, ``kernel``) are plain
+Python; ``analytic.fast.compiled.kernel_scope`` compiles them in each scope
 (``analytic.scope``), reading these marks for each function's options. This module
-imports nothing, so the kernel's modules and ``analytic.compiled`` need not import
+imports nothing, so the kernel's modules and ``analytic.fast.compiled`` need not import
 each other.
 """
 
@@ -12,7 +12,7 @@ from __future__ import annotations
 
 def internal(function=None, *, allocates=False, **options):
     """Decorator: mark ``function`` to be compiled as an ``Internal`` dispatcher (``compiled.INTERNAL``'s
-    options plus ``options``) in every scope (``analytic.compiled.kernel_scope``); it stays a
+    options plus ``options``) in every scope (``analytic.fast.compiled.kernel_scope``); it stays a
     Python function.
 
     ``allocates``: the function creates or returns arrays, so it keeps numba's

@@ -5,8 +5,8 @@ pair with its 7th-order dense output), whose published coefficient arrays
 the kernel is handed at run time (``coef``: ``(A, B, C, E3, E5, D, A_EXTRA,
 C_EXTRA)``, scipy's class arrays), and Brent's root finder on the dense
 output with ``scipy.optimize.brentq``'s stopping rule. The right-hand side is
-the model's (``stages.derivative``); ``analytic.kernel.integrate`` drives the
-steps. ``analytic.compiled.internal`` functions: compiled for compiled callers
+the model's (``stages.derivative``); ``analytic.fast.kernel.integrate`` drives the
+steps. ``analytic.fast.compiled.internal`` functions: compiled for compiled callers
 only.
 """
 
@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from analytic.marks import internal
+from analytic.fast.marks import internal
 from analytic.stages import ROOT_RELATIVE_TOLERANCE, ROOT_TIME_TOLERANCE, derivative, event_value
 
 # DOP853 step-size control (Hairer, Norsett & Wanner, "Solving Ordinary
@@ -31,7 +31,7 @@ def derivative_call(stage, y, p, table, out):
     """``stages.derivative`` as a call, for the sites that run it once per stretch or per event
     (the first step's trial, the dense output's three extra stages, a stretch's start).
 
-    LLVM inlines the right-hand side into every caller (``analytic.compiled.INLINE``), and
+    LLVM inlines the right-hand side into every caller (``analytic.fast.compiled.INLINE``), and
     unrolls the dense output's loop of three: seven copies of the whole model in the machine
     code, five of them at sites a shot passes a few times. Called here, they are one copy,
     and only ``rk_step`` inlines it: the ``everything`` scope's optimised module 0.65x the
@@ -53,7 +53,7 @@ def rk_step(stage, t, y, f, h, coef, K, y_new, f_new, tmp, p, table):
     """One DOP853 step of size h from (t, y) with y'(t) = f; fills K[0:13].
 
     The right-hand side is called at two sites, the 11 stages' and the step's
-    end (LLVM inlines it at each, ``analytic.compiled.INLINE``): one site in
+    end (LLVM inlines it at each, ``analytic.fast.compiled.INLINE``): one site in
     the loop for both, through an array chosen at run time, made every shot
     1.1-1.6x as long (the batch of the benchmark's designs on one thread,
     interleaved runs) for a smaller function.

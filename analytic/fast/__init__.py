@@ -3,12 +3,12 @@
 ``simulate_fast(design)`` gives the same ``Shot`` summary as
 ``analytic.reference.simulate`` (status, message, lift-off, release, landing,
 apex) without the histories, from the compiled three-stage shot in
-``analytic.kernel``. ``shoot(designs)`` runs many designs at once on all
+``analytic.fast.kernel``. ``shoot(designs)`` runs many designs at once on all
 cores (Python threads; the compiled shot releases the GIL) and returns
 arrays (``Shots``): what the optimiser and the cross-check use by default.
 
 The two paths run the same model source (``analytic.eom``, ``stages``,
-``geometry``, ``aero``, ``limits``; compiled here by ``analytic.compiled``),
+``geometry``, ``aero``, ``limits``; compiled here by ``analytic.fast.compiled``),
 the same integrator algorithm with the same coefficients (DOP853, scipy's
 arrays) and the same root tolerance, so with the same tolerances they agree
 to round-off (2e-15 relative in range, median over the benchmark's
@@ -48,8 +48,9 @@ import numba
 import numpy as np
 from scipy.integrate import DOP853
 
-from analytic import kernel, outcome, stages
-from analytic.compiled import kernel_scope
+from analytic import outcome, stages
+from analytic.fast import kernel
+from analytic.fast.compiled import kernel_scope
 from analytic.aero import DRAG_TABLE
 from analytic.design import Design, largest_length
 from analytic.friction import holders, rest_balance
@@ -173,7 +174,7 @@ def _compile_progress(enabled: bool, scope: Scope):
 
 
 def entry_point(scope: Scope):
-    """``scope``'s compiled ``kernel.shots`` (``analytic.compiled.kernel_scope``)."""
+    """``scope``'s compiled ``kernel.shots`` (``analytic.fast.compiled.kernel_scope``)."""
     return kernel_scope(scope)["kernel"].shots
 
 
@@ -281,7 +282,7 @@ def simulate_fast(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = D
 def shoot_one(design: Design, rtol: float, atol: float, loads: bool, rec: np.ndarray = None,
               samples: np.ndarray = None) -> np.ndarray:
     """The kernel's result row (N_RESULT,) of one design; ``rec`` and ``samples`` record its motion
-    (``analytic.kernel.shot``; None: not recorded)."""
+    (``analytic.fast.kernel.shot``; None: not recorded)."""
     p = params(design)
     row = np.array(p, dtype=np.float64)[np.newaxis]
     shots = _ready(needed(p, loads, recording=rec is not None))

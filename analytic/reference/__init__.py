@@ -2,7 +2,7 @@
 
 scipy's DOP853 steps the model's stages (``analytic.stages``: the same
 right-hand sides and events the compiled path runs) from Python, under our
-own event loop (``analytic.integrate``), and records histories, energies
+own event loop (``analytic.reference.ode``), and records histories, energies
 and the sling tension for plots.
 """
 
@@ -18,11 +18,11 @@ from analytic import eom, friction, outcome, sequence, stages
 from analytic.aero import DRAG_TABLE
 from analytic.design import Design
 from analytic.geometry import projectile_state
-from analytic.integrate import Event, IntegrationError, Segment, integrate
+from analytic.reference.ode import Event, IntegrationError, Segment, integrate
 from analytic.limits import DEFAULT_ATOL, DEFAULT_RTOL, STAGE_STEP_LIMITS, flight_time_limit
 from analytic.outcome import Stage, Status
 from analytic.parameters import Params, params
-from analytic.reference_loads import (FLOAT_ERRORS, NO_PEAKS, peak_fields, pieces_peaks, quietly, smallest_tension,
+from analytic.reference.loads import (FLOAT_ERRORS, NO_PEAKS, peak_fields, pieces_peaks, quietly, smallest_tension,
                                       sling_tension_at, stage_rhs)
 from analytic.result import EnergyBudget, History, Shot
 

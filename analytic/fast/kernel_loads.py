@@ -1,10 +1,10 @@
 """Peak loads in the compiled shot: each load sampled at every step's end, then located on the
 interpolants of the steps beside its largest sample, as the reference path does.
 
-``analytic.kernel.integrate`` calls ``keep_step`` and ``sample_loads`` after
+``analytic.fast.kernel.integrate`` calls ``keep_step`` and ``sample_loads`` after
 each accepted step, ``save_step`` before a step buffer is reused, and
 ``finish_peaks`` at a stretch's end. The search is ``analytic.peaks``' (the
-model's), on the same steps as ``analytic.reference_loads.stage_peaks``.
+model's), on the same steps as ``analytic.reference.loads.stage_peaks``.
 """
 
 from __future__ import annotations
@@ -13,8 +13,8 @@ import math
 
 import numpy as np
 
-from analytic.marks import internal
-from analytic.dop853 import N_STAGES, dense_eval, dense_prepare
+from analytic.fast.marks import internal
+from analytic.fast.dop853 import N_STAGES, dense_eval, dense_prepare
 from analytic.peaks import inside_end, search_around, search_from, search_golden, search_next, search_update
 from analytic.stages import LOAD_NAMES, loads_at
 
@@ -123,7 +123,7 @@ def _load_on_step(u, k, ref, stage, live_y, live_t, pool_y, pool_t, F, tmp, p):
 def finish_peaks(stage, samples, sides, K2, live_y, live_t, pool_k, pool_y, pool_t, peaks, coef, p, table,
                   counts):
     """Locate each load's largest value around its largest sample (``analytic.peaks``' search on
-    its steps' interpolants, as ``analytic.reference_loads.stage_peaks`` does) and keep it in
+    its steps' interpolants, as ``analytic.reference.loads.stage_peaks`` does) and keep it in
     ``peaks`` (N_LOADS, 2) where it beats it."""
     n = pool_y.shape[2]
     F = np.empty((POOL_SLOTS + 2, 7, n))

@@ -5,7 +5,7 @@ Python's float errors, and the peak loads and the sling's smallest tension.
 integrator's steps: each stage's derivative for scipy (``stage_rhs``), the
 largest of each load over a stage (``stage_peaks``, sampled at every step's
 end and located on the interpolants of the steps beside the largest sample,
-as the compiled path does: ``analytic.kernel_loads``) and the sling's
+as the compiled path does: ``analytic.fast.kernel_loads``) and the sling's
 smallest tension on the continuous solution (``smallest_tension``).
 """
 
@@ -19,7 +19,7 @@ from scipy.optimize import minimize_scalar
 from analytic import peaks as peak_search
 from analytic import stages
 from analytic.aero import DRAG_TABLE
-from analytic.integrate import Segment, step_interpolant
+from analytic.reference.ode import Segment, step_interpolant
 from analytic.outcome import Stage
 from analytic.parameters import Params
 from analytic.result import PEAK_NAMES

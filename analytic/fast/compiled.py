@@ -45,8 +45,8 @@ from numba.core.codegen import JITCodeLibrary
 from numba.core.dispatcher import _FunctionCompiler
 from numba.core.registry import CPUDispatcher
 
-from analytic import (aero, dop853, eom, floating_arm, friction, geometry, kernel, kernel_loads, limits, outcome,
-                      parameters, peaks, sequence, stages)
+from analytic import aero, eom, floating_arm, friction, geometry, limits, outcome, parameters, peaks, sequence, stages
+from analytic.fast import dop853, kernel, kernel_loads
 from analytic import scope as switches   # (the scopes' switches; a parameter below is named scope)
 from analytic.scope import EVERYTHING, Scope
 
@@ -72,7 +72,7 @@ OPTIONS = dict(nogil=True, error_model="numpy")
 #: samples of a batch with them). These functions allocate nothing and return
 #: no array, and their callers hold every array they are given for the whole
 #: call, so the counts are not needed. A function that allocates is declared with
-#: ``analytic.marks.internal(allocates=True)`` and counts as usual; numba refuses to compile
+#: ``analytic.fast.marks.internal(allocates=True)`` and counts as usual; numba refuses to compile
 #: an allocation in one that is not.
 INTERNAL = dict(OPTIONS, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)
 #: Options of a function Python calls: with its wrappers, and cached.
@@ -262,12 +262,12 @@ class Internal(CPUDispatcher):
 
     def __call__(self, *args, **kwargs):
         raise TypeError(f"{self.py_func.__qualname__} is compiled for compiled callers only; "
-                        "call analytic.compiled's Python-callable twin instead")
+                        "call analytic.fast.compiled's Python-callable twin instead")
 
 
 def dispatcher(function, **options) -> Internal:
     """``function`` as an ``Internal`` dispatcher: ``INTERNAL``'s options, then those its
-    ``analytic.marks.internal`` mark gives, then ``options``."""
+    ``analytic.fast.marks.internal`` mark gives, then ``options``."""
     return Internal(py_func=function, locals={},
                     targetoptions={**INTERNAL, **getattr(function, "compile_options", {}), **options})
 
@@ -395,7 +395,7 @@ _scopes: dict[str, dict[str, types.ModuleType]] = {}
 
 
 def kernel_scope(scope: Scope) -> dict[str, types.ModuleType]:
-    """The model and the kernel (``analytic.dop853``, ``kernel_loads``, ``kernel``) compiled in
+    """The model and the kernel (``analytic.fast.dop853``, ``kernel_loads``, ``kernel``) compiled in
     ``scope``, by module short name: ``kernel_scope(scope)["kernel"].shots`` is its entry point.
 
     Each scope has its own dispatchers, built on first use (compiled when first called, or

@@ -3,17 +3,17 @@
 The physics is not here: the equations, the stages' right-hand sides and
 events and the limits are the model's (``analytic.eom``, ``analytic.stages``,
 ``analytic.limits``), and what each stage's end means is ``analytic.sequence``,
-compiled from the same source the reference path runs (``analytic.compiled``).
-The integrator's parts are ``analytic.dop853`` (scipy's DOP853, step for step)
-and the peak loads' ``analytic.kernel_loads``. This module drives them:
+compiled from the same source the reference path runs (``analytic.fast.compiled``).
+The integrator's parts are ``analytic.fast.dop853`` (scipy's DOP853, step for step)
+and the peak loads' ``analytic.fast.kernel_loads``. This module drives them:
 ``integrate`` takes a stage's steps and finds its events, ``shot`` runs the
 stages in sequence, and ``shots`` (the one compiled entry point, which
 ``analytic.fast`` runs on several threads at once) a range of design rows.
 
-The entry point is compiled with ``cache=True`` (``analytic.compiled.CALLABLE``):
+The entry point is compiled with ``cache=True`` (``analytic.fast.compiled.CALLABLE``):
 the first call in a fresh checkout compiles it, with everything it calls,
 and writes the machine code to ``__pycache__``; later processes load it from
-there. The other functions here are ``analytic.compiled.internal``: compiled
+there. The other functions here are ``analytic.fast.compiled.internal``: compiled
 once per argument type (a stage or a flag passed as a constant does not get
 its own copy), for compiled callers only. Numbers that come from outside the
 model's source (the DOP853 coefficients, the drag table) are arguments, never
@@ -30,10 +30,10 @@ import math
 
 import numpy as np
 
-from analytic.marks import entry, internal
-from analytic.dop853 import (ERROR_ORDER, MAX_FACTOR, MIN_FACTOR, N_STAGES, SAFETY, brent, dense_eval, dense_prepare,
+from analytic.fast.marks import entry, internal
+from analytic.fast.dop853 import (ERROR_ORDER, MAX_FACTOR, MIN_FACTOR, N_STAGES, SAFETY, brent, dense_eval, dense_prepare,
                              derivative_call, error_norm, event_at, initial_step, rk_step)
-from analytic.kernel_loads import N_LOADS, POOL_SLOTS, finish_peaks, keep_step, sample_loads, save_step
+from analytic.fast.kernel_loads import N_LOADS, POOL_SLOTS, finish_peaks, keep_step, sample_loads, save_step
 from analytic.limits import STAGE_STEP_LIMITS, flight_time_limit
 from analytic.parameters import PARAMS_DTYPE
 from analytic.scope import FRICTION, LOADS, RECORDING   # what this copy handles (analytic.scope)
@@ -334,7 +334,7 @@ def shot(P, table, coef, rtol, atol, track_loads, out, rec, motion):
     ``out[STATUS]`` names how it ended and the other entries hold what was
     reached (NaN otherwise). ``track_loads`` False leaves the peak loads NaN
     (the benchmark measures what finding them costs). A non-empty ``rec`` records the
-    motion into ``motion`` (``integrate``; ``analytic.motion.simulate_motion`` reads it).
+    motion into ``motion`` (``integrate``; ``analytic.fast.motion.simulate_motion`` reads it).
     """
     for i in range(N_RESULT):
         out[i] = math.nan

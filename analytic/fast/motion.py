@@ -1,6 +1,6 @@
 """A shot's motion from the compiled path: ``simulate_fast``'s summary with the motion sampled to draw it.
 
-The compiled shot (``analytic.kernel``) records its state on a grid of times
+The compiled shot (``analytic.fast.kernel``) records its state on a grid of times
 as it integrates: each sample read off the integrator's own interpolant of
 the step that holds it, as the reference path samples its histories
 (``analytic.reference.simulate``: the same DOP853 steps, the same
@@ -23,7 +23,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from analytic import eom, fast, kernel, stages
+from analytic import eom, fast, stages
+from analytic.fast import kernel
 from analytic.outcome import dissipated
 from analytic.design import Design
 from analytic.friction import lossy
@@ -107,7 +108,7 @@ def simulate_motion(design: Design, *, sample_step: float | None = None, flight_
 
 
 def _motion(samples: np.ndarray, p, landed: bool) -> Motion:
-    """The ``Motion`` of a recording's rows (``analytic.kernel``'s layout); the flight's only if it
+    """The ``Motion`` of a recording's rows (``analytic.fast.kernel``'s layout); the flight's only if it
     ``landed`` (as the reference path's ``History``)."""
     lifted = (samples[1:, 1] == SWING) & (samples[:-1, 1] == SLIDE) & (samples[1:, 0] == samples[:-1, 0])
     samples = samples[np.concatenate([[True], ~lifted])]   # lift-off once, as the slide's last
