@@ -31,7 +31,7 @@ from engine_model import friction as fr
 from engine_model import kinematics as kin
 from engine_model.build import Rig, build
 from engine_model.events import interpolate
-from engine_model.readout import origin_reader, stepper
+from engine_model.readout import impulse, origin_reader, stepper
 
 #: The joints that remain after release (``engine_model.kinematics.joint_drift``'s keys; a fixed
 #: machine has no hinge).
@@ -182,10 +182,10 @@ def _loads(friction: fr.Friction, rig: Rig, before: tuple | None, row: tuple, de
         axle = fr.axle_load_from_momentum(before, row, design, (0.0, 0.0), step, projectile=False)
     else:
         # The opening half step (no row before it) takes the pivot's own reading, ballast and all.
-        axle = fr.impulse(rig.pivot) / step
-    hinge = 0.0 if rig.hinge is None else fr.impulse(rig.hinge) / step
+        axle = impulse(rig.pivot) / step
+    hinge = 0.0 if rig.hinge is None else impulse(rig.hinge) / step
     if friction.point_hinge:
-        hinge = math.hypot(hinge, fr.impulse(friction.hinge) / step)
+        hinge = math.hypot(hinge, impulse(friction.hinge) / step)
     return axle, hinge, 0.0, *fr.slide_loads(friction, rig, step)
 
 

@@ -56,12 +56,12 @@ from dataclasses import dataclass
 
 import numpy as np
 import pymunk
-from pymunk._chipmunk import lib
 
 from analytic import outcome
 from analytic.design import Design
 from engine_model import kinematics as kin
 from engine_model.build import Rig, ballast_mass
+from engine_model.readout import impulse, max_force, set_max_force, velocity
 
 #: The friction joints' names, in the order ``impulses`` and ``loads`` give them
 #: (``analytic.design.FRICTIONS``): the guide and the track are a floating arm's.
@@ -80,20 +80,6 @@ HELD_ACCELERATION = 1e-3
 #: Length of the grooves, as a multiple of the machine's largest length, each
 #: way: their ends must never be reached (there pymunk's groove also pushes along it).
 GROOVE_REACH = 10.0
-
-# The constraints' impulse and limit read and set through pymunk's own cffi
-# binding, the C functions its properties call (``engine_model.readout``):
-# the same doubles, without a property and pymunk's ``__setattr__`` wrapper
-# around each. Friction's bookkeeping took 67 us a machine step on a long
-# swing with every loss (the solver itself 21 us of it).
-_IMPULSE, _SET_MAX_FORCE = lib.cpConstraintGetImpulse, lib.cpConstraintSetMaxForce
-_MAX_FORCE, _VELOCITY = lib.cpConstraintGetMaxForce, lib.cpBodyGetVelocity
-
-
-def impulse(joint: pymunk.Constraint) -> float:
-    """``joint.impulse``: its impulse in the last step."""
-    return _IMPULSE(joint._constraint)
-
 
 @dataclass(frozen=True)
 class Friction:
@@ -329,9 +315,9 @@ def set_limits(friction: Friction, loads: tuple[float, ...], slips: tuple[bool, 
     found = limits(friction.design, loads, slips)
     for joint, limit in zip(friction.joints, found, strict=True):
         if joint is not None:
-            _SET_MAX_FORCE(joint._constraint, limit)
+            set_max_force(joint, limit)
     if friction.point_hinge:   # its groove's force, the torque over the link
-        _SET_MAX_FORCE(friction.hinge._constraint, found[1] / friction.design.machine.counterweight_link)
+        set_max_force(friction.hinge, found[1] / friction.design.machine.counterweight_link)
     return found
 
 
@@ -371,8 +357,8 @@ def track_axle_load(friction: Friction, rig: Rig, step: float) -> float:
     massless, so its pin carries that force to the arm; the engine's carriage holds part of the arm's
     mass (``engine_model.floating.carriage_mass``), whose momentum change its pivot's own impulse
     leaves out."""
-    sliding = 0.0 if friction.track is None else _IMPULSE(friction.track._constraint)
-    return math.hypot(_IMPULSE(rig.track._constraint), sliding) / step
+    sliding = 0.0 if friction.track is None else impulse(friction.track)
+    return math.hypot(impulse(rig.track), sliding) / step
 
 
 def slide_forces(impulse: np.ndarray, raw: np.ndarray, design: Design, steps: np.ndarray) -> np.ndarray:
@@ -398,8 +384,8 @@ def slide_loads(friction: Friction, rig: Rig, step: float) -> tuple[float, float
     """A floating arm's guide and track loads in the last step of ``step`` s, N: the normal forces |G| and
     |T|, the impulses of the grooves holding the slider on the guide and the carriage on the track
     (0 where that support has no friction)."""
-    guide = 0.0 if friction.guide is None else _IMPULSE(rig.guide._constraint) / step
-    track = 0.0 if friction.track is None else _IMPULSE(rig.track._constraint) / step
+    guide = 0.0 if friction.guide is None else impulse(rig.guide) / step
+    track = 0.0 if friction.track is None else impulse(rig.track) / step
     return guide, track
 
 
@@ -431,12 +417,12 @@ def impulses(friction: Friction, on_base: bool) -> tuple[float, ...]:
     """Each friction constraint's impulse in the last step (magnitude; 0 where absent; ``JOINTS``): the
     axle's and the hinge's as torque impulses, N m s (a point counterweight's groove: its impulse times
     the link), the base's, N s, only while ``on_base``, the guide's and the track's, N s."""
-    hinge = 0.0 if friction.hinge is None else _IMPULSE(friction.hinge._constraint)
+    hinge = 0.0 if friction.hinge is None else impulse(friction.hinge)
     if friction.point_hinge:
         hinge *= friction.design.machine.counterweight_link
-    guide, track = (0.0 if joint is None else _IMPULSE(joint._constraint) for joint in friction.joints[3:])
-    return (0.0 if friction.axle is None else _IMPULSE(friction.axle._constraint), hinge,
-            0.0 if friction.base is None or not on_base else _IMPULSE(friction.base._constraint), guide, track)
+    guide, track = (0.0 if joint is None else impulse(joint) for joint in friction.joints[3:])
+    return (0.0 if friction.axle is None else impulse(friction.axle), hinge,
+            0.0 if friction.base is None or not on_base else impulse(friction.base), guide, track)
 
 
 def saturated(joint: pymunk.Constraint | None, step: float) -> bool:
@@ -509,10 +495,10 @@ def base_friction_force(friction: Friction, rig: Rig, step: float, sling_x: floa
     joint = friction.base
     if joint is None:
         return 0.0
-    impulse = _IMPULSE(joint._constraint)
-    size = impulse / step
-    sliding = _VELOCITY(rig.projectile._body).x - _VELOCITY(rig.frame._body).x
-    if impulse >= (1.0 - SATURATION) * _MAX_FORCE(joint._constraint) * step and sliding != 0.0:   # ``saturated``
+    applied = impulse(joint)
+    size = applied / step
+    sliding = velocity(rig.projectile)[0] - velocity(rig.frame)[0]
+    if applied >= (1.0 - SATURATION) * max_force(joint) * step and sliding != 0.0:   # ``saturated``
         return -math.copysign(size, sliding)
     return -math.copysign(size, sling_x)
 

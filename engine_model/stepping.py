@@ -26,7 +26,7 @@ from engine_model import kinematics as kin
 from engine_model.build import EngineError, Rig, build
 from engine_model.events import crossing_fraction
 from engine_model.flight import swing_drag_function
-from engine_model.readout import rig_row, row_reader, set_force, stepper
+from engine_model.readout import impulse, rig_row, row_reader, set_force, stepper
 
 #: The projectile (in stage 2) or the long-arm tip (in stage 1) counts as back
 #: on the base once this far below base level, m: far above the round-off
@@ -321,11 +321,11 @@ def _loads(friction: fr.Friction, rig: Rig, before: tuple, row: tuple, design: D
     elif friction.ballast > 0.0:
         axle = fr.axle_load_from_momentum(before, row, design, base_force, dt)
     else:
-        axle = fr.impulse(rig.pivot) / step
-    hinge = 0.0 if rig.hinge is None else fr.impulse(rig.hinge) / step
+        axle = impulse(rig.pivot) / step
+    hinge = 0.0 if rig.hinge is None else impulse(rig.hinge) / step
     if friction.point_hinge:
-        hinge = math.hypot(hinge, fr.impulse(friction.hinge) / step)
-    base = fr.impulse(rig.groove) / step if friction.base is not None else 0.0
+        hinge = math.hypot(hinge, impulse(friction.hinge) / step)
+    base = impulse(rig.groove) / step if friction.base is not None else 0.0
     return axle, hinge, base, *fr.slide_loads(friction, rig, step)
 
 

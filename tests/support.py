@@ -359,3 +359,46 @@ SEED_RANGE_AGREEMENT = 1e-8
 #: ... and on every design variable to 0.01 cm or 0.01 deg, the resolution of the
 #: paper's Table III (what a builder could tell apart).
 SEED_DESIGN_AGREEMENT = 0.01
+
+
+# --------------------------------------------------------------------------- #
+# The engine's shots as comparable records (test_engine_mechanisms.py)
+# --------------------------------------------------------------------------- #
+
+def shot_record(shot) -> dict[str, str]:
+    """Every field of an engine ``shot`` (its ``to_json()`` and the whole ``Shot``: history,
+    diagnostics), flattened to ``{path: text}``: a number as its ``repr`` (exact, and NaN equal to
+    NaN), an array as its dtype, shape and SHA-256 of its bytes. Two shots with equal records hold
+    the same doubles everywhere."""
+    import hashlib
+
+    record: dict[str, str] = {}
+
+    def add(path: str, value) -> None:
+        if dataclasses.is_dataclass(value) and not isinstance(value, type):
+            for field in dataclasses.fields(value):
+                add(f"{path}.{field.name}", getattr(value, field.name))
+        elif isinstance(value, dict):
+            for key, item in value.items():
+                add(f"{path}[{key!r}]", item)
+        elif isinstance(value, (list, tuple)):
+            for i, item in enumerate(value):
+                add(f"{path}[{i}]", item)
+        elif isinstance(value, np.ndarray):
+            digest = hashlib.sha256(np.ascontiguousarray(value).tobytes()).hexdigest()
+            record[path] = f"{value.dtype}{value.shape} sha256:{digest}"
+        else:
+            record[path] = repr(value)
+
+    add("json", shot.to_json())
+    add("shot", shot)
+    return record
+
+
+def engine_records(names: list[str]) -> dict[str, dict[str, str]]:
+    """``shot_record`` of the engine's shot of each named design of the cross-check's default suite."""
+    from crosscheck.cases import default_suite
+    from engine_model import simulate
+
+    cases = {case.name: case.design for case in default_suite()}
+    return {name: shot_record(simulate(cases[name])) for name in names}

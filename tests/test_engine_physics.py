@@ -197,7 +197,9 @@ def test_the_rope_never_pushes_and_never_gains_energy(vacuum, engine):
 
 
 def test_the_state_read_from_chipmunk_is_the_one_pymunks_properties_give(vacuum):
-    """``engine_model.readout`` calls Chipmunk's getters directly; every entry is the same double."""
+    """``engine_model.readout`` calls Chipmunk's getters directly (the binding, where it fits); every entry
+    is the same double as pymunk's properties give."""
+    from engine_model import readout
     from engine_model.after_release import _bodies
     from engine_model.readout import origin_reader
 
@@ -223,6 +225,11 @@ def test_the_state_read_from_chipmunk_is_the_one_pymunks_properties_give(vacuum)
     for body in _bodies(rig).values():
         origins += [*body.position, body.angle, *body.velocity_at_local_point((0.0, 0.0)), body.angular_velocity]
     assert origin_reader(*_bodies(rig).values())() == tuple(origins)   # the run after release's reader
+    # Friction's bookkeeping: a joint's impulse and limit, a body's velocity.
+    assert readout.impulse(rig.pivot) == rig.pivot.impulse != 0.0
+    readout.set_max_force(rig.pivot, 1234.5678)
+    assert readout.max_force(rig.pivot) == rig.pivot.max_force == 1234.5678
+    assert readout.velocity(rig.projectile) == tuple(rig.projectile.velocity)
 
 
 
