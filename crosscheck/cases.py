@@ -270,8 +270,9 @@ def fixed_cases(sample: int = FIXED_SAMPLE, seed: int = 0) -> list[Case]:
 #: (wooden) arm, their counterweight bolted on a floating arm. Not the light arm's: the engine holds a
 #: floating axle on its track through a carriage carrying part of the arm's mass
 #: (``engine_model.floating``), and a carriage of a gram or two under a 6.5 kg counterweight leaves
-#: pymunk's solver unconverged (the arm's pivot on the carriage missing its target velocity by
-#: 0.17 m/s against the 4e-4 limit on ``sample-0-005-light`` at 1.25e-5 s, 2026-11-27).
+#: pymunk's solver unconverged (the arm's pivot on the carriage misses its target velocity by orders
+#: of magnitude more than ``engine_model.diagnostics.RESIDUAL_LIMIT`` on ``sample-0-005-light``, even
+#: at a quarter of the default step).
 FLOATING_SAMPLE = 3
 
 
