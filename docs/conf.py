@@ -66,5 +66,5 @@ nitpicky = True
 nitpick_ignore_regex = [
     ("py:class", r"(numpy|pathlib|collections\.abc|typing)\..*"),
     ("py:class", r"(dict|tuple|list)\[.*"),
-    ("py:class", r"analytic\.(parameters\.Params|integrate\.Segment)"),
+    ("py:class", r"analytic\.(parameters\.Params|reference\.ode\.Segment)"),
 ]
