@@ -17,6 +17,7 @@ here shoots or reads hundreds of designs, so all are ``slow``.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import io
 import json
 import math
@@ -36,7 +37,7 @@ import analytic.reference
 import crosscheck.cli
 import engine_model.cli
 from analytic import Shot, Status, shoot, simulate, simulate_fast
-from analytic.design import DesignError
+from analytic.design import Base, Design, DesignError, Environment, Machine, Projectile
 from analytic.design_file import design_from_dict, toml_key
 from analytic.fast import simulate_fast_many
 from engine_model import EngineError
@@ -247,6 +248,36 @@ def _check_both_paths(design) -> None:
 @given(extreme_designs())
 def test_an_extreme_design_ends_alike_on_both_analytic_paths(design):
     _check_both_paths(design)
+
+
+#: A design the test above drew in CI (2026-11-29): the projectile leaves the base and is released
+#: 6e-14 s later, on it to rounding, falling; the reference path released it 5.8e-11 m above the
+#: base and landed it, the fast path 1.7e-10 m below and never did (``sequence.lands_at_release``).
+_RELEASED_ON_THE_BASE = Design(
+    machine=Machine(pivot_height=300000.0, arm_long=1000000.0, arm_short=299999.9999997, arm_mass=5e-324,
+                    arm_cg=0.0, arm_inertia=2.2250738585072014e-308, counterweight_mass=0.0001837110022908359,
+                    counterweight_link=2.3413322323389492e-07, counterweight_inertia=0.0,
+                    sling_length=1000000.0, release_angle=0.0, release_rule="velocity", kind="hinged"),
+    projectile=Projectile(mass=1e-12, diameter=2.2250738585072014e-308, drag="none"),
+    environment=Environment(gravity=1000000.0, air_density=0.0, air_viscosity=0.0001882091398162802,
+                            wind_speed=1.9952623149688795),
+    name="extreme")
+
+
+@pytest.mark.parametrize("mobility", ["fixed", "rolling"])
+def test_a_projectile_released_on_the_base_lands_there_on_both_paths(mobility):
+    design = dataclasses.replace(_RELEASED_ON_THE_BASE, base=Base(mobility=mobility, mass=1.0 if mobility == "rolling" else None))
+    reference, fast = simulate(design), simulate_fast(design)
+    for shot in (reference, fast):
+        _check_shot(shot)
+        assert shot.status is Status.OK, shot.message
+        height = shot.release_position[1] + design.machine.pivot_height
+        # On the base to rounding (1e-15 of the machine's size), falling, and so down within the
+        # time a fall from that height takes from rest.
+        bound = 1e-15 * design.machine.arm_long
+        assert abs(height) < bound and shot.release_velocity[1] <= 0.0
+        assert 0.0 <= shot.landing_time - shot.release_time <= math.sqrt(2.0 * bound / design.environment.gravity)
+    assert fast.landing_position[0] == pytest.approx(reference.landing_position[0], rel=1e-9)
 
 
 def _check_engine(design) -> None:

@@ -38,8 +38,8 @@ from analytic.limits import STAGE_STEP_LIMITS, flight_time_limit
 from analytic.parameters import PARAMS_DTYPE
 from analytic.scope import FRICTION, LOADS, RECORDING   # what this copy handles (analytic.scope)
 from analytic.sequence import (FAILED, FINISHED, NEVER_FIRES, NEVER_LIFTS_OFF, NEXT_STAGE, OK, OUT_OF_STEPS,
-                               REACHED_END, STEP_FAILED, SWITCH_MODE, counted_crossing, leaves_zero, past_root,
-                               probe_bracket, probe_time, probe_update, stretch_end)
+                               REACHED_END, STEP_FAILED, SWITCH_MODE, counted_crossing, lands_at_release,
+                               leaves_zero, past_root, probe_bracket, probe_time, probe_update, stretch_end)
 from analytic.stages import (FLIGHT, SLIDE, SWING, ZERO_START_PROBES, event_armed, event_count,
                              event_direction, event_terminal, event_value, fires, first_event, flight_start,
                              frame_state, loads_after_step, loads_at, slide_start, state_size, swing_start,
@@ -395,8 +395,11 @@ def shot(P, table, coef, rtol, atol, track_loads, out, rec, motion):
     y_release[0], y_release[1], y_release[2], y_release[3] = x, y, vx, vy
     if RECORDING and rec.shape[0] > 0:
         rec[FLIGHT_SPACING] = max(rec[FLIGHT_SPACING], (t_max - t2) / rec[SAMPLE_LIMIT])
-    code, t3, y3, apex = integrate(FLIGHT, t2, y_release, t_max, coef, rtol, atol,
-                                   p, table, counts, peaks, False, rec, motion)
+    if lands_at_release(y + p.h, vy):
+        code, t3, y3, apex = 0, t2, y_release, -math.inf   # (0: the landing event)
+    else:
+        code, t3, y3, apex = integrate(FLIGHT, t2, y_release, t_max, coef, rtol, atol,
+                                       p, table, counts, peaks, False, rec, motion)
     if RECORDING and rec.shape[0] > 0 and rec[ROWS] > 0 and motion[int(rec[ROWS]) - 1, 0] < t3:
         record_row(t3, FLIGHT, y3, rec, motion)
     out[STEPS], out[EVALS], out[END_T] = counts[0], counts[1], t3

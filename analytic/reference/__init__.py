@@ -172,7 +172,8 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
         flight_step = (max(flight_spacing, (t_max - release_time) / HISTORY_SAMPLE_LIMIT)
                        if histories else None)
         # The continuous solution is kept for the drag's work (the steps are the same either way).
-        flight = _run(stage, p, release_time, start, t_max, rtol, atol, flight_step, True)
+        flight = (_landed(start, release_time) if sequence.lands_at_release(position[1] + p.h, velocity[1])
+                  else _run(stage, p, release_time, start, t_max, rtol, atol, flight_step, True))
     except IntegrationError as error:
         if stage is not Stage.FLIGHT and error.segment is not None:
             # The motion up to the failure (the flight's is not kept, as for any shot that does not land).
@@ -251,6 +252,15 @@ def _run(stage: Stage, p: Params, t0: float, y0: np.ndarray, t_end: float, rtol:
     keep the continuous solution."""
     return integrate(stage_rhs(stage, p, len(y0)), t0, y0, t_end, _events(stage, p), rtol=rtol, atol=atol,
                      output_step=output_step, continuous=continuous, max_steps=STAGE_STEP_LIMITS[stage])
+
+
+def _landed(start: np.ndarray, t: float) -> Segment:
+    """The flight of a projectile that lands where it is released (``sequence.lands_at_release``):
+    one state, ended by the landing event at ``t``."""
+    state = start.copy()
+    return Segment(np.array([t]), state[None, :].copy(), "landing", t, state, {"apex": []},
+                   step_t=np.array([t]), step_y=state[None, :].copy(), step_f=np.full((1, len(state)), np.nan),
+                   steps=())
 
 
 def _code(stage: Stage, piece: Segment) -> int:
