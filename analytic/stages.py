@@ -250,6 +250,12 @@ def event_terminal(stage, k):
     return not (stage == FLIGHT and k == 1)
 
 
+def event_turns(stage, k):
+    """Whether a step in which the event's value keeps its sign but turns back is searched for a root
+    there (``analytic.sequence``, ``turns_back``): the release's."""
+    return stage == SWING and k == 0
+
+
 def event_armed(stage, k, y, p):
     """Whether a root of the event at ``y`` counts: only the release has a condition."""
     if stage == SWING and k == 0:

@@ -276,6 +276,33 @@ def test_random_designs_over_table_ii_agree(design):
         _assert_agree(design, (reference, got))
 
 
+#: The cross-check's fixed machine ``sample-7-001-light-fixed`` (``crosscheck.cases.default_suite(60, 7)``:
+#: a nearly massless arm, the counterweight bolted, the velocity rule): its projectile's velocity turns
+#: clockwise past the release angle at 2.3019 s, back anticlockwise 5e-4 rad past it and past it again
+#: at 2.313 s (the reference's history at 1e-4 s, measured), both within one step of 14.7 ms
+#: (2.3011 to 2.3158 s): a check of the release's value at the steps' ends alone releases it at the
+#: next crossing, 2.6949 s.
+TURNING_RELEASE = with_machine(default_design(), kind="fixed", counterweight_link=0.0, counterweight_mass=6.5,
+                               pivot_height=0.8008333139931123, arm_long=1.5453832342147003,
+                               arm_short=0.01152693832401667, arm_mass=0.003892275431346792,
+                               arm_cg=0.7669281479453418, arm_inertia=0.0007862377835508743,
+                               counterweight_inertia=0.009346195228721923, sling_length=0.29076097170623244,
+                               release_angle=-0.6187524171092139, release_rule="velocity")
+#: Where the engine model releases it, s: where the direction first passes the release angle
+#: (``engine_model.simulate`` at ``dt`` 5e-5 and 2.5e-5 s: 2.301925 and 2.301925 s, 2026-11-29).
+ENGINE_RELEASE_TIME = 2.3019
+#: How near that the analytic release must be, s: two of the engine's steps, and the history
+#: above puts the crossing within one of its 1e-4 s samples.
+ENGINE_RELEASE_WITHIN = 2e-4
+
+
+def test_a_release_passed_and_turned_back_from_within_one_step_is_found_on_both_paths():
+    reference, got = _assert_agree(TURNING_RELEASE)
+    assert reference.ok and got.ok
+    assert abs(reference.release_time - ENGINE_RELEASE_TIME) <= ENGINE_RELEASE_WITHIN, reference.release_time
+    assert abs(got.release_time - ENGINE_RELEASE_TIME) <= ENGINE_RELEASE_WITHIN, got.release_time
+
+
 def test_headwind_strong_enough_to_blow_the_ball_back_agrees(table3):
     _assert_agree(with_environment(table3, wind_speed=-40.0))
 

@@ -38,11 +38,13 @@ from analytic.limits import STAGE_STEP_LIMITS, flight_time_limit
 from analytic.parameters import PARAMS_DTYPE
 from analytic.scope import FRICTION, LOADS, RECORDING   # what this copy handles (analytic.scope)
 from analytic.sequence import (FAILED, FINISHED, NEVER_FIRES, NEVER_LIFTS_OFF, NEXT_STAGE, OK, OUT_OF_STEPS,
-                               REACHED_END, STEP_FAILED, SWITCH_MODE, counted_crossing, lands_at_release,
-                               leaves_zero, past_root, probe_bracket, probe_time, probe_update, stretch_end)
+                               REACHED_END, STEP_FAILED, SWITCH_MODE, counted_crossing, event_rate, lands_at_release,
+                               leaves_zero, past_root, probe_bracket, probe_time, probe_update, rate_offset,
+                               stretch_end, tangent_state, turn_bracket, turn_first, turn_next, turn_search,
+                               turn_update, turns_back)
 from analytic.stages import (FLIGHT, SLIDE, SWING, ZERO_START_PROBES, event_armed, event_count,
-                             event_direction, event_terminal, event_value, fires, first_event, flight_start,
-                             frame_state, loads_after_step, loads_at, slide_start, state_size, swing_start,
+                             event_direction, event_terminal, event_turns, event_value, fires, first_event,
+                             flight_start, frame_state, loads_after_step, loads_at, slide_start, state_size, swing_start,
                              switch_mode)
 
 
@@ -100,7 +102,8 @@ def record_step(stage, t_end, t_old, h, y_old, F, tmp, rec, motion):
 
 @internal(allocates=True)
 def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks, track_loads, rec, motion):
-    """Integrate ``stage`` from (t0, y0) until a terminal event or ``t_bound``.
+    """Integrate ``stage`` from (t0, y0) until a terminal event or ``t_bound``, each event's roots found
+    from its values and rates at each step's ends (``analytic.sequence``).
 
     Returns ``(code, t_end, y_end, apex)``: code is the index of the terminal
     event that ended it, ``REACHED_END``, ``FAILED`` (step size underflow
@@ -127,11 +130,12 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
     for j in range(n):
         y[j] = y0[j]
     f, f_new = np.empty(n), np.empty(n)
-    tmp, y_root = np.empty(n), np.empty(n)
-    previous = np.empty(ne)
+    tmp, y_root, behind = np.empty(n), np.empty(n), np.empty(n)
+    previous, rates = np.empty(ne), np.empty(ne)   # each event's value and rate at the step's start
     derivative_call(stage, y, p, table, f)
     for k in range(ne):
         previous[k] = event_value(stage, k, y, p)
+        rates[k] = math.nan   # none at the stretch's start: its first step is not searched for turns (sequence)
     t = t0
     h_abs = initial_step(stage, t0, y, f, t_bound, rtol, atol, p, table)
     counts[1] += 2
@@ -199,15 +203,19 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
                 return FAILED, t_new, y_new, apex
         t_old = t
 
-        # Events on the accepted step [t_old, t_new].
+        # Events on the accepted step [t_old, t_new], from their values and rates at its ends.
         dense_ready = False
         hit_t, hit_k = math.inf, -1
         n_apex = 0
+        offset = rate_offset(h)
+        tangent_state(y_new, f_new, offset, behind)
         for k in range(ne):
             after = event_value(stage, k, y_new, p)
             direction = event_direction(stage, k)
-            before = previous[k]
-            previous[k] = after
+            before, rate_before = previous[k], rates[k]
+            rate_after = (event_rate(after, event_value(stage, k, behind, p), offset) if event_turns(stage, k)
+                          else math.nan)   # (a rate only where turns are searched)
+            previous[k], rates[k] = after, rate_after
             start, v_start, end, v_end = t_old, before, t_new, after
             if leaves_zero(before, after):
                 # Left zero at the step's start: did it come back within the step?
@@ -221,6 +229,25 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
                     counts[1] += 1
                     i, low, v_low, high, v_high = probe_update(i, v_probe, after, low, v_low, high, v_high)
                 start, v_start, end, v_end = probe_bracket(t_old, t_new, before, after, low, v_low, high, v_high)
+            elif turns_back(before, after, rate_before, rate_after):
+                # Turned back within the step: search its extremum for a value across zero.
+                if not dense_ready:
+                    dense_prepare(stage, t_old, h, y, y_new, f_new, coef, K, F, tmp, p, table)
+                    counts[1] += 3
+                    dense_ready = True
+                u = turn_first(t_old, t_new, rate_before, rate_after)
+                v = event_at(u, stage, k, t_old, h, y, F, tmp, p)
+                counts[1] += 1
+                search = turn_search(t_old, t_new, before, after, u, v)
+                while True:
+                    done, u_next, search = turn_next(search, before, v)
+                    if done:
+                        break
+                    u = u_next
+                    v = event_at(u, stage, k, t_old, h, y, F, tmp, p)
+                    counts[1] += 1
+                    search = turn_update(search, before, u, v)
+                start, v_start, end, v_end = turn_bracket(t_old, t_new, before, after, u, v, direction)
             while counted_crossing(v_start, v_end, direction):
                 if not dense_ready:
                     dense_prepare(stage, t_old, h, y, y_new, f_new, coef, K, F, tmp, p, table)

@@ -394,7 +394,7 @@ def _events(stage: Stage, p: Params) -> tuple[Event, ...]:
         return Event(name, lambda t, y: quietly(stages.event_value, stage, k, y.tolist(), p, otherwise=math.nan),
                      direction=stages.event_direction(stage, k),
                      armed=lambda t, y: quietly(stages.event_armed, stage, k, y.tolist(), p, otherwise=False),
-                     terminal=stages.event_terminal(stage, k))
+                     terminal=stages.event_terminal(stage, k), turns=stages.event_turns(stage, k))
 
     names = stages.EVENT_NAMES[stage][:stages.event_count(stage, p)]   # friction's only with friction
     return tuple(event(k, name) for k, name in enumerate(names))

@@ -6,7 +6,11 @@ angle, not opposite it, and the direction may sweep past the opposite many
 times first). So this module steps scipy's ``DOP853`` solver itself, watches
 the event functions between accepted steps, and locates each root on the
 step's dense output with Brent's method -- the same scheme ``solve_ivp`` uses,
-plus an ``armed`` predicate checked at the root.
+plus an ``armed`` predicate checked at the root. A step whose two ends show
+no sign change may still hold two roots of an event, where its value crosses
+zero and comes back; so the value's rate is watched at the step's ends too,
+and a step where the value turns back is searched for its extremum
+(``analytic.sequence``: the policy both paths share, with its reasons).
 """
 
 from __future__ import annotations
@@ -19,7 +23,9 @@ import numpy as np
 from scipy.integrate import DOP853, OdeSolution
 from scipy.optimize import brentq
 
-from analytic.sequence import counted_crossing, leaves_zero, past_root, probe_bracket, probe_time, probe_update
+from analytic.sequence import (counted_crossing, event_rate, leaves_zero, past_root, probe_bracket, probe_time,
+                               probe_update, rate_offset, tangent_state, turn_bracket, turn_first, turn_next,
+                               turn_search, turn_update, turns_back)
 from analytic.stages import ROOT_RELATIVE_TOLERANCE, ROOT_TIME_TOLERANCE, ZERO_START_PROBES, first_event
 
 
@@ -49,6 +55,8 @@ class Event:
     terminal : stop at the first counted root (otherwise just record it); of two
         within the root finder's tolerance of each other, at the one listed first
         in ``events`` (``analytic.stages.first_event``).
+    turns : also search a step whose values at its ends have one sign but whose
+        value turns back within it, for a root there (``analytic.sequence``).
     """
 
     name: str
@@ -56,6 +64,7 @@ class Event:
     direction: int = 0
     armed: Callable[[float, np.ndarray], bool] | None = None
     terminal: bool = True
+    turns: bool = True
 
 
 @dataclass(frozen=True)
@@ -116,7 +125,9 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
     fun : right-hand side, returns shape (m,).
     y0 : (m,) initial state.
     events : watched zero crossings; a crossing counts when the value goes
-        from strictly one side of zero to zero or the other side.
+        from strictly one side of zero to zero or the other side, between a
+        step's ends or, for an event with ``turns``, within a step where it
+        turns back (``analytic.sequence``).
     rtol, atol : DOP853 tolerances.
     output_step : spacing of the returned samples, s. None: no samples but the
         two ends and no continuous ``solution``; the step's interpolant is then
@@ -161,6 +172,10 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
         # A non-finite start or derivative: scipy would shrink a NaN step forever.
         raise failure(f"non-finite derivative at the start, t = {t0:.6g} s", t0, solver.y)
     previous = [event.value(t0, solver.y) for event in events]
+    # Each event's rate at the step's start: none at the stretch's start, whose first step is not
+    # searched for turns (analytic.sequence).
+    rates = [math.nan] * len(events)
+    behind = np.empty(len(solver.y))
     next_output = t0 + output_step if sampled else np.inf
     steps = 0
 
@@ -181,10 +196,13 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
             step_ends.append(solver.t)
             interpolants.append(dense)
         current = [event.value(solver.t, solver.y) for event in events]
+        rates_after = _rates(events, current, solver.t, solver.y, solver.f, rate_offset(solver.t - solver.t_old),
+                             behind)
 
         hit_t, hit_k = np.inf, -1   # the terminal root that ends the step, and its event's index
         for k, (event, before, after) in enumerate(zip(events, previous, current, strict=True)):
-            for t_root in _crossings(event, before, after, dense, solver.t_old, solver.t):
+            for t_root in _crossings(event, before, after, rates[k], rates_after[k], dense, solver.t_old,
+                                     solver.t):
                 y_root = dense(t_root)
                 if event.armed is not None and not event.armed(t_root, y_root):
                     continue
@@ -192,7 +210,7 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
                     hit_t, hit_k = first_event(t_root, k, hit_t, hit_k)
                     break
                 roots[event.name].append((t_root, y_root))
-        previous = current
+        previous, rates = current, rates_after
         hit = None if hit_k < 0 else (hit_t, events[hit_k])
 
         t_stop = solver.t if hit is None else hit[0]
@@ -253,12 +271,25 @@ class _LazyDense:
         return self._dense(t)
 
 
-def _crossings(event: Event, before: float, after: float, dense, t_old: float, t_new: float):
-    """Roots of ``event.value`` in (t_old, t_new] in the counted direction.
+def _rates(events, values, t: float, y: np.ndarray, f: np.ndarray, offset: float, behind: np.ndarray) -> list[float]:
+    """Each event's rate at ``(t, y)`` where its value is ``values[k]`` and the state's derivative ``f``
+    (``analytic.sequence.event_rate``, over ``offset`` s); NaN for one whose turns are not searched
+    (``Event.turns``); ``behind`` is scratch."""
+    tangent_state(y, f, offset, behind)
+    return [event_rate(value, event.value(t - offset, behind), offset) if event.turns else math.nan
+            for event, value in zip(events, values, strict=True)]
+
+
+def _crossings(event: Event, before: float, after: float, rate_before: float, rate_after: float, dense,
+               t_old: float, t_new: float):
+    """Roots of ``event.value`` in (t_old, t_new] in the counted direction, from its values and rates
+    at the step's ends.
 
     Normally a step holds at most one root; if the armed check rejects it the
     step's remainder is searched again, so a step that holds both the crossing
-    of the opposite direction and the real one still finds the real one.
+    of the opposite direction and the real one still finds the real one. A step
+    whose value turns back (``analytic.sequence.turns_back``) is searched for
+    its extremum first, and the root on the counted side of it bracketed.
     """
     def value(t: float) -> float:
         return event.value(t, dense(t))
@@ -272,6 +303,17 @@ def _crossings(event: Event, before: float, after: float, dense, t_old: float, t
             i, low, v_low, high, v_high = probe_update(i, value(probe_time(t_old, t_new, i)), after,
                                                        low, v_low, high, v_high)
         start, v_start, end, v_end = probe_bracket(t_old, t_new, before, after, low, v_low, high, v_high)
+    elif turns_back(before, after, rate_before, rate_after):
+        u = turn_first(t_old, t_new, rate_before, rate_after)
+        v = value(u)
+        search = turn_search(t_old, t_new, before, after, u, v)
+        while True:
+            done, u_next, search = turn_next(search, before, v)
+            if done:
+                break
+            u, v = u_next, value(u_next)
+            search = turn_update(search, before, u, v)
+        start, v_start, end, v_end = turn_bracket(t_old, t_new, before, after, u, v, event.direction)
     while counted_crossing(v_start, v_end, event.direction):
         t_root = end if v_end == 0.0 else brentq(value, start, end, xtol=ROOT_TIME_TOLERANCE,
                                                  rtol=ROOT_RELATIVE_TOLERANCE)
