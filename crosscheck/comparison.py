@@ -429,15 +429,29 @@ class StepStudy:
 
 def step_study(design: Design, dts: tuple[float, ...] = (4e-4, 2e-4, 1e-4, 5e-5),
                engine: Callable[[Design, float], Shot] = engine_simulate,
-               analytic: Callable[[Design], Shot] = simulate_fast) -> StepStudy:
-    """Measure the engine's convergence order against the analytic model."""
+               analytic: Callable[[Design], Shot] = simulate_fast) -> StepStudy | None:
+    """Measure the engine's convergence order against the analytic model; None where the design
+    does not throw in the analytic model, or fewer than two of the engine's steps throw it with an
+    error to take the logarithm of (an order needs two points)."""
     reference = analytic(design)
-    speed, rng = [], []
+    if not reference.ok:
+        return None
+    kept, speed, rng = [], [], []
     for dt in dts:
-        shot = engine(design, dt)
-        speed.append(abs(shot.release_speed / reference.release_speed - 1.0))
-        rng.append(abs(shot.range / reference.range - 1.0))
-    log_dt = np.log(dts)
-    return StepStudy(design.name, np.array(dts), np.array(speed), np.array(rng),
+        try:
+            shot = engine(design, dt)
+        except EngineError:
+            continue
+        if not shot.ok:
+            continue
+        errors = (abs(shot.release_speed / reference.release_speed - 1.0), abs(shot.range / reference.range - 1.0))
+        if min(errors) > 0.0:
+            kept.append(dt)
+            speed.append(errors[0])
+            rng.append(errors[1])
+    if len(kept) < 2:
+        return None
+    log_dt = np.log(kept)
+    return StepStudy(design.name, np.array(kept), np.array(speed), np.array(rng),
                      float(np.polyfit(log_dt, np.log(speed), 1)[0]),
                      float(np.polyfit(log_dt, np.log(rng), 1)[0]))
