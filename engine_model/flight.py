@@ -200,10 +200,11 @@ def fly(design: Design, release_time: float, position: np.ndarray, velocity: np.
     limit = flight_time_limit(float(position[1]) + h, float(velocity[1]), g)
     # The bound is 100 vacuum flights plus a minute: a projectile that only
     # drifts down at its terminal speed would take 1.3e6 steps of 50 us to
-    # reach it (33 s for the 10 mg, 1 m balloon of crosscheck.cases), so the
-    # flight stops once the fall speed bound proves it cannot land in time
-    # (the balloon: after 3.3 ms of flight, falling 1.42 m at 2.08 cm/s at most
-    # takes 68.3 s against a bound of 64.9 s). A real throw never comes near.
+    # reach it (the 10 mg, 1 m balloon of crosscheck.cases), so the flight
+    # stops once the fall speed bound proves it cannot land in time (the
+    # balloon: after 3.3 ms of flight, falling 1.42 m at 2.08 cm/s at most
+    # takes 68.3 s of flight, past its bound of 64.9 s). A real throw never
+    # comes near.
     fall_cap = fall_speed_bound(design)
     # Time flown: steps of dt counted apart from shorter ones, so that a flight
     # at dt throughout has its times exactly release_time + n dt.
