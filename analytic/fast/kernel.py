@@ -33,7 +33,7 @@ import numpy as np
 from analytic.fast.marks import entry, internal
 from analytic.fast.dop853 import (ERROR_ORDER, MAX_FACTOR, MIN_FACTOR, N_STAGES, SAFETY, brent, dense_eval, dense_prepare,
                              derivative_call, error_norm, event_at, initial_step, rk_step)
-from analytic.fast.kernel_loads import N_LOADS, POOL_SLOTS, finish_peaks, keep_step, sample_loads, save_step
+from analytic.fast.kernel_loads import N_LOADS, finish_peaks, keep_step, sample_loads, start_peaks
 from analytic.limits import STAGE_STEP_LIMITS, flight_time_limit
 from analytic.parameters import PARAMS_DTYPE
 from analytic.scope import FRICTION, LOADS, RECORDING   # what this copy handles (analytic.scope)
@@ -116,7 +116,7 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
     In stages 1 and 2 with ``track_loads``, ``peaks`` (N_LOADS, 2) gets the
     largest of each load (``stages.loads_at``) and its time, where this stretch
     beats it: sampled at every step's end and refined on the interpolants
-    beside the largest sample, as ``analytic.reference`` does.
+    beside each local maximum of the samples, as ``analytic.reference`` does.
     """
     n = y0.shape[0]
     ne = event_count(stage, p)
@@ -147,21 +147,16 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
     track = track_loads and stage != FLIGHT
     # Filled by loops: numba compiles np.full and np.zeros into a function per
     # shape and type (about a second of a cold compile in all, measured).
-    samples, sides = np.empty((N_LOADS, 6)), np.empty((N_LOADS, 2), dtype=np.int64)
-    pending = np.empty(N_LOADS, dtype=np.bool_)
-    last = np.empty(N_LOADS + 1)
-    slots = POOL_SLOTS if LOADS and track else 0
-    pool_k, pool_y, pool_t = np.empty((slots, N_STAGES + 1, n)), np.empty((slots, 2, n)), np.empty((slots, 3))
-    live_y, live_t = np.empty((2, 2, n)), np.empty((2, 3))
-    for k in range(N_LOADS):
-        pending[k] = False
-        samples[k, 3] = -math.inf
-        for j in range(0, 6, 2):
-            samples[k, j] = math.nan
-        sides[k, 0], sides[k, 1] = -1, -1
+    # The peak loads' state (``analytic.fast.kernel_loads``): the last two samples, the stretch's
+    # largest, and the last two steps with their interpolants.
+    buffers = 2 if LOADS and track else 0
+    recent, best = np.empty((2, N_LOADS + 1)), np.empty((N_LOADS, 2))
+    live_y, live_t = np.empty((buffers, 2, n)), np.empty((buffers, 3))
+    dense, built, load_tmp = np.empty((buffers, 7, n)), np.empty(buffers, dtype=np.bool_), np.empty(n)
     if LOADS and track:
-        last[N_LOADS] = math.nan
-        sample_loads(t0, loads_at(stage, y, p), -1, samples, sides, pending, last, False)
+        start_peaks(recent, best, built)
+        sample_loads(t0, loads_at(stage, y, p), -1, recent, best, stage, K2, live_y, live_t, dense, built, load_tmp,
+                     coef, p, table, counts)
         counts[1] += 1
     exponent = -1.0 / (ERROR_ORDER + 1)
     steps = 0
@@ -280,11 +275,12 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
             if RECORDING and rec.shape[0] > 0:
                 record_step(stage, hit_t, t_old, h, y, F, tmp, rec, motion)
             if LOADS and track:
-                keep_step(buffer, t_old, h, hit_t, y, y_new, live_y, live_t)
-                sample_loads(hit_t, loads_at(stage, y_hit, p), buffer, samples, sides, pending, last, True)
+                keep_step(buffer, t_old, h, hit_t, y, y_new, live_y, live_t, built)
                 counts[1] += 1
-                finish_peaks(stage, samples, sides, K2, live_y, live_t, pool_k, pool_y, pool_t, peaks, coef, p,
-                              table, counts)
+                sample_loads(hit_t, loads_at(stage, y_hit, p), buffer, recent, best, stage, K2, live_y, live_t, dense,
+                             built, load_tmp, coef, p, table, counts)
+                finish_peaks(buffer, recent, best, peaks, stage, K2, live_y, live_t, dense, built, load_tmp, coef, p,
+                             table, counts)
             return hit_k, hit_t, y_hit, apex
         if RECORDING and rec.shape[0] > 0 and rec[NEXT_SAMPLE] <= t_new:
             if not dense_ready:
@@ -292,18 +288,17 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, counts, peaks,
                 counts[1] += 3
             record_step(stage, t_new, t_old, h, y, F, tmp, rec, motion)
         if LOADS and track:   # at the step's end the derivative is known (f_new): stage 2 reads the accelerations
-            keep_step(buffer, t_old, h, t_new, y, y_new, live_y, live_t)
-            sample_loads(t_new, loads_after_step(stage, y_new, f_new, p), buffer, samples, sides, pending, last,
-                          False)
-            save_step(1 - buffer, sides, K2, live_y, live_t, pool_k, pool_y, pool_t)   # the next step takes it
+            keep_step(buffer, t_old, h, t_new, y, y_new, live_y, live_t, built)
             counts[1] += 1 if stage == SLIDE else 0
+            sample_loads(t_new, loads_after_step(stage, y_new, f_new, p), buffer, recent, best, stage, K2, live_y,
+                         live_t, dense, built, load_tmp, coef, p, table, counts)
         t = t_new
         for j in range(n):
             y[j] = y_new[j]
             f[j] = f_new[j]
     if LOADS and track:
-        finish_peaks(stage, samples, sides, K2, live_y, live_t, pool_k, pool_y, pool_t, peaks, coef, p, table,
-                      counts)
+        finish_peaks((steps - 1) % 2 if steps > 0 else -1, recent, best, peaks, stage, K2, live_y, live_t, dense,
+                     built, load_tmp, coef, p, table, counts)
     return REACHED_END, t, y, apex
 
 
