@@ -122,8 +122,13 @@ def format_summary(comparisons: list[Comparison], study: StepStudy | None, steps
     steps = sorted({c.engine_dt for c in comparisons if c.engine_dt is not None})
     if len(steps) > 1:
         refined = [f"{c.case} ({c.engine_dt:.3g} s)" for c in comparisons if c.engine_dt not in (None, steps[-1])]
-        lines.append("engine step finer than the run's where a case starts finer (the floating arm's) or its "
-                     f"energy error was above the trust limit: {', '.join(refined)}")
+        lines.append("engine step finer than the run's where a case starts finer (the floating arm's), its "
+                     "energy error was above the trust limit or the models differed at the coarser steps: "
+                     f"{', '.join(refined)}")
+    extrapolated = [f"{c.case} ({', '.join(c.extrapolated)})" for c in comparisons if c.extrapolated]
+    if extrapolated:
+        lines.append("engine values extrapolated from its last two steps (Richardson), the runs themselves "
+                     f"still too coarse: {'; '.join(extrapolated)}")
     drifts = [c.max_joint_drift for c in comparisons if c.max_joint_drift is not None]
     engine = [f"largest joint drift {max(drifts):.3g} m"] if drifts else []
     if study is not None:

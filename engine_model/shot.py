@@ -37,7 +37,8 @@ from engine_model.flight import FLIGHT_STEP_LIMIT, FLIGHT_STEP_MULTIPLE, Flight,
 
 
 def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAULT_ITERATIONS,
-             sling: str = "rigid", machine_after_release: bool = False) -> Shot:
+             sling: str = "rigid", machine_after_release: bool = False,
+             step_limit: int | None = None) -> Shot:
     """Simulate a shot of ``design`` in pymunk through all three stages.
 
     A valid design that fails to throw is not an error: ``Shot.status`` names
@@ -51,12 +52,15 @@ def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAU
         step budget (``engine_model.budget``), lengthened
         for a swing or a rolling machine's run after release that would
         need more; ``shot.diagnostics`` gives the steps taken. A step given
-        is kept whatever it costs (up to ``stepping.MACHINE_STEP_LIMIT`` steps).
+        is kept whatever it costs (up to ``step_limit`` steps).
     iterations : pymunk solver iterations per step (at least about 20).
     sling : ``"rigid"`` (PinJoint) or ``"rope"`` (SlideJoint, pulls only).
     machine_after_release : also step a fixed frame's machine on from release to landing (a
         rolling one's always is) and keep its motion in ``history.machine_t``, ``machine_q`` and
         ``machine_frame_x``, for drawing it swinging on (``engine_model.render``).
+    step_limit : most steps of stages 1-2, and of a rolling machine's run after release, at a
+        step given; None (the default): ``stepping.MACHINE_STEP_LIMIT`` (the cross-check's refined
+        runs take more, ``crosscheck.tolerances.REFINEMENT_STEP_LIMIT``).
 
     Returns
     -------
@@ -81,7 +85,8 @@ def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAU
         (``engine_model.build``) but does not yet read a shot of it.
     """
     budget = dt is None
-    dt, run, discarded = _run_machine(design, dt, iterations, sling)
+    step_limit = stepping.MACHINE_STEP_LIMIT if step_limit is None else step_limit
+    dt, run, discarded = _run_machine(design, dt, iterations, sling, step_limit)
     raw, on_base = np.array(run.raw), np.array(run.on_base)
     steps = _step_lengths(len(raw), dt)
     drift = kin.joint_drift(raw, design, sling, on_base)
@@ -104,7 +109,8 @@ def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAU
     after_release_dt = 0.0
     if design.base.rolling:
         shot, diagnostics, after_release_dt = _roll_on(design, shot, diagnostics, release_state, dt, iterations,
-                                                       budget, len(raw), discarded, machine_after_release)
+                                                       budget, len(raw), discarded, machine_after_release,
+                                                       step_limit)
     elif shot.landing_time is not None:
         shot = _swing_on(design, shot, release_state, dt, iterations, len(raw), discarded, machine_after_release)
     diagnostics = dataclasses.replace(diagnostics, friction_steps=_friction_steps(run, dt),
@@ -142,15 +148,17 @@ class _Records:
     swing_drag: np.ndarray
 
 
-def _run_machine(design: Design, dt: float | None, iterations: int, sling: str) -> tuple[float, stepping.Run, int]:
-    """Stages 1-2 at ``dt``, or at the default step within the step budget where ``dt`` is None
-    (``budget.run_within_budget``): the step used, the run, and the steps of the runs discarded."""
+def _run_machine(design: Design, dt: float | None, iterations: int, sling: str,
+                 step_limit: int) -> tuple[float, stepping.Run, int]:
+    """Stages 1-2 at ``dt`` (at most ``step_limit`` steps), or at the default step within the step
+    budget where ``dt`` is None (``budget.run_within_budget``): the step used, the run, and the
+    steps of the runs discarded."""
     if dt is None:
         dt, run, _, discarded = run_within_budget(design, iterations, sling)
         return dt, run, discarded
     if not (math.isfinite(dt) and dt > 0.0):
         raise ValueError(f"dt = {dt!r}: must be a positive number of seconds")
-    run, _ = stepping.run_machine(design, dt, iterations, sling, stepping.MACHINE_STEP_LIMIT)
+    run, _ = stepping.run_machine(design, dt, iterations, sling, step_limit)
     return dt, run, 0
 
 
@@ -245,7 +253,7 @@ def _swing_on(design: Design, shot: Shot, release_state: np.ndarray, dt: float, 
 
 def _roll_on(design: Design, shot: Shot, diagnostics: EngineDiagnostics, release_state: np.ndarray | None,
              dt: float, iterations: int, budget: bool, machine_steps: int, discarded: int,
-             machine_after_release: bool) -> tuple[Shot, EngineDiagnostics, float]:
+             machine_after_release: bool, step_limit: int) -> tuple[Shot, EngineDiagnostics, float]:
     """A rolling machine's shot with its frame at landing: the machine stepped on from release to
     landing (``after_release.run_after_release``), checked as stages 1-2 were; the shot, its
     diagnostics, and the step taken after release (0 where none was)."""
@@ -255,9 +263,9 @@ def _roll_on(design: Design, shot: Shot, diagnostics: EngineDiagnostics, release
     if budget:
         after_dt = after_release_step(dt, shot.release_time, shot.landing_time, machine_steps, discarded)
     after_steps = after_release_steps(shot.release_time, shot.landing_time, after_dt)
-    if after_steps > stepping.MACHINE_STEP_LIMIT:
+    if after_steps > step_limit:
         message = stepping.step_limit_message("the rolling machine's run after release", after_steps, dt,
-                                              shot.landing_time - shot.release_time, ahead=True)
+                                              shot.landing_time - shot.release_time, step_limit, ahead=True)
         return dataclasses.replace(shot, status=Status.STEP_FAILED, message=message), diagnostics, float(after_dt)
     # The machine was trusted up to release; only then is it worth stepping on.
     after = run_after_release(design, shot.release_time, release_state, shot.landing_time, after_dt,
