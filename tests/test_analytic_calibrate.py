@@ -3,7 +3,8 @@ interface's JSON, every bad input refused before any work, the report's files; a
 the calibration fits, in the design contract and in both models.
 
 Synthetic shots are the reference path's own predictions at known parameters plus Gaussian
-noise of the stated uncertainty (seeded), so the only reference numbers are the true
+noise of the stated uncertainty (seeded), fitted on the fast path (the two paths agree to
+1e-8 m or so, far under the noise), so the only reference numbers are the true
 parameters themselves: if the fit or its uncertainty were wrong, recovery would fail.
 """
 
@@ -25,6 +26,7 @@ from analytic.calibrate.report import FITTED_FOLDER, JSON_FILE, PLOT_FILE, REPOR
 from analytic.cli import main
 from analytic.design import Design, DesignError, Losses
 from analytic.design_file import load_design, save_design
+from analytic.fast import simulate_fast
 from analytic.reference import simulate
 
 PROTOTYPE_FILE = DATA / "designs" / "prototype-61.toml"
@@ -262,7 +264,7 @@ def test_a_coefficient_fitted_from_zero_starts_at_the_ideal_machine(tmp_path):
                              given={"losses.axle_radius": 0.0064}, start={"losses.axle_friction": 0.0})
     result = calibrate(load_calibration(path))
     assert result.start.tolist() == [0.0]
-    ideal = simulate(load_design(PROTOTYPE_FILE), histories=False, loads=False)
+    ideal = simulate_fast(load_design(PROTOTYPE_FILE), loads=False)   # the path the fit shoots on
     assert result.initial[0].values["range"] == ideal.range
     assert result.converged and result.fitted[0].values["range"] == pytest.approx(PROTOTYPE_RANGE, abs=1e-4)
     assert result.values[0] > 0.0
@@ -575,8 +577,6 @@ def test_drag_factor_reaches_the_fast_paths_design_row():
 def test_drag_factor_fast_and_reference_paths_agree():
     """The fast path (compiled: slow the first time in a checkout) throws a drag factor's shot as
     the reference does, to the paths' usual 1e-7 in range (README, Fast shots)."""
-    from analytic.fast import simulate_fast
-
     design = with_projectile(load_design(PROTOTYPE_FILE), drag_factor=1.3)
     reference = simulate(design, histories=False, loads=False).range
     assert simulate_fast(design, loads=False).range == pytest.approx(reference, rel=1e-7)

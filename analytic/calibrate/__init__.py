@@ -1,7 +1,7 @@
 """Calibration: fit design parameters (loss coefficients, a drag factor, a release-angle offset) to measured shots.
 
 ``load_calibration(path)`` reads and checks a calibration file (``spec``);
-``calibrate(spec)`` fits it by weighted least squares on the reference path
+``calibrate(spec)`` fits it by weighted least squares on the fast path
 (``fit``) and returns a ``Calibration``; ``predict`` gives the range at new
 settings with its uncertainty; ``report`` turns them into JSON, text, a plot
 and the fitted designs (``fitted_file``); ``cli`` is

@@ -3,8 +3,9 @@
 Residuals are ``(predicted - measured) / uncertainty`` over every measured
 quantity of every shot, minimised by ``scipy.optimize.least_squares``
 (dogbox: a trust region within the box of the bounds). Shots are the
-reference path's (``analytic.reference.simulate`` at its default tolerances,
-summaries only).
+compiled fast path's (``analytic.fast.simulate_fast`` at the default
+tolerances, no peak loads): the reference path's numbers to the integrator's
+error, hundreds of times sooner, which a fit of hundreds of shots feels.
 
 The Jacobian is our own finite difference, with steps chosen against the
 integrator's noise (``STEP``), central inside the bounds and one-sided
@@ -30,9 +31,10 @@ from analytic.calibrate.spec import QUANTITIES, CalibrationSpec, ShotSpec
 from analytic.design import DesignError
 
 #: Finite-difference step, as a fraction of each parameter's scale. Measured on the
-#: prototype's design (the reference path at its default tolerances): the range's
-#: integrator noise is 1.8e-11 m (standard deviation about a quadratic through 21 shots
-#: over +-1e-6 kg of counterweight), and central differences of the range in the
+#: prototype's design at the default tolerances: the range's integrator noise is
+#: 1.6e-11 m on the fast path, 1.8e-11 m on the reference (standard deviation about a
+#: quadratic through 21 shots over +-1e-6 kg of counterweight), 4.2e-9 and 2.2e-9 m with
+#: axle friction 0.15 and base friction 0.3 (stick and slip events); central differences of the range in the
 #: counterweight, the air density and the release angle at steps of 1e-4 and 1e-3 of
 #: their values agree to 3e-5 (truncation), while at 1e-8 noise moves them by 3e-5 and
 #: at 1e-10 by 1 %. A step of 1e-4 moves the range by ~1e-3 m, 10^7 times the noise.
@@ -90,14 +92,14 @@ class Prediction:
 
 
 def predict(spec: CalibrationSpec, shot: ShotSpec, values) -> Prediction:
-    """Shoot ``shot``'s design with the parameters at ``values`` (reference path, summary only)."""
-    from analytic.reference import simulate
+    """Shoot ``shot``'s design with the parameters at ``values`` (fast path, no peak loads)."""
+    from analytic.fast import simulate_fast
 
     try:
         design = spec.design_at(shot, values)
     except DesignError as error:
         return Prediction("design_error", str(error), dict.fromkeys(QUANTITIES))
-    result = simulate(design, histories=False, loads=False)
+    result = simulate_fast(design, loads=False)
     angle = result.launch_angle
     predicted = {"range": result.range, "release_time": result.release_time,
                  "liftoff_time": result.liftoff_time,

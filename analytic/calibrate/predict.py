@@ -3,7 +3,7 @@
 ``calibrate ... --predict FIELD=VALUE[,VALUE...]`` shoots the calibration's
 base design (its first shot's: the shot's design with its own settings) with
 FIELD at each VALUE and the parameters at their fitted values, on the
-reference path as the fit does. Each range's standard deviation comes from
+fast path as the fit does. Each range's standard deviation comes from
 the fit's covariance C by the delta method: ``range_sd = sqrt(g^T C g)``,
 with g the range's gradient in the parameters, central differences at the
 fit's own finite-difference steps (``analytic.calibrate.fit.STEP`` of each

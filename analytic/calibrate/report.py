@@ -115,7 +115,7 @@ def format_report(result: Calibration, system: str = "metric", predictions=()) -
               + ("; no degrees of freedom: as many parameters as measurements, so the chi-square cannot "
                  "judge the model" if result.degrees_of_freedom == 0 else ""),
               f"uncertainties: {UNCERTAINTY_DEFINITION}",
-              (f"{result.evaluations} evaluations, {result.shots} shots (reference path; {result.failed_shots} "
+              (f"{result.evaluations} evaluations, {result.shots} shots (fast path; {result.failed_shots} "
                f"did not throw) in {result.seconds:.1f} s; {result.message}"),
               "", "shots (residual = predicted - measured):"]
     for shot, start, fitted in zip(spec.shots, result.initial, result.fitted, strict=True):
