@@ -89,15 +89,15 @@ INTERNAL = dict(OPTIONS, _nrt=False)
 CALLABLE = dict(OPTIONS, cache=True)
 #: Functions LLVM inlines into every caller (numba's ``forceinline``: LLVM's
 #: ``alwaysinline``): the right-hand side and the equations it calls on every
-#: evaluation. Measured on the benchmark's designs: without it, a batch of
-#: shots takes about 1.2x as long. With friction, the joint forces are taken
-#: three times per evaluation at the same angles; inlined, LLVM computes
-#: their sines and cosines once (a batch with friction 1.26-1.35x as fast,
-#: the same bits, the same cold compile). The sites a shot passes only a few
-#: times call ``dop853.derivative_call`` instead: one copy of the model for
-#: them all (a shorter compile). numba's own inlining (``inline="always"``,
-#: at its IR level) gives shots a few per cent faster but copies and re-types
-#: each callee at every call site: it made a cold compile 1.2x-1.6x as long.
+#: evaluation: without it, every shot is slower (``python -m benchmarks``, keys
+#: ``fast_median_shot_s`` and ``batch_one_thread_shots_per_s``). With friction, the
+#: joint forces are taken three times per evaluation at the same angles; inlined,
+#: LLVM computes their sines and cosines once (faster with friction, key
+#: ``friction_fast_time_ratio``; the same bits and cold compile). The sites a shot
+#: passes only a few times call ``dop853.derivative_call`` instead: one copy of the
+#: model for them all (a shorter compile). numba's own inlining (``inline="always"``,
+#: at its IR level) gives shots a little faster but copies and re-types each callee at
+#: every call site, for a far longer cold compile (``--cold``, key ``compile_s``).
 INLINE = {"floating_arm": ("terms",),
           "eom": ("sines", "terms", "swing_terms", "frame_eliminated", "machine_terms", "slide_constraint",
                   "slide_system", "slide_accelerations", "swing_accelerations", "joint_forces", "joint_forces_sliding",
