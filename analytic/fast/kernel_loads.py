@@ -89,7 +89,7 @@ def sample_loads(t, values, buffer, samples, sides, pending, last, ended):
 
 
 @internal
-def _prepare(ref, stage, K2, live_y, live_t, pool_k, pool_y, pool_t, built, F, K, tmp, coef, p, table, counts):
+def _prepare(ref, stage, K2, live_y, live_t, pool_k, pool_y, pool_t, built, F, K, tmp, coef, p, table, out):
     """The dense output of step ``ref`` (live buffer ``ref - LIVE``, or pool slot ``ref``) in ``F[ref]``,
     unless it is ``built`` already."""
     if built[ref]:
@@ -104,7 +104,7 @@ def _prepare(ref, stage, K2, live_y, live_t, pool_k, pool_y, pool_t, built, F, K
     t_start = live_t[ref - LIVE, 0] if live else pool_t[ref, 0]
     h = live_t[ref - LIVE, 1] if live else pool_t[ref, 1]
     dense_prepare(stage, t_start, h, y_old, y_end, K[N_STAGES], coef, K, F[ref], tmp, p, table)
-    counts[1] += 3
+    out.evaluations += 3
     built[ref] = True
 
 
@@ -121,10 +121,11 @@ def _load_on_step(u, k, ref, stage, live_y, live_t, pool_y, pool_t, F, tmp, p):
 
 @internal(allocates=True)
 def finish_peaks(stage, samples, sides, K2, live_y, live_t, pool_k, pool_y, pool_t, peaks, coef, p, table,
-                  counts):
+                  out):
     """Locate each load's largest value around its largest sample (``analytic.peaks``' search on
     its steps' interpolants, as ``analytic.reference.loads.stage_peaks`` does) and keep it in
-    ``peaks`` (N_LOADS, 2) where it beats it."""
+    ``peaks`` (N_LOADS, 2) where it beats it. ``out``, the shot's result record
+    (``kernel.RESULT_DTYPE``), counts the evaluations."""
     n = pool_y.shape[2]
     F = np.empty((POOL_SLOTS + 2, 7, n))
     built = np.empty(POOL_SLOTS + 2, dtype=np.bool_)
@@ -152,14 +153,14 @@ def finish_peaks(stage, samples, sides, K2, live_y, live_t, pool_k, pool_y, pool
                 searching = b > a
             if searching:
                 _prepare(left, stage, K2, live_y, live_t, pool_k, pool_y, pool_t, built, F, K, tmp, coef, p, table,
-                         counts)
-                counts[1] += 1   # each load is one evaluation of the accelerations
+                         out)
+                out.evaluations += 1   # each load is one evaluation of the accelerations
                 inside = inside_end(a, b, left == sides[k, 1])
                 # Still rising into the stretch's end: the peak is the sample there.
                 searching = _load_on_step(inside, k, left, stage, live_y, live_t, pool_y, pool_t, F, tmp, p) > value
             u = search_golden(a, b)
             if searching:
-                counts[1] += 1
+                out.evaluations += 1
                 search = search_from(a, b, u, -_load_on_step(u, k, left, stage, live_y, live_t, pool_y, pool_t, F,
                                                              tmp, p))
             else:
@@ -170,8 +171,8 @@ def finish_peaks(stage, samples, sides, K2, live_y, live_t, pool_k, pool_y, pool
                 break
             ref = left if u < t_peak else right
             _prepare(ref, stage, K2, live_y, live_t, pool_k, pool_y, pool_t, built, F, K, tmp, coef, p, table,
-                     counts)
-            counts[1] += 1
+                     out)
+            out.evaluations += 1
             search = search_update(search, u, -_load_on_step(u, k, ref, stage, live_y, live_t, pool_y, pool_t, F,
                                                              tmp, p))
         if searching and -search.fx > value:
