@@ -73,6 +73,10 @@ crosscheck: $(COMPILED)
 # the rolling shots', the recorded motion's) whole on one worker (--dist loadgroup).
 # `$(PY) -m pytest` alone still runs the whole suite in one process. Then the
 # documentation site, so that a broken link or reference fails the tests too.
+# The suite also compiles the fast path's other (public) numba mechanism, its smallest scope only,
+# into the same disk cache under its own names (tests/test_analytic_numba_mechanisms.py): in the
+# suite, on one worker beside the others' tests, rather than here before them, and again only
+# when a source of the model changed.
 test: compile browser
 	$(PY) -m pytest -n auto --dist loadgroup
 	@$(MAKE) --no-print-directory docs

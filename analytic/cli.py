@@ -149,9 +149,12 @@ def _chart(args: argparse.Namespace) -> int:
 
 def _compile(args: argparse.Namespace) -> int:
     from analytic import fast
+    from analytic.fast import compiled
 
     seconds = fast.compile_all([s for s in SCOPES if s.name in args.scope] if args.scope else SCOPES, progress=True)
-    print("fast path ready (" + ", ".join(f"{name} {s:.1f} s" for name, s in seconds.items()) + ")")
+    how = compiled.mechanism() + (f": {compiled.mechanism_reason()}" if compiled.mechanism() == "public" else "")
+    print("fast path ready (" + ", ".join(f"{name} {s:.1f} s" for name, s in seconds.items())
+          + f"; numba mechanism {how})")
     return EXIT_OK
 
 

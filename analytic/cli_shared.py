@@ -154,9 +154,9 @@ def read_command_line(parser: argparse.ArgumentParser, argv: list[str] | None = 
     Reading the process's own command line, it then moves the objects that exist by
     then (the imported modules: numpy, scipy, numba, pymunk, the tools' own) out of the
     garbage collector's sight (``gc.freeze``): they live as long as the process, yet each
-    full collection walked all of them again. In the optimiser's default run that was
-    0.34 s of collections, 0.14 s after; a process that runs one command and exits
-    loses nothing by it. A caller that passes ``argv`` (a test, in its own long process)
+    full collection walked all of them again, a large share of a short command's time
+    (the optimiser's default run timed whole, with and without the freeze); a
+    process that runs one command and exits loses nothing by it. A caller that passes ``argv`` (a test, in its own long process)
     keeps its collector as it was.
     """
     args = parser.parse_args(negative_numbers_as_values(sys.argv[1:] if argv is None else list(argv)))

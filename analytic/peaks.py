@@ -1,16 +1,22 @@
-"""Where a load peaks around its largest sample: Brent's bounded search, written once for both paths.
+"""Where a load peaks: Brent's bounded search around each local maximum of its samples, for both paths.
 
 Both analytic paths sample each load (``stages.loads_at``) at every accepted
-step's end, then locate the largest on the integrator's dense output of the
-two steps beside the largest sample, as one bracket. The search is Brent's
-bounded minimiser (Brent 1973, ch. 5) on minus the load, the algorithm of
-scipy's ``minimize_scalar(method="bounded")``, to ``PEAK_TIME_TOLERANCE``
-plus sqrt(eps) |t|; it starts from the three samples (``search_around``),
-so that its first trial is the vertex of the parabola through them. A
-largest sample at a stretch's end is the peak unless the load is larger just
-inside the step (``inside_end``); then that one step is searched from its
-golden section point (``search_golden``, ``search_from``), step for step
-scipy's.
+step's end, then search the integrator's dense output around every sample
+that is a local maximum of the samples (``local_peak``: at least as large as
+the samples on either side of it), and keep the largest value found. A load
+can have two humps in a stretch (a light arm lets the sling whip and load
+twice), and a step straddling the higher one leaves its samples below the
+other hump's: the largest sample alone can sit on the wrong hump.
+
+An interior local maximum is searched on the two steps beside it, as one
+bracket. The search is Brent's bounded minimiser (Brent 1973, ch. 5) on minus
+the load, the algorithm of scipy's ``minimize_scalar(method="bounded")``, to
+``PEAK_TIME_TOLERANCE`` plus sqrt(eps) |t|; it starts from the three samples
+(``search_around``), so that its first trial is the vertex of the parabola
+through them. A local maximum at a stretch's end (at least as large as its one
+neighbour) is the peak there unless the load is larger just inside the step
+(``inside_end``); then that one step is searched from its golden section
+point (``search_golden``, ``search_from``), step for step scipy's.
 
 It is written in reverse communication, as plain arithmetic on floats that
 the compiled path compiles too: ``search_golden`` gives the first time to
@@ -53,6 +59,13 @@ class Search(NamedTuple):
     calls: float
 
 
+def local_peak(before, value, after):
+    """Whether a load's sample ``value`` is searched for a peak: at least as large as the samples on
+    either side of it, ``before`` and ``after`` (-inf where there is none, at a stretch's ends).
+    Never where any of them is NaN."""
+    return value >= before and value >= after
+
+
 def search_golden(a, b):
     """Where a search of ``[a, b]`` from nothing but the bracket starts: its golden section point
     (scipy's ``minimize_scalar(method="bounded")`` starts there)."""
@@ -72,8 +85,9 @@ def search_around(t_before, before, t_peak, peak, t_after, after):
 
     The three samples are the search's first three points (Brent's x, w, v), so that its first
     step is the vertex of the parabola through them; the bracket is the two steps beside the
-    sample. On the benchmark's designs a search takes 7.5 evaluations, against 2 x 24 for a
-    search of each step on its own from its golden section point, to the same tolerance.
+    sample. On the benchmark's designs (``python -m benchmarks``'s sample) a search takes 7.6
+    evaluations, against 2 x 24 for a search of each step on its own from its golden section point,
+    to the same tolerance; a shot makes about 12 (one for each local maximum of each load's samples).
     """
     if before >= after:
         return Search(t_before, t_after, t_peak, t_before, t_after, -peak, -before, -after, 0.0, t_after - t_before,

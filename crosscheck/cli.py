@@ -70,9 +70,13 @@ def main(argv: list[str] | None = None) -> int:
     study = None
     if args.report:
         # The step study's analytic shot is the run's own (no second shot, nor a compile of another scope,
-        # nor any compile with --path reference).
-        i = next((i for i, c in enumerate(cases) if c.name == "table3"), 0)
-        study = step_study(cases[i].design, analytic=lambda design: report.analytic_shots[i])
+        # nor any compile with --path reference): the paper's design, else the first that throws (a
+        # user's files may hold none: then no study).
+        shots = report.analytic_shots
+        i = next((i for i, c in enumerate(cases) if c.name == "table3"),
+                 next((i for i, shot in enumerate(shots) if shot is not None and shot.ok), None))
+        if i is not None:
+            study = step_study(cases[i].design, analytic=lambda design: shots[i])
         paths = write_report(args.report, comparisons, study)
     if args.json:
         print(json.dumps(report.to_json(), indent=2))

@@ -19,12 +19,12 @@ import engine_model
 from crosscheck.sensitivity import spread
 from engine_model import DEFAULT_DT, EngineError
 from engine_model.flight import FLIGHT_STEP_LIMIT
-from engine_model.stepping import MACHINE_STEP_LIMIT
 
 
 def engine_simulate(design: Design, dt: float) -> Shot:
-    """The pymunk model's shot at step ``dt`` (s), its ``EngineDiagnostics`` in ``shot.diagnostics``."""
-    return engine_model.simulate(design, dt=dt)
+    """The pymunk model's shot at step ``dt`` (s), its ``EngineDiagnostics`` in ``shot.diagnostics``,
+    within the cross-check's step budget (``tolerances.REFINEMENT_STEP_LIMIT``)."""
+    return engine_model.simulate(design, dt=dt, step_limit=tol.REFINEMENT_STEP_LIMIT)
 
 
 #: Units of ``PEAK_NAMES``' rows.
@@ -93,6 +93,8 @@ class Comparison:
     engine_error : where the engine's step was refined (``refinements`` halvings past
         ``engine_dt``'s first trusted step), its estimated error on each quantity compared, from
         its last two steps (``tolerances.ENGINE_ORDER``); None otherwise.
+    extrapolated : the quantities whose engine value is the Richardson extrapolation of its last
+        two steps (``refine``), their ``engine_error`` that of the extrapolation; empty otherwise.
     """
 
     case: str
@@ -109,6 +111,7 @@ class Comparison:
     sensitivity: dict[str, float] | None = None
     engine_error: dict[str, float] | None = None
     refinements: int = 0
+    extrapolated: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         if not self.verdict:
@@ -126,7 +129,7 @@ class Comparison:
     def to_json(self) -> dict:
         """The comparison as ``python -m crosscheck --json`` prints it: the machine's ``kind`` on the
         design's record and on each of its quantity's rows; ``sensitivity`` where it was measured,
-        ``engine_error`` where the engine's step was refined."""
+        ``engine_error`` where the engine's step was refined, ``extrapolated`` where it was used."""
         record = {"case": self.case, "group": self.group, "kind": self.kind, "agree": self.agree,
                   "verdict": self.verdict,
                   "analytic_status": self.analytic_status, "engine_status": self.engine_status,
@@ -138,6 +141,8 @@ class Comparison:
             record["sensitivity"] = dict(self.sensitivity)
         if self.engine_error is not None:
             record["engine_error"] = dict(self.engine_error)
+        if self.extrapolated:
+            record["extrapolated"] = list(self.extrapolated)
         return record
 
 
@@ -250,6 +255,7 @@ def compare(case: Case, dt: float = DEFAULT_DT, engine: Callable[[Design, float]
     rows = compare_shots(a, e)
     measured = estimates = None
     refined = 0
+    extrapolated: tuple[str, ...] = ()
     verdict, error = AGREE, None
     if not all(row.ok for row in rows):
         measured = sensitivity(case.design, compare_shots)
@@ -257,6 +263,7 @@ def compare(case: Case, dt: float = DEFAULT_DT, engine: Callable[[Design, float]
         refinement = refine(case.design, a, e, step, engine, amplified)
         e, step, rows, estimates, refined = (refinement.shot, refinement.dt, refinement.rows,
                                              refinement.estimates, refinement.halvings)
+        extrapolated = tuple(sorted(refinement.extrapolated))
         apart = [row for row in rows if not row.ok]
         unexplained = [row for row in apart if row.quantity not in amplified]
         unresolved = [row for row in unexplained if row.quantity in refinement.unresolved]
@@ -271,7 +278,8 @@ def compare(case: Case, dt: float = DEFAULT_DT, engine: Callable[[Design, float]
     return Comparison(case.name, case.group, a.status.value, e.status.value, rows,
                       float(e.diagnostics.max_joint_drift), error, engine_dt=step,
                       engine_energy_error=float(e.diagnostics.energy_error), kind=kind, verdict=verdict,
-                      sensitivity=measured, engine_error=estimates, refinements=refined)
+                      sensitivity=measured, engine_error=estimates, refinements=refined,
+                      extrapolated=extrapolated)
 
 
 def _trusted_run(design: Design, dt: float, engine: Callable[[Design, float], Shot]):
@@ -307,8 +315,9 @@ def _amplified(row: Row, measured: dict[str, float]) -> bool:
 class Refinement:
     """``refine``'s result: the engine's last ``shot`` at step ``dt`` (s) after ``halvings`` halvings,
     its ``rows`` against the analytic shot, its estimated error on each quantity (``estimates``,
-    None before any halving), the differing quantities it could not resolve (``unresolved``) and
-    why it stopped (``stopped``: ``"resolved"``, ``"halvings"``, ``"steps"`` or the engine's error)."""
+    None before any halving), the differing quantities it could not resolve (``unresolved``),
+    those whose row holds the extrapolation of the last two steps (``extrapolated``), and why it
+    stopped (``stopped``: ``"resolved"``, ``"halvings"``, ``"steps"`` or the engine's error)."""
 
     shot: Shot
     dt: float
@@ -317,6 +326,7 @@ class Refinement:
     halvings: int
     unresolved: frozenset[str]
     stopped: str
+    extrapolated: frozenset[str] = frozenset()
 
 
 def refine(design: Design, a: Shot, e: Shot, dt: float, engine: Callable[[Design, float], Shot],
@@ -326,11 +336,17 @@ def refine(design: Design, a: Shot, e: Shot, dt: float, engine: Callable[[Design
 
     A run's error is estimated from it and the run at twice its step: ``|q(h/2) - q(h)| / (2**p - 1)``
     with ``p`` the quantity's order (``tolerances.ENGINE_ORDER``); the outcome's is 0 where both
-    runs end alike, unbounded where they do not. The budget: at most ``MAX_REFINEMENTS`` halvings,
-    and no run past ``engine_budget``'s steps.
+    runs end alike, unbounded where they do not. Where that estimate is still too large, the
+    Richardson extrapolation of the last two runs, ``q(h/2) + (q(h/2) - q(h)) / (2**p - 1)``, is
+    compared instead once its own error can be estimated, as its change from the extrapolation one
+    halving earlier (three runs at least): a slow, long swing whose error shrinks as ``h**2`` is
+    then resolved two halvings (16x the steps) sooner. The budget: at most ``MAX_REFINEMENTS``
+    halvings, and no run past ``engine_budget``'s steps.
     """
     rows = compare_shots(a, e)
     estimates: dict[str, float] | None = None
+    previous: dict[str, float] = {}
+    extrapolated: frozenset[str] = frozenset()
     halvings = 0
     stopped = "resolved"
     while True:
@@ -351,9 +367,44 @@ def refine(design: Design, a: Shot, e: Shot, dt: float, engine: Callable[[Design
             stopped = f"{type(error).__name__}: {error}"
             break
         estimates = error_estimates(e, finer)
+        values = extrapolations(e, finer)
         e, dt, halvings = finer, dt / 2.0, halvings + 1
-        rows = compare_shots(a, e)
-    return Refinement(e, dt, rows, estimates, halvings, unresolved, stopped)
+        rows, estimates, extrapolated = _extrapolated_rows(compare_shots(a, e), estimates, values, previous)
+        previous = values
+    return Refinement(e, dt, rows, estimates, halvings, unresolved, stopped, extrapolated)
+
+
+def extrapolations(coarse: Shot, fine: Shot) -> dict[str, float]:
+    """The Richardson extrapolation to a zero step of each quantity both runs reach (``fine`` at
+    half ``coarse``'s step), in its unit: ``q(h/2) + (q(h/2) - q(h)) / (2**p - 1)``
+    (``tolerances.ENGINE_ORDER``)."""
+    values = {}
+    for row in compare_shots(fine, coarse):
+        if row.difference is not None:
+            order = tol.ENGINE_ORDER.get(row.quantity, tol.ENGINE_DEFAULT_ORDER)
+            values[row.quantity] = row.analytic - row.difference / (2.0**order - 1.0)
+    return values
+
+
+def _extrapolated_rows(rows: tuple[Row, ...], estimates: dict[str, float], values: dict[str, float],
+                       previous: dict[str, float]) -> tuple[tuple[Row, ...], dict[str, float], frozenset[str]]:
+    """``rows`` with the extrapolated engine value (``values``) in every differing row whose own
+    run's error is too large but whose extrapolation's (its change from ``previous``, the
+    extrapolation one halving earlier) is within ``ENGINE_ERROR_SHARE`` of the tolerance; the
+    estimates with the extrapolation's error for those rows, and their quantities."""
+    estimates = dict(estimates)
+    kept, extrapolated = [], set()
+    for row in rows:
+        quantity = row.quantity
+        if (not row.ok and not _resolved(row, estimates) and quantity in values and quantity in previous
+                and row.tolerance):
+            error = abs(values[quantity] - previous[quantity])
+            if error <= tol.ENGINE_ERROR_SHARE * row.tolerance:
+                row = _numeric(quantity, row.unit, row.analytic, values[quantity], row.tolerance)
+                estimates[quantity] = error
+                extrapolated.add(quantity)
+        kept.append(row)
+    return tuple(kept), estimates, frozenset(extrapolated)
 
 
 def _resolved(row: Row, estimates: dict[str, float] | None) -> bool:
@@ -378,11 +429,11 @@ def error_estimates(coarse: Shot, fine: Shot) -> dict[str, float]:
 
 
 def engine_budget(shot: Shot) -> bool:
-    """Whether a run at half ``shot``'s step stays within the engine's step limits (about twice
-    its steps in each stage): ``engine_model.stepping.MACHINE_STEP_LIMIT`` for the swing and a
-    rolling machine's run after release, ``engine_model.flight.FLIGHT_STEP_LIMIT`` for the flight."""
+    """Whether a run at half ``shot``'s step stays within the cross-check's step limits (about twice
+    its steps in each stage): ``tolerances.REFINEMENT_STEP_LIMIT`` for the swing and a rolling
+    machine's run after release, ``engine_model.flight.FLIGHT_STEP_LIMIT`` for the flight."""
     d = shot.diagnostics
-    return (2 * d.machine_steps <= MACHINE_STEP_LIMIT and 2 * d.after_release_steps <= MACHINE_STEP_LIMIT
+    return (2 * d.machine_steps <= tol.REFINEMENT_STEP_LIMIT and 2 * d.after_release_steps <= tol.REFINEMENT_STEP_LIMIT
             and 2 * d.flight_steps <= FLIGHT_STEP_LIMIT)
 
 
@@ -429,15 +480,29 @@ class StepStudy:
 
 def step_study(design: Design, dts: tuple[float, ...] = (4e-4, 2e-4, 1e-4, 5e-5),
                engine: Callable[[Design, float], Shot] = engine_simulate,
-               analytic: Callable[[Design], Shot] = simulate_fast) -> StepStudy:
-    """Measure the engine's convergence order against the analytic model."""
+               analytic: Callable[[Design], Shot] = simulate_fast) -> StepStudy | None:
+    """Measure the engine's convergence order against the analytic model; None where the design
+    does not throw in the analytic model, or fewer than two of the engine's steps throw it with an
+    error to take the logarithm of (an order needs two points)."""
     reference = analytic(design)
-    speed, rng = [], []
+    if not reference.ok:
+        return None
+    kept, speed, rng = [], [], []
     for dt in dts:
-        shot = engine(design, dt)
-        speed.append(abs(shot.release_speed / reference.release_speed - 1.0))
-        rng.append(abs(shot.range / reference.range - 1.0))
-    log_dt = np.log(dts)
-    return StepStudy(design.name, np.array(dts), np.array(speed), np.array(rng),
+        try:
+            shot = engine(design, dt)
+        except EngineError:
+            continue
+        if not shot.ok:
+            continue
+        errors = (abs(shot.release_speed / reference.release_speed - 1.0), abs(shot.range / reference.range - 1.0))
+        if min(errors) > 0.0:
+            kept.append(dt)
+            speed.append(errors[0])
+            rng.append(errors[1])
+    if len(kept) < 2:
+        return None
+    log_dt = np.log(kept)
+    return StepStudy(design.name, np.array(kept), np.array(speed), np.array(rng),
                      float(np.polyfit(log_dt, np.log(speed), 1)[0]),
                      float(np.polyfit(log_dt, np.log(rng), 1)[0]))

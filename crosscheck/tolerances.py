@@ -169,10 +169,18 @@ ENGINE_DEFAULT_ORDER = 2
 
 #: How many times past the step it trusted the cross-check may halve the engine's step to resolve
 #: a difference. With ``MAX_STEP_HALVINGS`` that is 1/128 of the default step at the finest, and
-#: every run is held to ``engine_model.stepping.MACHINE_STEP_LIMIT`` steps besides
-#: (``engine_budget``): a design whose error the budget cannot bring under the share above is
-#: ``engine_untrusted``, reported with the error reached, never a disagreement.
+#: every run is held to ``REFINEMENT_STEP_LIMIT`` steps besides (``engine_budget``): a design whose
+#: error the budget cannot bring under the share above is ``engine_untrusted``, reported with the
+#: error reached, never a disagreement.
 MAX_REFINEMENTS = 5
+
+#: Most pymunk steps of stages 1-2 (and of a rolling machine's run after release) in one of the
+#: cross-check's engine runs: 2.5x the engine's own ``MACHINE_STEP_LIMIT``, so that a swing of
+#: about 2.5 s can be halved three times past the default step (to 3.1e-6 s), which with the
+#: extrapolation of ``crosscheck.comparison.refine`` resolves the slowest-converging design of
+#: seeds 1-20 (a sling whirling 28 turns before release). A run this long takes about
+#: 30 s and 0.3 GB; the budget is spent only where the two models differ.
+REFINEMENT_STEP_LIMIT = 1_000_000
 
 #: The largest relative change of each input in the sensitivity runs (``crosscheck.sensitivity``):
 #: a few parts in 1e9, far below anything a builder measures and far above the last bit (2.2e-16),

@@ -273,66 +273,22 @@ def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITE
         raise ValueError(f"sling = {sling!r}: must be one of {', '.join(SLINGS)}")
     if iterations < 1:
         raise ValueError(f"iterations = {iterations!r}: must be at least 1")
-    m, env, proj = design.machine, design.environment, design.projectile
-    theta, phi, _ = initial_angles(m)
-    start = start_positions(design)
-
-    space = pymunk.Space()
-    space.gravity = (0.0, -env.gravity)
-    space.damping = 1.0
-    space.iterations = int(iterations)
-    # No shapes collide, but keep pymunk's pixel-sized defaults out of a metre world.
-    space.collision_slop = 1e-6 * largest_length(design.machine)
-    if design.base.rolling:
-        frame = pymunk.Body(frame_body_mass(design), math.inf)
-        frame.position = (0.0, 0.0)
-        rail = pymunk.GrooveJoint(space.static_body, frame, (-RAIL_HALF_LENGTH, 0.0),
-                                  (RAIL_HALF_LENGTH, 0.0), (0.0, 0.0))
-    else:
-        frame, rail = space.static_body, None
-
+    m = design.machine
     fixed = m.kind != "hinged"   # the counterweight is part of the arm's body
-    arm_mass, arm_cg, arm_moment = (floating.arm_properties(design) if m.kind == "floating-arm"
-                                    else fixed_arm_properties(design) if fixed else arm_body_properties(design))
-    arm = pymunk.Body(arm_mass, arm_moment)
-    # pymunk keeps the centre of gravity fixed when the angle is set: set the
-    # centre of gravity, then the angle, then the origin's position.
-    arm.center_of_gravity = (0.0, arm_cg)
-    arm.angle = theta
-    arm.position = (axle_start(design), 0.0)
-
-    point_counterweight = m.counterweight_inertia == 0.0
-    counterweight = None
-    if not fixed:
-        cw_moment = (placeholder_moment(m.counterweight_mass, m.counterweight_link) if point_counterweight
-                     else m.counterweight_inertia)
-        counterweight = pymunk.Body(m.counterweight_mass, cw_moment)
-        counterweight.angle = theta + phi
-        counterweight.position = start["counterweight"]
-
-    radius = proj.diameter / 2.0
-    projectile = pymunk.Body(proj.mass, placeholder_moment(0.4 * proj.mass, radius))  # solid sphere; decoupled
-    projectile.position = start["projectile"]
-
+    start = start_positions(design)
+    space = _space(design, iterations)
+    frame, rail = _frame(design, space)
+    arm = _arm(design)
+    counterweight = None if fixed else _counterweight(design, start["counterweight"])
+    projectile = _projectile(design, start["projectile"])
     supports: tuple = ()
     if m.kind == "floating-arm":
         pivot, carried, held = floating.supports(design, frame, arm, (axle_start(design), 0.0))
         supports = carried + held
     else:
         pivot = pymunk.PivotJoint(frame, arm, (0.0, 0.0), (0.0, 0.0))
-    if fixed:
-        hinge = None
-    elif point_counterweight:
-        hinge = pymunk.PinJoint(arm, counterweight, (0.0, -m.arm_short), (0.0, 0.0))
-        hinge.distance = m.counterweight_link
-    else:
-        hinge = pymunk.PivotJoint(arm, counterweight, (0.0, -m.arm_short), (0.0, m.counterweight_link))
-    if sling == "rigid":
-        sling_joint = pymunk.PinJoint(arm, projectile, (0.0, m.arm_long), (0.0, 0.0))
-        sling_joint.distance = m.sling_length
-    else:
-        sling_joint = pymunk.SlideJoint(arm, projectile, (0.0, m.arm_long), (0.0, 0.0),
-                                        0.0, m.sling_length)
+    hinge = None if fixed else _hinge(design, arm, counterweight)
+    sling_joint = _sling(design, sling, arm, projectile)
     reach = GROOVE_HALF_LENGTH_FACTOR * largest_length(design.machine)
     groove = pymunk.GrooveJoint(frame, projectile, (-reach, -m.pivot_height),
                                 (reach, -m.pivot_height), (0.0, 0.0))
@@ -346,14 +302,110 @@ def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITE
     named = [("arm", arm), ("counterweight", counterweight), ("projectile", projectile)]
     named += [("frame", frame)] if rail else []
     named += list(zip(("carriage", "slider"), supports[:2]))
+    space.add(*_checked_bodies(named), *joints)
+    return Rig(space, arm, counterweight, projectile, pivot, hinge, sling_joint, groove, sling, frame, rail,
+               (0.0, -m.arm_short) if fixed else None, supports)
+
+
+def _space(design: Design, iterations: int) -> pymunk.Space:
+    """An empty Space under the design's gravity, undamped, solving ``iterations`` times a step."""
+    space = pymunk.Space()
+    space.gravity = (0.0, -design.environment.gravity)
+    space.damping = 1.0
+    space.iterations = int(iterations)
+    # No shapes collide, but keep pymunk's pixel-sized defaults out of a metre world.
+    space.collision_slop = 1e-6 * largest_length(design.machine)
+    return space
+
+
+def _frame(design: Design, space: pymunk.Space) -> tuple[pymunk.Body, pymunk.GrooveJoint | None]:
+    """The body carrying the pivot and the base, and the rail it rolls on: a rolling frame's own body
+    (``frame_body_mass``, never turning) on a groove along the ground; else the space's static body
+    and no rail."""
+    if not design.base.rolling:
+        return space.static_body, None
+    frame = pymunk.Body(frame_body_mass(design), math.inf)
+    frame.position = (0.0, 0.0)
+    rail = pymunk.GrooveJoint(space.static_body, frame, (-RAIL_HALF_LENGTH, 0.0), (RAIL_HALF_LENGTH, 0.0),
+                              (0.0, 0.0))
+    return frame, rail
+
+
+def _arm(design: Design) -> pymunk.Body:
+    """The arm's body at rest: a hinged machine's arm (``arm_body_properties``), a fixed one's with its
+    counterweight (``fixed_arm_properties``), or a floating arm's (``floating.arm_properties``)."""
+    m = design.machine
+    if m.kind == "floating-arm":
+        mass, cg, moment = floating.arm_properties(design)
+    elif m.kind != "hinged":
+        mass, cg, moment = fixed_arm_properties(design)
+    else:
+        mass, cg, moment = arm_body_properties(design)
+    arm = pymunk.Body(mass, moment)
+    # pymunk keeps the centre of gravity fixed when the angle is set: set the
+    # centre of gravity, then the angle, then the origin's position.
+    arm.center_of_gravity = (0.0, cg)
+    arm.angle = initial_angles(m)[0]
+    arm.position = (axle_start(design), 0.0)
+    return arm
+
+
+def _counterweight(design: Design, position: tuple[float, float]) -> pymunk.Body:
+    """A hinged machine's counterweight at rest, centred at ``position``; a point counterweight's moment
+    is a placeholder (``placeholder_moment``: its rotation is decoupled, see ``build``)."""
+    m = design.machine
+    theta, phi, _ = initial_angles(m)
+    moment = (placeholder_moment(m.counterweight_mass, m.counterweight_link) if m.counterweight_inertia == 0.0
+              else m.counterweight_inertia)
+    counterweight = pymunk.Body(m.counterweight_mass, moment)
+    counterweight.angle = theta + phi
+    counterweight.position = position
+    return counterweight
+
+
+def _projectile(design: Design, position: tuple[float, float]) -> pymunk.Body:
+    """The projectile at ``position``: a solid sphere's moment, which nothing couples to."""
+    proj = design.projectile
+    projectile = pymunk.Body(proj.mass, placeholder_moment(0.4 * proj.mass, proj.diameter / 2.0))
+    projectile.position = position
+    return projectile
+
+
+def _hinge(design: Design, arm: pymunk.Body, counterweight: pymunk.Body) -> pymunk.Constraint:
+    """The short tip's hinge to the counterweight: a PivotJoint at the end of the link, or for a point
+    counterweight (no inertia) a PinJoint as long as the link to its centre."""
+    m = design.machine
+    if m.counterweight_inertia == 0.0:
+        hinge = pymunk.PinJoint(arm, counterweight, (0.0, -m.arm_short), (0.0, 0.0))
+        hinge.distance = m.counterweight_link
+        return hinge
+    return pymunk.PivotJoint(arm, counterweight, (0.0, -m.arm_short), (0.0, m.counterweight_link))
+
+
+def _sling(design: Design, sling: str, arm: pymunk.Body, projectile: pymunk.Body) -> pymunk.Constraint:
+    """The sling from the long tip to the projectile: a PinJoint (``"rigid"``) or a SlideJoint that
+    pulls only (``"rope"``)."""
+    m = design.machine
+    if sling == "rigid":
+        joint = pymunk.PinJoint(arm, projectile, (0.0, m.arm_long), (0.0, 0.0))
+        joint.distance = m.sling_length
+        return joint
+    return pymunk.SlideJoint(arm, projectile, (0.0, m.arm_long), (0.0, 0.0), 0.0, m.sling_length)
+
+
+def _checked_bodies(named: list[tuple[str, pymunk.Body | None]]) -> list[pymunk.Body]:
+    """The bodies of ``(name, body)`` pairs (None left out), each checked to have a positive, finite
+    mass and a positive moment.
+
+    Raises
+    ------
+    EngineError
+        A body's mass or moment is not: the design's numbers underflow or overflow them.
+    """
     named = [(name, body) for name, body in named if body is not None]
-    bodies = [body for _, body in named]
     for name, body in named:
         if not (0.0 < body.mass < math.inf and body.moment > 0.0):
             raise EngineError(f"the {name}'s pymunk body would have mass {body.mass:.3g} kg and moment "
                               f"{body.moment:.3g} kg m^2: the engine needs both positive and finite "
                               f"(the design's numbers underflow or overflow them)")
-    space.add(*bodies, *joints)
-    return Rig(space, arm, counterweight, projectile, pivot, hinge, sling_joint, groove, sling, frame, rail,
-               (0.0, -m.arm_short) if fixed else None, supports)
-
+    return [body for _, body in named]

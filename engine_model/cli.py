@@ -15,7 +15,7 @@ from analytic.result import Shot
 from analytic.units import with_units
 from engine_model import DEFAULT_DT, EngineError, simulate
 from engine_model.build import DEFAULT_ITERATIONS, SLINGS
-from engine_model.render import DEFAULT_FPS, SWING_SLOW_MOTION
+from engine_model.timeline import DEFAULT_FPS, SWING_SLOW_MOTION
 
 #: The exit code of an engine run that could not be trusted (unstable, joints apart).
 EXIT_ENGINE_ERROR = EXIT_FAILED

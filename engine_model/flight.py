@@ -4,11 +4,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Callable, NamedTuple
 
 import numpy as np
 import pymunk
-
-from typing import Callable
 
 from analytic.aero import DRAG_MODELS, DRAG_TABLE, GOLF_BALL_DRAG_COEFFICIENT, drag_coefficient, reynolds_number
 from analytic.aero import drag_rate as aero_drag_rate
@@ -191,45 +190,21 @@ def fly(design: Design, release_time: float, position: np.ndarray, velocity: np.
     """
     g, h = design.environment.gravity, design.machine.pivot_height
     dt = FLIGHT_STEP_MULTIPLE * dt
-    mass = design.projectile.mass
-    space = pymunk.Space()
-    space.gravity = (0.0, -g)
-    space.damping = 1.0
-    body = pymunk.Body(mass, placeholder_moment(0.4 * mass, design.projectile.diameter / 2.0))   # rotation decoupled
-    space.add(body)
-
-    wind = design.environment.wind_speed
-    drag = drag_rate_function(design)
-
-    def step_after(rate: float) -> float:
-        return dt if rate * dt <= DRAG_STEP_FRACTION else DRAG_STEP_FRACTION / rate
-
-    def predicted(vx: float, vy: float, ahead: float) -> tuple[float, float]:
-        k = drag(vx, vy)
-        return vx + -k * (vx - wind) * ahead, vy + (-k * vy - g) * ahead
-
-    # Leapfrog start: position at the release instant, velocity half a step later.
-    step = step_after(drag(float(velocity[0]), float(velocity[1])))
-    quarter = predicted(float(velocity[0]), float(velocity[1]), 0.25 * step)
-    k = drag(*quarter)
-    ax, ay = -k * (quarter[0] - wind), -k * quarter[1]
-    body.position = (float(position[0]), float(position[1]))
-    body.velocity = (velocity[0] + ax * 0.5 * step, velocity[1] + (ay - g) * 0.5 * step)
+    scheme = _Scheme(drag_rate_function(design), design.environment.wind_speed, g, design.projectile.mass, dt)
+    space, body = _flight_space(design)
+    step, start_work = _leapfrog_start(body, scheme, position, velocity)
     vx, vy = body.velocity
-    # The drag's work over the ground velocity: each kick's impulse times the mean of the
-    # velocities it joins (exact for a kick); a sample holds half of its own kick's.
-    start_work = -mass * 0.5 * step * (ax * 0.5 * (velocity[0] + vx) + ay * 0.5 * (velocity[1] + vy))
     kicks = 0.0
     work = [0.0]
-
     times, path = [release_time], [(float(position[0]), float(position[1]))]
     limit = flight_time_limit(float(position[1]) + h, float(velocity[1]), g)
     # The bound is 100 vacuum flights plus a minute: a projectile that only
     # drifts down at its terminal speed would take 1.3e6 steps of 50 us to
-    # reach it (33 s for the 10 mg, 1 m balloon of crosscheck.cases), so the
-    # flight stops once the fall speed bound proves it cannot land in time
-    # (the balloon: after 3.3 ms of flight, falling 1.42 m at 2.08 cm/s at most
-    # takes 68.3 s against a bound of 64.9 s). A real throw never comes near.
+    # reach it (the 10 mg, 1 m balloon of crosscheck.cases), so the flight
+    # stops once the fall speed bound proves it cannot land in time (the
+    # balloon: after 3.3 ms of flight, falling 1.42 m at 2.08 cm/s at most
+    # takes 68.3 s of flight, past its bound of 64.9 s). A real throw never
+    # comes near.
     fall_cap = fall_speed_bound(design)
     # Time flown: steps of dt counted apart from shorter ones, so that a flight
     # at dt throughout has its times exactly release_time + n dt.
@@ -238,18 +213,8 @@ def fly(design: Design, release_time: float, position: np.ndarray, velocity: np.
     taken = [0.0, 0.0]  # the last two steps
     advance = stepper(space)
     while True:
-        v_next = predicted(vx, vy, 0.5 * step)
-        rate = drag(*v_next)
-        ax, ay = -rate * (v_next[0] - wind), -rate * v_next[1]
-        following = step_after(rate)
-        drag_impulse = (-mass * rate * (v_next[0] - wind) * step, -mass * rate * v_next[1] * step)
-        if following != step:
-            # pymunk applies force and gravity over this step; the velocity
-            # update must span the mean of this step and the next.
-            scale = 0.5 * (step + following) / step
-            ax, ay = ax * scale, (ay - g) * scale + g
-            drag_impulse = (drag_impulse[0] * scale, drag_impulse[1] * scale)
-        set_force(body, mass * ax, mass * ay)
+        kick = scheme.kick(vx, vy, step)
+        set_force(body, *kick.force)
         before = (vx, vy)
         advance(step)
         steps += 1
@@ -258,24 +223,112 @@ def fly(design: Design, release_time: float, position: np.ndarray, velocity: np.
         else:
             short_time += step
         taken = [taken[1], step]
-        step = following
+        step = kick.following
         x, y, vx, vy = motion(body)
         if not math.isfinite(x + y + vx + vy):
             raise EngineError(f"the flight went non-finite after {steps} steps of at most {dt:g} s")
-        kick = -(drag_impulse[0] * 0.5 * (before[0] + vx) + drag_impulse[1] * 0.5 * (before[1] + vy))
-        work.append(start_work + kicks + 0.5 * kick)
-        kicks += kick
+        kick_work = -(kick.impulse[0] * 0.5 * (before[0] + vx) + kick.impulse[1] * 0.5 * (before[1] + vy))
+        work.append(start_work + kicks + 0.5 * kick_work)
+        kicks += kick_work
         flown = full_steps * dt + short_time
         times.append(release_time + flown)
         path.append((x, y))
         if y + h < 0.0:
-            break
+            return _landed(times, path, work, steps, taken, limit, h)
         out_of_steps = steps >= FLIGHT_STEP_LIMIT
-        if out_of_steps or flown > limit or flown + (y + h) / max(-v_next[1], fall_cap) > limit:
+        if out_of_steps or flown > limit or flown + (y + h) / max(-kick.fall_velocity, fall_cap) > limit:
             path_array = np.array(path)
             return Flight(np.array(times), path_array, None, None, steps, limit,
                           highest(np.array(times), path_array[:, 1]), work[-1], out_of_steps)
-    # Equally spaced samples locate the landing on a parabola; after a change of step, a line.
+
+
+class _Kick(NamedTuple):
+    """One step's velocity update: the force to apply over the step, N (drag and the share of gravity
+    that stretches it to the mean of this step and the next), the drag's impulse, N s, the next
+    step, s, and the vertical velocity predicted for the step's middle, m/s."""
+
+    force: tuple[float, float]
+    impulse: tuple[float, float]
+    following: float
+    fall_velocity: float
+
+
+@dataclass(frozen=True)
+class _Scheme:
+    """The flight's leapfrog: the drag rate ``rate(vx, vy)`` (``drag_rate_function``, 1/s), the wind,
+    m/s, gravity, m/s^2, the projectile's mass, kg, and its longest step ``dt``, s."""
+
+    rate: Callable[[float, float], float]
+    wind: float
+    gravity: float
+    mass: float
+    dt: float
+
+    def step_after(self, rate: float) -> float:
+        """The step after a kick at the drag ``rate`` (1/s): ``dt``, or shorter where the drag's time
+        scale is short (``DRAG_STEP_FRACTION``)."""
+        return self.dt if rate * self.dt <= DRAG_STEP_FRACTION else DRAG_STEP_FRACTION / rate
+
+    def predicted(self, vx: float, vy: float, ahead: float) -> tuple[float, float]:
+        """The velocity ``ahead`` s on from ``(vx, vy)``, m/s, under drag and gravity (one Euler step)."""
+        k = self.rate(vx, vy)
+        return vx + -k * (vx - self.wind) * ahead, vy + (-k * vy - self.gravity) * ahead
+
+    def kick(self, vx: float, vy: float, step: float) -> _Kick:
+        """The velocity update of a ``step`` from the half-step velocity ``(vx, vy)``: the drag at the
+        velocity predicted for the position's instant, half a step on."""
+        mass, g, wind = self.mass, self.gravity, self.wind
+        v_next = self.predicted(vx, vy, 0.5 * step)
+        rate = self.rate(*v_next)
+        ax, ay = -rate * (v_next[0] - wind), -rate * v_next[1]
+        following = self.step_after(rate)
+        drag_impulse = (-mass * rate * (v_next[0] - wind) * step, -mass * rate * v_next[1] * step)
+        if following != step:
+            # pymunk applies force and gravity over this step; the velocity
+            # update must span the mean of this step and the next.
+            scale = 0.5 * (step + following) / step
+            ax, ay = ax * scale, (ay - g) * scale + g
+            drag_impulse = (drag_impulse[0] * scale, drag_impulse[1] * scale)
+        return _Kick((mass * ax, mass * ay), drag_impulse, following, v_next[1])
+
+
+def _flight_space(design: Design) -> tuple[pymunk.Space, pymunk.Body]:
+    """A Space of its own for the released projectile under gravity, and its body (its rotation
+    decoupled: any moment will do)."""
+    mass = design.projectile.mass
+    space = pymunk.Space()
+    space.gravity = (0.0, -design.environment.gravity)
+    space.damping = 1.0
+    body = pymunk.Body(mass, placeholder_moment(0.4 * mass, design.projectile.diameter / 2.0))
+    space.add(body)
+    return space, body
+
+
+def _leapfrog_start(body: pymunk.Body, scheme: _Scheme, position: np.ndarray,
+                    velocity: np.ndarray) -> tuple[float, float]:
+    """Put the projectile at its release ``position`` with its velocity half a step after release
+    (the leapfrog's start), and return that first step, s, and the drag's work over its half, J.
+
+    The drag's work is taken over the ground velocity: each kick's impulse times the mean of the
+    velocities it joins (exact for a kick); a sample holds half of its own kick's.
+    """
+    g, wind, mass = scheme.gravity, scheme.wind, scheme.mass
+    step = scheme.step_after(scheme.rate(float(velocity[0]), float(velocity[1])))
+    quarter = scheme.predicted(float(velocity[0]), float(velocity[1]), 0.25 * step)
+    k = scheme.rate(*quarter)
+    ax, ay = -k * (quarter[0] - wind), -k * quarter[1]
+    body.position = (float(position[0]), float(position[1]))
+    body.velocity = (velocity[0] + ax * 0.5 * step, velocity[1] + (ay - g) * 0.5 * step)
+    vx, vy = body.velocity
+    return step, -mass * 0.5 * step * (ax * 0.5 * (velocity[0] + vx) + ay * 0.5 * (velocity[1] + vy))
+
+
+def _landed(times: list[float], path: list[tuple[float, float]], work: list[float], steps: int,
+            taken: list[float], limit: float, pivot_height: float) -> Flight:
+    """The flight whose last step took its centre below base level, its last sample moved back to the
+    landing instant (``events.crossing_fraction``): on the parabola through three equally spaced
+    samples, or after a change of step (``taken``, the last two steps), on the line through two."""
+    h = pivot_height
     samples = 3 if steps >= 2 and taken[0] == taken[1] else 2
     heights = [p[1] + h for p in path[-samples:]]
     fraction = crossing_fraction(tuple(heights))

@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
@@ -81,123 +82,209 @@ def row_bodies(rig: Rig) -> tuple:
     return rig.arm, rig.counterweight, rig.projectile, rig.frame, rig.mount
 
 
+class _Take(NamedTuple):
+    """One take of the opening half step: the machine built with its friction limits set from
+    ``loads`` (N) and ``slips`` (each joint's mode), and the row read after the half step."""
+
+    rig: Rig
+    friction: fr.Friction | None
+    row: tuple[float, ...]
+    loads: tuple[float, ...]
+    slips: tuple[bool, ...]
+
+
+class _Forces(NamedTuple):
+    """The forces on the projectile over a step, N: the base's friction (signed, +x), the sling's
+    tension and the base's normal force (``_forces``)."""
+
+    base_friction: float
+    tension: float
+    normal: float
+
+
+@dataclass
+class _Joints:
+    """The friction joints as the stepping loop carries them from step to step (internal, mutable):
+    each joint's mode (``slips``, ``friction.slipping``) and rate, and the loads of the last two
+    steps, from which the coming step's limits are extrapolated (``friction.predicted_loads``)."""
+
+    friction: fr.Friction
+    slips: tuple[bool, ...]
+    rates: tuple[float, ...]
+    loads: tuple[float, ...]
+    earlier_loads: tuple[float, ...] | None = None
+
+
+@dataclass(frozen=True)
+class _Opening:
+    """The machine after its opening half step, as the stepping loop takes it over (``joints`` None
+    without friction; ``startup``, the solver iterations of a step that starts from nothing)."""
+
+    rig: Rig
+    row: tuple[float, ...]
+    on_base: bool
+    joints: _Joints | None
+    startup: int
+
+
 def run_machine(design: Design, dt: float, iterations: int, sling: str, limit: int = MACHINE_STEP_LIMIT,
-                 at_limit: Callable[[int], int | None] | None = None) -> tuple[Run, Rig]:
+                at_limit: Callable[[int], int | None] | None = None) -> tuple[Run, Rig]:
     """Step stages 1 and 2 until release, a failure, or ``limit`` steps (``STEP_FAILED``, and
     ``run.out_of_steps``); the loop behind ``simulate``. At the limit, ``at_limit(steps)`` may
     give a new one, and the run goes on as if that had been its limit all along."""
-    m = design.machine
-    h, g = m.pivot_height, design.environment.gravity
-    t_limit = swing_time_limit(largest_length(design.machine), g)
-    rule = RELEASE_RULES.index(m.release_rule)
     run = Run()
     drag = swing_drag_function(design)
+    rig, opening = _open(design, dt, iterations, sling, drag, run)
+    if opening is None:
+        return run, rig
+    return _step_to_release(design, dt, iterations, limit, at_limit, drag, run, opening)
 
-    rig = build(design, sling=sling, iterations=iterations)
-    friction = _attach_friction(rig, design, True, dt)
-    floating_arm = bool(rig.supports)
-    startup = floating.STARTUP_ITERATIONS if floating_arm else STARTUP_ITERATIONS
-    row = _opening_step(rig, dt, iterations, drag, startup)
-    # From rest the opening half step gives the arm omega = alpha dt/2 (pymunk
-    # updates velocities first), so this is its angular acceleration at rest.
+
+def _open(design: Design, dt: float, iterations: int, sling: str, drag, run: Run) -> tuple[Rig, _Opening | None]:
+    """Build the machine and take its opening half step from rest, recorded as ``run``'s first row.
+
+    No ``_Opening`` where the machine does not fire (``run.status`` then says why). A sling
+    that lifts the projectile at rest starts again without the base; with friction, the half
+    step is taken again with the limits its own loads give (``_retake_opening``).
+    """
+    startup = floating.STARTUP_ITERATIONS if design.machine.kind == "floating-arm" else STARTUP_ITERATIONS
+    resting = fr.static_loads(design)
+    take = _take_opening(design, dt, iterations, sling, drag, startup, True, resting, fr.STUCK)
+    message = _never_fires_message(design, take.friction, take.row, dt)
+    if message is not None:
+        run.raw.append(take.row)
+        run.on_base.append(True)
+        run.tension.append(0.0)
+        if take.friction is not None:
+            run.friction_impulse.append(fr.impulses(take.friction, True))
+        run.status, run.message = Status.NEVER_FIRES, message
+        return take.rig, None
+    on_base = True
+    forces = _opening_forces(take, on_base, design, dt, drag)
+    if forces.normal < 0.0:
+        # The sling lifts the projectile at rest: start again without the base.
+        on_base = False
+        take = _take_opening(design, dt, iterations, sling, drag, startup, on_base, resting, fr.STUCK)
+        forces = _opening_forces(take, on_base, design, dt, drag)
+        run.liftoff_time = 0.0
+    if take.friction is not None:
+        take, forces = _retake_opening(design, dt, iterations, sling, drag, startup, on_base, take, forces)
+    row, m = take.row, design.machine
+    run.raw.append(row)
+    run.on_base.append(on_base)
+    run.tension.append(forces.tension)
+    run.normal.append(forces.normal)
+    run.release_value.append(_release(row, row, _row_geometry(row, m), RELEASE_RULES.index(m.release_rule),
+                                      m.release_angle)[0])
+    run.drag_work.append(_drag_work(_rest_drag(drag), (0.0, 0.0), row, 0.5 * dt))
+    joints = None
+    if take.friction is not None:
+        joints = _record_opening_joints(run, take, design, dt, on_base,
+                                        (forces.base_friction, forces.normal if on_base else 0.0))
+    return take.rig, _Opening(take.rig, row, on_base, joints, startup)
+
+
+def _take_opening(design: Design, dt: float, iterations: int, sling: str, drag, startup: int, on_base: bool,
+                  loads: tuple[float, ...], slips: tuple[bool, ...]) -> _Take:
+    """Build the machine (its projectile held on the base or not), its friction's limits set from
+    ``loads`` and ``slips`` (``_attach_friction``), and take the opening half step."""
+    rig = build(design, sling=sling, iterations=iterations, on_base=on_base)
+    friction = _attach_friction(rig, design, on_base, dt, loads, slips)
+    return _Take(rig, friction, _opening_step(rig, dt, iterations, drag, startup), loads, slips)
+
+
+def _opening_forces(take: _Take, on_base: bool, design: Design, dt: float, drag) -> _Forces:
+    """The forces on the projectile over the opening half step of ``take`` (the wind's drag on it at rest)."""
+    geometry = _row_geometry(take.row, design.machine)
+    base_force = _base_friction(take.friction, take.rig, 0.5 * dt, geometry, on_base)
+    return _Forces(base_force, *_forces(take.row, take.row, geometry, on_base, design, dt, base_force,
+                                        _rest_drag(drag)))
+
+
+def _never_fires_message(design: Design, friction: fr.Friction | None, row: tuple[float, ...],
+                         dt: float) -> str | None:
+    """Why the machine stays at rest (``analytic.outcome.never_fires_message``), read from the opening
+    half step's ``row``; None where it fires.
+
+    From rest the opening half step gives the arm omega = alpha dt/2 (pymunk updates velocities
+    first), so that is its angular acceleration at rest. Friction holds it where the axle's static
+    friction balances the weights' torque, or where the arm hardly moves at all.
+    """
     arm_acceleration = row[kin.ARM + kin.W] / (0.5 * dt)
     if friction is not None:
         balance = fr.static_balance(design, np.array(row))
         held = abs(arm_acceleration) <= fr.HELD_ACCELERATION
         if (friction.axle is not None and balance.holds) or held:
-            run.raw.append(row)
-            run.on_base.append(True)
-            run.tension.append(0.0)
-            run.friction_impulse.append(fr.impulses(friction, True))
-            run.status = Status.NEVER_FIRES
-            run.message = (outcome.never_fires_message(arm_acceleration, held_by=fr.holders(friction))
-                           if fr.slides(friction) else
-                           outcome.never_fires_message(arm_acceleration, -balance.gravity_torque,
-                                                       balance.holding_torque))
-            return run, rig
+            if fr.slides(friction):
+                return outcome.never_fires_message(arm_acceleration, held_by=fr.holders(friction))
+            return outcome.never_fires_message(arm_acceleration, -balance.gravity_torque, balance.holding_torque)
     if not arm_acceleration < 0.0:
-        run.raw.append(row)
-        run.on_base.append(True)
-        run.tension.append(0.0)
-        if friction is not None:
-            run.friction_impulse.append(fr.impulses(friction, True))
-        run.status = Status.NEVER_FIRES
-        run.message = outcome.never_fires_message(arm_acceleration)
-        return run, rig
-    geometry = _row_geometry(row, m)
-    base_force = _base_friction(friction, rig, 0.5 * dt, geometry, True)
-    tension, normal = _forces(row, row, geometry, True, design, dt, base_force, _rest_drag(drag))
-    on_base = True
-    if normal < 0.0:
-        # The sling lifts the projectile at rest: start again without the base.
-        rig = build(design, sling=sling, iterations=iterations, on_base=False)
-        friction = _attach_friction(rig, design, False, dt)
-        row = _opening_step(rig, dt, iterations, drag, startup)
-        geometry = _row_geometry(row, m)
-        base_force = 0.0
-        tension, normal = _forces(row, row, geometry, False, design, dt, drag_force=_rest_drag(drag))
-        on_base = False
-        run.liftoff_time = 0.0
-    opening_loads = fr.static_loads(design)
-    # The loads at rest are the weights, but the moving machine's are not (the axle's is half of
-    # it on the paper's design): the opening half step is taken again with the limits its loads
-    # give (its range moved by 1.2e-5 m); with a floating arm's slides, until its loads settle
-    # (``friction.settled``).
-    for retake in range(0 if friction is None else fr.OPENING_RETAKES if fr.slides(friction) else 1):
-        measured = _loads(friction, rig, _mirrored(row), row, design, (base_force, normal if on_base else 0.0),
-                          dt, 0.5 * dt)
-        if retake and fr.settled(measured, opening_loads):
-            break
-        opening_loads = measured
-        # The joints that broke free of their static hold slip from the start: kinetic limits.
-        rates = fr.joint_rates(row, design)
-        slips = fr.slipping(friction, 0.5 * dt, rates, fr.AT_REST)
-        rig = build(design, sling=sling, iterations=iterations, on_base=on_base)
-        friction = _attach_friction(rig, design, on_base, dt, opening_loads, slips)
-        row = _opening_step(rig, dt, iterations, drag, startup)
-        geometry = _row_geometry(row, m)
-        base_force = _base_friction(friction, rig, 0.5 * dt, geometry, on_base)
-        tension, normal = _forces(row, row, geometry, on_base, design, dt, base_force, _rest_drag(drag))
-    run.raw.append(row)
-    run.on_base.append(on_base)
-    run.tension.append(tension)
-    run.normal.append(normal)
-    run.release_value.append(_release(row, row, geometry, rule, m.release_angle)[0])
-    force = _rest_drag(drag)
-    run.drag_work.append(_drag_work(force, (0.0, 0.0), row, 0.5 * dt))
-    if friction is not None:
-        run.friction_impulse.append(fr.impulses(friction, on_base))
-        loads = _loads(friction, rig, _mirrored(row), row, design, (base_force, normal if on_base else 0.0),
-                       dt, 0.5 * dt)
-        run.friction_limit.append(fr.limits(design, opening_loads, slips))
-        run.friction_slips.append(slips)
-        run.friction_load.append(loads)
-        rates = fr.joint_rates(row, design)
-        slips = fr.slipping(friction, 0.5 * dt, rates, fr.AT_REST)
-        friction = fr.renew(friction, rig)
+        return outcome.never_fires_message(arm_acceleration)
+    return None
 
+
+def _retake_opening(design: Design, dt: float, iterations: int, sling: str, drag, startup: int, on_base: bool,
+                    take: _Take, forces: _Forces) -> tuple[_Take, _Forces]:
+    """The opening half step taken again with the friction limits its own loads give, and its forces.
+
+    The loads at rest are the weights, but the moving machine's are not (the axle's is half of it
+    on the paper's design): the half step is taken again once with the limits its loads give (its
+    range moved by 1.2e-5 m); with a floating arm's slides, until its loads settle
+    (``friction.settled``). The joints that broke free of their static hold slip from the start:
+    kinetic limits.
+    """
+    for retake in range(fr.OPENING_RETAKES if fr.slides(take.friction) else 1):
+        measured = _loads(take.friction, take.rig, _mirrored(take.row), take.row, design,
+                          (forces.base_friction, forces.normal if on_base else 0.0), dt, 0.5 * dt)
+        if retake and fr.settled(measured, take.loads):
+            break
+        slips = fr.slipping(take.friction, 0.5 * dt, fr.joint_rates(take.row, design), fr.AT_REST)
+        take = _take_opening(design, dt, iterations, sling, drag, startup, on_base, measured, slips)
+        forces = _opening_forces(take, on_base, design, dt, drag)
+    return take, forces
+
+
+def _record_opening_joints(run: Run, take: _Take, design: Design, dt: float, on_base: bool,
+                           base_loads: tuple[float, float]) -> _Joints:
+    """Record the friction joints of the opening half step in ``run`` (impulses, limits, modes,
+    loads) and renew them for the first whole step (``friction.renew``); ``base_loads``: the base's
+    friction and normal force, N (``_loads``)."""
+    friction, rig, row = take.friction, take.rig, take.row
+    run.friction_impulse.append(fr.impulses(friction, on_base))
+    loads = _loads(friction, rig, _mirrored(row), row, design, base_loads, dt, 0.5 * dt)
+    run.friction_limit.append(fr.limits(design, take.loads, take.slips))
+    run.friction_slips.append(take.slips)
+    run.friction_load.append(loads)
+    rates = fr.joint_rates(row, design)
+    slips = fr.slipping(friction, 0.5 * dt, rates, fr.AT_REST)
+    return _Joints(fr.renew(friction, rig), slips, rates, loads)
+
+
+def _step_to_release(design: Design, dt: float, iterations: int, limit: int,
+                     at_limit: Callable[[int], int | None] | None, drag, run: Run,
+                     opening: _Opening) -> tuple[Run, Rig]:
+    """Step the machine on from its opening half step, recording each step in ``run``, and watch for
+    lift-off, release and the failures after each (``run_machine``)."""
+    m = design.machine
+    h, t_limit = m.pivot_height, swing_time_limit(largest_length(m), design.environment.gravity)
+    rule, alpha = RELEASE_RULES.index(m.release_rule), m.release_angle
+    rig, joints, on_base, startup = opening.rig, opening.joints, opening.on_base, opening.startup
+    floating_arm = bool(rig.supports)
     step = stepper(rig.space)
     read = row_reader(*row_bodies(rig))
     # The loop runs up to hundreds of thousands of times: its lists' appends and the row's
     # indices are looked up once.
     keep_row, keep_on_base, keep_tension = run.raw.append, run.on_base.append, run.tension.append
     keep_normal, keep_value = run.normal.append, run.release_value.append
-    y_index, vy_index, alpha = kin.PROJECTILE + kin.Y, kin.PROJECTILE + kin.VY, m.release_angle
-    previous = row
-    previous_value = run.release_value[-1]
+    y_index, vy_index = kin.PROJECTILE + kin.Y, kin.PROJECTILE + kin.VY
+    previous, previous_value, force = opening.row, run.release_value[-1], _rest_drag(drag)
     # The axle's or the base's friction can stop the arm before lift-off (its clockwise turn
     # ends): the shot ends there, as in the analytic model (``docs/derivation.md``, 10.4).
-    stalls = friction is not None and (design.losses.axle_friction > 0.0 or design.losses.base_friction > 0.0)
-    spin_index = kin.ARM + kin.W
-    earlier_loads = None
+    stalls = joints is not None and (design.losses.axle_friction > 0.0 or design.losses.base_friction > 0.0)
     k = 0
     while True:
-        if friction is not None:
-            steady = fr.steady(run.friction_slips, slips, coupled=floating_arm)
-            predicted = fr.predicted_loads(loads, earlier_loads, steady)
-            run.friction_limit.append(fr.set_limits(friction, predicted, slips))
-            run.friction_slips.append(slips)
-            fr.aim(friction, rig, dt)
+        if joints is not None:
+            _limit_coming_step(joints, run, rig, dt, floating_arm)
         if k >= limit:
             more = None if at_limit is None else at_limit(k)
             if more is None or more <= k:
@@ -206,38 +293,19 @@ def run_machine(design: Design, dt: float, iterations: int, sling: str, limit: i
             limit = more
         if drag is not None:
             force = _push_drag(drag, rig, previous, run.raw[-2] if len(run.raw) > 1 else previous)
-        resolve = floating_arm and floating.resolves(k, run.friction_slips)
-        if resolve:
-            rig.space.iterations = startup
-        step(dt)
-        if resolve:
-            rig.space.iterations = iterations
+        _step(rig, step, dt, iterations, startup, floating_arm and floating.resolves(k, run.friction_slips))
         k += 1
         row = read()
         if not math.isfinite(sum(row)):
-            raise EngineError(f"the engine went unstable (non-finite state) at t = {k * dt:.5g} s "
-                              f"with dt = {dt:g} s and {iterations} iterations: use a smaller dt "
-                              f"or more iterations")
+            raise _unstable(k, dt, iterations)
         geometry = _row_geometry(row, m)
         if drag is not None:
             run.drag_work.append(run.drag_work[-1] + _drag_work(force, _velocity(previous), row, dt))
-        if friction is None:
+        if joints is None:
             tension, normal = _forces(previous, row, geometry, on_base, design, dt, drag_force=force)
         else:
-            base_force = _base_friction(friction, rig, dt, geometry, on_base)
-            tension, normal = _forces(previous, row, geometry, on_base, design, dt, base_force, force)
-            run.friction_impulse.append(fr.impulses(friction, on_base))
-            rates, earlier_rates = fr.joint_rates(row, design), rates
-            slips = fr.slipping(friction, dt, rates, earlier_rates)
-            earlier_loads = loads
-            if k > 1:
-                loads = _loads(friction, rig, previous, row, design, (base_force, normal if on_base else 0.0),
-                               dt, dt)
-            if k == 2:   # the line from the opening half step's loads, two steps back
-                earlier_loads = tuple(0.5 * (a + b) for a, b in zip(earlier_loads, loads, strict=True))
-            # At k = 1 pymunk's joints misreport the first whole step after the half step
-            # (``friction.renew``): the opening half step's loads stand in.
-            run.friction_load.append(loads)
+            tension, normal = _forces_and_joints(joints, run, rig, previous, row, geometry, on_base, design, dt, k,
+                                                 force)
         value, armed = _release(previous, row, geometry, rule, alpha)
         keep_row(row)
         keep_on_base(on_base)
@@ -250,24 +318,10 @@ def run_machine(design: Design, dt: float, iterations: int, sling: str, limit: i
 
         if on_base:
             if normal < 0.0:
-                fraction = crossing_fraction(tuple(run.normal[-3:]))
-                run.liftoff_time = (k - 1 + fraction) * dt
-                rig.space.remove(rig.groove)
-                if friction is not None:
-                    fr.remove_base(friction, rig.space)
+                _lift_off(run, rig, joints, k, dt)
                 on_base = False
-            elif stalls and row[spin_index] >= 0.0:
-                return _fail(run, rig, Status.NEVER_LIFTS_OFF,
-                             outcome.never_lifts_off_message(LiftoffFailure.STALLED, t_limit))
-            elif geometry[2] < SLING_VERTICAL_LIMIT:
-                return _fail(run, rig, Status.NEVER_LIFTS_OFF,
-                             outcome.never_lifts_off_message(LiftoffFailure.UNDER_TIP, t_limit))
-            elif geometry[1] + h < -BASE_TOLERANCE:
-                return _fail(run, rig, Status.NEVER_LIFTS_OFF,
-                             outcome.never_lifts_off_message(LiftoffFailure.ARM_BACK, t_limit))
-            elif t > t_limit:
-                return _fail(run, rig, Status.NEVER_LIFTS_OFF,
-                             outcome.never_lifts_off_message(LiftoffFailure.TIME_LIMIT, t_limit))
+            elif (failure := _slide_failure(row, geometry, t, stalls, h, t_limit)) is not None:
+                return _fail(run, rig, Status.NEVER_LIFTS_OFF, outcome.never_lifts_off_message(failure, t_limit))
             continue
 
         if row[y_index] + h < -BASE_TOLERANCE and row[vy_index] < 0.0:
@@ -278,6 +332,83 @@ def run_machine(design: Design, dt: float, iterations: int, sling: str, limit: i
         if t > t_limit:
             return _fail(run, rig, Status.NEVER_RELEASES,
                          outcome.never_releases_message(m.release_rule, m.release_angle, t_limit))
+
+
+def _limit_coming_step(joints: _Joints, run: Run, rig: Rig, dt: float, coupled: bool) -> None:
+    """Set each friction joint's limit for the coming step from its loads extrapolated (where its mode
+    held, ``friction.steady``; ``coupled`` for a floating arm), record the limits and modes in ``run``,
+    and aim the joints (``friction.aim``)."""
+    steady = fr.steady(run.friction_slips, joints.slips, coupled=coupled)
+    predicted = fr.predicted_loads(joints.loads, joints.earlier_loads, steady)
+    run.friction_limit.append(fr.set_limits(joints.friction, predicted, joints.slips))
+    run.friction_slips.append(joints.slips)
+    fr.aim(joints.friction, rig, dt)
+
+
+def _step(rig: Rig, step: Callable[[float], None], dt: float, iterations: int, startup: int, resolve: bool) -> None:
+    """One step of ``dt``; with ``resolve`` (a floating arm's, ``floating.resolves``) solved with
+    ``startup`` iterations instead of ``iterations``."""
+    if resolve:
+        rig.space.iterations = startup
+    step(dt)
+    if resolve:
+        rig.space.iterations = iterations
+
+
+def _unstable(steps: int, dt: float, iterations: int) -> EngineError:
+    """The error of a run whose state went non-finite after ``steps`` steps."""
+    return EngineError(f"the engine went unstable (non-finite state) at t = {steps * dt:.5g} s "
+                       f"with dt = {dt:g} s and {iterations} iterations: use a smaller dt "
+                       f"or more iterations")
+
+
+def _forces_and_joints(joints: _Joints, run: Run, rig: Rig, before: tuple, row: tuple, geometry: tuple,
+                       on_base: bool, design: Design, dt: float, k: int,
+                       drag_force: tuple[float, float]) -> tuple[float, float]:
+    """The sling's tension and the base's normal force over the ``k``-th step (``_forces``) with
+    friction, and the friction joints after it: their impulses recorded in ``run``, their modes,
+    rates and loads (the coming steps' limits) in ``joints``."""
+    friction = joints.friction
+    base_force = _base_friction(friction, rig, dt, geometry, on_base)
+    tension, normal = _forces(before, row, geometry, on_base, design, dt, base_force, drag_force)
+    run.friction_impulse.append(fr.impulses(friction, on_base))
+    rates, earlier_rates = fr.joint_rates(row, design), joints.rates
+    joints.rates, joints.slips = rates, fr.slipping(friction, dt, rates, earlier_rates)
+    joints.earlier_loads = joints.loads
+    if k > 1:
+        joints.loads = _loads(friction, rig, before, row, design, (base_force, normal if on_base else 0.0), dt, dt)
+    if k == 2:   # the line from the opening half step's loads, two steps back
+        joints.earlier_loads = tuple(0.5 * (a + b) for a, b in zip(joints.earlier_loads, joints.loads, strict=True))
+    # At k = 1 pymunk's joints misreport the first whole step after the half step
+    # (``friction.renew``): the opening half step's loads stand in.
+    run.friction_load.append(joints.loads)
+    return tension, normal
+
+
+def _lift_off(run: Run, rig: Rig, joints: _Joints | None, k: int, dt: float) -> None:
+    """The projectile leaves the base in the ``k``-th step: its instant where the normal force crosses
+    zero (``events.crossing_fraction``), and the base (its groove, its friction) taken away."""
+    fraction = crossing_fraction(tuple(run.normal[-3:]))
+    run.liftoff_time = (k - 1 + fraction) * dt
+    rig.space.remove(rig.groove)
+    if joints is not None:
+        fr.remove_base(joints.friction, rig.space)
+
+
+def _slide_failure(row: tuple, geometry: tuple, t: float, stalls: bool, pivot_height: float,
+                   t_limit: float) -> LiftoffFailure | None:
+    """Why a projectile still on the base at ``t`` can no longer lift off, or None: the arm stopped
+    by friction (where it ``stalls``), the sling under the tip, the tip back on the base, or the
+    swing's time bound passed."""
+    if stalls and row[kin.ARM + kin.W] >= 0.0:
+        return LiftoffFailure.STALLED
+    if geometry[2] < SLING_VERTICAL_LIMIT:
+        return LiftoffFailure.UNDER_TIP
+    if geometry[1] + pivot_height < -BASE_TOLERANCE:
+        return LiftoffFailure.ARM_BACK
+    if t > t_limit:
+        return LiftoffFailure.TIME_LIMIT
+    return None
 
 
 def _attach_friction(rig: Rig, design: Design, on_base: bool, dt: float,

@@ -51,15 +51,17 @@ for _name, _values in PROFILES.items():
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "quick"))
 
 #: The longest tests, by their seconds on the 2-core machine the suite is timed on (``--durations``;
-#: the calibration's from whole-suite runs, the bench's alone): they start first, the longest first,
-#: so that the last of them ends while short tests remain to even out the workers. Only the order
-#: depends on these figures; a test missing here runs after them, in file order with the other slow
-#: tests. (A module marked ``xdist_group`` is one unit of work under ``--dist loadgroup``; xdist
-#: hands out the units of several tests before the single tests, largest first.)
+#: the calibration's from whole-suite runs, the bench's alone, the numba mechanisms' alone with the
+#: other mechanism's cold compile): they start first, the longest first, so that the last of them
+#: ends while short tests remain to even out the workers. Only the order depends on these figures;
+#: a test missing here runs after them, in file order with the other slow tests. (A module marked
+#: ``xdist_group`` is one unit of work under ``--dist loadgroup``; xdist hands out the units of
+#: several tests before the single tests, largest first.)
 LONGEST = {"tests/test_analytic_calibrate_predict.py::test_held_out_predictions_fall_within_their_bands_at_the_"
            "stated_rate": 70,
            "tests/test_benchmarks.py::test_bench_times_a_baseline_beside_this_checkout_and_writes_the_page_"
-           "from_its_figures": 28}
+           "from_its_figures": 28,
+           "tests/test_analytic_numba_mechanisms.py::test_both_mechanisms_give_the_same_bits": 45}
 
 
 def pytest_collection_modifyitems(config, items):

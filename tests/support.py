@@ -411,3 +411,23 @@ def assert_records_equal(actual: np.ndarray, expected: np.ndarray, *, skip: tupl
     for name in actual.dtype.names:
         if name not in skip:
             np.testing.assert_array_equal(actual[name], expected[name], err_msg=f"{err_msg} {name}")
+
+
+# --------------------------------------------------------------------------- #
+# The fast path's compile progress (test_analytic_fast.py, test_analytic_numba_mechanisms.py)
+# --------------------------------------------------------------------------- #
+
+def compile_a_stand_in_entry_point(scope) -> None:
+    """Compile, under ``analytic.fast``'s compile progress, a throwaway function named as ``scope``'s
+    entry point (``kernel.shots``): the progress a cold compile shows, in milliseconds rather than
+    tens of seconds (the caller reads it with ``capsys``)."""
+    import numba
+
+    from analytic import fast
+
+    def shots(x):
+        return x + 1.0
+
+    shots.__qualname__ = fast.entry_point(scope).py_func.__qualname__
+    with fast._compile_progress(True, scope):
+        assert numba.njit(shots)(1.0) == 2.0

@@ -36,8 +36,9 @@ from analytic.parameters import N_PARAMS, params
 from analytic.reference import DEFAULT_ATOL, DEFAULT_RTOL, simulate
 from analytic.result import Status
 from analytic.scope import EVERYTHING, IDEAL, IDEAL_LOADS
-from support import (examples, failure_designs, fixed_designs, fixed_failure_designs, lossy_designs, paper_designs,
-                     table3_variants, table_ii_sample, with_environment, with_machine, with_projectile)
+from support import (compile_a_stand_in_entry_point, examples, failure_designs, fixed_designs, fixed_failure_designs,
+                     lossy_designs, paper_designs, table3_variants, table_ii_sample, with_environment, with_machine,
+                     with_projectile)
 
 #: The agreement targets between the two paths (the fast path's specification).
 RANGE_REL = 1e-7
@@ -514,18 +515,10 @@ def test_compile_progress_counts_names_the_last_step_and_clears_itself(capsys, m
     # "ready" line; written to a file or pipe, it is whole lines instead (cli_shared.progress_bar).
     # A throwaway function named as the kernel's entry point stands in for it
     # (compiled in milliseconds, not tens of seconds).
-    import numba
-
     from analytic import cli_shared
 
     monkeypatch.setattr(cli_shared, "_is_terminal", lambda stream: terminal)
-
-    def shots(x):
-        return x + 1.0
-
-    shots.__qualname__ = fast.entry_point(IDEAL).py_func.__qualname__
-    with fast._compile_progress(True, IDEAL):
-        assert numba.njit(shots)(1.0) == 2.0
+    compile_a_stand_in_entry_point(IDEAL)
     err = capsys.readouterr().err
     assert err.startswith("compiling the fast path's ideal scope once")
     assert "compiling: " in err and "the whole kernel's machine code" in err

@@ -41,7 +41,8 @@ ANALYTIC_LAYERS = {
               "analytic.suggest", "analytic.floating_arm", "analytic.scope",
               # the exit codes and checks every command line shares: it imports nothing
               "analytic.cli_shared"},
-    "paths": {"analytic.reference", "analytic.reference.loads", "analytic.reference.ode", "analytic.fast.compiled", "analytic.fast.kernel", "analytic.fast",
+    "paths": {"analytic.reference", "analytic.reference.loads", "analytic.reference.ode", "analytic.fast.compiled",
+              "analytic.fast.numba_linking", "analytic.fast.kernel", "analytic.fast",
               "analytic.fast.dop853", "analytic.fast.kernel_loads", "analytic.fast.motion", "analytic.fast.marks",
               # the public names, loaded on first use from the model and the paths
               "analytic"},

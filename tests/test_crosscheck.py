@@ -209,6 +209,25 @@ def test_the_report_holds_its_files_and_the_terminal_a_summary_of_a_few_lines(tm
 
 
 @pytest.mark.slow   # --report runs the engine's step study
+def test_the_report_studies_the_first_design_that_throws_and_none_where_none_does(tmp_path, table3):
+    # A user's files, the first of which does not throw (the step study once took the first file,
+    # and divided by its release speed of None: a traceback and no report).
+    unfired = tmp_path / "unfired.toml"
+    save_design(failure_designs()[Status.NEVER_FIRES], unfired)
+    thrown = tmp_path / "t3.toml"
+    save_design(table3, thrown)
+    assert main([str(unfired), str(thrown), "--workers", "1", "--no-progress", "--report", str(tmp_path / "a")]) == EXIT_AGREE
+    assert json.loads((tmp_path / "a" / "crosscheck.json").read_text())["step_study"]["design"] == table3.name
+    assert main([str(unfired), "--workers", "1", "--no-progress", "--report", str(tmp_path / "b")]) == EXIT_AGREE
+    assert json.loads((tmp_path / "b" / "crosscheck.json").read_text())["step_study"] is None
+    assert not (tmp_path / "b" / "convergence.png").exists()
+
+
+def test_a_step_study_of_a_design_that_does_not_throw_is_none():
+    assert step_study(failure_designs()[Status.NEVER_FIRES], engine=None) is None
+
+
+@pytest.mark.slow   # --report runs the engine's step study
 def test_the_full_table_is_printed_only_when_asked(tmp_path, capsys, table3):
     path = tmp_path / "t3.toml"
     save_design(table3, path)

@@ -78,6 +78,37 @@ def test_a_difference_the_budget_cannot_resolve_is_engine_untrusted_with_the_err
     assert result.to_json()["verdict"] == "engine_untrusted"
 
 
+def test_a_slowly_converging_difference_is_resolved_by_extrapolating_the_engines_last_steps():
+    # The range off by 100 tolerances at the default step, as dt^2, plus 8 as dt^3: 1.58 tolerances
+    # off after three halvings, the run's estimate 1.6; halving alone would need a fourth. The
+    # Richardson extrapolation cancels the dt^2 term, leaving -4/3 of the dt^3 one: -1.33, -0.167,
+    # -0.0208 tolerances after one, two, three halvings, its estimate |R3 - R2| = 0.146 after three.
+    def error(dt):
+        h = dt / DEFAULT_DT
+        return tol.RANGE_REL * (100.0 * h**2 + 8.0 * h**3)
+
+    result = compare(_table3(), engine=_engine_off_by(error))
+    assert result.verdict == AGREE and result.agree
+    assert result.refinements == 3 and result.extrapolated == ("range",)
+    assert result.to_json()["extrapolated"] == ["range"]
+    row = next(row for row in result.rows if row.quantity == "range")
+    # On top of the engine's own difference on the paper's design (a few thousandths of a tolerance).
+    exact = next(r for r in compare(_table3(), engine=_engine_off_by(lambda dt: 0.0)).rows if r.quantity == "range")
+    assert (row.difference - exact.difference) / row.tolerance == pytest.approx(-1.0 / 48.0, rel=2e-2)
+    assert result.engine_error["range"] / row.tolerance == pytest.approx(7.0 / 48.0, rel=2e-2)
+
+
+def test_an_extrapolation_whose_own_change_is_too_large_is_not_used(monkeypatch):
+    # First order in the step, read as second: the extrapolation is then off by 2/3 of the run's
+    # error and moves by 10 tolerances from one halving to the next; the budget of two halvings
+    # ends with the range unresolved, never compared through the extrapolation.
+    monkeypatch.setattr(tol, "MAX_REFINEMENTS", 2)
+    c = 80.0 * tol.RANGE_REL / DEFAULT_DT
+    result = compare(_table3(), engine=_engine_off_by(lambda dt: c * dt))
+    assert result.verdict == ENGINE_UNTRUSTED and result.extrapolated == ()
+    assert "extrapolated" not in result.to_json()
+
+
 def test_a_difference_that_does_not_move_with_the_step_is_a_disagreement():
     # A 5 % longer range at every step: a modelling mistake, not the engine's step.
     result = compare(_table3(), engine=_engine_off_by(lambda dt: 0.05))
@@ -225,6 +256,18 @@ def test_a_light_arm_whose_release_needs_a_finer_engine_step_agrees_once_refined
     assert result.verdict == AGREE, result.error or [(r.quantity, r.difference / r.tolerance)
                                                      for r in result.rows if not r.ok]
     assert result.refinements >= 2 and result.engine_dt < 2.5e-5
+
+
+@pytest.mark.slow
+def test_a_long_whirling_swing_agrees_once_the_engine_is_refined_and_extrapolated():
+    # `python -m crosscheck --sample 60 --seed 14` (issue 44): the sling whirls 28 turns in a 2.5 s
+    # swing, and the engine's release speed converges as dt^2 from 71 tolerances off at 1.25e-5 s;
+    # halving alone needs 7.8e-7 s (3.2M steps). Before the extrapolation it was engine_untrusted.
+    case = next(c for c in default_suite(60, 14) if c.name == "sample-14-032-wooden")
+    result = compare(case)
+    assert result.verdict == AGREE, result.error or [(r.quantity, r.difference / r.tolerance)
+                                                     for r in result.rows if not r.ok]
+    assert {"release_vx", "release_vy", "release_speed"} <= set(result.extrapolated)
 
 
 #: Seeds the suite draws fresh samples from, besides the default suite's 0: none of them was used to set

@@ -155,9 +155,9 @@ def test_the_frames_are_labelled_in_the_chosen_units(shot):
     # 1 ft = 0.3048 m by definition
     assert summary(shot, "imperial").startswith(f"range {shot.range / 0.3048:.2f} ft")
     assert f"apex {shot.apex_height / 0.3048:.2f} ft" in summary(shot, "imperial")
-    from engine_model.render import _Drawing
+    from engine_model.scene import Drawing
 
-    axis = _Drawing(shot.design, units="imperial").figure.axes[0].xaxis
+    axis = Drawing(shot.design, units="imperial").figure.axes[0].xaxis
     axis.axes.set_xlim(-5.0, 50.0)
     ticks = axis.get_major_locator()()
     assert all(abs(t / 0.3048 - round(t / 0.3048)) < 1e-9 for t in ticks)   # whole feet

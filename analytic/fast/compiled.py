@@ -4,46 +4,54 @@ The model (``analytic.geometry``, ``limits``, ``peaks``, ``aero``, ``eom``,
 ``friction``, ``stages``, ``sequence``) is plain Python on floats and tuples,
 which the reference path runs as it is. This module gives the compiled path
 the same functions, compiled (``compile_modules``): for each model module a
-namespace whose functions are numba dispatchers of the very same code
-objects, with their calls to each other rebound to the compiled versions.
+namespace whose functions are compiled twins of the very same code objects,
+with their calls to each other rebound to the compiled versions.
 ``kernel_scope(scope)`` compiles the model and the kernel for compiled callers
-only (``Internal`` dispatchers, compiled once per argument type and emitted as
-machine code only inside the scope's one cached entry point, its
-``kernel.shots``), with the scope's switches in the model's globals
+only (emitted as machine code only inside the scope's one cached entry point,
+its ``kernel.shots``), with the scope's switches in the model's globals
 (``analytic.scope``: what a smaller copy leaves out is pruned before it is
 typed); ``kernel_twins`` are the whole model's, for ``callable_twins``
-(``compiled.eom_``, ``compiled.stages_``, ...) are for Python callers (the
-tests compare them with the Python functions). numba's public
-``register_jitable`` does the same job with less machinery, and was measured
-against this (the same model, paired cold compiles): shots as fast and
-bit-identical, but a cold compile 1.37x as long (30.8 against 22.5 s of CPU,
-median of three pairs), because each registered function is compiled and
-emitted as an entry point of its own; so the model is compiled here. Importing
-this module imports numba; ``import analytic`` and the reference path never
-do. Only each scope's ``kernel.shots`` is cached on disk; a cold compile takes
+(``compiled.eom_``, ``compiled.stages_``, ...), which Python calls (the
+tests compare them with the Python functions).
+
+Two mechanisms compile it, to the same machine arithmetic and the same
+numbers (``mechanism()`` says which one this process uses):
+
+* ``"linked"`` (``analytic.fast.numba_linking``): numba's internals, each function
+  compiled once per argument type and linked once, into its entry point; the
+  shorter cold compile, used wherever every internal it touches is there
+  with the signature and body it was written against;
+* ``"public"``: numba's public API only, each function the kernel calls
+  registered with ``numba.extending.overload`` (what ``register_jitable``
+  does) and each entry point a ``numba.njit(cache=True)``; numba then
+  compiles and emits each function as an entry point of its own (a longer
+  cold compile), and it serves where the linked one does not fit the numba
+  installed, or where ``TREBUCHET_NUMBA=public`` asks for it.
+
+Importing this module imports numba and builds nothing: every twin is made
+on first use. ``import analytic`` and the reference path never import it.
+Only the entry points are cached on disk, each under a name that says its
+mechanism (``shots_ideal``, ``shots_ideal_public``); a cold compile takes
 tens of seconds of CPU (``python -m benchmarks --cold`` measures each scope's).
 
 numba caches machine code on disk keyed on each function's own source file,
 not on the files it calls into: after an edit to ``eom.py`` the cached
-``kernel.shots`` would still hold the old equations. So the cache is stamped
-with a fingerprint of every source the compiled code depends on
-(``SOURCES``), and a cache whose stamp differs is dropped before anything is
-loaded from it.
+``kernel.shots`` would still hold the old equations. So each mechanism's
+cache is stamped with a fingerprint of every source the compiled code
+depends on (``SOURCES``), and a cache whose stamp differs is dropped before
+anything is loaded from it.
 """
 
 from __future__ import annotations
 
 import functools
 import hashlib
+import os
 import types
 from pathlib import Path
 
 import numba
-from numba.core import compiler as nbcompiler
-from numba.core import types as nbtypes
-from numba.core.codegen import JITCodeLibrary
-from numba.core.dispatcher import _FunctionCompiler
-from numba.core.registry import CPUDispatcher
+from numba.extending import overload
 
 from analytic import (aero, eom, floating_arm, friction, geometry, limits, outcome, parameters, peaks, sequence, stages,
                       states)
@@ -59,23 +67,25 @@ MODEL_MODULES = (geometry, limits, peaks, aero, floating_arm, eom, friction, sta
 #: kept and the compiled functions round exactly as the Python ones do.
 OPTIONS = dict(nogil=True, error_model="numpy")
 #: Options of the functions only compiled code calls (the kernel's parts and
-#: the model's functions as the kernel calls them): no wrappers to and from
-#: Python objects, and no disk cache of their own. The kernel's one entry
-#: point (``kernel.shots``) holds all their machine code and is cached;
-#: a wrapper unboxing the 31-number ``Params`` and a cache file for each of
-#: some 80 functions made a cold compile take 1.5x as long (measured).
+#: the model's functions as the kernel calls them), which have no disk cache
+#: of their own: the kernel's one entry point (``kernel.shots``) holds all
+#: their machine code and is cached. (The linked mechanism also leaves out
+#: their wrappers to and from Python objects: ``numba_linking.WITHOUT_WRAPPERS``.)
 #:
-#: ``_nrt=False``: no reference counting of the arrays they are handed. numba
-#: counts a reference to every array argument a function keeps in a variable,
-#: and to every view (``K[s]``), with an atomic add and subtract per call that
-#: LLVM cannot prove away; in the right-hand side's callers that would be a
-#: quarter of a shot's time (perf: ``NRT_incref``/``NRT_decref`` 26 % of the
-#: samples of a batch with them). These functions allocate nothing and return
-#: no array, and their callers hold every array they are given for the whole
-#: call, so the counts are not needed. A function that allocates is declared with
-#: ``analytic.fast.marks.internal(allocates=True)`` and counts as usual; numba refuses to compile
-#: an allocation in one that is not.
-INTERNAL = dict(OPTIONS, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False)
+#: ``_nrt=False`` (an option ``numba.extending.register_jitable``'s own
+#: documentation shows): no reference counting of the arrays they are handed.
+#: numba counts a reference to every array argument a function keeps in a
+#: variable, and to every view (``K[s]``), with an atomic add and subtract
+#: per call that LLVM cannot prove away; in the right-hand side's callers that
+#: would be a quarter of a shot's time (perf: ``NRT_incref``/``NRT_decref``).
+#: These functions allocate nothing and return no array, and their callers
+#: hold every array they are given for the whole call, so the counts are not
+#: needed. A function that allocates is declared with
+#: ``analytic.fast.marks.internal(allocates=True)`` and counts as usual; numba
+#: refuses to compile an allocation in one that is not. Every option is given
+#: explicitly (``forceinline`` too): numba lets a callee inherit an option it
+#: does not set from whichever caller compiles it first.
+INTERNAL = dict(OPTIONS, _nrt=False)
 #: Options of a function Python calls: with its wrappers, and cached.
 CALLABLE = dict(OPTIONS, cache=True)
 #: Functions LLVM inlines into every caller (numba's ``forceinline``: LLVM's
@@ -99,188 +109,131 @@ INLINE = {"floating_arm": ("terms",),
           "stages": ("derivative",)}
 _HERE = Path(__file__).parent
 #: Every source whose change must invalidate the compiled cache: the model,
-#: the modules whose constants it reads at import, this module and the kernel.
+#: the modules whose constants it reads at import, this module, the linking
+#: machinery and the kernel.
 SOURCES = tuple(Path(module.__file__) for module in (*MODEL_MODULES, outcome, parameters, switches)) + tuple(
-    _HERE / name for name in ("compiled.py", "marks.py", "dop853.py", "kernel_loads.py", "kernel.py"))
-#: Name of the stamp file beside the cached machine code.
-STAMP_NAME = "analytic-model-sources.sha256"
+    _HERE / name for name in ("compiled.py", "numba_linking.py", "marks.py", "dop853.py", "kernel_loads.py",
+                              "kernel.py"))
+#: The mechanisms that compile the model, the preferred first.
+MECHANISMS = ("linked", "public")
+#: The environment variable that chooses one: ``public``, ``linked``, or unset (``auto``: the
+#: linked one where it fits the numba installed, else the public one).
+MECHANISM_VARIABLE = "TREBUCHET_NUMBA"
+#: What ends the name of each function the public mechanism compiles (and so its symbol in the
+#: machine code and its files in the disk cache): the two mechanisms' caches never meet.
+PUBLIC_LABEL = "_public"
 
 
-class LinkOnlyLibrary(JITCodeLibrary):
-    """The machine code library of a function only compiled code calls: linked into its callers, never run alone.
+# --------------------------------------------------------------------------- #
+# The mechanism
+# --------------------------------------------------------------------------- #
 
-    numba finalises every function's library as if it were an entry point:
-    it links in the whole call tree below it, optimises that module again and
-    emits it as machine code. Along a chain of callees that repeats the same
-    work at every level, and the machine code is never run: only the entry
-    point's (``kernel.shots``) is. This library holds its own function,
-    optimised on its own as it is added (numba's per-function passes); an
-    ``EntryLibrary`` links every library of its call tree once and optimises
-    and emits the whole tree once. Measured (three cold compiles each,
-    interleaved): 26 s of CPU instead of 35 s, and the shots as fast. Each
-    library is linked once, at the entry point: linking a callee's whole tree
-    into every caller along the way costs a cold compile of the ``everything``
-    scope about a second of LLVM's linking and cloning (measured: 1.0 s
-    against 0.1 s).
+@functools.cache
+def _linking():
+    """``analytic.fast.numba_linking`` where it imports and fits the numba installed; else why not (a str)."""
+    try:
+        from analytic.fast import numba_linking
+    except (ImportError, AttributeError) as error:
+        return f"analytic.fast.numba_linking does not import: {type(error).__name__}: {error}"
+    problem = numba_linking.problem()
+    return numba_linking if problem is None else problem
 
-    A caller numba compiles on its own (a plain ``numba.njit`` function) links
-    ``_get_module_for_linking``: this function with its whole call tree.
 
-    numba gives each compiled function an environment and points a global of
-    the machine code at it (``set_env``); nothing reads a callee's at run time
-    (a kernel loaded from the disk cache never sets its callees' either), so
-    this library's codegen leaves it alone and no global of it is emitted.
+def select(asked: str, linking) -> tuple[str, str]:
+    """The mechanism for ``TREBUCHET_NUMBA=asked`` given ``linking`` (the module, or why it does not
+    fit), and why: ``("linked" | "public", reason)``.
+
+    Raises ``ValueError`` for a value that names no mechanism, and ``RuntimeError`` where
+    ``linked`` is asked for and does not fit.
     """
-
-    #: numba's internals (0.68) this library relies on, checked before it is used.
-    NUMBA_INTERNALS = ("_linking_libraries", "_final_module", "_reload_init", "_codegen", "_shared_module",
-                       "_get_module_for_linking", "_raise_if_finalized", "_finalized")
-
-    def __init__(self, codegen, name):
-        super().__init__(codegen, name)
-        self._tree_module = None
-        self._codegen_without_env = _CodegenWithoutEnv(codegen)
-
-    def fits_this_numba(self) -> bool:
-        return all(hasattr(self, name) for name in self.NUMBA_INTERNALS) and hasattr(self._codegen, "set_env")
-
-    @property
-    def codegen(self):
-        return self._codegen_without_env
-
-    def finalize(self):
-        self._raise_if_finalized()
-        for library in self._linking_libraries:
-            self._reload_init.update(library._reload_init)
-        self._finalized = True
-
-    def own_module(self):
-        """This library's own functions, fit for linking (exported ones made ``linkonce_odr``)."""
-        return super()._get_module_for_linking()
-
-    def _get_module_for_linking(self):
-        if self._tree_module is None:
-            self._tree_module = self.own_module().clone()
-            for library in call_tree(self._linking_libraries):
-                self._tree_module.link_in(module_for_linking(library), preserve=True)
-        return self._tree_module
-
-
-class _CodegenWithoutEnv:
-    """A codegen whose ``set_env`` keeps nothing (``LinkOnlyLibrary``): everything else is the codegen's."""
-
-    def __init__(self, codegen):
-        self._wrapped = codegen
-
-    def __getattr__(self, name):
-        return getattr(self._wrapped, name)
-
-    def set_env(self, env_name, env):
-        pass
-
-
-def call_tree(libraries) -> list:
-    """``libraries`` and every library a ``LinkOnlyLibrary`` among them links, each once, callers first."""
-    tree, seen, pending = [], set(), list(reversed(libraries))
-    while pending:
-        library = pending.pop()
-        if library in seen:
-            continue
-        seen.add(library)
-        tree.append(library)
-        if isinstance(library, LinkOnlyLibrary):
-            pending.extend(reversed(library._linking_libraries))
-    return tree
-
-
-def module_for_linking(library):
-    """What a caller links of ``library``: a ``LinkOnlyLibrary``'s own functions (the caller links the
-    rest of its tree), any other library's module with its tree."""
-    return library.own_module() if isinstance(library, LinkOnlyLibrary) else library._get_module_for_linking()
-
-
-class EntryLibrary(JITCodeLibrary):
-    """The machine code library of an entry point: its whole call tree linked once, then numba's finalising
-    (the optimisation and machine code of the whole module)."""
-
-    def finalize(self):
-        self._raise_if_finalized()
-        for library in call_tree(self._linking_libraries):
-            self._reload_init.update(library._reload_init)
-            self._final_module.link_in(module_for_linking(library), preserve=True)
-        self._linking_libraries = []   # (linked above)
-        super().finalize()
+    asked = asked.strip().lower()
+    if asked not in ("", "auto", *MECHANISMS):
+        raise ValueError(f"{MECHANISM_VARIABLE}={asked!r}: expected one of auto, {', '.join(MECHANISMS)}")
+    fits = not isinstance(linking, str)
+    if asked == "public":
+        return "public", f"{MECHANISM_VARIABLE}=public"
+    if fits:
+        return "linked", f"numba {numba.__version__}'s internals fit analytic.fast.numba_linking"
+    if asked == "linked":
+        raise RuntimeError(f"{MECHANISM_VARIABLE}=linked, but {linking}")
+    return "public", linking
 
 
 @functools.cache
-def _fits_this_numba() -> bool:
-    """Whether the numba installed has the internals ``LinkOnlyLibrary`` relies on."""
-    from numba.core.registry import cpu_target
-    return LinkOnlyLibrary(cpu_target.target_context.codegen(), "probe").fits_this_numba()
+def _selected() -> tuple[str, str]:
+    return select(os.environ.get(MECHANISM_VARIABLE, ""), _linking())
 
 
-class _LibraryCompiler(_FunctionCompiler):
-    """numba's function compiler, giving each compiled function a library of the class ``library_class``."""
-
-    def __init__(self, py_func, targetdescr, targetoptions, locals, pipeline_class, library_class):
-        super().__init__(py_func, targetdescr, targetoptions, locals, pipeline_class)
-        self.library_class = library_class
-
-    def _compile_core(self, args, return_type):
-        flags = nbcompiler.Flags()
-        self.targetdescr.options.parse_as_flags(flags, self.targetoptions)
-        flags = self._customize_flags(flags)
-        context = self.targetdescr.target_context
-        library = None   # numba's own library: a slower cold compile, the same machine code
-        if _fits_this_numba():
-            library = self.library_class(context.codegen(), self.py_func.__qualname__)
-            library.enable_object_caching()   # (numba makes its own so, for the disk cache)
-        return nbcompiler.compile_extra(self.targetdescr.typing_context, context, self._get_implementation(args, {}),
-                                        args=args, return_type=return_type, flags=flags, locals=self.locals,
-                                        library=library, pipeline_class=self.pipeline_class)
+def mechanism() -> str:
+    """``"linked"`` or ``"public"``: how this process compiles the model (chosen on first use, from
+    ``TREBUCHET_NUMBA`` and whether ``analytic.fast.numba_linking`` fits the numba installed)."""
+    return _selected()[0]
 
 
-class Internal(CPUDispatcher):
-    """A function compiled for other compiled code only: once per argument *type*.
-
-    numba otherwise compiles a function again for every constant value a
-    caller passes (a stage, a joint's index, a flag), as if asked to
-    specialise on it; the kernel's stages and the model's joints share one
-    copy each (measured: the copies cost a quarter of a cold compile, and
-    sharing them costs the shots nothing measurable). It has no wrapper for
-    Python: calling it from Python is an error (``callable_twins`` gives
-    functions Python can call).
-    """
-
-    def __init__(self, py_func, locals=None, targetoptions=None, pipeline_class=nbcompiler.Compiler):
-        super().__init__(py_func, locals=locals, targetoptions=targetoptions, pipeline_class=pipeline_class)
-        self._compiler = _LibraryCompiler(py_func, self.targetdescr, self.targetoptions, self.locals, pipeline_class,
-                                          LinkOnlyLibrary)
-
-    def get_call_template(self, args, kws):
-        return super().get_call_template(tuple(nbtypes.unliteral(a) for a in args),
-                                         {k: nbtypes.unliteral(v) for k, v in kws.items()})
-
-    def __call__(self, *args, **kwargs):
-        raise TypeError(f"{self.py_func.__qualname__} is compiled for compiled callers only; "
-                        "call analytic.fast.compiled's Python-callable twin instead")
+def mechanism_reason() -> str:
+    """Why ``mechanism()`` is what it is: the variable that asked, or what of numba did not fit."""
+    return _selected()[1]
 
 
-def dispatcher(function, **options) -> Internal:
-    """``function`` as an ``Internal`` dispatcher: ``INTERNAL``'s options, then those its
-    ``analytic.fast.marks.internal`` mark gives, then ``options``."""
-    return Internal(py_func=function, locals={},
-                    targetoptions={**INTERNAL, **getattr(function, "compile_options", {}), **options})
+def callee(function, inline: bool = False, **options):
+    """``function`` compiled for compiled callers only, once per argument type (by the public
+    mechanism, once per argument type and set of its callers' options), by ``mechanism()``:
+    ``INTERNAL``'s options, then those its ``analytic.fast.marks.internal`` mark gives, then ``options``;
+    ``inline``: LLVM inlines it into every caller (``INLINE``). Calling it from Python is a
+    ``TypeError`` that says what to call instead."""
+    options = {**INTERNAL, "forceinline": inline, **getattr(function, "compile_options", {}), **options}
+    if mechanism() == "linked":
+        return _linking().dispatcher(function, **options)
+    return _public_callee(function, **options)
 
 
 def entry(function):
-    """``function`` as a dispatcher Python calls, with its wrappers and disk cache (``CALLABLE``), whose
-    machine code links its call tree of ``Internal`` functions once (``EntryLibrary``)."""
-    compiled = numba.njit(**CALLABLE)(function)
-    compiled._compiler = _LibraryCompiler(function, compiled.targetdescr, compiled.targetoptions, compiled.locals,
-                                          compiled._compiler.pipeline_class, EntryLibrary)
-    return compiled
+    """``function`` compiled for Python callers, with its wrappers and disk cache (``CALLABLE``), by
+    ``mechanism()``: with its whole call tree of ``callee`` functions in its machine code."""
+    if mechanism() == "linked":
+        return _linking().entry(function, **CALLABLE)
+    return numba.njit(**CALLABLE)(function)
 
+
+def _public_callee(function, **options):
+    """``function`` for compiled callers through ``numba.extending.overload``, as ``register_jitable``
+    registers one, but under a stand-in that Python cannot call by mistake.
+
+    numba compiles it when a caller is typed (for the argument types without their constant
+    values: an overload prefers them), with ``options``, once for each set of options its
+    callers are compiled with. The stand-in's ``typed_for`` lists the argument types it was
+    compiled for (``is_compiled``).
+
+    A mark's ``inline="always"`` (numba's inlining at its IR level: ``kernel.shot``, so that
+    the whole shot is optimised once, inside its entry point) is left out: an overload to be
+    inlined is first compiled whole on its own, and its callees again after inlining, which
+    lengthens the cold compile it is meant to shorten. LLVM still inlines what ``INLINE`` names.
+    """
+    options.pop("inline", None)
+
+    def kernel_only(*args, **kwargs):
+        raise TypeError(f"{function.__qualname__} is compiled for compiled callers only; "
+                        "call analytic.fast.compiled's Python-callable twin instead")
+
+    kernel_only.__name__, kernel_only.__qualname__ = function.__name__, function.__qualname__
+    kernel_only.__doc__, kernel_only.py_func, kernel_only.typed_for = function.__doc__, function, []
+
+    def implementation(*args, **kwargs):
+        kernel_only.typed_for.append(args)
+        return function
+
+    overload(kernel_only, jit_options=options, strict=False)(implementation)
+    return kernel_only
+
+
+def is_compiled(function) -> bool:
+    """Whether numba has compiled ``function`` (a twin of either mechanism) for some argument types."""
+    return bool(getattr(function, "overloads", None) or getattr(function, "typed_for", None))
+
+
+# --------------------------------------------------------------------------- #
+# The twins
+# --------------------------------------------------------------------------- #
 
 def compile_modules(modules, compile_function, inline=None, callees=None,
                     constants=None) -> dict[str, types.ModuleType]:
@@ -292,8 +245,8 @@ def compile_modules(modules, compile_function, inline=None, callees=None,
     of this function) if given. numba reads those globals only when it
     compiles, so the order of definition does not matter.
 
-    ``compile_function(function, inline)`` makes a dispatcher (``inline``:
-    whether it is to be inlined into its callers); ``inline`` maps a short
+    ``compile_function(function, inline)`` compiles one (a ``callee`` or an
+    ``entry``; ``inline``: whether it is to be inlined into its callers); ``inline`` maps a short
     module name to the functions to inline. ``constants`` replaces those of
     the modules' globals it names (a scope's switches: ``analytic.scope``).
 
@@ -339,15 +292,31 @@ def source_fingerprint(paths) -> str:
     return digest.hexdigest()
 
 
-def cache_directory(dispatcher) -> Path:
-    """Where numba keeps ``dispatcher``'s machine code (``__pycache__`` beside its source,
-    or under ``NUMBA_CACHE_DIR``). numba exposes no public accessor for it."""
-    return Path(dispatcher._cache._cache_path)
+def cache_directory(dispatcher) -> Path | None:
+    """Where numba keeps ``dispatcher``'s machine code (``__pycache__`` beside its source, or under
+    ``NUMBA_CACHE_DIR``), from its public ``stats``; None where it caches nothing."""
+    path = dispatcher.stats.cache_path
+    return None if path is None else Path(path)
 
 
-def drop_stale_cache(directory: Path, paths, stamp_name: str = STAMP_NAME) -> bool:
-    """Delete numba's cached code of ``paths``' modules in ``directory`` unless its stamp
-    matches their fingerprint; then stamp it. Returns whether anything was dropped.
+def stamp_name(mechanism: str) -> str:
+    """The name of ``mechanism``'s stamp file beside the cached machine code."""
+    return f"analytic-model-sources.{mechanism}.sha256"
+
+
+def cache_mechanism(file_name: str) -> str:
+    """The mechanism whose cache file ``file_name`` is (numba names one
+    ``<module>.<qualified name>-<line>.py<version>...``): ``"public"`` where the function's
+    name ends in ``PUBLIC_LABEL``, else ``"linked"`` (older files too)."""
+    qualname = file_name.split(".", 1)[-1].rsplit("-", 1)[0]
+    return "public" if qualname.endswith(PUBLIC_LABEL) else "linked"
+
+
+def drop_stale_cache(directory: Path, paths, stamp_name: str = stamp_name("linked"),
+                     mechanism: str | None = None) -> bool:
+    """Delete numba's cached code of ``paths``' modules in ``directory`` (only ``mechanism``'s, if
+    given: ``cache_mechanism``) unless the stamp ``stamp_name`` matches their fingerprint; then
+    stamp it. Returns whether anything was dropped.
 
     A directory that cannot be written (a read-only install) is left alone:
     numba then keeps its cache elsewhere or compiles in memory.
@@ -363,7 +332,7 @@ def drop_stale_cache(directory: Path, paths, stamp_name: str = STAMP_NAME) -> bo
     try:
         Path(directory).mkdir(parents=True, exist_ok=True)
         for cached in Path(directory).glob("*.nb[ic]"):
-            if cached.name.split(".", 1)[0] in stems:
+            if cached.name.split(".", 1)[0] in stems and mechanism in (None, cache_mechanism(cached.name)):
                 cached.unlink(missing_ok=True)
         stamp.write_text(fingerprint)
     except OSError:
@@ -371,9 +340,27 @@ def drop_stale_cache(directory: Path, paths, stamp_name: str = STAMP_NAME) -> bo
     return True
 
 
+def _check_cache(dispatcher) -> None:
+    """Drop this mechanism's stale cache (``drop_stale_cache``) where ``dispatcher`` keeps its machine
+    code: once a process, before anything is loaded from it (an entry point loads on its first call)."""
+    directory = cache_directory(dispatcher)
+    if directory is not None:
+        _drop_stale_once(directory, mechanism())
+
+
+@functools.cache
+def _drop_stale_once(directory: Path, mechanism: str) -> bool:
+    return drop_stale_cache(directory, SOURCES, stamp_name(mechanism), mechanism)
+
+
+def _label(function, suffix: str = "") -> None:
+    """End ``function``'s name with ``suffix`` and, under the public mechanism, ``PUBLIC_LABEL``."""
+    function.__qualname__ += suffix + (PUBLIC_LABEL if mechanism() == "public" else "")
+
+
 def _scope_function(scope: Scope, label: bool = True):
-    """``compile_modules``' ``compile_function`` for ``scope``: its entry point as a cached
-    ``CALLABLE``, every other function an ``Internal`` dispatcher with its ``internal`` options.
+    """``compile_modules``' ``compile_function`` for ``scope``: its entry point an ``entry``, every
+    other function a ``callee`` with its ``internal`` options.
 
     With ``label``, each function's name ends in the scope's (``integrate_ideal``), and so
     does its symbol in the machine code. numba names a symbol by the function's module, name
@@ -381,14 +368,14 @@ def _scope_function(scope: Scope, label: bool = True):
     symbol. Two scopes' kernels, compiled in different processes and loaded into one, would
     otherwise hold different machine code under one symbol, and one kernel would call the
     other's copy (the ideal scope with its loads would run the loads-free scope's
-    ``integrate``). The entry point's name also keys its disk cache (``shots_ideal``).
+    ``integrate``). The entry point's name also keys its disk cache (``shots_ideal``). The
+    public mechanism's names end in ``PUBLIC_LABEL`` too, for the same reasons.
     """
     def compile_function(function, inline):
-        if label:
-            function.__qualname__ = f"{function.__qualname__}_{scope.name}"
+        _label(function, f"_{scope.name}" if label else "")
         if getattr(function, "entry_point", False):
             return entry(function)
-        return dispatcher(function, forceinline=inline)
+        return callee(function, inline)
     return compile_function
 
 
@@ -399,33 +386,49 @@ def kernel_scope(scope: Scope) -> dict[str, types.ModuleType]:
     """The model and the kernel (``analytic.fast.dop853``, ``kernel_loads``, ``kernel``) compiled in
     ``scope``, by module short name: ``kernel_scope(scope)["kernel"].shots`` is its entry point.
 
-    Each scope has its own dispatchers, built on first use (compiled when first called, or
-    loaded from the disk cache); the model's globals hold the scope's switches, so numba
-    prunes what the scope leaves out before it types anything (``analytic.scope``).
+    Each scope has its own twins, built on first use (compiled when first called, or loaded
+    from the disk cache, whose stale files are dropped first); the model's globals hold the
+    scope's switches, so numba prunes what the scope leaves out before it types anything
+    (``analytic.scope``).
     """
     if scope.name not in _scopes:
-        _scopes[scope.name] = compile_modules((*MODEL_MODULES, dop853, kernel_loads, kernel), _scope_function(scope),
-                                              INLINE, constants=scope.globals())
+        modules = compile_modules((*MODEL_MODULES, dop853, kernel_loads, kernel), _scope_function(scope), INLINE,
+                                  constants=scope.globals())
+        _check_cache(modules["kernel"].shots)
+        _scopes[scope.name] = modules
     return _scopes[scope.name]
 
 
-#: The model compiled as the kernel calls it, in the scope that handles everything
-#: (``Internal`` dispatchers), by module short name: the callees of ``callable_twins``.
-#: (``kernel_scope`` builds each scope's own.)
-kernel_twins = compile_modules(MODEL_MODULES, _scope_function(EVERYTHING, label=False), INLINE,
-                               constants=EVERYTHING.globals())
-#: The model compiled for Python callers (tests, the benchmark): each function
-#: with its wrappers and disk cache, calling the kernel's twins.
-callable_twins = compile_modules(MODEL_MODULES, lambda f, inline: entry(f),
-                                 callees=kernel_twins)
-geometry_ = callable_twins["geometry"]   # trailing underscore: not the Python module of that name
-limits_ = callable_twins["limits"]
-aero_ = callable_twins["aero"]
-floating_arm_ = callable_twins["floating_arm"]
-eom_ = callable_twins["eom"]
-friction_ = callable_twins["friction"]
-states_ = callable_twins["states"]
-stages_ = callable_twins["stages"]
-sequence_ = callable_twins["sequence"]
-peaks_ = callable_twins["peaks"]
-drop_stale_cache(cache_directory(eom_.terms), SOURCES)
+@functools.cache
+def _model_twins() -> tuple[dict[str, types.ModuleType], dict[str, types.ModuleType]]:
+    """``(kernel_twins, callable_twins)``, built on first use."""
+    kernel_twins = compile_modules(MODEL_MODULES, _scope_function(EVERYTHING, label=False), INLINE,
+                                   constants=EVERYTHING.globals())
+
+    def callable_twin(function, inline):
+        _label(function)
+        return entry(function)
+
+    callable_twins = compile_modules(MODEL_MODULES, callable_twin, callees=kernel_twins)
+    _check_cache(callable_twins["eom"].terms)
+    return kernel_twins, callable_twins
+
+
+#: The lazy attributes (``__getattr__``), each by what it is in ``_model_twins()``: ``kernel_twins``,
+#: the model compiled as the kernel calls it in the scope that handles everything, by module short
+#: name (the callees of ``callable_twins``; ``kernel_scope`` builds each scope's own);
+#: ``callable_twins``, the model compiled for Python callers (tests, the benchmark), each function
+#: with its wrappers and disk cache; and one module of them each, named with a trailing underscore
+#: (``eom_``: not the Python module of that name).
+_LAZY = {"kernel_twins": (0, None), "callable_twins": (1, None),
+         **{f"{module.__name__.rsplit('.', 1)[-1]}_": (1, module.__name__.rsplit(".", 1)[-1])
+            for module in MODEL_MODULES}}
+
+
+def __getattr__(name: str):
+    """``kernel_twins``, ``callable_twins`` and ``eom_`` etc., built on first use (PEP 562)."""
+    if name not in _LAZY:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    which, module = _LAZY[name]
+    twins = _model_twins()[which]
+    return twins if module is None else twins[module]

@@ -34,9 +34,9 @@ def derivative_call(stage, y, p, table, out):
     LLVM inlines the right-hand side into every caller (``analytic.fast.compiled.INLINE``), and
     unrolls the dense output's loop of three: seven copies of the whole model in the machine
     code, five of them at sites a shot passes a few times. Called here, they are one copy,
-    and only ``rk_step`` inlines it: the ``everything`` scope's optimised module 0.65x the
-    instructions, its cold compile 0.89x as long (17.0/17.1 against 18.9/19.2 s, two pairs), the shots as fast
-    and bit-identical on the bench's 200 designs, ideal and with typical losses.
+    and only ``rk_step`` inlines it: a smaller optimised module and a shorter cold compile
+    (``python -m benchmarks --cold``, key ``compile_s``), the shots as fast (``fast_median_shot_s``)
+    and bit-identical on the bench's designs, ideal and with typical losses.
     """
     derivative(stage, y, p, table, out)
 
@@ -54,9 +54,9 @@ def rk_step(stage, t, y, f, h, coef, K, y_new, f_new, tmp, p, table):
 
     The right-hand side is called at two sites, the 11 stages' and the step's
     end (LLVM inlines it at each, ``analytic.fast.compiled.INLINE``): one site in
-    the loop for both, through an array chosen at run time, made every shot
-    1.1-1.6x as long (the batch of the benchmark's designs on one thread,
-    interleaved runs) for a smaller function.
+    the loop for both, through an array chosen at run time, made a smaller function
+    but every shot longer (``python -m benchmarks``, key ``fast_median_shot_s``,
+    and the batch's throughput on one thread).
     """
     A, B = coef[0], coef[1]
     n = y.shape[0]

@@ -33,7 +33,7 @@ import numpy as np
 from analytic.fast.marks import entry, internal
 from analytic.fast.dop853 import (ERROR_ORDER, MAX_FACTOR, MIN_FACTOR, N_STAGES, SAFETY, brent, dense_eval, dense_prepare,
                              derivative_call, error_norm, event_at, initial_step, rk_step)
-from analytic.fast.kernel_loads import N_LOADS, POOL_SLOTS, finish_peaks, keep_step, sample_loads, save_step
+from analytic.fast.kernel_loads import N_LOADS, finish_peaks, keep_step, sample_loads, start_peaks
 from analytic.limits import STAGE_STEP_LIMITS, flight_time_limit
 from analytic.parameters import PARAMS_DTYPE
 from analytic.scope import FRICTION, LOADS, RECORDING   # what this copy handles (analytic.scope)
@@ -149,7 +149,7 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, out, peaks, tr
     In stages 1 and 2 with ``track_loads``, ``peaks`` (N_LOADS, 2) gets the
     largest of each load (``stages.loads_at``) and its time, where this stretch
     beats it: sampled at every step's end and refined on the interpolants
-    beside the largest sample, as ``analytic.reference`` does.
+    beside each local maximum of the samples, as ``analytic.reference`` does.
 
     This function allocates the stretch's arrays and ``_integrate_steps`` steps through it: that
     one counts no references (``analytic.fast.marks.internal``), so the helpers numba inlines into
@@ -171,29 +171,23 @@ def integrate(stage, t0, y0, t_bound, coef, rtol, atol, p, table, out, peaks, tr
     events = np.empty((2, ne))
     apexes = np.empty((2, 4))
     track = track_loads and stage != FLIGHT
-    # The peak loads' search (``analytic.fast.kernel_loads``). Filled by loops: numba compiles np.full
-    # and np.zeros into a function per shape and type (about a second of a cold compile in all).
-    samples, sides = np.empty((N_LOADS, 6)), np.empty((N_LOADS, 2), dtype=np.int64)
-    pending = np.empty(N_LOADS, dtype=np.bool_)
-    last = np.empty(N_LOADS + 1)
-    slots = POOL_SLOTS if LOADS and track else 0
-    pool_k, pool_y, pool_t = np.empty((slots, N_STAGES + 1, n)), np.empty((slots, 2, n)), np.empty((slots, 3))
-    live_y, live_t = np.empty((2, 2, n)), np.empty((2, 3))
-    for k in range(N_LOADS):
-        pending[k] = False
-        samples[k, 3] = -math.inf
-        for j in range(0, 6, 2):
-            samples[k, j] = math.nan
-        sides[k, 0], sides[k, 1] = -1, -1
+    # The peak loads' state (``analytic.fast.kernel_loads``): the last two samples, the stretch's
+    # largest, and the last two steps with their interpolants. Filled by loops (``start_peaks``):
+    # numba compiles np.full and np.zeros into a function per shape and type (about a second of a
+    # cold compile in all).
+    buffers = 2 if LOADS and track else 0
+    recent, best = np.empty((2, N_LOADS + 1)), np.empty((N_LOADS, 2))
+    live_y, live_t = np.empty((buffers, 2, n)), np.empty((buffers, 3))
+    dense, built, load_tmp = np.empty((buffers, 7, n)), np.empty(buffers, dtype=np.bool_), np.empty(n)
     code, t_end, apex, end = _integrate_steps(stage, ne, t0, t_bound, coef, rtol, atol, p, table, out, peaks, track,
-                                              rec, motion, K2, F, work, events, apexes, samples, sides, pending, last,
-                                              pool_k, pool_y, pool_t, live_y, live_t)
+                                              rec, motion, K2, F, work, events, apexes, recent, best, live_y, live_t,
+                                              dense, built, load_tmp)
     return code, t_end, work[end], apex
 
 
 @internal
 def _integrate_steps(stage, ne, t0, t_bound, coef, rtol, atol, p, table, out, peaks, track, rec, motion, K2, F, work,
-                     events, apexes, samples, sides, pending, last, pool_k, pool_y, pool_t, live_y, live_t):
+                     events, apexes, recent, best, live_y, live_t, dense, built, load_tmp):
     """``integrate``'s stretch, on its arrays (``work[STATE]`` holding the start): step after step (``_step``),
     each searched for the events' roots (``_locate_events``), until an event ends it or ``t_bound``.
 
@@ -222,8 +216,9 @@ def _integrate_steps(stage, ne, t0, t_bound, coef, rtol, atol, p, table, out, pe
         return FAILED, t, -math.inf, STATE
     apex = -math.inf
     if LOADS and track:
-        last[N_LOADS] = math.nan
-        sample_loads(t0, loads_at(stage, y, p), -1, samples, sides, pending, last, False)
+        start_peaks(recent, best, built)
+        sample_loads(t0, loads_at(stage, y, p), -1, recent, best, stage, K2, live_y, live_t, dense, built, load_tmp,
+                     coef, p, table, out)
         out.evaluations += 1
     steps = 0
     while t < t_bound:
@@ -250,49 +245,53 @@ def _integrate_steps(stage, ne, t0, t_bound, coef, rtol, atol, p, table, out, pe
         if hit_k >= 0:
             dense_eval(hit_t, t_old, h, y, F, y_end)
             _stop_at(stage, hit_t, t_old, h, buffer, y, y_new, y_end, F, tmp, coef, p, table, out, peaks, track, rec,
-                     motion, K2, samples, sides, pending, last, pool_k, pool_y, pool_t, live_y, live_t)
+                     motion, K2, recent, best, live_y, live_t, dense, built, load_tmp)
             return hit_k, hit_t, apex, ROOT
         _after_step(stage, t_old, t_new, h, buffer, dense_ready, y, y_new, f_new, K, F, tmp, coef, p, table, out,
-                    track, rec, motion, K2, samples, sides, pending, last, pool_k, pool_y, pool_t, live_y, live_t)
+                    track, rec, motion, K2, recent, best, live_y, live_t, dense, built, load_tmp)
         t = t_new
         for j in range(n):
             y[j] = y_new[j]
             f[j] = f_new[j]
     if LOADS and track:
-        finish_peaks(stage, samples, sides, K2, live_y, live_t, pool_k, pool_y, pool_t, peaks, coef, p, table, out)
+        finish_peaks((steps - 1) % 2 if steps > 0 else -1, recent, best, peaks, stage, K2, live_y, live_t, dense,
+                     built, load_tmp, coef, p, table, out)
     return REACHED_END, t, apex, STATE
 
 
 @internal(inline="always")
 def _stop_at(stage, hit_t, t_old, h, buffer, y, y_new, y_end, F, tmp, coef, p, table, out, peaks, track, rec, motion,
-             K2, samples, sides, pending, last, pool_k, pool_y, pool_t, live_y, live_t):
+             K2, recent, best, live_y, live_t, dense, built, load_tmp):
     """The stretch ends at an event's root ``hit_t`` within the step from ``t_old`` (its state ``y_end``,
     on the step's dense output): the recording's samples up to it, and the peak loads' last sample
     there and their search (``kernel_loads.finish_peaks``)."""
     if RECORDING and rec.shape[0] > 0:
         record_step(stage, hit_t, t_old, h, y, F, tmp, rec, motion)
     if LOADS and track:
-        keep_step(buffer, t_old, h, hit_t, y, y_new, live_y, live_t)
-        sample_loads(hit_t, loads_at(stage, y_end, p), buffer, samples, sides, pending, last, True)
+        keep_step(buffer, t_old, h, hit_t, y, y_new, live_y, live_t, built)
         out.evaluations += 1
-        finish_peaks(stage, samples, sides, K2, live_y, live_t, pool_k, pool_y, pool_t, peaks, coef, p, table, out)
+        sample_loads(hit_t, loads_at(stage, y_end, p), buffer, recent, best, stage, K2, live_y, live_t, dense, built,
+                     load_tmp, coef, p, table, out)
+        finish_peaks(buffer, recent, best, peaks, stage, K2, live_y, live_t, dense, built, load_tmp, coef, p, table,
+                     out)
 
 
 @internal(inline="always")
 def _after_step(stage, t_old, t_new, h, buffer, dense_ready, y, y_new, f_new, K, F, tmp, coef, p, table, out, track,
-                rec, motion, K2, samples, sides, pending, last, pool_k, pool_y, pool_t, live_y, live_t):
+                rec, motion, K2, recent, best, live_y, live_t, dense, built, load_tmp):
     """What the stretch keeps of an accepted step that no event ended: the recording's samples in it (on its
-    dense output, built if it was not), and each load at its end (``kernel_loads``: at the step's end the
-    derivative is known, ``f_new``, and stage 2 reads the accelerations from it); the step in ``buffer``
-    stays for the next step, which takes the other."""
+    dense output, built if it was not), and each load at its end, searched around the sample before it
+    where that one is a local maximum (``kernel_loads.sample_loads``: at the step's end the derivative is
+    known, ``f_new``, and stage 2 reads the accelerations from it); the step in ``buffer`` stays for the
+    next step, which takes the other."""
     if RECORDING and rec.shape[0] > 0 and rec[0].next_sample <= t_new:
         _ensure_dense(dense_ready, stage, t_old, h, y, y_new, f_new, coef, K, F, tmp, p, table, out)
         record_step(stage, t_new, t_old, h, y, F, tmp, rec, motion)
     if LOADS and track:
-        keep_step(buffer, t_old, h, t_new, y, y_new, live_y, live_t)
-        sample_loads(t_new, loads_after_step(stage, y_new, f_new, p), buffer, samples, sides, pending, last, False)
-        save_step(1 - buffer, sides, K2, live_y, live_t, pool_k, pool_y, pool_t)   # the next step takes it
+        keep_step(buffer, t_old, h, t_new, y, y_new, live_y, live_t, built)
         out.evaluations += 1 if stage == SLIDE else 0
+        sample_loads(t_new, loads_after_step(stage, y_new, f_new, p), buffer, recent, best, stage, K2, live_y, live_t,
+                     dense, built, load_tmp, coef, p, table, out)
 
 
 @internal(inline="always")

@@ -4,8 +4,8 @@ Python's float errors, and the peak loads and the sling's smallest tension.
 ``analytic.reference`` runs the shot; this module is what it evaluates on the
 integrator's steps: each stage's derivative for scipy (``stage_rhs``), the
 largest of each load over a stage (``stage_peaks``, sampled at every step's
-end and located on the interpolants of the steps beside the largest sample,
-as the compiled path does: ``analytic.fast.kernel_loads``) and the sling's
+end and located on the interpolants of the steps beside each local maximum of
+the samples, as the compiled path does: ``analytic.fast.kernel_loads``) and the sling's
 smallest tension on the continuous solution (``smallest_tension``).
 """
 
@@ -105,15 +105,17 @@ def stage_peaks(stage: Stage, segment: Segment, p: Params, loads: bool, rtol: fl
     """The largest of each load (``stages.LOAD_NAMES``) over a stage-1 or stage-2 segment, and when,
     shape (N_LOADS, 2).
 
-    Sampled at the start, every accepted step's end and the end, then located
-    on the interpolants of the two steps on either side of the largest sample
-    (``analytic.peaks``' search, started from the three samples); a largest
-    sample at the segment's end is the peak unless the load is larger just
-    inside it. The compiled path does the same on the same steps. Not
-    ``loads``: none (-inf).
+    Sampled at the start, every accepted step's end and the end; then, around
+    every sample that is a local maximum of the samples (``analytic.peaks``),
+    located on the interpolants of the two steps on either side of it (the
+    search started from the three samples), or at the segment's end on its one
+    step where the load is larger just inside it. The largest value found
+    (samples and searches, in time order, the first of equals) is the peak. The
+    compiled path does the same on the same steps. Not ``loads``: none (-inf).
     """
+    peaks = np.full((len(stages.LOAD_NAMES), 2), -np.inf)
     if not loads:
-        return np.full((len(stages.LOAD_NAMES), 2), -np.inf)
+        return peaks
     values = np.array([stages.loads_at(int(stage), y, p) if np.isnan(f[0]) else
                        stages.loads_after_step(int(stage), y, f, p)
                        for y, f in zip(segment.step_y.tolist(), segment.step_f.tolist(), strict=True)])   # (k, N_LOADS)
@@ -127,38 +129,51 @@ def stage_peaks(stage: Stage, segment: Segment, p: Params, loads: bool, rtol: fl
             built[j] = step_interpolant(rhs, segment.steps[j], rtol=rtol, atol=atol)
         return built[j]
 
-    peaks = np.empty((values.shape[1], 2))
+    n = len(times)
     for k in range(values.shape[1]):
-        i = int(np.argmax(values[:, k]))
-        peaks[k] = values[i, k], times[i]
-        if 0 < i < len(times) - 1 and times[i - 1] < times[i] < times[i + 1]:
-            # Both steps beside the sample, as one bracket: each time on its own step's interpolant.
-            def load(u, i=i, k=k):
-                return -stages.loads_at(int(stage), interpolant(i - 1 if u < times[i] else i)(u).tolist(), p)[k]
-
-            search = peak_search.search_around(times[i - 1], values[i - 1, k], times[i], values[i, k],
-                                               times[i + 1], values[i + 1, k])
-        else:   # the largest sample ends the segment: the one step beside it
-            j = i - 1 if i > 0 else i
-            if j + 1 >= len(times) or not times[j + 1] > times[j]:
-                continue
-
-            def load(u, j=j, k=k):
-                return -stages.loads_at(int(stage), interpolant(j)(u).tolist(), p)[k]
-
-            inside = peak_search.inside_end(times[j], times[j + 1], i == j)
-            if -load(inside) <= values[i, k]:
-                continue   # still rising into the segment's end: the peak is the sample there
-            u = peak_search.search_golden(times[j], times[j + 1])
-            search = peak_search.search_from(times[j], times[j + 1], u, load(u))
-        while True:
-            done, u, search = peak_search.search_next(search)
-            if done:
-                break
-            search = peak_search.search_update(search, u, load(u))
-        if -search.fx > peaks[k, 0]:
-            peaks[k] = -search.fx, search.x
+        load_k = values[:, k].tolist()
+        for i, value in enumerate(load_k):
+            if value > peaks[k, 0]:
+                peaks[k] = value, times[i]
+            before = load_k[i - 1] if i > 0 else -math.inf
+            after = load_k[i + 1] if i + 1 < n else -math.inf
+            if peak_search.local_peak(before, value, after):
+                found = _search_sample(stage, p, interpolant, times, load_k, i, k)
+                if found is not None and found[0] > peaks[k, 0]:
+                    peaks[k] = found
     return peaks
+
+
+def _search_sample(stage: Stage, p: Params, interpolant, times: list[float], load_k: list[float], i: int,
+                   k: int) -> tuple[float, float] | None:
+    """Load ``k``'s largest value and its time around its sample ``i``, a local maximum of ``load_k``
+    (on ``times``), on the steps' ``interpolant``: None where the sample itself is the peak."""
+    n = len(times)
+    if 0 < i < n - 1 and times[i - 1] < times[i] < times[i + 1]:
+        # Both steps beside the sample, as one bracket: each time on its own step's interpolant.
+        def load(u):
+            return -stages.loads_at(int(stage), interpolant(i - 1 if u < times[i] else i)(u).tolist(), p)[k]
+
+        search = peak_search.search_around(times[i - 1], load_k[i - 1], times[i], load_k[i], times[i + 1],
+                                           load_k[i + 1])
+    else:   # the sample ends the segment: the one step beside it
+        j = i - 1 if i > 0 else i
+        if j + 1 >= n or not times[j + 1] > times[j]:
+            return None
+
+        def load(u):
+            return -stages.loads_at(int(stage), interpolant(j)(u).tolist(), p)[k]
+
+        inside = peak_search.inside_end(times[j], times[j + 1], i == j)
+        if -load(inside) <= load_k[i]:
+            return None   # still rising into the segment's end: the peak is the sample there
+        u = peak_search.search_golden(times[j], times[j + 1])
+        search = peak_search.search_from(times[j], times[j + 1], u, load(u))
+    while True:
+        done, u, search = peak_search.search_next(search)
+        if done:
+            return -search.fx, search.x
+        search = peak_search.search_update(search, u, load(u))
 
 
 def peak_fields(peaks: np.ndarray) -> dict[str, float]:

@@ -84,9 +84,9 @@ class OnDask:
             # Dask's own bookkeeping, none of which a sweep uses: the workers'
             # profiler samples each running task's stack 100 times a second,
             # every process checks its event loop every 20 ms and its resources
-            # every 0.1 to 0.5 s. On two busy cores, measured, these cost the
-            # cluster a fifth of its speed; at these settings it matches this
-            # process's (python -m benchmarks).
+            # every 0.1 to 0.5 s. On two busy cores these cost the cluster a
+            # large part of its speed; at these settings it matches this
+            # process's (python -m benchmarks, key sweep_cluster_ratio).
             with dask.config.set({"distributed.worker.multiprocessing-method": "spawn",
                                   "distributed.worker.profile.enabled": False,
                                   "distributed.admin.tick.interval": "1s",
