@@ -91,7 +91,6 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
     p = params(design)
     output_step = max(swing_spacing, p.t_limit / HISTORY_SAMPLE_LIMIT) if histories else None
     finish = functools.partial(_finish_shot, design, p, sampled_loads=sampled_loads)
-    machine = design.machine
     history = [] if histories else None
     segments = []
     reached = {}   # what the shot got to: lift-off, then release
@@ -122,7 +121,8 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
         if action == sequence.FINISHED:
             return finish(history, segments, Status.NEVER_RELEASES,
                           outcome.failure_message(Status.NEVER_RELEASES, time_limit=p.t_limit,
-                                                  release=(machine.release_rule, machine.release_angle)), **reached)
+                                                  release=(design.machine.release_rule,
+                                                           design.machine.release_angle)), **reached)
         stage = Stage.FLIGHT
         start, release = _release(swing, p)
         reached.update(release)
@@ -139,12 +139,8 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
     if status == sequence.NO_LANDING:
         return finish(history, segments, Status.NO_LANDING,
                       outcome.failure_message(Status.NO_LANDING, time=t_max - swing.t_end), **reached)
-    if not p.rolling:
-        reached.update(frame_landing_displacement=0.0, frame_landing_velocity=0.0, after_release_speed=0.0)
-    elif histories if after_release is None else after_release:
-        reached.update(_frame_after_release(p, swing.y_end, swing.t_end, flight.t_end, rtol, atol,
-                                            reached["frame_release_displacement"], start[states.FLIGHT_VX],
-                                            output_step))
+    reached.update(_frame_at_landing(p, swing, flight, start, reached["frame_release_displacement"],
+                                     histories if after_release is None else after_release, rtol, atol, output_step))
     return finish(history, segments, Status.OK, outcome.thrown_message(flight.y_end[states.FLIGHT_X]), **reached,
                   **_landing(flight, start, p))
 
@@ -248,6 +244,19 @@ def spacing_argument(name: str, value: float | None, default: float) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0.0 < value < math.inf:
         raise ValueError(f"{name} = {value!r}: must be a positive number of seconds")
     return float(value)
+
+
+def _frame_at_landing(p: Params, swing: Segment, flight: Segment, start: np.ndarray, release_x: float, run: bool,
+                      rtol: float, atol: float, output_step: float | None) -> dict:
+    """The ``Shot`` fields of the frame at the landing that ends ``flight``: 0 on a fixed frame; on a
+    rolling one, with ``run``, the machine's run on from the release that ends ``swing``
+    (``_frame_after_release``), else none."""
+    if not p.rolling:
+        return dict(frame_landing_displacement=0.0, frame_landing_velocity=0.0, after_release_speed=0.0)
+    if not run:
+        return {}
+    return _frame_after_release(p, swing.y_end, swing.t_end, flight.t_end, rtol, atol, release_x,
+                                start[states.FLIGHT_VX], output_step)
 
 
 def _frame_after_release(p: Params, release_state: np.ndarray, release_time: float, landing_time: float,
