@@ -56,6 +56,7 @@ from f carries it, and the sling's force in ``joint_forces_sliding`` is net of i
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 from analytic.scope import FLOATING_ARM, ROLLING, SWING_DRAG   # what this copy handles (analytic.scope)
 from analytic.aero import DRAG_TABLE, drag_rate
@@ -67,6 +68,67 @@ from analytic.geometry import arm_long_side
 FIXED = 1.0
 #: ``Params.kind`` of a floating-arm machine (``design.KINDS.index("floating-arm")``).
 FLOATING = 2.0
+
+
+# What the equations return where a caller reads less than the whole: named tuples, which numba
+# compiles as the plain tuples they extend (the same machine code), and both paths read by name.
+# The equations' inner products stay plain tuples (``sines``, ``terms``, ``frame_coupling``,
+# ``slide_constraint``, ``machine_terms``, ``joint_forces``, the cofactors): their callers take
+# them whole, or nearly, in the order the derivation writes them, and the reference path builds
+# them on every evaluation of the right-hand side, where constructing a named tuple costs Python
+# several times a plain tuple's.
+
+class SwingSystem(NamedTuple):
+    """The swing's mass matrix (symmetric: its upper triangle) and forces, ``M q'' = f`` over
+    (theta, phi, psi) [3], [8]: kg m^2 and N m."""
+
+    m11: float
+    m12: float
+    m13: float
+    m22: float
+    m23: float
+    m33: float
+    f1: float
+    f2: float
+    f3: float
+
+
+class SlideSystem(NamedTuple):
+    """The reduced stage-1 system ``[[a, b], [b, e]] [theta'', phi''] = [r1, r2]`` (eq. 4.4), then what
+    the base's normal force needs: the psi row's ``m13``, ``m23``, ``m33``, ``f3``, and the
+    constraint's ``psi'' = s theta'' + c`` with ``sin_beta`` (``slide_constraint``)."""
+
+    a: float
+    b: float
+    e: float
+    r1: float
+    r2: float
+    m13: float
+    m23: float
+    m33: float
+    f3: float
+    s: float
+    c: float
+    sin_beta: float
+
+
+class SlideAccelerations(NamedTuple):
+    """Stage 1's accelerations, rad/s^2, and the base's normal force on the projectile, N (up positive)."""
+
+    ddtheta: float
+    ddphi: float
+    normal: float
+
+
+class Loads(NamedTuple):
+    """What a builder sizes the machine for (``loads_sliding``): N, N, N, m/s^2, N m."""
+
+    axle_load: float
+    hinge_load: float
+    sling_tension: float
+    projectile_acceleration: float
+    arm_bending_moment: float
+
 
 # --------------------------------------------------------------------------- #
 # Stage 2: three degrees of freedom [3]
@@ -239,9 +301,8 @@ def frame_coupling(theta, phi, psi, dtheta, dphi, dpsi, p):
 
 
 def rolling_terms(theta, phi, psi, dtheta, dphi, dpsi, p):
-    """The swing's system with the frame eliminated: ``M - b b^T / Mt`` and ``f + b c / Mt``.
-
-    Returns ``(m11, m12, m13, m22, m23, m33, f1, f2, f3)`` (M23 is no longer 0).
+    """The swing's system with the frame eliminated: ``M - b b^T / Mt`` and ``f + b c / Mt``, a
+    ``SwingSystem`` (M23 is no longer 0).
     """
     m11, m12, m13, m22, m33, f1, f2, f3 = terms(theta, phi, psi, dtheta, dphi, dpsi, p)
     return frame_eliminated(m11, m12, m13, m22, m33, f1, f2, f3, theta, phi, psi, dtheta, dphi, dpsi, p)
@@ -249,16 +310,16 @@ def rolling_terms(theta, phi, psi, dtheta, dphi, dpsi, p):
 
 def frame_eliminated(m11, m12, m13, m22, m33, f1, f2, f3, theta, phi, psi, dtheta, dphi, dpsi, p):
     """``terms``' system ``(m11, m12, m13, m22, m33, f1, f2, f3)`` with the rolling frame eliminated
-    (``rolling_terms``): ``(m11, m12, m13, m22, m23, m33, f1, f2, f3)``."""
+    (``rolling_terms``): a ``SwingSystem``."""
     b1, b2, b3, c = frame_coupling(theta, phi, psi, dtheta, dphi, dpsi, p)
     k = 1.0 / total_mass(p)
-    return (m11 - k * b1 * b1, m12 - k * b1 * b2, m13 - k * b1 * b3, m22 - k * b2 * b2, -k * b2 * b3,
-            m33 - k * b3 * b3, f1 + k * b1 * c, f2 + k * b2 * c, f3 + k * b3 * c)
+    return SwingSystem(m11 - k * b1 * b1, m12 - k * b1 * b2, m13 - k * b1 * b3, m22 - k * b2 * b2, -k * b2 * b3,
+                       m33 - k * b3 * b3, f1 + k * b1 * c, f2 + k * b2 * c, f3 + k * b3 * c)
 
 
 def swing_terms(theta, phi, psi, dtheta, dphi, dpsi, p):
-    """The swing's ``(m11, m12, m13, m22, m23, m33, f1, f2, f3)`` on the design's frame: ``terms``
-    (M23 = 0) on a fixed one, ``rolling_terms`` on a rolling one.
+    """The swing's ``SwingSystem`` on the design's frame: ``terms`` (M23 = 0) on a fixed one,
+    ``rolling_terms`` on a rolling one.
 
     ``terms`` comes first on both, outside the frame's test: compiled, its sines then serve the
     joint forces that friction takes at the same angles (``sines``), which a copy inside one
@@ -267,7 +328,7 @@ def swing_terms(theta, phi, psi, dtheta, dphi, dpsi, p):
     m11, m12, m13, m22, m33, f1, f2, f3 = terms(theta, phi, psi, dtheta, dphi, dpsi, p)
     if ROLLING and p.rolling:
         return frame_eliminated(m11, m12, m13, m22, m33, f1, f2, f3, theta, phi, psi, dtheta, dphi, dpsi, p)
-    return m11, m12, m13, m22, 0.0, m33, f1, f2, f3
+    return SwingSystem(m11, m12, m13, m22, 0.0, m33, f1, f2, f3)
 
 
 def machine_terms(theta, phi, dtheta, dphi, m):
@@ -364,21 +425,21 @@ def slide_system(theta, phi, dtheta, dphi, p):
     """The reduced stage-1 system ``[[a, b], [b, e]] [theta'', phi''] = [r1, r2]`` (eq. 4.4).
 
     ``B^T M B`` and ``B^T (f - M [0, 0, c])`` with ``B`` the constraint's
-    Jacobian. Returns ``(a, b, e, r1, r2, m13, m23, m33, f3, s, c, sin_beta)``:
-    the system, then what the normal force needs (``slide_accelerations``).
-    With a rolling frame M and f are those of ``rolling_terms`` (M23 != 0).
+    Jacobian. Returns a ``SlideSystem``: the system, then what the normal force
+    needs (``slide_accelerations``). With a rolling frame M and f are those of
+    ``rolling_terms`` (M23 != 0).
     """
     psi, dpsi, s, c, sin_beta = slide_constraint(theta, dtheta, p)
     m11, m12, m13, m22, m23, m33, f1, f2, f3 = swing_terms(theta, phi, psi, dtheta, dphi, dpsi, p)
     a = m11 + 2.0 * s * m13 + s * s * m33
     r1 = f1 + s * f3 - (m13 + s * m33) * c
     if ROLLING and p.rolling:
-        return a, m12 + s * m23, m22, r1, f2 - m23 * c, m13, m23, m33, f3, s, c, sin_beta
-    return a, m12, m22, r1, f2, m13, 0.0, m33, f3, s, c, sin_beta
+        return SlideSystem(a, m12 + s * m23, m22, r1, f2 - m23 * c, m13, m23, m33, f3, s, c, sin_beta)
+    return SlideSystem(a, m12, m22, r1, f2, m13, 0.0, m33, f3, s, c, sin_beta)
 
 
 def slide_accelerations(theta, phi, dtheta, dphi, p):
-    """Stage 1: ``(theta'', phi'', N)``, N the base's normal force on the projectile, N (up positive).
+    """Stage 1: ``SlideAccelerations`` ``(theta'', phi'', N)``, N the base's normal force on the projectile.
 
     N is the Lagrange multiplier of the constraint (eq. 4.6):
     ``N = (M31 theta'' + M32 phi'' + M33 psi'' - f3) / (-Ls sin beta)``, M32 = 0
@@ -393,7 +454,7 @@ def slide_accelerations(theta, phi, dtheta, dphi, p):
         normal = (m13 * ddtheta + m23 * ddphi + m33 * ddpsi - f3) / (-p.Ls * sin_beta)
     else:
         normal = (m13 * ddtheta + m33 * ddpsi - f3) / (-p.Ls * sin_beta)
-    return ddtheta, ddphi, normal
+    return SlideAccelerations(ddtheta, ddphi, normal)
 
 
 def slide_state(theta, phi, dtheta, dphi, p):
@@ -551,12 +612,12 @@ def loads(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, normal, p)
 def loads_sliding(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, normal, base_force, p):
     """What a builder sizes the machine for, from ``joint_forces``, eq. (9.3).
 
-    Returns ``(axle_load, hinge_load, tension, projectile_acceleration, arm_bending_moment)``:
+    Returns ``Loads`` ``(axle_load, hinge_load, sling_tension, projectile_acceleration, arm_bending_moment)``:
 
     * ``axle_load = |axle force|``, N: what the axle's bearings carry; a
       bearing's friction torque is ``mu r |F|`` with this ``|F|``;
     * ``hinge_load = |hinge force|``, N: likewise for the counterweight's hinge;
-    * ``tension``, N: the sling's pull on the projectile along the sling
+    * ``sling_tension``, N: the sling's pull on the projectile along the sling
       (negative: a rigid sling pushes);
     * ``projectile_acceleration``, m/s^2: what the projectile feels, the force
       of the sling and the base on it divided by its mass (gravity excluded;
@@ -577,5 +638,5 @@ def loads_sliding(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, no
         felt_x, felt_y = felt_x + dx, felt_y + dy
     ddx = frame_acceleration(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, p)
     bending = arm_bending_moment(theta, ddtheta, ddx, 0.0, sling_x, sling_y, p)
-    return (math.sqrt(axle_x * axle_x + axle_y * axle_y), math.sqrt(hinge_x * hinge_x + hinge_y * hinge_y),
-            tension, math.sqrt(felt_x * felt_x + felt_y * felt_y) / p.mP, abs(bending))
+    return Loads(math.sqrt(axle_x * axle_x + axle_y * axle_y), math.sqrt(hinge_x * hinge_x + hinge_y * hinge_y),
+                 tension, math.sqrt(felt_x * felt_x + felt_y * felt_y) / p.mP, abs(bending))

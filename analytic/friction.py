@@ -34,6 +34,7 @@ D          dx_P/dtheta along the base constraint, m [10.3]     --
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 from analytic.scope import FLOATING_ARM   # what this copy handles (analytic.scope)
 from analytic.eom import (FLOATING, floating_supports_in_air, joint_forces, joint_forces_in_gravity,
@@ -55,6 +56,57 @@ from analytic.floating_arm import support_forces
 # rate's sign; the friction opposes it) or stuck (0: its rate and
 # acceleration are 0, and its torque is whatever holds it) [10.4].
 
+#: The joints whose friction the functions here take by number (``joint``): the axle (theta'), the
+#: hinge (phi'), and the base (the projectile's slide in stage 1), in the order of a state's friction
+#: entries (``analytic.states``).
+AXLE, HINGE, BASE = 0, 1, 2
+
+
+class SwingFriction(NamedTuple):
+    """Stage 2 with friction (``swing_friction``): the accelerations, rad/s^2; the friction torques at
+    the axle and the hinge, N m; the loads on their bearings ``|A|``, ``|H|``, N. A floating arm's
+    [12.10]: ``axle_torque`` the generalised force on theta of the axle's, the guide's and the track's
+    friction, ``hinge_torque`` the guide's friction force, N, ``axle_load`` its hold
+    (``slides_friction``), and ``hinge_load`` the track's friction force, N."""
+
+    ddtheta: float
+    ddphi: float
+    ddpsi: float
+    axle_torque: float
+    hinge_torque: float
+    axle_load: float
+    hinge_load: float
+
+
+class MachineFriction(NamedTuple):
+    """The machine after release with friction (``machine_friction``): ``SwingFriction`` without psi."""
+
+    ddtheta: float
+    ddphi: float
+    axle_torque: float
+    hinge_torque: float
+    axle_load: float
+    hinge_load: float
+
+
+class SlideFriction(NamedTuple):
+    """Stage 1 with friction (``slide_friction``): the accelerations, rad/s^2; the base's normal force
+    on the projectile, N; the friction torques at the axle and the hinge, N m, and the base's friction
+    force, N; the loads on the bearings ``|A|``, ``|H|``, N; ``slide_ratio`` dx_P/dtheta, m/rad. A
+    floating arm's [12.10]: ``axle_torque`` as in ``SwingFriction``, ``hinge_torque`` and
+    ``base_force`` the guide's and the track's friction forces, N, ``axle_load`` the hold."""
+
+    ddtheta: float
+    ddphi: float
+    normal: float
+    axle_torque: float
+    hinge_torque: float
+    base_force: float
+    axle_load: float
+    hinge_load: float
+    slide_ratio: float
+
+
 #: Newton's method on the friction unknowns stops when an update, or a bound on
 #: the next one, is this small relative to the unknowns (a few units in the
 #: last place), or after ``FRICTION_ITERATIONS`` (the maps are affine and the
@@ -71,16 +123,16 @@ def lossy(p):
 
 def kinetic_arm(joint, p):
     """``mu r`` of the joint (0 axle, 1 hinge), m: its friction torque slipping, per newton of load [10.2]."""
-    return p.mua * p.ra if joint == 0 else p.muh * p.rh
+    return p.mua * p.ra if joint == AXLE else p.muh * p.rh
 
 
 def static_arm(joint, p):
     """``mu_s r`` of the joint (0 axle, 1 hinge), m: the most friction torque that holds it stuck, per
     newton of load [10.9]; 0 for a joint without friction. A floating arm's axle with any friction
     on theta (the axle's, the guide's, the track's): 1, its load being the hold itself, N m [12.11]."""
-    if joint == 0 and FLOATING_ARM and p.kind == FLOATING:
+    if joint == AXLE and FLOATING_ARM and p.kind == FLOATING:
         return 1.0 if (p.mua_s * p.ra > 0.0 or slides_lossy(p)) else 0.0
-    return p.mua_s * p.ra if joint == 0 else p.muh_s * p.rh
+    return p.mua_s * p.ra if joint == AXLE else p.muh_s * p.rh
 
 
 def _linearisation_error(curve, inverse_k2, lx, ly, dx, dy):
@@ -148,9 +200,9 @@ def friction_newton(base, unit_a, unit_h, unit_b, sa, sh, sb, p):
     A joint can be stuck when it has static friction (``static_arm``); slipping
     it gives the kinetic friction (``kinetic_arm``, which may be 0).
     """
-    ka, kh = kinetic_arm(0, p), kinetic_arm(1, p)
-    stuck_a = sa == 0.0 and static_arm(0, p) > 0.0
-    stuck_h = sh == 0.0 and static_arm(1, p) > 0.0
+    ka, kh = kinetic_arm(AXLE, p), kinetic_arm(HINGE, p)
+    stuck_a = sa == 0.0 and static_arm(AXLE, p) > 0.0
+    stuck_h = sh == 0.0 and static_arm(HINGE, p) > 0.0
     on_base = p.mub > 0.0 and sb != 0.0
     inverse_ka2 = 1.0 / (ka * ka) if ka > 0.0 else 0.0
     inverse_kh2 = 1.0 / (kh * kh) if kh > 0.0 else 0.0
@@ -235,7 +287,7 @@ def _combine(base, unit_a, unit_h, unit_b, ta, th, fb, i):
 
 
 def swing_friction(theta, phi, psi, dtheta, dphi, dpsi, sa, sh, p):
-    """Stage 2 with friction [10.3]: ``(theta'', phi'', psi'', ta, th, |A|, |H|)``.
+    """Stage 2 with friction [10.3]: a ``SwingFriction`` ``(theta'', phi'', psi'', ta, th, |A|, |H|)``.
 
     ``sa``, ``sh``: the axle's and the hinge's modes (+1/-1 slipping with the
     rate's sign, 0 stuck). A stuck joint's acceleration is exactly 0 and its
@@ -247,15 +299,15 @@ def swing_friction(theta, phi, psi, dtheta, dphi, dpsi, sa, sh, p):
     c11, c12, c13, c22, c23, _, det = symmetric_cofactors(m11, m12, m13, m22, m23, m33)
     ua1, ua2, ua3 = c11 / det, c12 / det, c13 / det
     if FLOATING_ARM and p.kind == FLOATING:
-        ddtheta, ddpsi, _, q, _, fg, ft, hold = slides_friction(theta, psi, dtheta, dpsi, a1, a3, 0.0, ua1, ua3,
-                                                                 0.0, sa, p)
-        return ddtheta, 0.0, ddpsi, q, fg, hold, ft
+        slides = slides_friction(theta, psi, dtheta, dpsi, a1, a3, 0.0, ua1, ua3, 0.0, sa, p)
+        return SwingFriction(slides.ddtheta, 0.0, slides.ddpsi, slides.generalised_force, slides.guide_force,
+                             slides.hold, slides.track_force)
     uh1, uh2, uh3 = c12 / det, c22 / det, c23 / det
     return _joints(theta, phi, psi, dtheta, dphi, dpsi, a1, a2, a3, ua1, ua2, ua3, uh1, uh2, uh3, sa, sh, p)
 
 
 def machine_friction(theta, phi, dtheta, dphi, sa, sh, m):
-    """After release, with friction [10.9]: ``(theta'', phi'', ta, th, |A|, |H|)``.
+    """After release, with friction [10.9]: a ``MachineFriction`` ``(theta'', phi'', ta, th, |A|, |H|)``.
 
     ``m`` is the design's numbers without the projectile (``stages.machine_params``):
     ``swing_friction`` with the psi row and column gone (``eom.machine_terms``)
@@ -265,18 +317,18 @@ def machine_friction(theta, phi, dtheta, dphi, sa, sh, m):
     a1, a2 = solve_pair(m11, m12, m22, f1, f2)
     ua1, ua2 = solve_pair(m11, m12, m22, 1.0, 0.0)
     if FLOATING_ARM and m.kind == FLOATING:
-        ddtheta, _, _, q, _, fg, ft, hold = slides_friction(theta, 0.0, dtheta, 0.0, a1, 0.0, 0.0, ua1, 0.0, 0.0,
-                                                             sa, m)
-        return ddtheta, 0.0, q, fg, hold, ft
+        slides = slides_friction(theta, 0.0, dtheta, 0.0, a1, 0.0, 0.0, ua1, 0.0, 0.0, sa, m)
+        return MachineFriction(slides.ddtheta, 0.0, slides.generalised_force, slides.guide_force, slides.hold,
+                               slides.track_force)
     uh1, uh2 = solve_pair(m11, m12, m22, 0.0, 1.0)
     ddtheta, ddphi, _, ta, th, axle, hinge = _joints(theta, phi, 0.0, dtheta, dphi, 0.0, a1, a2, 0.0, ua1, ua2,
                                                      0.0, uh1, uh2, 0.0, sa, sh, m)
-    return ddtheta, ddphi, ta, th, axle, hinge
+    return MachineFriction(ddtheta, ddphi, ta, th, axle, hinge)
 
 
 def _joints(theta, phi, psi, dtheta, dphi, dpsi, a1, a2, a3, ua1, ua2, ua3, uh1, uh2, uh3, sa, sh, p):
     """The axle's and the hinge's friction off the base [10.3], from the accelerations without
-    friction ``a`` and per unit of ta (``ua``) and th (``uh``): ``(theta'', phi'', psi'', ta, th, |A|, |H|)``."""
+    friction ``a`` and per unit of ta (``ua``) and th (``uh``): a ``SwingFriction``."""
     bx, by, bhx, bhy, _, _ = joint_forces(theta, phi, psi, dtheta, dphi, dpsi, a1, a2, a3, 0.0, p)
     rax, ray, rahx, rahy = _force_response(theta, phi, psi, ua1, ua2, ua3, 0.0, 0.0, p)
     rhx, rhy, rhhx, rhhy = _force_response(theta, phi, psi, uh1, uh2, uh3, 0.0, 0.0, p)
@@ -288,15 +340,15 @@ def _joints(theta, phi, psi, dtheta, dphi, dpsi, a1, a2, a3, ua1, ua2, ua3, uh1,
     ddtheta = a1 + ta * ua1 + th * uh1
     ddphi = a2 + ta * ua2 + th * uh2
     ddpsi = a3 + ta * ua3 + th * uh3
-    if sa == 0.0 and static_arm(0, p) > 0.0:
+    if sa == 0.0 and static_arm(AXLE, p) > 0.0:
         ddtheta = 0.0
-    if sh == 0.0 and static_arm(1, p) > 0.0:
+    if sh == 0.0 and static_arm(HINGE, p) > 0.0:
         ddphi = 0.0
     axle = _size(_combine(base, unit_a, unit_h, unit_b, ta, th, 0.0, 0),
                   _combine(base, unit_a, unit_h, unit_b, ta, th, 0.0, 1))
     hinge = _size(_combine(base, unit_a, unit_h, unit_b, ta, th, 0.0, 2),
                   _combine(base, unit_a, unit_h, unit_b, ta, th, 0.0, 3))
-    return ddtheta, ddphi, ddpsi, ta, th, axle, hinge
+    return SwingFriction(ddtheta, ddphi, ddpsi, ta, th, axle, hinge)
 
 
 def slide_rate(theta, s, sin_beta, p):
@@ -316,7 +368,8 @@ def _slide_response(a, b, e, det, m13, m23, m33, s, c, lever, q1, q2, q_psi):
 
 
 def slide_friction(theta, phi, dtheta, dphi, sa, sh, sb, p):
-    """Stage 1 with friction [10.3], [10.5]: ``(theta'', phi'', N, ta, th, F, |A|, |H|, dx_P/dtheta)``.
+    """Stage 1 with friction [10.3], [10.5]: a ``SlideFriction``
+    ``(theta'', phi'', N, ta, th, F, |A|, |H|, dx_P/dtheta)``.
 
     ``sa``, ``sh`` as in ``swing_friction``; ``sb`` the sign of the
     projectile's slide over the base (the base's friction ``F = -mub sb N``
@@ -333,9 +386,9 @@ def slide_friction(theta, phi, dtheta, dphi, sa, sh, sb, p):
     a1, a2, a3, n0 = _slide_response(a, b, e, det, m13, m23, m33, s, c, lever, r1, r2, f3)
     ua1, ua2, ua3, uan = _slide_response(a, b, e, det, m13, m23, m33, s, 0.0, lever, 1.0, 0.0, 0.0)
     if FLOATING_ARM and p.kind == FLOATING:
-        ddtheta, _, normal, q, _, fg, ft, hold = slides_friction(theta, psi, dtheta, dpsi, a1, a3, n0, ua1, ua3,
-                                                                  uan, sa, p)
-        return ddtheta, 0.0, normal, q, fg, ft, hold, 0.0, dx
+        slides = slides_friction(theta, psi, dtheta, dpsi, a1, a3, n0, ua1, ua3, uan, sa, p)
+        return SlideFriction(slides.ddtheta, 0.0, slides.normal, slides.generalised_force, slides.guide_force,
+                             slides.track_force, slides.hold, 0.0, dx)
     uh1, uh2, uh3, uhn = _slide_response(a, b, e, det, m13, m23, m33, s, 0.0, lever, 0.0, 1.0, 0.0)
     ub1, ub2, ub3, ubn = _slide_response(a, b, e, det, m13, m23, m33, s, 0.0, lever, dx, 0.0, dx_dpsi)
     bx, by, bhx, bhy, _, _ = joint_forces(theta, phi, psi, dtheta, dphi, dpsi, a1, a2, a3, n0, p)
@@ -349,16 +402,16 @@ def slide_friction(theta, phi, dtheta, dphi, sa, sh, sb, p):
     ta, th, fb = friction_newton(base, unit_a, unit_h, unit_b, sa, sh, sb, p)
     ddtheta = a1 + ta * ua1 + th * uh1 + fb * ub1
     ddphi = a2 + ta * ua2 + th * uh2 + fb * ub2
-    if sa == 0.0 and static_arm(0, p) > 0.0:
+    if sa == 0.0 and static_arm(AXLE, p) > 0.0:
         ddtheta = 0.0
-    if sh == 0.0 and static_arm(1, p) > 0.0:
+    if sh == 0.0 and static_arm(HINGE, p) > 0.0:
         ddphi = 0.0
     normal = _combine(base, unit_a, unit_h, unit_b, ta, th, fb, 4)
     axle = _size(_combine(base, unit_a, unit_h, unit_b, ta, th, fb, 0),
                   _combine(base, unit_a, unit_h, unit_b, ta, th, fb, 1))
     hinge = _size(_combine(base, unit_a, unit_h, unit_b, ta, th, fb, 2),
                   _combine(base, unit_a, unit_h, unit_b, ta, th, fb, 3))
-    return ddtheta, ddphi, normal, ta, th, fb, axle, hinge, dx
+    return SlideFriction(ddtheta, ddphi, normal, ta, th, fb, axle, hinge, dx)
 
 
 def rest_balance(p):
@@ -374,16 +427,17 @@ def rest_balance(p):
     ``drive > axle_hold + base_hold``.
     """
     theta, phi = p.theta0, p.phi0
-    _, _, _, r1, _, _, _, _, f3, s, _, sin_beta = slide_system(theta, phi, 0.0, 0.0, p)
-    psi = slide_constraint(theta, 0.0, p)[0]
+    system = slide_system(theta, phi, 0.0, 0.0, p)
+    r1 = system.r1
+    psi, _, _, _, _ = slide_constraint(theta, 0.0, p)
     if FLOATING_ARM and p.kind == FLOATING:   # the axle's, the guide's and the track's hold together; no base friction [12.11]
-        return -r1, slide_friction(theta, phi, 0.0, 0.0, 0.0, 0.0, 0.0, p)[6], 0.0
-    normal = -f3 / (-p.Ls * sin_beta)
-    dx = slide_rate(theta, s, sin_beta, p)
+        return -r1, slide_friction(theta, phi, 0.0, 0.0, 0.0, 0.0, 0.0, p).axle_load, 0.0
+    normal = -system.f3 / (-p.Ls * system.sin_beta)
+    dx = slide_rate(theta, system.s, system.sin_beta, p)
     base_force = p.mub_s * normal if dx >= 0.0 else -p.mub_s * normal
     ax, ay, _, _, _, _ = joint_forces_sliding(theta, phi, psi, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, normal,
                                               base_force, p)
-    return -r1, static_arm(0, p) * _size(ax, ay), base_force * dx
+    return -r1, static_arm(AXLE, p) * _size(ax, ay), base_force * dx
 
 
 # --------------------------------------------------------------------------- #
@@ -397,6 +451,22 @@ def rest_balance(p):
 # are the momentum balance (12.6) less the other support's friction,
 # G = sum m a_x - ft and T = sum m (a_y + g) - N - fg, and the axle's pin carries the
 # (massless) carriage's load (ft, T) [12.10].
+
+class SlidesFriction(NamedTuple):
+    """A floating arm's friction and motion (``slides_friction``): theta'' and psi'', rad/s^2; the base's
+    push N, N; the friction's generalised force on theta, N m; the axle's torque, N m; the guide's and
+    the track's friction forces, N; and the hold (slipping: the carriage's load ``|(ft, T)|``, N; stuck:
+    the most static friction can hold, N m)."""
+
+    ddtheta: float
+    ddpsi: float
+    normal: float
+    generalised_force: float
+    axle_torque: float
+    guide_force: float
+    track_force: float
+    hold: float
+
 
 #: ``slides_newton`` takes a sign choice's solution when its equations' residual is within this of the
 #: forces: a solution leaves round-off times the 3x3 Jacobian's condition (at most 2e-14 of the forces
@@ -486,7 +556,7 @@ def slides_friction(theta, psi, dtheta, dpsi, a1, a3, n0, ua1, ua3, uan, sa, p):
     ``(a1, a3, n0)`` (theta'', psi'', the base's push N) and their change per unit of Q on theta
     ``(ua1, ua3, uan)``; ``sa`` is the mode.
 
-    Returns ``(theta'', psi'', N, Q, ta, fg, ft, hold)``: Q the friction's generalised force on theta
+    Returns a ``SlidesFriction`` ``(theta'', psi'', N, Q, ta, fg, ft, hold)``: Q the friction's generalised force on theta
     (N m), ta the axle's torque, fg and ft the guide's and the track's forces (N). Slipping,
     ``hold`` is |(ft, T)|. Stuck (``sa`` 0), theta'' = 0, Q holds the arm, and ``hold`` is the most
     static friction can (N m, ``static_arm`` being 1): every friction at its static limit against
@@ -498,11 +568,11 @@ def slides_friction(theta, psi, dtheta, dpsi, a1, a3, n0, ua1, ua3, uan, sa, p):
     track_u -= total_g
     if sa != 0.0:
         track0, guide0 = floating_supports_in_air(theta, psi, dtheta, dpsi, a1, a3, n0, p)
-        ta, fg, ft = slides_newton(theta, sa, guide0, guide_u, track0, track_u, kinetic_arm(0, p), p.mug,
+        ta, fg, ft = slides_newton(theta, sa, guide0, guide_u, track0, track_u, kinetic_arm(AXLE, p), p.mug,
                                    p.mut, p)
         q = ta + p.Lb * math.sin(theta) * fg - p.Lb * math.cos(theta) * ft
         track = track0 + q * track_u - fg
-        return a1 + q * ua1, a3 + q * ua3, n0 + q * uan, q, ta, fg, ft, _size(ft, track)
+        return SlidesFriction(a1 + q * ua1, a3 + q * ua3, n0 + q * uan, q, ta, fg, ft, _size(ft, track))
     q = -a1 / ua1
     ddpsi, normal = a3 + q * ua3, n0 + q * uan
     track0, guide0 = floating_supports_in_air(theta, psi, dtheta, dpsi, 0.0, ddpsi, normal, p)
@@ -510,4 +580,4 @@ def slides_friction(theta, psi, dtheta, dpsi, a1, a3, n0, ua1, ua3, uan, sa, p):
                                p.mua_s * p.ra, p.mug_s, p.mut_s, p)
     hold = ta + p.Lb * math.sin(theta) * fg - p.Lb * math.cos(theta) * ft
     share = q / hold if hold != 0.0 else 0.0
-    return 0.0, ddpsi, normal, q, share * ta, share * fg, share * ft, abs(hold)
+    return SlidesFriction(0.0, ddpsi, normal, q, share * ta, share * fg, share * ft, abs(hold))

@@ -12,6 +12,7 @@ hold no dynamics, so the engine may import this module).
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -101,9 +102,17 @@ def sling_arm_angle(ax: float, ay: float, sx: float, sy: float) -> float:
     return -math.atan2(ax * sy - ay * sx, ax * sx + ay * sy)
 
 
+class Release(NamedTuple):
+    """The release rule as an event (``release_value``): release when ``value`` rises through zero
+    while ``armed``."""
+
+    value: float
+    armed: bool
+
+
 def release_value(rule: int, release_angle: float, ax: float, ay: float, sx: float, sy: float,
-                  vx: float, vy: float) -> tuple[float, bool]:
-    """The release rule as an event: ``(value, armed)``; release when ``value`` rises
+                  vx: float, vy: float) -> Release:
+    """The release rule as an event: ``Release(value, armed)``; release when ``value`` rises
     through zero while ``armed``.
 
     * ``VELOCITY_RULE``: ``value = |v| sin(alpha - angle(v))``, smooth in the
@@ -117,13 +126,13 @@ def release_value(rule: int, release_angle: float, ax: float, ay: float, sx: flo
     """
     if rule == VELOCITY_RULE:
         along = math.cos(release_angle) * vx + math.sin(release_angle) * vy
-        return math.sin(release_angle) * vx - math.cos(release_angle) * vy, along > 0.0
+        return Release(math.sin(release_angle) * vx - math.cos(release_angle) * vy, along > 0.0)
     gamma = sling_arm_angle(ax, ay, sx, sy)
-    return math.sin(gamma - release_angle), math.cos(gamma - release_angle) > 0.0
+    return Release(math.sin(gamma - release_angle), math.cos(gamma - release_angle) > 0.0)
 
 
 def release_at(rule: int, release_angle: float, theta: float, psi: float, vx: float,
-               vy: float) -> tuple[float, bool]:
+               vy: float) -> Release:
     """``release_value`` at coordinates: arm angle theta, sling angle psi (rad), projectile velocity (m/s)."""
     beta = theta + psi
     return release_value(rule, release_angle, -math.sin(theta), math.cos(theta),

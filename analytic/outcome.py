@@ -51,7 +51,7 @@ LOSS_NAMES = ("axle", "hinge", "base", "drag", "swing_drag", "guide", "track")
 
 
 def friction_work_names(floating: bool) -> tuple[str, str, str]:
-    """The frictions whose work a shot's state carries (``analytic.stages.FRICTION_WORK``), in order:
+    """The frictions whose work a shot's state carries (``analytic.states.FRICTION_WORK``), in order:
     the axle's, the hinge's and the base's, or a floating arm's axle's, guide's and track's (it
     has no hinge and no friction on the base)."""
     return ("axle", "guide", "track") if floating else ("axle", "hinge", "base")

@@ -2,7 +2,7 @@
 
 A shot is stage 1 (the slide), stage 2 (the swing) and stage 3 (the flight);
 in a design with friction a stage is integrated in stretches, one per set of
-joint modes, each ended by an event (``stages.EVENT_NAMES``). Both paths
+joint modes, each ended by an event (``states.EVENT_NAMES``). Both paths
 integrate a stretch with their own integrator (``analytic.reference.ode`` with
 scipy's DOP853 on the reference path, ``analytic.fast.kernel`` compiled) and then
 ask ``stretch_end`` what follows: a switch of the friction modes and another
@@ -82,8 +82,9 @@ import numpy as np
 
 from analytic.outcome import LiftoffFailure, Status
 from analytic.peaks import search_around, search_from, search_next, search_update
-from analytic.stages import (ARM_STALLS, FIRST_SWITCH, FLIGHT, MODE_SWITCH_LIMIT, ROOT_NUDGE_ULPS,
-                             ROOT_TIME_TOLERANCE, SLIDE, SWING, ZERO_START_PROBES)
+from analytic.stages import ROOT_NUDGE_ULPS, ROOT_TIME_TOLERANCE, ZERO_START_PROBES
+from analytic.states import (FIRST_SWITCH, FLIGHT, FLIGHT_LANDING, MODE_SWITCH_LIMIT, SLIDE, SLIDE_ARM_BACK,
+                             SLIDE_ARM_STALLS, SLIDE_LIFTOFF, SLIDE_UNDER_TIP, SWING, SWING_HITS_BASE, SWING_RELEASE)
 
 #: How a stretch ended, besides the index of the terminal event that ended it: it
 #: reached the end of its time, the integrator failed (a step size underflow or a
@@ -111,7 +112,7 @@ def stretch_end(stage, code, switches):
     """What follows a stretch of ``stage`` that ended with ``code`` (an event's index, or
     ``REACHED_END``, ``FAILED``, ``OUT_OF_STEPS``), after ``switches`` mode switches in the shot.
 
-    Returns ``(action, status, detail)``: ``SWITCH_MODE`` (``stages.switch_mode``, then
+    Returns ``(action, status, detail)``: ``SWITCH_MODE`` (``states.switch_mode``, then
     the stage goes on), ``NEXT_STAGE``, or ``FINISHED`` with the shot's ``Status.code``
     and its detail: a ``LiftoffFailure`` for ``NEVER_LIFTS_OFF``, the stage for
     ``STEP_FAILED``, else 0. The machine after release (stage 4) finishes ``OK`` at the
@@ -124,19 +125,19 @@ def stretch_end(stage, code, switches):
             return FINISHED, STEP_FAILED, stage
         return SWITCH_MODE, 0, 0
     if stage == SLIDE:
-        if code == 1:
+        if code == SLIDE_LIFTOFF:
             return NEXT_STAGE, 0, 0
-        if code == 0:
+        if code == SLIDE_UNDER_TIP:
             return FINISHED, NEVER_LIFTS_OFF, UNDER_TIP
-        if code == 2:
+        if code == SLIDE_ARM_BACK:
             return FINISHED, NEVER_LIFTS_OFF, ARM_BACK
-        return FINISHED, NEVER_LIFTS_OFF, STALLED if code == ARM_STALLS else TIME_LIMIT
+        return FINISHED, NEVER_LIFTS_OFF, STALLED if code == SLIDE_ARM_STALLS else TIME_LIMIT
     if stage == SWING:
-        if code == 0:
+        if code == SWING_RELEASE:
             return NEXT_STAGE, 0, 0
-        return FINISHED, HITS_BASE if code == 1 else NEVER_RELEASES, 0
+        return FINISHED, HITS_BASE if code == SWING_HITS_BASE else NEVER_RELEASES, 0
     if stage == FLIGHT:
-        return FINISHED, OK if code == 0 else NO_LANDING, 0
+        return FINISHED, OK if code == FLIGHT_LANDING else NO_LANDING, 0
     return FINISHED, OK, 0
 
 

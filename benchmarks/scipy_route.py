@@ -6,7 +6,7 @@ import numpy as np
 from numba import njit
 from scipy.integrate import solve_ivp
 
-from analytic import fast, stages
+from analytic import fast, stages, states
 from analytic.fast import compiled
 from analytic.aero import DRAG_TABLE
 from analytic.parameters import params
@@ -29,12 +29,12 @@ def scipy_with_compiled_model(design, repeat: int = 3) -> dict:
     @njit
     def compiled_rhs(t, y, p):
         out = np.empty(6)
-        derivative(stages.SWING, y, p, DRAG_TABLE, out)
+        derivative(states.SWING, y, p, DRAG_TABLE, out)
         return out
 
     def python_rhs(t, y, p):
         out = np.empty(6)
-        stages.derivative(stages.SWING, y, p, DRAG_TABLE, out)
+        stages.derivative(states.SWING, y, p, DRAG_TABLE, out)
         return out
 
     shot = simulate(design)

@@ -404,6 +404,15 @@ def engine_records(names: list[str]) -> dict[str, dict[str, str]]:
     return {name: shot_record(simulate(cases[name])) for name in names}
 
 
+def assert_records_equal(actual: np.ndarray, expected: np.ndarray, *, skip: tuple[str, ...] = (), err_msg: str = ""):
+    """Two structured arrays (or records) equal field by field, NaN equal to NaN (the compiled path's
+    results, ``analytic.fast.kernel.RESULT_DTYPE``): a field named in ``skip`` is not compared."""
+    assert actual.dtype == expected.dtype, (actual.dtype, expected.dtype)
+    for name in actual.dtype.names:
+        if name not in skip:
+            np.testing.assert_array_equal(actual[name], expected[name], err_msg=f"{err_msg} {name}")
+
+
 # --------------------------------------------------------------------------- #
 # The fast path's compile progress (test_analytic_fast.py, test_analytic_numba_mechanisms.py)
 # --------------------------------------------------------------------------- #

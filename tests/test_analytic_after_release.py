@@ -16,7 +16,7 @@ import math
 import numpy as np
 import pytest
 
-from analytic import eom, friction, reference, stages
+from analytic import eom, friction, reference, stages, states
 from analytic.cli import main as analytic_main
 from analytic.design import Base, Losses
 from analytic.design_file import default_design, save_design
@@ -93,7 +93,7 @@ def test_the_machine_without_friction_satisfies_the_sympy_equations(lagrangian, 
     m, angles, rates, momentum, _, spare = sample
     ideal = m._replace(mua=0.0, muh=0.0, mub=0.0, mua_s=0.0, muh_s=0.0, mub_s=0.0)
     y, out = np.array([*angles, *rates]), np.empty(4)
-    stages.derivative(stages.MACHINE, y, ideal, None, out)
+    stages.derivative(states.MACHINE, y, ideal, None, out)
     q, qd, qdd = _sympy_state(ideal, angles, rates, momentum, out[2], out[3], spare)
     _check_equations(lagrangian, ideal, q, qd, qdd, 0.0, 0.0, 0.0, 0.0)
 
@@ -112,15 +112,15 @@ def test_compiled_machine_after_release_is_bit_identical_to_the_python_one():
             y = np.array([*rng.uniform(-math.pi, math.pi, 2), *(rng.normal(0.0, 4.0, 2) * [sa != 0.0, sh != 0.0]),
                           *rng.uniform(0.0, 1.0, 3), sa, sh, 0.0])
             got, expected = np.empty(len(y)), np.empty(len(y))
-            compiled.stages_.derivative(stages.MACHINE, y, m, DRAG_TABLE, got)
-            stages.derivative(stages.MACHINE, y, m, DRAG_TABLE, expected)
+            compiled.stages_.derivative(states.MACHINE, y, m, DRAG_TABLE, got)
+            stages.derivative(states.MACHINE, y, m, DRAG_TABLE, expected)
             np.testing.assert_array_equal(got, expected)
-            for k in range(len(stages.EVENT_NAMES[stages.MACHINE])):
-                assert compiled.stages_.event_value(stages.MACHINE, k, y, m) == stages.event_value(stages.MACHINE, k,
+            for k in range(len(states.EVENT_NAMES[states.MACHINE])):
+                assert compiled.stages_.event_value(states.MACHINE, k, y, m) == stages.event_value(states.MACHINE, k,
                                                                                                    y, m)
                 y_got, y_expected = y.copy(), y.copy()
-                compiled.stages_.switch_mode(stages.MACHINE, k, y_got, m)
-                stages.switch_mode(stages.MACHINE, k, y_expected, m)
+                compiled.states_.switch_mode(states.MACHINE, k, y_got, m)
+                states.switch_mode(states.MACHINE, k, y_expected, m)
                 np.testing.assert_array_equal(y_got, y_expected)
 
 
@@ -150,9 +150,9 @@ def _after_release(design):
     finally:
         reference._merge = original
     m = stages.machine_params(p)
-    start = np.empty(stages.state_size(stages.MACHINE, m))
+    start = np.empty(states.state_size(states.MACHINE, m))
     stages.machine_start(swing[-1].y_end, m, start)
-    pieces, _, _, _ = reference._run_modes(stages.MACHINE, m, shot.release_time, start, shot.landing_time,
+    pieces, _, _, _ = reference._run_modes(states.MACHINE, m, shot.release_time, start, shot.landing_time,
                                            reference.DEFAULT_RTOL, reference.DEFAULT_ATOL, 1e-3, False, [0])
     return m, reference._merge(pieces), pieces
 
@@ -191,7 +191,7 @@ def test_friction_after_release_changes_where_the_rolling_frame_lands():
     m, machine, _ = _after_release(design)
     ideal = m._replace(mua=0.0, muh=0.0, mub=0.0, mua_s=0.0, muh_s=0.0, mub_s=0.0)
     start = machine.y[0, :4].copy()
-    frictionless = reference._run(stages.MACHINE, ideal, shot.release_time, start, shot.landing_time,
+    frictionless = reference._run(states.MACHINE, ideal, shot.release_time, start, shot.landing_time,
                                   reference.DEFAULT_RTOL, reference.DEFAULT_ATOL, None, False)
     momentum = -params(design).mP * shot.release_velocity[0]
     x_free = stages.machine_frame(frictionless.y_end, ideal, momentum, shot.release_time, start,
@@ -233,7 +233,7 @@ def test_a_failed_run_after_release_leaves_the_frame_at_landing_unreported_with_
     """The shot itself stands (it landed); only what the run after release gives is missing."""
     design = dataclasses.replace(_rolling(default_design()), losses=LOSSES)
     limits = list(reference.STAGE_STEP_LIMITS)
-    limits[stages.MACHINE] = 3
+    limits[states.MACHINE] = 3
     monkeypatch.setattr(reference, "STAGE_STEP_LIMITS", tuple(limits))
     shot = simulate(design)
     assert shot.status is Status.OK and shot.range is not None

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from analytic import eom, stages
+from analytic import eom, stages, states
 from analytic.design_file import default_design
 from analytic.geometry import arm_long_side
 from analytic.parameters import params
@@ -105,4 +105,4 @@ def test_loads_report_the_magnitude_at_a_stage_two_state():
     forces = eom.joint_forces(*y, ddtheta, ddphi, ddpsi, 0.0, p)
     expected = abs(eom.arm_bending_moment(y[0], ddtheta, 0.0, 0.0, forces[4], forces[5], p))
     assert stages.LOAD_NAMES[4] == "arm_bending_moment"
-    assert stages.loads_at(stages.SWING, np.array(y), p)[4] == pytest.approx(expected, rel=1e-14)
+    assert stages.loads_at(states.SWING, np.array(y), p)[4] == pytest.approx(expected, rel=1e-14)

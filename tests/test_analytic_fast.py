@@ -23,7 +23,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, event, example, given, settings
 
-from analytic import aero, eom, fast, geometry, stages
+from analytic import aero, eom, fast, geometry, stages, states
 from analytic.fast import compiled, kernel
 from analytic.aero import DRAG_TABLE
 from analytic.design import Base
@@ -110,12 +110,12 @@ def test_compiled_stages_are_bit_identical_to_the_python_ones(table3, rule, alph
     reach = math.acos(-p.h / p.La)
     for y in _random_states(200, 4):
         y_slide = np.array([reach - abs(y[0]) / 3.0, y[1], y[3], y[4]])
-        for stage, state in ((stages.SLIDE, y_slide), (stages.SWING, y), (stages.FLIGHT, y[2:])):
+        for stage, state in ((states.SLIDE, y_slide), (states.SWING, y), (states.FLIGHT, y[2:])):
             got, expected = np.empty(len(state)), np.empty(len(state))
             compiled.stages_.derivative(stage, state, p, DRAG_TABLE, got)
             stages.derivative(stage, state, p, DRAG_TABLE, expected)
             assert _identical(got, expected), stage
-            for k in range(len(stages.EVENT_NAMES[stage])):
+            for k in range(len(states.EVENT_NAMES[stage])):
                 assert _identical(compiled.stages_.event_value(stage, k, state, p), stages.event_value(stage, k, state, p))
                 assert compiled.stages_.event_armed(stage, k, state, p) == stages.event_armed(stage, k, state, p)
 
@@ -410,10 +410,13 @@ def test_many_shots_equal_single_ones(table3):
 def test_a_failed_step_is_a_step_failed_shot_with_its_instant_and_stage(table3, stage):
     # The kernel's record of a step that failed (no real design is known to get
     # there: the rejections shrink the step until it succeeds): STEP_FAILED,
-    # the instant in END_T and the stage in DETAIL.
-    row = np.full(kernel.N_RESULT, np.nan)
-    row[kernel.STATUS], row[kernel.END_T], row[kernel.DETAIL] = kernel.STEP_FAILED, 0.25, stage
-    shot = fast.to_shot(table3, row)
+    # the instant in end_time and the stage in detail.
+    row = np.zeros(1, kernel.RESULT_DTYPE)
+    for name in ("liftoff_time", "release_time", "landing_time", "landing_x", "apex_height", "rest_acceleration",
+                 "peaks"):
+        row[name] = np.nan
+    row["status"], row["end_time"], row["detail"] = kernel.STEP_FAILED, 0.25, stage
+    shot = fast.to_shot(table3, row[0])
     assert shot.status is Status.STEP_FAILED and not shot.ok and shot.range is None
     assert "t = 0.25 s" in shot.message and f"stage {stage}" in shot.message
 

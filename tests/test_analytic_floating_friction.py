@@ -15,7 +15,7 @@ import math
 import numpy as np
 import pytest
 
-from analytic import friction, stages
+from analytic import friction, stages, states
 from analytic.design import Losses
 from analytic.design_file import load_design
 from analytic.fast import simulate_fast
@@ -129,9 +129,9 @@ def test_the_supports_and_the_loads_carry_the_friction(lagrangian, i):
     q4, qd4 = (*q, 0.0), (*qd, 0.0)
     guide, track = _supports(lagrangian, p, q4, qd4, acc, 0.0, fg, ft)
     scale = (p.mA + p.mW + p.mP) * p.g + abs(guide) + abs(track)
-    _close(stages.floating_supports(stages.SWING, y, p), [track, guide], "(T, G)", scale)
+    _close(stages.floating_supports(states.SWING, y, p), [track, guide], "(T, G)", scale)
     weight = lagrangian.joint_forces(p, q4, qd4, acc)[1]
-    loads = stages.loads_at(stages.SWING, y, p)
+    loads = stages.loads_at(states.SWING, y, p)
     _close(loads[0], math.hypot(ft, track), "axle load |(ft, T)|", scale)
     _close(loads[1], math.hypot(weight[0] - guide, weight[1] - fg), "mount load", scale)
 

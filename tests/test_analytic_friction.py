@@ -21,7 +21,7 @@ from functools import partial
 import numpy as np
 import pytest
 
-from analytic import eom, friction, stages
+from analytic import eom, friction, stages, states
 from analytic.design import Base, Losses
 from analytic.design_file import default_design, design_from_dict, design_to_dict
 from analytic.parameters import Params, params
@@ -185,11 +185,11 @@ def test_without_friction_the_equations_are_the_ideal_machines_bit_for_bit():
     """Zero coefficients take the ideal machine's arithmetic (friction.lossy is false)."""
     p = params(default_design())
     assert not friction.lossy(p)
-    y = np.empty(stages.state_size(stages.SLIDE, p))
+    y = np.empty(states.state_size(states.SLIDE, p))
     stages.slide_start(p, y)
     assert y.shape == (4,)
     out = np.empty(4)
-    stages.derivative(stages.SLIDE, y, p, None, out)
+    stages.derivative(states.SLIDE, y, p, None, out)
     assert out[2] == eom.slide_accelerations(p.theta0, p.phi0, 0.0, 0.0, p)[0]
 
 
@@ -416,7 +416,7 @@ def test_the_drag_work_is_the_flights_loss_of_mechanical_energy(paper):
 
     def rhs(t, y):
         out = np.empty(4)
-        stages.derivative(stages.FLIGHT, y, p, DRAG_TABLE, out)
+        stages.derivative(states.FLIGHT, y, p, DRAG_TABLE, out)
         return out
 
     flight = integrate(rhs, shot.release_time, start, shot.landing_time, (), rtol=1e-12, atol=1e-12,
@@ -429,7 +429,7 @@ def test_the_drag_work_is_the_flights_loss_of_mechanical_energy(paper):
     lost = energy(start) - energy(flight.y_end)
     assert shot.energy_dissipated["drag"] == pytest.approx(lost, rel=1e-8)
     assert shot.energy_dissipated["drag"] == reference.drag_work(
-        reference._run(stages.FLIGHT, p, shot.release_time, start, shot.landing_time + 1.0, 1e-10, 1e-10, None, True), p)
+        reference._run(states.FLIGHT, p, shot.release_time, start, shot.landing_time + 1.0, 1e-10, 1e-10, None, True), p)
 
 
 # --------------------------------------------------------------------------- #
@@ -446,10 +446,10 @@ def test_a_hinge_that_sticks_is_held_within_its_friction_and_slips_against_its_r
     stuck = shot.history.qdot[:, 1] == 0.0
     assert stuck.sum() > 10 and (~stuck).sum() > 10
     kh = p.muh * p.rh
-    for i in np.flatnonzero(shot.history.stage == stages.SWING)[::7]:
+    for i in np.flatnonzero(shot.history.stage == states.SWING)[::7]:
         y = np.concatenate([shot.history.q[i], shot.history.qdot[i], np.zeros(3), [-1.0, 0.0 if stuck[i] else np.sign(shot.history.qdot[i, 1]),
                                                                     0.0]])
-        _, _, _, _, _, th, _, _, hinge, _ = stages.friction_solution(stages.SWING, y, p)
+        _, _, _, _, _, th, _, _, hinge, _ = states.friction_solution(states.SWING, y, p)
         if stuck[i]:
             assert abs(th) <= kh * hinge * (1 + 1e-12)
         else:
@@ -459,14 +459,14 @@ def test_a_hinge_that_sticks_is_held_within_its_friction_and_slips_against_its_r
 def test_the_hinge_reverses_and_the_axle_stops_under_heavy_friction(paper, monkeypatch):
     """Each mode switch is an event of the stage: record them."""
     switched = []
-    original = stages.switch_mode
+    original = states.switch_mode
 
     def spy(stage, k, y, p):
         before = y.copy()
         original(stage, k, y, p)
-        switched.append((stages.EVENT_NAMES[stage][k], before[-3:].tolist(), y[-3:].tolist()))
+        switched.append((states.EVENT_NAMES[stage][k], before[-3:].tolist(), y[-3:].tolist()))
 
-    monkeypatch.setattr(stages, "switch_mode", spy)
+    monkeypatch.setattr(states, "switch_mode", spy)
     simulate(with_losses(paper, hinge_friction=0.15, hinge_radius=0.005), histories=False)
     assert [name for name, _, _ in switched] == ["hinge_stops"]
     assert switched[0][1][1] == -1.0 and switched[0][2][1] == 1.0          # slipping back the other way
@@ -487,18 +487,18 @@ def test_joints_at_rest_together_get_consistent_modes_and_the_audit_converges(mo
     design = dataclasses.replace(table_ii_sample(28, seed=21)[27], base=Base(mobility="rolling", mass=87.75),
                                  losses=Losses(axle_friction=0.2254, axle_radius=0.0221, hinge_friction=0.205,
                                                hinge_radius=0.0252, base_friction=0.2306))
-    original, switches = stages.switch_mode, []
+    original, switches = states.switch_mode, []
 
     def checked(stage, k, y, p):
         original(stage, k, y, p)
-        name = stages.EVENT_NAMES[stage][k]
+        name = states.EVENT_NAMES[stage][k]
         switches.append(name)
-        core = stages.STATE_SIZE[stage]
+        core = states.STATE_SIZE[stage]
         free = [y[core // 2 + joint] == 0.0 for joint in range(2)]
-        must_slip = stages.switched_joint(stage, k) if name.endswith("_slips") else -1
-        assert stages.consistent(stage, y, p, *free, must_slip), (name, y[-3:])
+        must_slip = states.switched_joint(stage, k) if name.endswith("_slips") else -1
+        assert states.consistent(stage, y, p, *free, must_slip), (name, y[-3:])
 
-    monkeypatch.setattr(stages, "switch_mode", checked)
+    monkeypatch.setattr(states, "switch_mode", checked)
     shot = simulate(design)
     assert shot.status is Status.OK and len(switches) > 40
     assert {"axle_stops", "axle_slips", "hinge_stops", "hinge_slips"} <= set(switches)
@@ -510,22 +510,22 @@ def test_friction_events_watch_the_rates_and_are_inert_without_their_friction(pa
     ``stage-1-events`` group): arm_stalls is -theta', slide_reverses the slide's direction with
     the arm turning clockwise, -D, times its sign (not D theta', which would reach 0 with the
     arm's stall too), and a switch at slide_reverses flips the sign."""
-    names = stages.EVENT_NAMES[stages.SLIDE]
+    names = states.EVENT_NAMES[states.SLIDE]
     ideal = params(paper)
     y4 = np.array([ideal.theta0 - 0.2, ideal.phi0 + 0.1, -3.0, 1.5])
-    assert all(stages.event_value(stages.SLIDE, k, y4, ideal) == 1.0 for k in range(stages.ARM_STALLS, len(names)))
+    assert all(stages.event_value(states.SLIDE, k, y4, ideal) == 1.0 for k in range(states.SLIDE_ARM_STALLS, len(names)))
     p = params(with_losses(paper, **ALL))
     y = np.concatenate([y4, [0.1, 0.2, 0.3, -1.0, 1.0, -1.0]])
     _, _, s, _, sin_beta = eom.slide_constraint(y[0], y[2], p)
     slide = friction.slide_rate(y[0], s, sin_beta, p)
-    assert stages.event_value(stages.SLIDE, names.index("arm_stalls"), y, p) == 3.0
-    assert stages.event_value(stages.SLIDE, names.index("slide_reverses"), y, p) == pytest.approx(slide)
-    assert stages.event_value(stages.SLIDE, names.index("hinge_stops"), y, p) == 1.5      # phi' times +1
-    assert stages.event_value(stages.SLIDE, names.index("hinge_slips"), y, p) == 1.0      # not stuck: inert
-    stages.switch_mode(stages.SLIDE, names.index("slide_reverses"), y, p)
+    assert stages.event_value(states.SLIDE, names.index("arm_stalls"), y, p) == 3.0
+    assert stages.event_value(states.SLIDE, names.index("slide_reverses"), y, p) == pytest.approx(slide)
+    assert stages.event_value(states.SLIDE, names.index("hinge_stops"), y, p) == 1.5      # phi' times +1
+    assert stages.event_value(states.SLIDE, names.index("hinge_slips"), y, p) == 1.0      # not stuck: inert
+    states.switch_mode(states.SLIDE, names.index("slide_reverses"), y, p)
     assert y[-1] == 1.0 and y[-3] == -1.0 and y[3] == 1.5
     # Only friction events switch modes; arm_stalls ends stage 1 as a lift-off failure.
-    assert stages.FIRST_SWITCH[stages.SLIDE] == names.index("hinge_stops") > names.index("arm_stalls")
+    assert states.FIRST_SWITCH[states.SLIDE] == names.index("hinge_stops") > names.index("arm_stalls")
 
 
 def test_never_fires_when_axle_friction_holds_the_arm_and_says_the_torque_balance(paper):
@@ -573,26 +573,26 @@ def test_a_stuck_hinge_slips_at_its_static_limit_then_gives_the_kinetic_torque(p
     reaches mu_s r |H|, 1.3 times the kinetic limit, and the slipping joint then gets -mu r |H| sign(phi')."""
     design = with_losses(paper, hinge_friction=1.0, hinge_radius=0.1, hinge_static_friction=1.3)
     p = params(design)
-    original, slips = stages.switch_mode, []
+    original, slips = states.switch_mode, []
 
     def spy(stage, k, y, p_):
-        if stages.EVENT_NAMES[stage][k] == "hinge_slips":
+        if states.EVENT_NAMES[stage][k] == "hinge_slips":
             slips.append((stage, y.copy()))
         original(stage, k, y, p_)
-        if stages.EVENT_NAMES[stage][k] == "hinge_slips":
+        if states.EVENT_NAMES[stage][k] == "hinge_slips":
             slips[-1] += (y.copy(),)
 
-    monkeypatch.setattr(stages, "switch_mode", spy)
+    monkeypatch.setattr(states, "switch_mode", spy)
     shot = simulate(design, histories=False)
     assert shot.status is Status.OK and slips
     for stage, held, slipping in slips:
-        solution = stages.friction_solution(stage, held, p)
+        solution = states.friction_solution(stage, held, p)
         th, hinge = solution[5], solution[8]
         # The root is located to ROOT_TIME_TOLERANCE on the dense output: the hold's margin there is
         # round-off of the torques (~1e-13 of them), far below the 30 % gap between the two limits.
         assert abs(th) == pytest.approx(friction.static_arm(1, p) * hinge, rel=1e-9)
         assert abs(th) > 1.25 * friction.kinetic_arm(1, p) * hinge
-        after = stages.friction_solution(stage, slipping, p)
+        after = states.friction_solution(stage, slipping, p)
         mode = slipping[-2]
         assert mode == -np.sign(th)
         assert after[5] == pytest.approx(-friction.kinetic_arm(1, p) * after[8] * mode, rel=1e-12)
@@ -775,18 +775,18 @@ def test_compiled_friction_is_bit_identical_to_the_python_one():
             slide = np.array([reach - abs(q[0]) / 3.0, q[1], qd[0] if sa else -1.0, qd[1], *work,
                               -1.0, sh, rng.choice([-1.0, 1.0])])
             swing = np.array([*q, *qd, *work, sa, sh, 0.0])
-            for stage, y in ((stages.SLIDE, slide), (stages.SWING, swing)):
+            for stage, y in ((states.SLIDE, slide), (states.SWING, swing)):
                 got, expected = np.empty(len(y)), np.empty(len(y))
                 compiled.stages_.derivative(stage, y, p, DRAG_TABLE, got)
                 stages.derivative(stage, y, p, DRAG_TABLE, expected)
                 np.testing.assert_array_equal(got, expected)
-                for k in range(len(stages.EVENT_NAMES[stage])):
+                for k in range(len(states.EVENT_NAMES[stage])):
                     a, b = compiled.stages_.event_value(stage, k, y, p), stages.event_value(stage, k, y, p)
-                    assert a == b or (math.isnan(a) and math.isnan(b)), (stage, stages.EVENT_NAMES[stage][k], a, b)
-                for k in range(stages.FIRST_SWITCH[stage], len(stages.EVENT_NAMES[stage])):
+                    assert a == b or (math.isnan(a) and math.isnan(b)), (stage, states.EVENT_NAMES[stage][k], a, b)
+                for k in range(states.FIRST_SWITCH[stage], len(states.EVENT_NAMES[stage])):
                     y_got, y_expected = y.copy(), y.copy()
-                    compiled.stages_.switch_mode(stage, k, y_got, p)
-                    stages.switch_mode(stage, k, y_expected, p)
+                    compiled.states_.switch_mode(stage, k, y_got, p)
+                    states.switch_mode(stage, k, y_expected, p)
                     np.testing.assert_array_equal(y_got, y_expected)
         assert compiled.stages_.fires(p) == stages.fires(p)
         assert compiled.friction_.rest_balance(p) == friction.rest_balance(p)

@@ -17,7 +17,7 @@ import math
 import numpy as np
 import pytest
 
-from analytic import eom, stages
+from analytic import eom, stages, states
 from analytic.design import Base
 from analytic.design_file import default_design
 from analytic.parameters import Params, params
@@ -161,12 +161,12 @@ def test_loads_are_the_joint_forces_sizes_and_the_tension_is_eq_5_2_on_a_fixed_f
     if len(sample) == 3:
         _, q, qd = sample
         y = np.array([*q, *qd])
-        stage, normal = stages.SWING, 0.0
+        stage, normal = states.SWING, 0.0
         qdd = eom.swing_accelerations(*q, *qd, p)
     else:
         _, theta, phi, dtheta, dphi = sample
         y = np.array([theta, phi, dtheta, dphi])
-        stage = stages.SLIDE
+        stage = states.SLIDE
         ddtheta, ddphi, normal = eom.slide_accelerations(theta, phi, dtheta, dphi, p)
         psi, dpsi, s, c, _ = eom.slide_constraint(theta, dtheta, p)
         q, qd, qdd = (theta, phi, psi), (dtheta, dphi, dpsi), (ddtheta, ddphi, s * ddtheta + c)
@@ -270,7 +270,7 @@ def test_the_tension_history_is_eq_5_2_and_the_minimum_is_unchanged(table3):
     p = params(table3)
     rows = []
     for stage, q, qd in zip(shot.history.stage, shot.history.q, shot.history.qdot, strict=True):
-        if stage == stages.SLIDE:
+        if stage == states.SLIDE:
             ddtheta, _, normal = eom.slide_accelerations(q[0], q[1], qd[0], qd[1], p)
         else:
             ddtheta, normal = eom.swing_accelerations(*q, *qd, p)[0], 0.0

@@ -21,7 +21,7 @@ from analytic.fast.motion import simulate_motion
 from analytic.reference import simulate
 from analytic.result import Status
 from benchmarks.designs import ROLLING_FRAME, TYPICAL_LOSSES
-from support import failure_designs, table3_variants, table_ii_sample
+from support import assert_records_equal, failure_designs, table3_variants, table_ii_sample
 
 #: Each design's pair of paths is shot once for the two tests that read it (``_both_paths``): under
 #: pytest-xdist (``make test``: ``--dist loadgroup``) the module runs whole on one worker.
@@ -102,16 +102,21 @@ def test_the_energies_are_the_reference_paths(design):
 
 
 def test_recording_changes_nothing_the_summary_holds():
-    """The result rows with and without the recording are the same to the bit, but for the
+    """The result records with and without the recording are the same to the bit, but for the
     evaluations the recording's interpolants add."""
     for design in _designs():
         plain = fast.shoot_one(design, 1e-10, 1e-10, True)
-        rec = np.array([0.0, 0.0, 2e-3, 2e-2, 1e5])
-        recorded = fast.shoot_one(design, 1e-10, 1e-10, True, rec, np.empty((200_000, kernel.SAMPLE_WIDTH)))
-        same = np.ones(kernel.N_RESULT, dtype=bool)
-        same[kernel.EVALS] = False
-        np.testing.assert_array_equal(recorded[same], plain[same], err_msg=design.name)
-        assert recorded[kernel.EVALS] >= plain[kernel.EVALS]
+        recorded = fast.shoot_one(design, 1e-10, 1e-10, True, _recording(2e-3, 2e-2, 100_000),
+                                  np.empty(200_000, kernel.SAMPLE_DTYPE))
+        assert_records_equal(recorded, plain, skip=("evaluations",), err_msg=design.name)
+        assert recorded["evaluations"] >= plain["evaluations"]
+
+
+def _recording(spacing: float, flight_spacing: float, sample_limit: int) -> np.ndarray:
+    """A recording's state before the shot (``analytic.fast.kernel.RECORDING_DTYPE``)."""
+    rec = np.zeros(1, kernel.RECORDING_DTYPE)
+    rec["spacing"], rec["flight_spacing"], rec["sample_limit"] = spacing, flight_spacing, sample_limit
+    return rec
 
 
 def test_a_machine_that_never_moves_is_drawn_at_rest():
@@ -124,11 +129,12 @@ def test_a_machine_that_never_moves_is_drawn_at_rest():
 
 def test_a_buffer_too_small_is_reported_not_overrun():
     design = table3_variants()["table3"]
-    rec = np.array([0.0, 0.0, 1e-3, 1e-2, 1e5])
-    samples = np.full((10, kernel.SAMPLE_WIDTH), -7.0)
+    rec = _recording(1e-3, 1e-2, 100_000)
+    samples = np.zeros(10, kernel.SAMPLE_DTYPE)
+    samples["t"] = -7.0
     fast.shoot_one(design, 1e-10, 1e-10, False, rec, samples)
-    assert rec[kernel.ROWS] == -1.0
-    assert samples[:, 0].tolist() == pytest.approx([1e-3 * i for i in range(10)], abs=1e-12)
+    assert rec["ran_out"][0] and rec["rows"][0] == len(samples)
+    assert samples["t"].tolist() == pytest.approx([1e-3 * i for i in range(10)], abs=1e-12)
 
 
 @pytest.mark.parametrize("value", [0.0, -1e-3, float("nan"), "2 ms"])

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from analytic import eom, stages
+from analytic import eom, stages, states
 from analytic.aero import DRAG_TABLE
 from analytic.design import Base
 from analytic.design_file import default_design
@@ -185,7 +185,7 @@ def test_the_derivative_of_stage_2_uses_the_rolling_system():
     p = params(_rolling(5.0))
     y = np.array([1.0, -0.7, -2.0, -3.0, 4.0, 9.0])
     out = np.empty(6)
-    stages.derivative(stages.SWING, y, p, DRAG_TABLE, out)
+    stages.derivative(states.SWING, y, p, DRAG_TABLE, out)
     assert tuple(out[3:]) == eom.swing_accelerations(*y, p)
     fixed = eom.swing_accelerations(*y, p._replace(rolling=0.0))
     assert not np.allclose(out[3:], fixed, rtol=1e-3)   # the frame's motion changes them visibly
@@ -284,7 +284,7 @@ def test_ground_force_is_the_weight_plus_the_second_derivative_of_the_vertical_m
     second = (moment[swing + 1] - 2.0 * moment[swing] + moment[swing - 1]) / step**2
     weight = (p.mA + p.mW + p.mP + (p.Mf if p.rolling else 0.0)) * p.g
     from analytic import eom
-    model = np.array([eom.ground_force(*q, *qd, *stages.accelerations(stages.SWING, np.concatenate([q, qd]), p), p)
+    model = np.array([eom.ground_force(*q, *qd, *stages.accelerations(states.SWING, np.concatenate([q, qd]), p), p)
                       for q, qd in zip(shot.history.q[swing], shot.history.qdot[swing], strict=True)])
     # The second difference errs by (step^2 / 12) moment'''' ~ 1e-3 of the largest push here.
     assert np.max(np.abs(model - (weight + second))) < 2e-3 * np.max(np.abs(model))

@@ -29,7 +29,7 @@ from analytic.parameters import Params, params
 from analytic.reference import DEFAULT_ATOL, DEFAULT_RTOL
 from analytic.scope import EVERYTHING, IDEAL, IDEAL_LOADS, SCOPES, needed, needed_rows, needs
 from benchmarks.designs import ROLLING_FRAME, TYPICAL_LOSSES, bench_designs
-from support import fixed_designs, floating_designs, with_projectile
+from support import assert_records_equal, fixed_designs, floating_designs, with_projectile
 
 
 #: One design for each thing the ideal scopes leave out, each with its own reason.
@@ -57,7 +57,7 @@ def beyond_the_ideal() -> dict[str, object]:
 
 
 def _rows(scope, rows, loads):
-    out = np.empty((len(rows), kernel.N_RESULT))
+    out = np.empty(len(rows), kernel.RESULT_DTYPE)
     fast.compile(scope)
     fast.entry_point(scope)(rows, 0, len(rows), DRAG_TABLE, fast.COEFFICIENTS, DEFAULT_RTOL, DEFAULT_ATOL, loads,
                             out, fast._NO_RECORDING, fast._NO_SAMPLES)
@@ -101,10 +101,10 @@ def test_a_smaller_scope_gives_the_same_bits_as_the_scope_that_handles_everythin
     rows = fast.pack_many(designs)
     assert needed_rows(rows, scope.loads) is scope
     smaller, everything = _rows(scope, rows, scope.loads), _rows(EVERYTHING, rows, scope.loads)
-    np.testing.assert_array_equal(smaller, everything)
-    thrown = smaller[:, kernel.STATUS] == kernel.OK
+    assert_records_equal(smaller, everything)
+    thrown = smaller["status"] == kernel.OK
     assert thrown.sum() > 60   # the comparison covers real shots, not only failures
-    assert np.isfinite(smaller[:, kernel.PEAKS]).any() == scope.loads
+    assert np.isfinite(smaller["peaks"]).any() == scope.loads
 
 
 def test_each_entry_point_is_cached_under_its_own_name():
@@ -134,6 +134,7 @@ def test_the_ideal_scope_compiles_nothing_of_what_it_leaves_out(tmp_path):
     # What it runs is compiled (the check can see a compiled function) ...
     assert {"terms", "slide_accelerations", "swing_accelerations"} <= set(compiled["eom"])
     assert {"derivative", "event_value", "fires"} <= set(compiled["stages"])
+    assert {"state_size"} <= set(compiled["states"])
     assert {"integrate", "shots"} <= set(compiled["kernel"])
     # ... and what it leaves out is not.
     assert compiled["friction"] == [] and compiled["floating_arm"] == [] and compiled["kernel_loads"] == []
@@ -141,6 +142,6 @@ def test_the_ideal_scope_compiles_nothing_of_what_it_leaves_out(tmp_path):
     # what only the loads call (search_golden, inside_end) is left out.
     assert set(compiled["peaks"]) == {"search_around", "search_from", "search_next", "search_update"}
     assert not {"rolling_terms", "swing_drag", "floating_supports_in_air"} & set(compiled["eom"])
-    assert not {"decide_modes", "switch_mode", "friction_solution", "friction_event", "loads_at",
-                "floating_supports"} & set(compiled["stages"])
-    assert not {"record_row", "record_step"} & set(compiled["kernel"])
+    assert not {"decide_modes", "switch_mode", "friction_solution", "friction_event"} & set(compiled["states"])
+    assert not {"loads_at", "floating_supports"} & set(compiled["stages"])
+    assert not {"record_row", "record_step", "record_last"} & set(compiled["kernel"])

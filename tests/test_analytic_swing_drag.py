@@ -21,8 +21,7 @@ from analytic.aero import DRAG_MODELS, drag_coefficient
 from analytic.design import DesignError
 from analytic.design_file import default_design, design_from_dict, design_to_dict
 from analytic.parameters import params
-from analytic import stages
-from analytic.stages import SLIDE, SWING, loads_at
+from analytic import stages, states
 from test_analytic_friction import AUDIT_TOL
 from test_analytic_symbolic import SEED, assert_close, random_params, slide_state
 
@@ -158,7 +157,7 @@ def test_a_floating_arms_supports_push_the_machines_momentum_change_less_the_dra
     assert_close(forces[2:4], (weight[0] - guide, weight[1]), "mount force on the counterweight", scale=scale)
     assert_close(forces[4:], sling - drag, "sling force", scale=scale)
     y = np.array([*q, *qd])
-    assert_close(stages.floating_supports(stages.SWING, y, p), (track, guide), "supports", scale=scale)
+    assert_close(stages.floating_supports(states.SWING, y, p), (track, guide), "supports", scale=scale)
 
 
 @pytest.mark.parametrize("sample", FLOATING_SWING, ids=[f"floating{i}" for i in range(len(FLOATING_SWING))])

@@ -21,7 +21,7 @@ import math
 import numpy as np
 import pytest
 
-from analytic import eom, stages
+from analytic import eom, stages, states
 from analytic.design import initial_angles
 from analytic.design_file import default_design
 from analytic.aero import DRAG_TABLE
@@ -183,7 +183,7 @@ def test_swing_accelerations(lagrangian, sample):
 def test_swing_derivative_stacks_rates_and_accelerations(lagrangian, sample):
     p, q, qd = sample
     out = np.empty(6)
-    stages.derivative(stages.SWING, np.concatenate([q, qd]), p, DRAG_TABLE, out)
+    stages.derivative(states.SWING, np.concatenate([q, qd]), p, DRAG_TABLE, out)
     assert_close(out, np.concatenate([qd, swing(lagrangian, p, q, qd)[2]]), "stage-2 derivative")
 
 
@@ -230,7 +230,7 @@ def test_slide_derivative_and_full_state(lagrangian, sample):
     p, theta, phi, dtheta, dphi = sample
     sol = lagrangian.base_reduction(p, theta, phi, dtheta, dphi)
     out = np.empty(4)
-    stages.derivative(stages.SLIDE, np.array([theta, phi, dtheta, dphi]), p, DRAG_TABLE, out)
+    stages.derivative(states.SLIDE, np.array([theta, phi, dtheta, dphi]), p, DRAG_TABLE, out)
     assert_close(out, [dtheta, dphi, *sol["qdd"][:2]], "stage-1 derivative")
     full = eom.slide_state(theta, phi, dtheta, dphi, p)
     assert_close(full[:3], sol["q"], "q", scale=math.pi)

@@ -37,7 +37,7 @@ ANALYTIC_LAYERS = {
     "model": {"analytic.design", "analytic.design_file", "analytic.design_space", "analytic.units",
               "analytic.fields", "analytic.aero", "analytic.eom", "analytic.friction", "analytic.geometry",
               "analytic.limits", "analytic.outcome", "analytic.parameters", "analytic.peaks",
-              "analytic.plausibility", "analytic.stages", "analytic.sequence", "analytic.result", "analytic.data",
+              "analytic.plausibility", "analytic.states", "analytic.stages", "analytic.sequence", "analytic.result", "analytic.data",
               "analytic.suggest", "analytic.floating_arm", "analytic.scope",
               # the exit codes and checks every command line shares: it imports nothing
               "analytic.cli_shared"},

@@ -427,17 +427,17 @@ def test_a_peak_load_off_by_one_percent_is_a_disagreement(table3):
 
 def _stage1_switches(design, monkeypatch) -> list[str]:
     """The friction events of stage 1 that switched a mode in the reference path's shot of ``design``."""
-    from analytic import stages
+    from analytic import states
     from analytic.reference import simulate
 
-    fired, original = [], stages.switch_mode
+    fired, original = [], states.switch_mode
 
     def spy(stage, k, y, p):
-        if stage == stages.SLIDE:
-            fired.append(stages.EVENT_NAMES[stage][k])
+        if stage == states.SLIDE:
+            fired.append(states.EVENT_NAMES[stage][k])
         original(stage, k, y, p)
 
-    monkeypatch.setattr(stages, "switch_mode", spy)
+    monkeypatch.setattr(states, "switch_mode", spy)
     simulate(design, histories=False)
     return fired
 
@@ -476,7 +476,7 @@ def test_a_stalling_arm_is_not_taken_for_a_reversing_slide(table3, monkeypatch):
     # that velocity fired at arm_stalls' own root, and on this design the reference path took it,
     # flipped the base's friction and threw 5.0 m (the base's work negative: friction drove
     # the slide), where the fast path stalled.
-    from analytic import stages
+    from analytic import stages, states
     from analytic.design import Losses
     from analytic.parameters import params
     from analytic.reference import simulate
@@ -489,6 +489,6 @@ def test_a_stalling_arm_is_not_taken_for_a_reversing_slide(table3, monkeypatch):
     # At a stall (theta' = 0, the slide still dragged backwards) the event is the slide's direction, not 0.
     p = params(design)
     y = np.array([p.theta0 - 0.5, p.phi0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, -1.0])
-    k = stages.EVENT_NAMES[stages.SLIDE].index("slide_reverses")
-    assert stages.event_value(stages.SLIDE, stages.ARM_STALLS, y, p) == 0.0
-    assert stages.event_value(stages.SLIDE, k, y, p) > 0.0
+    k = states.EVENT_NAMES[states.SLIDE].index("slide_reverses")
+    assert stages.event_value(states.SLIDE, states.SLIDE_ARM_STALLS, y, p) == 0.0
+    assert stages.event_value(states.SLIDE, k, y, p) > 0.0

@@ -41,6 +41,7 @@ import os
 import subprocess
 import sys
 import time
+from collections import namedtuple
 from concurrent.futures import ThreadPoolExecutor
 from typing import Sequence
 
@@ -93,14 +94,14 @@ def check_tolerances(rtol: float, atol: float) -> None:
 #: Seconds each scope's ``compile`` took, by scope name.
 _compile_seconds: dict[str, float] = {}
 #: ``kernel.shots``' recording arguments when it records nothing.
-_NO_RECORDING = np.empty(0)
-_NO_SAMPLES = np.empty((0, kernel.SAMPLE_WIDTH))
+_NO_RECORDING = np.empty(0, kernel.RECORDING_DTYPE)
+_NO_SAMPLES = np.empty(0, kernel.SAMPLE_DTYPE)
 
 
 def _entry_signature() -> tuple:
     """numba types of ``kernel.shots``' arguments, as every caller passes them."""
     rows = np.zeros((1, N_PARAMS))
-    out = np.empty((1, kernel.N_RESULT))
+    out = np.empty(1, kernel.RESULT_DTYPE)
     return tuple(numba.typeof(a) for a in (rows, 0, 1, DRAG_TABLE, COEFFICIENTS, DEFAULT_RTOL,
                                            DEFAULT_ATOL, True, out, _NO_RECORDING, _NO_SAMPLES))
 
@@ -279,60 +280,61 @@ def simulate_fast(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = D
 
 
 def shoot_one(design: Design, rtol: float, atol: float, loads: bool, rec: np.ndarray = None,
-              samples: np.ndarray = None) -> np.ndarray:
-    """The kernel's result row (N_RESULT,) of one design; ``rec`` and ``samples`` record its motion
+              samples: np.ndarray = None) -> np.void:
+    """The kernel's result record (``kernel.RESULT_DTYPE``) of one design; ``rec`` (one record of
+    ``kernel.RECORDING_DTYPE``) and ``samples`` (of ``kernel.SAMPLE_DTYPE``) record its motion
     (``analytic.fast.kernel.shot``; None: not recorded)."""
     p = params(design)
     row = np.array(p, dtype=np.float64)[np.newaxis]
     shots = _ready(needed(p, loads, recording=rec is not None))
-    out = np.empty((1, kernel.N_RESULT))
+    out = np.empty(1, kernel.RESULT_DTYPE)
     shots(row, 0, 1, DRAG_TABLE, COEFFICIENTS, rtol, atol, bool(loads), out,
           _NO_RECORDING if rec is None else rec, _NO_SAMPLES if samples is None else samples)
     return out[0]
 
 
-def to_shot(design: Design, out: np.ndarray) -> Shot:
-    """The ``Shot`` (no histories) of a kernel result row ``out`` (N_RESULT,)."""
-    row = out.tolist()   # Python floats: one conversion, not one a field
-    status = Status.from_code(int(row[kernel.STATUS]))
+#: A result record's fields as Python values (``to_shot``): one conversion (``numpy.void.item``), not one a field.
+_Result = namedtuple("_Result", kernel.RESULT_DTYPE.names)
+
+
+def to_shot(design: Design, out: np.void) -> Shot:
+    """The ``Shot`` (no histories) of a kernel result record ``out`` (``kernel.RESULT_DTYPE``)."""
+    row = _Result._make(out.item())
+    status = Status.from_code(row.status)
     fields = {}
-    if not math.isnan(row[kernel.LIFTOFF_T]):
-        fields["liftoff_time"] = row[kernel.LIFTOFF_T]
-    for column, name, time_name in _PEAK_COLUMNS:
-        if math.isfinite(row[column]):
-            fields[name], fields[time_name] = row[column], row[column + 1]
-    if not math.isnan(row[kernel.RELEASE_T]):
-        fields.update(release_time=row[kernel.RELEASE_T],
-                      release_position=out[kernel.RELEASE_X:kernel.RELEASE_Y + 1].copy(),
-                      release_velocity=out[kernel.RELEASE_VX:kernel.RELEASE_VY + 1].copy(),
-                      frame_release_displacement=row[kernel.FRAME_X], frame_release_velocity=row[kernel.FRAME_V])
+    if not math.isnan(row.liftoff_time):
+        fields["liftoff_time"] = row.liftoff_time
+    for (value, at), name in zip(row.peaks.tolist(), PEAK_NAMES, strict=True):
+        if math.isfinite(value):
+            fields[name], fields[f"{name}_time"] = value, at
+    if not math.isnan(row.release_time):
+        fields.update(release_time=row.release_time, release_position=row.release_position.copy(),
+                      release_velocity=row.release_velocity.copy(),
+                      frame_release_displacement=row.frame_release_displacement,
+                      frame_release_velocity=row.frame_release_velocity)
     if status is Status.OK:
-        message = outcome.thrown_message(row[kernel.LANDING_X])
-        fields.update(landing_time=row[kernel.LANDING_T],
-                      landing_position=np.array([row[kernel.LANDING_X], -design.machine.pivot_height]),
-                      apex_height=row[kernel.APEX])
+        message = outcome.thrown_message(row.landing_x)
+        fields.update(landing_time=row.landing_time,
+                      landing_position=np.array([row.landing_x, -design.machine.pivot_height]),
+                      apex_height=row.apex_height)
     else:
         t_limit = swing_time_limit(largest_length(design.machine), design.environment.gravity)
-        message = failure_message(design, status, row[kernel.DETAIL], row[kernel.VALUE], row[kernel.END_T],
-                                  row[kernel.RELEASE_T], t_limit)
+        message = failure_message(design, status, row.detail, row.rest_acceleration, row.out_of_steps,
+                                  row.end_time, row.release_time, t_limit)
     return Shot(design, status, message, **fields)
 
 
-#: Each peak load's column in a result row, its ``Shot`` field and its time's field.
-_PEAK_COLUMNS = tuple((kernel.PEAKS + 2 * k, name, f"{name}_time") for k, name in enumerate(PEAK_NAMES))
-
-
-def failure_message(design: Design, status: Status, detail: float, value: float, end_time: float,
-                    release_time: float, t_limit: float) -> str:
+def failure_message(design: Design, status: Status, detail: int, rest_acceleration: float, out_of_steps: bool,
+                    end_time: float, release_time: float, t_limit: float) -> str:
     """The message of a failed shot from the kernel's record of it (``outcome.failure_message``)."""
-    fires = (value,)
+    fires = (rest_acceleration,)
     if status is Status.NEVER_FIRES and not design.losses.ideal:
         p = params(design)
-        fires = (stages.fires(p)[0], *rest_balance(p), outcome.friction_holders(*holders(p)))
+        fires = (stages.fires(p).ddtheta, *rest_balance(p), outcome.friction_holders(*holders(p)))
     m = design.machine
     return outcome.failure_message(status, time=end_time - release_time if status is Status.NO_LANDING else end_time,
-                                   detail=0 if math.isnan(detail) else int(detail), time_limit=t_limit,
-                                   release=(m.release_rule, m.release_angle), fires=fires, step_limit=value == 1.0)
+                                   detail=detail, time_limit=t_limit, release=(m.release_rule, m.release_angle),
+                                   fires=fires, step_limit=out_of_steps)
 
 
 # --------------------------------------------------------------------------- #
@@ -349,7 +351,8 @@ def default_threads() -> int:
 
 def _shoot_rows(rows: np.ndarray, rtol: float, atol: float, threads: int | None,
                 loads: bool = True) -> np.ndarray:
-    """The kernel's result rows (S, N_RESULT) for design rows (S, N_PARAMS), on ``threads`` threads."""
+    """The kernel's result records (S,) of ``kernel.RESULT_DTYPE`` for design rows (S, N_PARAMS), on
+    ``threads`` threads."""
     check_tolerances(rtol, atol)
     rows = np.ascontiguousarray(rows, dtype=np.float64)
     if rows.ndim != 2 or rows.shape[1] != N_PARAMS:
@@ -360,7 +363,7 @@ def _shoot_rows(rows: np.ndarray, rtol: float, atol: float, threads: int | None,
         raise ValueError(f"threads = {threads!r}: need at least one")
     shots = _ready(needed_rows(rows, loads))
     n = len(rows)
-    out = np.empty((n, kernel.N_RESULT))
+    out = np.empty(n, kernel.RESULT_DTYPE)
     threads = min(threads, -(-n // BATCH_CHUNK))
     if threads <= 1:
         shots(rows, 0, n, DRAG_TABLE, COEFFICIENTS, rtol, atol, loads, out, _NO_RECORDING, _NO_SAMPLES)
@@ -422,29 +425,29 @@ def shoot(designs: Sequence[Design] | np.ndarray, *, rtol: float = DEFAULT_RTOL,
     packed = isinstance(designs, np.ndarray)
     rows = designs if packed else pack_many(designs)
     out = _shoot_rows(rows, rtol, atol, threads, loads)
-    landed = out[:, kernel.STATUS] == kernel.OK
+    landed = out["status"] == kernel.OK
     known = None if packed else tuple(designs)
-    return Shots(status=Shots.statuses(out[:, kernel.STATUS]),
-                 liftoff_time=out[:, kernel.LIFTOFF_T],
-                 release_time=out[:, kernel.RELEASE_T],
-                 landing_time=np.where(landed, out[:, kernel.LANDING_T], np.nan),
-                 release_position=out[:, [kernel.RELEASE_X, kernel.RELEASE_Y]],
-                 release_velocity=out[:, [kernel.RELEASE_VX, kernel.RELEASE_VY]],
-                 range=np.where(landed, out[:, kernel.LANDING_X], np.nan),
-                 apex_height=np.where(landed, out[:, kernel.APEX], np.nan),
-                 end_time=out[:, kernel.END_T],
-                 steps=out[:, kernel.STEPS].astype(int),
-                 evaluations=out[:, kernel.EVALS].astype(int),
+    return Shots(status=Shots.statuses(out["status"]),
+                 liftoff_time=out["liftoff_time"],
+                 release_time=out["release_time"],
+                 landing_time=np.where(landed, out["landing_time"], np.nan),
+                 release_position=out["release_position"].copy(),
+                 release_velocity=out["release_velocity"].copy(),
+                 range=np.where(landed, out["landing_x"], np.nan),
+                 apex_height=np.where(landed, out["apex_height"], np.nan),
+                 end_time=out["end_time"],
+                 steps=out["steps"],
+                 evaluations=out["evaluations"],
                  **_peaks(out), designs=known,
                  shot_at=None if packed else lambda i: to_shot(known[i], out[i]))
 
 
 def _peaks(out: np.ndarray) -> dict[str, np.ndarray]:
-    """The peak loads and their times of result rows (S, N_RESULT), each (S,), NaN where none."""
+    """The peak loads and their times of result records (S,), each (S,), NaN where none."""
     peaks = {}
     for k, name in enumerate(PEAK_NAMES):
-        values = out[:, kernel.PEAKS + 2 * k]
+        values = out["peaks"][:, k, 0]
         known = np.isfinite(values)
         peaks[name] = np.where(known, values, np.nan)
-        peaks[f"{name}_time"] = np.where(known, out[:, kernel.PEAKS + 2 * k + 1], np.nan)
+        peaks[f"{name}_time"] = np.where(known, out["peaks"][:, k, 1], np.nan)
     return peaks

@@ -53,13 +53,14 @@ from pathlib import Path
 import numba
 from numba.extending import overload
 
-from analytic import aero, eom, floating_arm, friction, geometry, limits, outcome, parameters, peaks, sequence, stages
+from analytic import (aero, eom, floating_arm, friction, geometry, limits, outcome, parameters, peaks, sequence, stages,
+                      states)
 from analytic.fast import dop853, kernel, kernel_loads
 from analytic import scope as switches   # (the scopes' switches; a parameter below is named scope)
 from analytic.scope import EVERYTHING, Scope
 
 #: The modules whose functions are compiled, each calling only those before it.
-MODEL_MODULES = (geometry, limits, peaks, aero, floating_arm, eom, friction, stages, sequence)
+MODEL_MODULES = (geometry, limits, peaks, aero, floating_arm, eom, friction, states, stages, sequence)
 #: Options of every compiled function. ``error_model="numpy"``: a division by
 #: zero gives inf/NaN (a rejected step) instead of raising, as in Python's
 #: float arithmetic on the reference path; no fastmath, so IEEE arithmetic is

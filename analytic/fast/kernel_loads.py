@@ -4,7 +4,8 @@ interpolants of the steps beside each local maximum of its samples, as the refer
 ``analytic.fast.kernel.integrate`` calls ``keep_step`` and ``sample_loads`` after
 each accepted step and ``finish_peaks`` at a stretch's end. The search is
 ``analytic.peaks``' (the model's), on the same steps and samples as
-``analytic.reference.loads.stage_peaks``.
+``analytic.reference.loads.stage_peaks``. ``out``, the shot's result record
+(``kernel.RESULT_DTYPE``), counts the evaluations they take.
 """
 
 from __future__ import annotations
@@ -48,28 +49,28 @@ def keep_step(buffer, t_start, h, t_end, y, y_new, live_y, live_t, built):
 
 
 @internal
-def _prepare(b, stage, K2, live_y, live_t, dense, built, tmp, coef, p, table, counts):
+def _prepare(b, stage, K2, live_y, live_t, dense, built, tmp, coef, p, table, out):
     """The dense output of the step in live buffer ``b`` in ``dense[b]``, unless it is ``built`` already."""
     if built[b]:
         return
     dense_prepare(stage, live_t[b, 0], live_t[b, 1], live_y[b, 0], live_y[b, 1], K2[b, N_STAGES], coef, K2[b],
                   dense[b], tmp, p, table)
-    counts[1] += 3
+    out.evaluations += 3
     built[b] = True
 
 
 @internal
-def _load_on_step(u, k, b, stage, K2, live_y, live_t, dense, built, tmp, coef, p, table, counts):
+def _load_on_step(u, k, b, stage, K2, live_y, live_t, dense, built, tmp, coef, p, table, out):
     """Load ``k`` at time ``u`` on the dense output of the step in live buffer ``b`` (built if it is not)."""
-    _prepare(b, stage, K2, live_y, live_t, dense, built, tmp, coef, p, table, counts)
-    counts[1] += 1   # each load is one evaluation of the accelerations
+    _prepare(b, stage, K2, live_y, live_t, dense, built, tmp, coef, p, table, out)
+    out.evaluations += 1   # each load is one evaluation of the accelerations
     dense_eval(u, live_t[b, 0], live_t[b, 1], live_y[b, 0], dense[b], tmp)
     return loads_at(stage, tmp, p)[k]
 
 
 @internal
 def _search_sample(k, left, right, t_before, before, t_peak, value, t_after, after, stage, K2, live_y, live_t,
-                   dense, built, tmp, coef, p, table, counts):
+                   dense, built, tmp, coef, p, table, out):
     """Load ``k``'s largest value and its time, ``(value, t)``, around its sample ``value`` at ``t_peak``,
     a local maximum of its samples, with the samples ``before`` and ``after`` it: on the steps in live
     buffers ``left`` (ending at the sample) and ``right`` (from it), -1 for none. As
@@ -86,19 +87,19 @@ def _search_sample(k, left, right, t_before, before, t_peak, value, t_after, aft
             return value, t_peak
         inside = inside_end(a, b, left < 0)
         if not _load_on_step(inside, k, one, stage, K2, live_y, live_t, dense, built, tmp, coef, p, table,
-                             counts) > value:
+                             out) > value:
             return value, t_peak   # still rising into the stretch's end: the peak is the sample there
         left, right = one, one
         u = search_golden(a, b)
         search = search_from(a, b, u, -_load_on_step(u, k, one, stage, K2, live_y, live_t, dense, built, tmp, coef,
-                                                     p, table, counts))
+                                                     p, table, out))
     while True:
         done, u, search = search_next(search)
         if done:
             return -search.fx, search.x
         ref = left if u < t_peak else right
         search = search_update(search, u, -_load_on_step(u, k, ref, stage, K2, live_y, live_t, dense, built, tmp,
-                                                         coef, p, table, counts))
+                                                         coef, p, table, out))
 
 
 @internal
@@ -113,7 +114,7 @@ def start_peaks(recent, best, built):
 
 @internal
 def sample_loads(t, values, buffer, recent, best, stage, K2, live_y, live_t, dense, built, tmp, coef, p, table,
-                 counts):
+                 out):
     """Take the loads ``values`` at ``t``, where the step in live ``buffer`` stopped (-1: the
     stretch's first sample, no step), and search around the sample before it where that one is
     a local maximum, keeping each load's largest in ``best``."""
@@ -126,7 +127,7 @@ def sample_loads(t, values, buffer, recent, best, stage, K2, live_y, live_t, den
         if buffer >= 0 and local_peak(recent[0, k], recent[1, k], values[k]):
             # (Not larger than the sample searched: taken before it or after, it changes nothing.)
             found, when = _search_sample(k, left, buffer, t_before, recent[0, k], t_last, recent[1, k], t, values[k],
-                                         stage, K2, live_y, live_t, dense, built, tmp, coef, p, table, counts)
+                                         stage, K2, live_y, live_t, dense, built, tmp, coef, p, table, out)
             if found > best[k, 0]:
                 best[k, 0], best[k, 1] = found, when
         recent[0, k], recent[1, k] = recent[1, k], values[k]
@@ -134,7 +135,7 @@ def sample_loads(t, values, buffer, recent, best, stage, K2, live_y, live_t, den
 
 
 @internal
-def finish_peaks(buffer, recent, best, peaks, stage, K2, live_y, live_t, dense, built, tmp, coef, p, table, counts):
+def finish_peaks(buffer, recent, best, peaks, stage, K2, live_y, live_t, dense, built, tmp, coef, p, table, out):
     """At the stretch's end, its last step in live ``buffer`` (-1: none): search around the last
     sample where it is a local maximum, then keep each load's largest in ``peaks`` (N_LOADS, 2) where
     it beats them."""
@@ -143,7 +144,7 @@ def finish_peaks(buffer, recent, best, peaks, stage, K2, live_y, live_t, dense, 
         if local_peak(recent[0, k], recent[1, k], -math.inf):
             found, when = _search_sample(k, buffer, -1, recent[0, N_LOADS], recent[0, k], t_last, recent[1, k],
                                          math.nan, -math.inf, stage, K2, live_y, live_t, dense, built, tmp, coef, p,
-                                         table, counts)
+                                         table, out)
             if found > best[k, 0]:
                 best[k, 0], best[k, 1] = found, when
         if best[k, 0] > peaks[k, 0]:

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from analytic import eom, fast, stages
+from analytic import eom, fast, stages, states
 from analytic.fast import kernel
 from analytic.outcome import dissipated
 from analytic.design import Design
@@ -32,7 +32,8 @@ from analytic.limits import DEFAULT_ATOL, DEFAULT_RTOL
 from analytic.parameters import params
 from analytic.reference import FLIGHT_OUTPUT_STEP, HISTORY_SAMPLE_LIMIT, SWING_OUTPUT_STEP, spacing_argument
 from analytic.result import Shot
-from analytic.stages import FLIGHT, SLIDE, STATE_SIZE, SWING
+from analytic.states import (FLIGHT, FLIGHT_VX, FLIGHT_VY, FLIGHT_X, FLIGHT_Y, FRICTION_WORK, SLIDE, STATE_SIZE,
+                             SWING)
 
 #: Rows of a recording beyond its grids': each stage's first and last sample.
 _EDGE_ROWS = 8
@@ -88,15 +89,16 @@ def simulate_motion(design: Design, *, sample_step: float | None = None, flight_
     fast.check_tolerances(rtol, atol)
     p = params(design)
     spacing = max(spacing, p.t_limit / HISTORY_SAMPLE_LIMIT)
-    rec = np.array([0.0, 0.0, spacing, flight_spacing, HISTORY_SAMPLE_LIMIT])
-    samples = np.empty((int(p.t_limit / spacing) + HISTORY_SAMPLE_LIMIT + _EDGE_ROWS, kernel.SAMPLE_WIDTH))
+    rec = np.zeros(1, kernel.RECORDING_DTYPE)
+    rec["spacing"], rec["flight_spacing"], rec["sample_limit"] = spacing, flight_spacing, HISTORY_SAMPLE_LIMIT
+    samples = np.empty(int(p.t_limit / spacing) + HISTORY_SAMPLE_LIMIT + _EDGE_ROWS, kernel.SAMPLE_DTYPE)
     out = fast.shoot_one(design, rtol, atol, loads, rec, samples)
-    rows = int(rec[kernel.ROWS])
-    if rows < 0:   # the buffer holds every grid the kernel can ask for: a fault, not a design's failure
+    if rec["ran_out"][0]:   # the buffer holds every grid the kernel can ask for: a fault, not a design's failure
         raise RuntimeError(f"the compiled shot's recording of {design.name!r} ran out of rows")
+    rows = int(rec["rows"][0])
     if rows == 0:   # it never moved (it never fires, or its equations fail at rest): the state at rest
-        stages.slide_start(p, samples[0, 2:2 + stages.state_size(SLIDE, p)])
-        samples[0, :2] = 0.0, SLIDE
+        stages.slide_start(p, samples["state"][0, :states.state_size(SLIDE, p)])
+        samples["t"][0], samples["stage"][0] = 0.0, SLIDE
         rows = 1
     shot = fast.to_shot(design, out)
     motion = _motion(samples[:rows], p, shot.ok)
@@ -108,25 +110,28 @@ def simulate_motion(design: Design, *, sample_step: float | None = None, flight_
 
 
 def _motion(samples: np.ndarray, p, landed: bool) -> Motion:
-    """The ``Motion`` of a recording's rows (``analytic.fast.kernel``'s layout); the flight's only if it
-    ``landed`` (as the reference path's ``History``)."""
-    lifted = (samples[1:, 1] == SWING) & (samples[:-1, 1] == SLIDE) & (samples[1:, 0] == samples[:-1, 0])
+    """The ``Motion`` of a recording's samples (``analytic.fast.kernel.SAMPLE_DTYPE``); the flight's only if
+    it ``landed`` (as the reference path's ``History``)."""
+    t, stage = samples["t"], samples["stage"]
+    lifted = (stage[1:] == SWING) & (stage[:-1] == SLIDE) & (t[1:] == t[:-1])
     samples = samples[np.concatenate([[True], ~lifted])]   # lift-off once, as the slide's last
-    stage = samples[:, 1].astype(int)
+    stage = samples["stage"]
     swing, flight = samples[stage != FLIGHT], samples[(stage == FLIGHT) & landed]
-    states = np.array([eom.slide_state(*y[2:2 + STATE_SIZE[SLIDE]], p) if k == SLIDE
-                       else y[2:2 + STATE_SIZE[k]] for k, y in zip(stage[stage != FLIGHT], swing, strict=True)])
-    frame_x = (np.array([eom.frame_displacement(*q, p) for q in states[:, :3]]) if p.rolling or p.kind == eom.FLOATING
-               else np.zeros(len(swing)))
-    return Motion(t=swing[:, 0].copy(), stage=stage[stage != FLIGHT], q=states[:, :3], qdot=states[:, 3:],
-                  frame_x=frame_x, flight_t=flight[:, 0].copy(), flight_path=flight[:, 2:4].copy())
+    coordinates = np.array([eom.slide_state(*y[:STATE_SIZE[SLIDE]], p) if k == SLIDE else y[:STATE_SIZE[k]]
+                            for k, y in zip(stage[stage != FLIGHT], swing["state"], strict=True)])
+    frame_x = (np.array([eom.frame_displacement(*q, p) for q in coordinates[:, :3]])
+               if p.rolling or p.kind == eom.FLOATING else np.zeros(len(swing)))
+    return Motion(t=swing["t"].copy(), stage=stage[stage != FLIGHT], q=coordinates[:, :3], qdot=coordinates[:, 3:],
+                  frame_x=frame_x, flight_t=flight["t"].copy(),
+                  flight_path=flight["state"][:, FLIGHT_X:FLIGHT_Y + 1].copy())
 
 
 def _completed(shot: Shot, motion: Motion, samples: np.ndarray, p) -> Shot:
     """``shot`` with the energies its recording gives (``simulate_motion``)."""
-    last = samples[samples[:, 1] != FLIGHT][-1]
-    core = STATE_SIZE[int(last[1])]
-    work = tuple(float(w) for w in last[2 + core:2 + core + 3]) if lossy(p) else (0.0, 0.0, 0.0)
+    last = samples[samples["stage"] != FLIGHT][-1]
+    core = STATE_SIZE[int(last["stage"])]
+    work = (tuple(float(w) for w in last["state"][core + FRICTION_WORK:core + FRICTION_WORK + 3]) if lossy(p)
+            else (0.0, 0.0, 0.0))
     fields = {}
     drag = 0.0
     if shot.release_time is not None:
@@ -135,9 +140,9 @@ def _completed(shot: Shot, motion: Motion, samples: np.ndarray, p) -> Shot:
         _, moving = eom.kinetic_energy(*motion.q[-1], *motion.qdot[-1], p)
         fields.update(counterweight_energy_released=machine0 - machine,
                       projectile_energy_at_release=moving + projectile - projectile0)
-        if samples[-1, 1] == FLIGHT:   # the drag's work: the projectile's energy lost over the flight
-            release = samples[samples[:, 1] == FLIGHT][0, 2:6]
-            drag = float(_flight_energy(release, p) - _flight_energy(samples[-1, 2:6], p))
+        if samples["stage"][-1] == FLIGHT:   # the drag's work: the projectile's energy lost over the flight
+            release = samples[samples["stage"] == FLIGHT]["state"][0, :STATE_SIZE[FLIGHT]]
+            drag = float(_flight_energy(release, p) - _flight_energy(samples["state"][-1, :STATE_SIZE[FLIGHT]], p))
     if shot.ok and not p.rolling:
         fields.update(frame_landing_displacement=0.0, frame_landing_velocity=0.0)
     losses = dissipated(work, drag, _swing_drag(motion, p, work), p.kind == eom.FLOATING)
@@ -158,4 +163,4 @@ def _swing_drag(motion: Motion, p, work) -> float:
 
 def _flight_energy(y: np.ndarray, p) -> float:
     """The projectile's kinetic and potential energy in flight state ``y`` (x, y, vx, vy), J."""
-    return 0.5 * p.mP * (y[2] * y[2] + y[3] * y[3]) + p.mP * p.g * y[1]
+    return 0.5 * p.mP * (y[FLIGHT_VX] * y[FLIGHT_VX] + y[FLIGHT_VY] * y[FLIGHT_VY]) + p.mP * p.g * y[FLIGHT_Y]

@@ -14,7 +14,7 @@ import math
 import numpy as np
 from scipy.integrate import OdeSolution
 
-from analytic import eom, friction, outcome, sequence, stages
+from analytic import eom, friction, outcome, sequence, stages, states
 from analytic.aero import DRAG_TABLE
 from analytic.design import Design
 from analytic.geometry import projectile_state
@@ -90,114 +90,151 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
     flight_spacing = spacing_argument("flight_sample_step", flight_sample_step, FLIGHT_OUTPUT_STEP)
     p = params(design)
     output_step = max(swing_spacing, p.t_limit / HISTORY_SAMPLE_LIMIT) if histories else None
-    finish = functools.partial(_finish_shot, sampled_loads=sampled_loads)
-    machine = design.machine
+    finish = functools.partial(_finish_shot, design, p, sampled_loads=sampled_loads)
     history = [] if histories else None
     segments = []
     reached = {}   # what the shot got to: lift-off, then release
 
-    y1 = np.empty(stages.state_size(Stage.SLIDE, p))
+    y1 = np.empty(states.state_size(Stage.SLIDE, p))
     stages.slide_start(p, y1)
     ddtheta0, normal0 = quietly(stages.fires, p, otherwise=(math.nan, math.nan))
-    if not (math.isfinite(ddtheta0) and math.isfinite(normal0)):
-        # The equations cannot be evaluated even at rest: the design's numbers over- or
-        # underflow the model's products (a mass or length near the ends of the float range).
-        if histories:
-            history.append(_history(Stage.SLIDE, Segment(np.zeros(1), y1[None, :], None, 0.0, y1, {}), p))
-        return finish(design, p, history, segments, Status.STEP_FAILED,
-                       outcome.failure_message(Status.STEP_FAILED, detail=Stage.SLIDE))
-    if not ddtheta0 < 0.0:
-        if histories:
-            history.append(_history(Stage.SLIDE, Segment(np.zeros(1), y1[None, :], None, 0.0, y1, {}), p))
-        balance = ((*friction.rest_balance(p), outcome.friction_holders(*friction.holders(p)))
-                   if friction.lossy(p) else ())
-        return finish(design, p, history, segments, Status.NEVER_FIRES,
-                       outcome.failure_message(Status.NEVER_FIRES, fires=(ddtheta0, *balance)))
+    if not (math.isfinite(ddtheta0) and math.isfinite(normal0) and ddtheta0 < 0.0):
+        return _unfired(finish, p, y1, ddtheta0, normal0, history)
 
     stage = Stage.SLIDE
-    switches = [0]   # friction's mode switches so far (stages.MODE_SWITCH_LIMIT)
+    switches = [0]   # friction's mode switches so far (states.MODE_SWITCH_LIMIT)
     try:
-        # Stage 1: slide on the base until the normal force vanishes.
-        if normal0 > 0.0:
-            pieces, action, _, detail = _run_modes(stage, p, 0.0, y1, p.t_limit, rtol, atol, output_step,
-                                                   p.drag_swing > 0.0, switches)
-            peaks = pieces_peaks(stage, pieces, p, loads, NO_PEAKS, rtol, atol)
-            slide = _merge(pieces)
-        else:  # the sling already pulls harder than the projectile's weight
-            slide = Segment(np.zeros(1), y1[None, :], "liftoff", 0.0, y1, {})
-            peaks, action = NO_PEAKS, sequence.NEXT_STAGE
-        if histories:
-            history.append(_history(Stage.SLIDE, slide, p))
-        segments.append((Stage.SLIDE, slide))
+        slide, peaks, action, detail = _slide(p, y1, normal0, rtol, atol, output_step, loads, switches)
+        _keep(Stage.SLIDE, slide, p, history, segments)
         if action == sequence.FINISHED:
-            return finish(design, p, history, segments, Status.NEVER_LIFTS_OFF,
-                           outcome.failure_message(Status.NEVER_LIFTS_OFF, detail=detail, time_limit=p.t_limit),
-                           **peak_fields(peaks))
-
-        # Stage 2: free swing until release.
+            return finish(history, segments, Status.NEVER_LIFTS_OFF,
+                          outcome.failure_message(Status.NEVER_LIFTS_OFF, detail=detail, time_limit=p.t_limit),
+                          **peak_fields(peaks))
         stage = Stage.SWING
         reached["liftoff_time"] = slide.t_end
-        y2 = np.empty(stages.state_size(stage, p))
-        try:
-            stages.swing_start(slide.y_end, p, y2)
-        except FLOAT_ERRORS:
-            y2[:] = math.nan   # the integrator ends the stage as step_failed
-        pieces, action, status, _ = _run_modes(stage, p, slide.t_end, y2, p.t_limit, rtol, atol, output_step,
-                                               p.drag_swing > 0.0, switches)
-        peaks = pieces_peaks(stage, pieces, p, loads, peaks, rtol, atol)
-        swing = _merge(pieces)
+        swing, peaks, action, status = _swing(p, slide, peaks, rtol, atol, output_step, loads, switches)
         reached.update(peak_fields(peaks))
-        if histories:
-            history.append(_history(Stage.SWING, swing, p)[1:])   # the first is lift-off, already recorded
-        segments.append((Stage.SWING, swing))
+        _keep(Stage.SWING, swing, p, history, segments)
         if status == sequence.HITS_BASE:
-            return finish(design, p, history, segments, Status.HITS_BASE_BEFORE_RELEASE,
-                           outcome.failure_message(Status.HITS_BASE_BEFORE_RELEASE, time=swing.t_end), **reached)
+            return finish(history, segments, Status.HITS_BASE_BEFORE_RELEASE,
+                          outcome.failure_message(Status.HITS_BASE_BEFORE_RELEASE, time=swing.t_end), **reached)
         if action == sequence.FINISHED:
-            return finish(design, p, history, segments, Status.NEVER_RELEASES,
-                           outcome.failure_message(Status.NEVER_RELEASES, time_limit=p.t_limit,
-                                                   release=(machine.release_rule, machine.release_angle)), **reached)
-
-        # Stage 3: flight.
+            return finish(history, segments, Status.NEVER_RELEASES,
+                          outcome.failure_message(Status.NEVER_RELEASES, time_limit=p.t_limit,
+                                                  release=(design.machine.release_rule,
+                                                           design.machine.release_angle)), **reached)
         stage = Stage.FLIGHT
-        release_time = swing.t_end
-        start = np.array(quietly(stages.flight_start, swing.y_end, p, otherwise=(math.nan,) * 4))
-        if not np.all(np.isfinite(start)):
-            raise IntegrationError("non-finite release state", release_time)
-        position, velocity = start[:2], start[2:]
-        frame_x, frame_v = stages.frame_state(swing.y_end, p)
-        reached.update(release_time=release_time, release_position=position, release_velocity=velocity,
-                       frame_release_displacement=frame_x, frame_release_velocity=frame_v)
-        t_max = release_time + flight_time_limit(position[1] + p.h, velocity[1], p.g)
-        flight_step = (max(flight_spacing, (t_max - release_time) / HISTORY_SAMPLE_LIMIT)
-                       if histories else None)
-        # The continuous solution is kept for the drag's work (the steps are the same either way).
-        flight = (_landed(start, release_time) if sequence.lands_at_release(position[1] + p.h, velocity[1])
-                  else _run(stage, p, release_time, start, t_max, rtol, atol, flight_step, True))
+        start, release = _release(swing, p)
+        reached.update(release)
+        flight, t_max = _fly(p, start, swing.t_end, rtol, atol, flight_spacing if histories else None)
     except IntegrationError as error:
         if stage is not Stage.FLIGHT and error.segment is not None:
             # The motion up to the failure (the flight's is not kept, as for any shot that does not land).
-            if histories:
-                history.append(_history(stage, error.segment, p)[0 if stage is Stage.SLIDE else 1:])
-            segments.append((stage, error.segment))
-        return finish(design, p, history, segments, Status.STEP_FAILED,
-                       outcome.failure_message(Status.STEP_FAILED, time=error.time, detail=stage,
-                                               step_limit=error.step_limit), **reached)
+            _keep(stage, error.segment, p, history, segments)
+        return finish(history, segments, Status.STEP_FAILED,
+                      outcome.failure_message(Status.STEP_FAILED, time=error.time, detail=stage,
+                                              step_limit=error.step_limit), **reached)
     reached["drag_work"] = drag_work(flight, p)
     _, status, _ = sequence.stretch_end(Stage.FLIGHT, _code(Stage.FLIGHT, flight), switches[0])
     if status == sequence.NO_LANDING:
-        return finish(design, p, history, segments, Status.NO_LANDING,
-                       outcome.failure_message(Status.NO_LANDING, time=t_max - release_time), **reached)
-    apex = max([position[1]] + [y[1] for _, y in flight.roots["apex"]])
-    landing = flight.y_end[:2]
-    if not p.rolling:
-        reached.update(frame_landing_displacement=0.0, frame_landing_velocity=0.0, after_release_speed=0.0)
-    elif histories if after_release is None else after_release:
-        reached.update(_frame_after_release(p, swing.y_end, release_time, flight.t_end, rtol, atol,
-                                            reached["frame_release_displacement"], velocity[0], output_step))
-    return finish(design, p, history, segments, Status.OK, outcome.thrown_message(landing[0]), **reached,
-                   landing_time=flight.t_end, landing_position=landing, apex_height=apex + p.h,
-                   flight_t=flight.t, flight_path=flight.y[:, :2])
+        return finish(history, segments, Status.NO_LANDING,
+                      outcome.failure_message(Status.NO_LANDING, time=t_max - swing.t_end), **reached)
+    reached.update(_frame_at_landing(p, swing, flight, start, reached["frame_release_displacement"],
+                                     histories if after_release is None else after_release, rtol, atol, output_step))
+    return finish(history, segments, Status.OK, outcome.thrown_message(flight.y_end[states.FLIGHT_X]), **reached,
+                  **_landing(flight, start, p))
+
+
+def _unfired(finish, p: Params, y1: np.ndarray, ddtheta0: float, normal0: float, history) -> Shot:
+    """The shot of a machine that does not move, at rest in ``y1`` (``history``: its one sample there): the
+    equations cannot be evaluated even at rest (the design's numbers over- or underflow the model's
+    products, a mass or length near the ends of the float range: ``stages.fires``' ``ddtheta0`` or
+    ``normal0`` not finite), or it never fires (``ddtheta0``, the arm's acceleration at rest, not
+    negative; with friction, the message says what holds it)."""
+    if history is not None:
+        history.append(_history(Stage.SLIDE, Segment(np.zeros(1), y1[None, :], None, 0.0, y1, {}), p))
+    if not (math.isfinite(ddtheta0) and math.isfinite(normal0)):
+        return finish(history, [], Status.STEP_FAILED, outcome.failure_message(Status.STEP_FAILED,
+                                                                               detail=Stage.SLIDE))
+    balance = ((*friction.rest_balance(p), outcome.friction_holders(*friction.holders(p)))
+               if friction.lossy(p) else ())
+    return finish(history, [], Status.NEVER_FIRES, outcome.failure_message(Status.NEVER_FIRES,
+                                                                           fires=(ddtheta0, *balance)))
+
+
+def _keep(stage: Stage, segment: Segment, p: Params, history, segments) -> None:
+    """Keep a stage's ``segment`` for the shot's end (``_finish_shot``), and with ``history`` its samples
+    (the swing's first is the lift-off, the slide's last, kept once)."""
+    if history is not None:
+        history.append(_history(stage, segment, p)[0 if stage is Stage.SLIDE else 1:])
+    segments.append((stage, segment))
+
+
+def _slide(p: Params, y1: np.ndarray, normal0: float, rtol: float, atol: float, output_step: float | None,
+           loads: bool, switches: list[int]) -> tuple[Segment, np.ndarray, int, int]:
+    """Stage 1 from rest (``y1``): the slide on the base until the normal force vanishes; none where it
+    does not push at rest (``normal0``: the sling already pulls harder than the projectile's weight).
+
+    Returns the stage's segment, its peak loads (``pieces_peaks``) and ``stretch_end``'s action and
+    detail at its end."""
+    if not normal0 > 0.0:
+        return Segment(np.zeros(1), y1[None, :], "liftoff", 0.0, y1, {}), NO_PEAKS, sequence.NEXT_STAGE, 0
+    pieces, action, _, detail = _run_modes(Stage.SLIDE, p, 0.0, y1, p.t_limit, rtol, atol, output_step,
+                                           p.drag_swing > 0.0, switches)
+    peaks = pieces_peaks(Stage.SLIDE, pieces, p, loads, NO_PEAKS, rtol, atol)
+    return _merge(pieces), peaks, action, detail
+
+
+def _swing(p: Params, slide: Segment, peaks: np.ndarray, rtol: float, atol: float, output_step: float | None,
+           loads: bool, switches: list[int]) -> tuple[Segment, np.ndarray, int, int]:
+    """Stage 2 from the lift-off that ends ``slide``: the free swing until release.
+
+    Returns the stage's segment, the peak loads with the swing's (``peaks``: the slide's), and
+    ``stretch_end``'s action and status at its end."""
+    y2 = np.empty(states.state_size(Stage.SWING, p))
+    try:
+        stages.swing_start(slide.y_end, p, y2)
+    except FLOAT_ERRORS:
+        y2[:] = math.nan   # the integrator ends the stage as step_failed
+    pieces, action, status, _ = _run_modes(Stage.SWING, p, slide.t_end, y2, p.t_limit, rtol, atol, output_step,
+                                           p.drag_swing > 0.0, switches)
+    peaks = pieces_peaks(Stage.SWING, pieces, p, loads, peaks, rtol, atol)
+    return _merge(pieces), peaks, action, status
+
+
+def _release(swing: Segment, p: Params) -> tuple[np.ndarray, dict]:
+    """The flight's start ``(x, y, vx, vy)`` on the ground at the release that ends ``swing``, and the
+    ``Shot`` fields of the release; a release state that cannot be computed fails the shot."""
+    start = np.array(quietly(stages.flight_start, swing.y_end, p, otherwise=(math.nan,) * 4))
+    if not np.all(np.isfinite(start)):
+        raise IntegrationError("non-finite release state", swing.t_end)
+    frame_x, frame_v = stages.frame_state(swing.y_end, p)
+    return start, dict(release_time=swing.t_end, release_position=start[states.FLIGHT_X:states.FLIGHT_Y + 1],
+                       release_velocity=start[states.FLIGHT_VX:states.FLIGHT_VY + 1],
+                       frame_release_displacement=frame_x, frame_release_velocity=frame_v)
+
+
+def _fly(p: Params, start: np.ndarray, release_time: float, rtol: float, atol: float,
+         flight_spacing: float | None) -> tuple[Segment, float]:
+    """Stage 3: the flight from ``start`` at ``release_time`` until it lands or its time runs out
+    (``limits.flight_time_limit``); sampled ``flight_spacing`` apart (None: no samples). Returns the
+    flight's segment, its continuous solution kept for the drag's work (the steps are the same either
+    way), and the time limit."""
+    height, rising = start[states.FLIGHT_Y] + p.h, start[states.FLIGHT_VY]
+    t_max = release_time + flight_time_limit(height, rising, p.g)
+    flight_step = (None if flight_spacing is None else
+                   max(flight_spacing, (t_max - release_time) / HISTORY_SAMPLE_LIMIT))
+    if sequence.lands_at_release(height, rising):
+        return _landed(start, release_time), t_max
+    return _run(Stage.FLIGHT, p, release_time, start, t_max, rtol, atol, flight_step, True), t_max
+
+
+def _landing(flight: Segment, start: np.ndarray, p: Params) -> dict:
+    """The ``Shot`` fields of a flight that landed: where and when, its highest point above the base (the
+    release's height, or the highest apex root) and its samples."""
+    apex = max([start[states.FLIGHT_Y]] + [y[states.FLIGHT_Y] for _, y in flight.roots["apex"]])
+    return dict(landing_time=flight.t_end, landing_position=flight.y_end[states.FLIGHT_X:states.FLIGHT_Y + 1],
+                apex_height=apex + p.h, flight_t=flight.t, flight_path=flight.y[:, states.FLIGHT_X:states.FLIGHT_Y + 1])
 
 
 def spacing_argument(name: str, value: float | None, default: float) -> float:
@@ -207,6 +244,19 @@ def spacing_argument(name: str, value: float | None, default: float) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0.0 < value < math.inf:
         raise ValueError(f"{name} = {value!r}: must be a positive number of seconds")
     return float(value)
+
+
+def _frame_at_landing(p: Params, swing: Segment, flight: Segment, start: np.ndarray, release_x: float, run: bool,
+                      rtol: float, atol: float, output_step: float | None) -> dict:
+    """The ``Shot`` fields of the frame at the landing that ends ``flight``: 0 on a fixed frame; on a
+    rolling one, with ``run``, the machine's run on from the release that ends ``swing``
+    (``_frame_after_release``), else none."""
+    if not p.rolling:
+        return dict(frame_landing_displacement=0.0, frame_landing_velocity=0.0, after_release_speed=0.0)
+    if not run:
+        return {}
+    return _frame_after_release(p, swing.y_end, swing.t_end, flight.t_end, rtol, atol, release_x,
+                                start[states.FLIGHT_VX], output_step)
 
 
 def _frame_after_release(p: Params, release_state: np.ndarray, release_time: float, landing_time: float,
@@ -221,10 +271,10 @@ def _frame_after_release(p: Params, release_state: np.ndarray, release_time: flo
     unreported, with a warning.
     """
     m = stages.machine_params(p)
-    start = np.empty(stages.state_size(stages.MACHINE, m))
+    start = np.empty(states.state_size(states.MACHINE, m))
     try:
         stages.machine_start(release_state, m, start)
-        pieces, _, _, _ = _run_modes(stages.MACHINE, m, release_time, start, landing_time, rtol, atol, output_step,
+        pieces, _, _, _ = _run_modes(states.MACHINE, m, release_time, start, landing_time, rtol, atol, output_step,
                                      False, [0])
     except (IntegrationError, *FLOAT_ERRORS) as error:
         return {"after_release_warning": after_release_warning(str(error))}
@@ -265,7 +315,7 @@ def _landed(start: np.ndarray, t: float) -> Segment:
 
 def _code(stage: Stage, piece: Segment) -> int:
     """How a stretch ended, as ``analytic.sequence`` numbers it: its event's index or ``REACHED_END``."""
-    return sequence.REACHED_END if piece.event is None else stages.EVENT_NAMES[stage].index(piece.event)
+    return sequence.REACHED_END if piece.event is None else states.EVENT_NAMES[stage].index(piece.event)
 
 
 def _run_modes(stage: Stage, p: Params, t0: float, y0: np.ndarray, t_end: float, rtol: float, atol: float,
@@ -276,7 +326,7 @@ def _run_modes(stage: Stage, p: Params, t0: float, y0: np.ndarray, t_end: float,
     Returns the pieces integrated, one per mode (one for a design without
     friction), and ``stretch_end``'s ``(action, status, detail)`` at the last.
     ``switches`` ([count]) counts the switches of the whole shot; past
-    ``stages.MODE_SWITCH_LIMIT`` the shot fails (``IntegrationError``).
+    ``states.MODE_SWITCH_LIMIT`` the shot fails (``IntegrationError``).
     """
     pieces = []
     t, y = t0, y0
@@ -286,13 +336,13 @@ def _run_modes(stage: Stage, p: Params, t0: float, y0: np.ndarray, t_end: float,
         code = _code(stage, piece)
         action, status, detail = sequence.stretch_end(int(stage), code, switches[0])
         if status == sequence.STEP_FAILED:
-            raise IntegrationError(f"friction switched modes more than {stages.MODE_SWITCH_LIMIT} times",
+            raise IntegrationError(f"friction switched modes more than {states.MODE_SWITCH_LIMIT} times",
                                    piece.t_end)
         if action != sequence.SWITCH_MODE:
             return pieces, action, status, detail
         switches[0] += 1
         t, y = piece.t_end, piece.y_end.copy()
-        stages.switch_mode(int(stage), code, y, p)
+        states.switch_mode(int(stage), code, y, p)
 
 
 def _merge(pieces: list[Segment]) -> Segment:
@@ -382,8 +432,8 @@ def _step_integral(segment: Segment, integrand, factor: float) -> float:
         b = min(b, segment.t_end)
         if not b > a:
             continue
-        states = interpolant(0.5 * (b - a) * nodes + 0.5 * (a + b)).T.tolist()   # Python floats: see stage_rhs
-        total += factor * 0.5 * (b - a) * sum(w * integrand(y) for w, y in zip(weights, states, strict=True))
+        at_nodes = interpolant(0.5 * (b - a) * nodes + 0.5 * (a + b)).T.tolist()   # Python floats: see stage_rhs
+        total += factor * 0.5 * (b - a) * sum(w * integrand(y) for w, y in zip(weights, at_nodes, strict=True))
     return float(total)
 
 
@@ -396,7 +446,7 @@ def _events(stage: Stage, p: Params) -> tuple[Event, ...]:
                      armed=lambda t, y: quietly(stages.event_armed, stage, k, y.tolist(), p, otherwise=False),
                      terminal=stages.event_terminal(stage, k), turns=stages.event_turns(stage, k))
 
-    names = stages.EVENT_NAMES[stage][:stages.event_count(stage, p)]   # friction's only with friction
+    names = states.EVENT_NAMES[stage][:stages.event_count(stage, p)]   # friction's only with friction
     return tuple(event(k, name) for k, name in enumerate(names))
 
 
@@ -407,11 +457,11 @@ def _events(stage: Stage, p: Params) -> tuple[Event, ...]:
 def _history(stage: Stage, segment: Segment, p: Params):
     """Rows ``(t, stage, (theta, phi, psi, theta', phi', psi'), sling tension, (axle, hinge, base work),
     stage state)`` of a segment."""
-    core = stages.STATE_SIZE[stage]
+    core = states.STATE_SIZE[stage]
     full = (lambda y: eom.slide_state(*y[:core], p)) if stage is Stage.SLIDE else (lambda y: tuple(y[:core]))
     lossy = friction.lossy(p)
-    return [(t, stage, full(y), sling_tension_at(stage, y, p),
-             tuple(y[core:core + 3]) if lossy else (0.0, 0.0, 0.0), y)
+    work = core + states.FRICTION_WORK
+    return [(t, stage, full(y), sling_tension_at(stage, y, p), tuple(y[work:work + 3]) if lossy else (0.0, 0.0, 0.0), y)
             for t, y in zip(segment.t.tolist(), segment.y.tolist(), strict=True)]   # Python floats: see stage_rhs
 
 
@@ -427,8 +477,8 @@ def _dissipated(p: Params, segments, drag: float) -> dict[str, float]:
     work = (0.0, 0.0, 0.0)
     if segments and friction.lossy(p):
         stage, segment = segments[-1]
-        core = stages.STATE_SIZE[stage]
-        work = tuple(float(w) for w in segment.y_end[core:core + 3])
+        work_slots = states.STATE_SIZE[stage] + states.FRICTION_WORK
+        work = tuple(float(w) for w in segment.y_end[work_slots:work_slots + 3])
     return outcome.dissipated(work, drag, swing_drag_work(segments, p), p.kind == eom.FLOATING)
 
 
@@ -442,39 +492,27 @@ def _support_extremes(stage: np.ndarray, raw: list, p: Params) -> dict[str, floa
 
 def _finish_shot(design: Design, p: Params, history, segments, status: Status, message: str, *,
                  sampled_loads: bool = True, **fields) -> Shot:
+    """The ``Shot`` of a shot that ended with ``status``: its ``fields`` so far, the energy each loss
+    took (from the stages' ``segments``) and, with a ``history`` (None: a summary), what its
+    samples give (``_with_history``)."""
     after_release = fields.pop("after_release_speed", None)
     warnings = tuple(filter(None, [fields.pop("after_release_warning", None)]))
-    if history is None:   # summary only
-        fields.pop("flight_t", None)
-        fields.pop("flight_path", None)
-        fields["energy_dissipated"] = _dissipated(p, segments, fields.pop("drag_work", 0.0))
-        return Shot(design, status, message, **fields, warnings=warnings)
-    rows = [row for part in history for row in part]
-    if not rows:   # failed in its very first stretch: the state at rest
-        y1 = np.empty(stages.state_size(Stage.SLIDE, p))
-        stages.slide_start(p, y1)
-        rows = _history(Stage.SLIDE, Segment(np.zeros(1), y1[None, :], None, 0.0, y1, {}), p)
-    t = np.array([row[0] for row in rows])
-    stage = np.array([int(row[1]) for row in rows])
-    states = np.array([row[2] for row in rows])     # (n, 6): q, then q'
-    tension = np.array([row[3] for row in rows])
-    work = np.array([row[4] for row in rows])        # (n, 3): axle, hinge, base
-    raw = [row[5] for row in rows]                   # each stage's own state
-    state_rows = states.tolist()                     # Python floats for the model (see stage_rhs)
-
-    v_machine0, v_projectile0 = eom.potential_energy(*state_rows[0][:3], p)
-    budget = np.empty((len(t), 2))
-    path = np.empty((len(t), 2))
-    for i, (theta, phi, psi, dtheta, dphi, dpsi) in enumerate(state_rows):
-        v_m, v_p = eom.potential_energy(theta, phi, psi, p)
-        k_m, k_p = eom.kinetic_energy(theta, phi, psi, dtheta, dphi, dpsi, p)
-        budget[i] = (k_m + v_m - v_machine0, k_p + v_p - v_projectile0)
-        path[i] = projectile_state(theta, psi, dtheta, dpsi, p.La, p.Ls)[:2]
-        path[i, 0] += eom.frame_displacement(theta, phi, psi, p)   # on the ground, as the flight is
-    energy = EnergyBudget(projectile=budget[:, 1], machine=budget[:, 0], total=budget.sum(axis=1),
-                          dissipated={name: work[:, i] for i, name in
-                                      enumerate(outcome.friction_work_names(p.kind == eom.FLOATING))})
+    flight = fields.pop("flight_t", np.empty(0)), fields.pop("flight_path", np.empty((0, 2)))
     fields["energy_dissipated"] = _dissipated(p, segments, fields.pop("drag_work", 0.0))
+    if history is None:   # summary only
+        return Shot(design, status, message, **fields, warnings=warnings)
+    return _with_history(design, p, history, segments, status, message, sampled_loads, after_release, warnings,
+                         flight, fields)
+
+
+def _with_history(design: Design, p: Params, history, segments, status: Status, message: str, sampled_loads: bool,
+                  after_release: float | None, warnings: tuple[str, ...], flight, fields: dict) -> Shot:
+    """The ``Shot`` with its ``History``: the stages' samples (``history``: each stage's rows of
+    ``_history``) with the flight's (``flight``: its times and path), and what is read off them (the
+    energies, the loads, the ground's push and the frame's speed) besides ``fields``."""
+    t, stage, coordinates, tension, work, raw = _sampled(history, p)
+    state_rows = coordinates.tolist()   # Python floats for the model (see stage_rhs)
+    energy, path = _energy_budget(state_rows, work, p)
     frame_x = np.array([eom.frame_displacement(*state[:3], p) for state in state_rows])
     ground = np.array([eom.ground_force(*state, *stages.accelerations(int(k), y, p), p)
                        for k, state, y in zip(stage.tolist(), state_rows, raw, strict=True)])
@@ -491,18 +529,52 @@ def _finish_shot(design: Design, p: Params, history, segments, status: Status, m
         fields["max_frame_speed"] = max(frame_speed, after_release)
     released = None
     if fields.get("release_time") is not None:
-        released = v_machine0 - eom.potential_energy(*state_rows[-1][:3], p)[0]
-        fields["projectile_energy_at_release"] = float(budget[-1, 1])
-    history = History(t=t, stage=stage, q=states[:, :3], qdot=states[:, 3:], path=path,
+        released = (eom.potential_energy(*state_rows[0][:3], p)[0]
+                    - eom.potential_energy(*state_rows[-1][:3], p)[0])
+        fields["projectile_energy_at_release"] = float(energy.projectile[-1])
+    history = History(t=t, stage=stage, q=coordinates[:, :3], qdot=coordinates[:, 3:], path=path,
                       sling_tension=tension, energy=energy,
                       frame_x=frame_x if p.rolling or p.kind == eom.FLOATING else np.empty(0),
-                      flight_t=fields.pop("flight_t", np.empty(0)),
-                      flight_path=fields.pop("flight_path", np.empty((0, 2))),
-                      **({} if loads is None else
-                         {"axle_load": loads[:, 0], "hinge_load": loads[:, 1], "projectile_acceleration": loads[:, 3],
-                          "arm_bending_moment": loads[:, 4]}))
+                      flight_t=flight[0], flight_path=flight[1],
+                      **({} if loads is None else {name: loads[:, stages.LOAD_NAMES.index(name)] for name in
+                                                    ("axle_load", "hinge_load", "projectile_acceleration",
+                                                     "arm_bending_moment")}))
     return Shot(design, status, message, history=history,
                 # A machine that never moves (never fires, or its equations fail at rest) holds
                 # its projectile statically: no tension is defined.
                 min_sling_tension=None if not segments else smallest_tension(t, stage, tension, segments, p),
                 counterweight_energy_released=released, **fields)
+
+
+def _sampled(history, p: Params):
+    """The stages' samples (``history``: each stage's rows of ``_history``) as arrays: times (n,), stages
+    (n,), coordinates and rates (n, 6), sling tension (n,), the friction's work (n, 3: axle, hinge,
+    base) and each sample's own stage state (a list). A shot that failed in its very first stretch
+    has one: the state at rest."""
+    rows = [row for part in history for row in part]
+    if not rows:
+        y1 = np.empty(states.state_size(Stage.SLIDE, p))
+        stages.slide_start(p, y1)
+        rows = _history(Stage.SLIDE, Segment(np.zeros(1), y1[None, :], None, 0.0, y1, {}), p)
+    return (np.array([row[0] for row in rows]), np.array([int(row[1]) for row in rows]),
+            np.array([row[2] for row in rows]), np.array([row[3] for row in rows]), np.array([row[4] for row in rows]),
+            [row[5] for row in rows])
+
+
+def _energy_budget(state_rows: list, work: np.ndarray, p: Params) -> tuple[EnergyBudget, np.ndarray]:
+    """The energy budget at each sample (``state_rows``: coordinates then rates; ``work``: the friction's),
+    each part's kinetic and potential energy over its energy at the first, and the projectile's path
+    on the ground (n, 2)."""
+    v_machine0, v_projectile0 = eom.potential_energy(*state_rows[0][:3], p)
+    budget = np.empty((len(state_rows), 2))
+    path = np.empty((len(state_rows), 2))
+    for i, (theta, phi, psi, dtheta, dphi, dpsi) in enumerate(state_rows):
+        v_m, v_p = eom.potential_energy(theta, phi, psi, p)
+        k_m, k_p = eom.kinetic_energy(theta, phi, psi, dtheta, dphi, dpsi, p)
+        budget[i] = (k_m + v_m - v_machine0, k_p + v_p - v_projectile0)
+        path[i] = projectile_state(theta, psi, dtheta, dpsi, p.La, p.Ls)[:2]
+        path[i, 0] += eom.frame_displacement(theta, phi, psi, p)   # on the ground, as the flight is
+    energy = EnergyBudget(projectile=budget[:, 1], machine=budget[:, 0], total=budget.sum(axis=1),
+                          dissipated={name: work[:, i] for i, name in
+                                      enumerate(outcome.friction_work_names(p.kind == eom.FLOATING))})
+    return energy, path

@@ -144,100 +144,138 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], t0: float, y0: np.
         non-finite, or ``max_steps`` steps did not reach the end.
     """
     solver = DOP853(fun, t0, np.asarray(y0, dtype=float), t_end, rtol=rtol, atol=atol)
-    times, states = [t0], [solver.y.copy()]
-    step_t, step_y = [t0], [solver.y.copy()]
-    unknown = np.full(len(solver.y), np.nan)
-    step_f = [unknown]
-    steps_taken = []
-    sampled = output_step is not None
-    record = sampled or continuous
-    roots: dict[str, list[tuple[float, np.ndarray]]] = {e.name: [] for e in events if not e.terminal}
-    step_ends, interpolants = [t0], []
-
-    def failure(message: str, t_last: float, y_last: np.ndarray, step_limit: bool = False) -> IntegrationError:
-        """The error, with the segment integrated up to the last finite state ``(t_last, y_last)``."""
-        if times[-1] < t_last:
-            times.append(t_last)
-            states.append(y_last.copy())
-        if step_t[-1] < t_last:
-            step_t.append(t_last)
-            step_y.append(y_last.copy())
-            step_f.append(unknown)
-        segment = Segment(np.array(times), np.array(states), None, t_last, y_last.copy(), roots,
-                          OdeSolution(step_ends, interpolants) if interpolants else None,
-                          np.array(step_t), np.array(step_y), np.array(step_f), tuple(steps_taken))
-        return IntegrationError(message, solver.t, step_limit, segment)
-
+    trace = _Trace.start(t0, solver.y, events)
+    record = output_step is not None or continuous
     if not np.isfinite(solver.h_abs):
         # A non-finite start or derivative: scipy would shrink a NaN step forever.
-        raise failure(f"non-finite derivative at the start, t = {t0:.6g} s", t0, solver.y)
+        raise trace.failure(f"non-finite derivative at the start, t = {t0:.6g} s", solver.t, t0, solver.y)
     previous = [event.value(t0, solver.y) for event in events]
     # Each event's rate at the step's start: none at the stretch's start, whose first step is not
     # searched for turns (analytic.sequence).
     rates = [math.nan] * len(events)
     behind = np.empty(len(solver.y))
-    next_output = t0 + output_step if sampled else np.inf
+    next_output = t0 + output_step if output_step is not None else np.inf
     steps = 0
-
     while solver.status == "running":
-        if max_steps is not None and steps >= max_steps:
-            raise failure(f"{max_steps} steps did not reach the end, at t = {solver.t:.6g} s with a step "
-                          f"of {solver.step_size:.3g} s", solver.t, solver.y, step_limit=True)
-        message = solver.step()
+        _step(solver, steps, max_steps, trace)
         steps += 1
-        if solver.status == "failed":
-            raise failure(f"integration failed at t = {solver.t:.6g} s: {message}", solver.t, solver.y)
-        if not np.all(np.isfinite(solver.y)):
-            raise failure(f"non-finite state at t = {solver.t:.6g} s", solver.t_old, solver.y_old)
-        # scipy gives each step new y and f arrays, and writes the next step's stages over K.
-        steps_taken.append(Step(solver.t_old, solver.t, solver.y_old, solver.y, solver.f, solver.K.copy()))
         dense = solver.dense_output() if record else _LazyDense(solver)
         if record:
-            step_ends.append(solver.t)
-            interpolants.append(dense)
+            trace.step_ends.append(solver.t)
+            trace.interpolants.append(dense)
         current = [event.value(solver.t, solver.y) for event in events]
         rates_after = _rates(events, current, solver.t, solver.y, solver.f, rate_offset(solver.t - solver.t_old),
                              behind)
-
-        hit_t, hit_k = np.inf, -1   # the terminal root that ends the step, and its event's index
-        for k, (event, before, after) in enumerate(zip(events, previous, current, strict=True)):
-            for t_root in _crossings(event, before, after, rates[k], rates_after[k], dense, solver.t_old,
-                                     solver.t):
-                y_root = dense(t_root)
-                if event.armed is not None and not event.armed(t_root, y_root):
-                    continue
-                if event.terminal:
-                    hit_t, hit_k = first_event(t_root, k, hit_t, hit_k)
-                    break
-                roots[event.name].append((t_root, y_root))
+        hit_t, hit_k = _first_root(events, previous, current, rates, rates_after, dense, solver.t_old, solver.t,
+                                   trace.roots)
         previous, rates = current, rates_after
-        hit = None if hit_k < 0 else (hit_t, events[hit_k])
-
-        t_stop = solver.t if hit is None else hit[0]
-        step_t.append(t_stop)
-        step_y.append(solver.y.copy() if hit is None else dense(t_stop))
-        step_f.append(solver.f.copy() if hit is None else unknown)
+        t_stop = solver.t if hit_k < 0 else hit_t
+        trace.step_t.append(t_stop)
+        trace.step_y.append(solver.y.copy() if hit_k < 0 else dense(t_stop))
+        trace.step_f.append(solver.f.copy() if hit_k < 0 else trace.unknown)
         while next_output < t_stop:
-            times.append(next_output)
-            states.append(dense(next_output))
+            trace.sample(next_output, dense(next_output))
             next_output += output_step
-        if hit is not None:
-            t_hit, event = hit
-            y_hit = dense(t_hit)
-            times.append(t_hit)
-            states.append(y_hit)
-            for name in roots:
-                roots[name] = [(t, y) for t, y in roots[name] if t <= t_hit]
-            return Segment(np.array(times), np.array(states), event.name, t_hit, y_hit, roots,
-                           OdeSolution(step_ends, interpolants) if record else None,
-                           np.array(step_t), np.array(step_y), np.array(step_f), tuple(steps_taken))
+        if hit_k >= 0:
+            return trace.ended_at(events[hit_k].name, hit_t, dense(hit_t), record)
+    if trace.times[-1] < solver.t:
+        trace.sample(solver.t, solver.y.copy())
+    return trace.segment(None, solver.t, solver.y.copy(), trace.solution())
 
-    if times[-1] < solver.t:
-        times.append(solver.t)
-        states.append(solver.y.copy())
-    solution = OdeSolution(step_ends, interpolants) if interpolants else None
-    return Segment(np.array(times), np.array(states), None, solver.t, solver.y.copy(), roots, solution,
-                   np.array(step_t), np.array(step_y), np.array(step_f), tuple(steps_taken))
+
+def _step(solver: DOP853, steps: int, max_steps: int | None, trace: _Trace) -> None:
+    """One accepted step of ``solver`` (its ``steps``-th), kept whole in ``trace``; an ``IntegrationError``
+    where it cannot be taken: ``max_steps`` steps taken already, the step size underflowed, or the
+    state became non-finite (the segment up to the last finite state)."""
+    if max_steps is not None and steps >= max_steps:
+        raise trace.failure(f"{max_steps} steps did not reach the end, at t = {solver.t:.6g} s with a step "
+                            f"of {solver.step_size:.3g} s", solver.t, solver.t, solver.y, step_limit=True)
+    message = solver.step()
+    if solver.status == "failed":
+        raise trace.failure(f"integration failed at t = {solver.t:.6g} s: {message}", solver.t, solver.t, solver.y)
+    if not np.all(np.isfinite(solver.y)):
+        raise trace.failure(f"non-finite state at t = {solver.t:.6g} s", solver.t, solver.t_old, solver.y_old)
+    # scipy gives each step new y and f arrays, and writes the next step's stages over K.
+    trace.steps.append(Step(solver.t_old, solver.t, solver.y_old, solver.y, solver.f, solver.K.copy()))
+
+
+def _first_root(events: tuple[Event, ...], previous: list[float], current: list[float], rates: list[float],
+                rates_after: list[float], dense, t_old: float, t_new: float,
+                roots: dict[str, list]) -> tuple[float, int]:
+    """The terminal root that ends the step ``[t_old, t_new]``, from each event's values and rates at its
+    ends (``previous``, ``rates``; ``current``, ``rates_after``) and the step's ``dense`` output:
+    ``(t, k)``, the root and its event's index (``(inf, -1)``: none; of two at one instant, the
+    event listed first: ``stages.first_event``). The non-terminal roots that count are added to
+    ``roots``."""
+    hit_t, hit_k = np.inf, -1
+    for k, (event, before, after) in enumerate(zip(events, previous, current, strict=True)):
+        for t_root in _crossings(event, before, after, rates[k], rates_after[k], dense, t_old, t_new):
+            y_root = dense(t_root)
+            if event.armed is not None and not event.armed(t_root, y_root):
+                continue
+            if event.terminal:
+                hit_t, hit_k = first_event(t_root, k, hit_t, hit_k)
+                break
+            roots[event.name].append((t_root, y_root))
+    return hit_t, hit_k
+
+
+@dataclass
+class _Trace:
+    """What ``integrate`` keeps of a stretch as it goes, to make its ``Segment``: the samples (``times``,
+    ``states``), every step's end, state and derivative (``step_*``: ``unknown`` where none was computed),
+    the steps whole, the interpolants (``step_ends`` their breaks) and the non-terminal roots counted."""
+
+    times: list
+    states: list
+    step_t: list
+    step_y: list
+    step_f: list
+    unknown: np.ndarray
+    steps: list
+    step_ends: list
+    interpolants: list
+    roots: dict[str, list[tuple[float, np.ndarray]]]
+
+    @classmethod
+    def start(cls, t0: float, y0: np.ndarray, events: tuple[Event, ...]) -> _Trace:
+        """The trace of a stretch starting at ``(t0, y0)``, watching ``events``."""
+        unknown = np.full(len(y0), np.nan)
+        return cls([t0], [y0.copy()], [t0], [y0.copy()], [unknown], unknown, [], [t0], [],
+                   {e.name: [] for e in events if not e.terminal})
+
+    def sample(self, t: float, y: np.ndarray) -> None:
+        self.times.append(t)
+        self.states.append(y)
+
+    def solution(self) -> OdeSolution | None:
+        """The continuous solution of the steps kept; None without one."""
+        return OdeSolution(self.step_ends, self.interpolants) if self.interpolants else None
+
+    def segment(self, event: str | None, t_end: float, y_end: np.ndarray, solution: OdeSolution | None) -> Segment:
+        return Segment(np.array(self.times), np.array(self.states), event, t_end, y_end, self.roots, solution,
+                       np.array(self.step_t), np.array(self.step_y), np.array(self.step_f), tuple(self.steps))
+
+    def ended_at(self, event: str, t_hit: float, y_hit: np.ndarray, record: bool) -> Segment:
+        """The segment ended by ``event``'s root at ``(t_hit, y_hit)``: the last sample, and the roots counted
+        up to it; the continuous solution where it was ``record``-ed."""
+        self.sample(t_hit, y_hit)
+        for name in self.roots:
+            self.roots[name] = [(t, y) for t, y in self.roots[name] if t <= t_hit]
+        return self.segment(event, t_hit, y_hit, OdeSolution(self.step_ends, self.interpolants) if record else None)
+
+    def failure(self, message: str, t_failed: float, t_last: float, y_last: np.ndarray,
+                step_limit: bool = False) -> IntegrationError:
+        """The error of a failure at ``t_failed``, with the segment integrated up to the last finite state
+        ``(t_last, y_last)``."""
+        if self.times[-1] < t_last:
+            self.sample(t_last, y_last.copy())
+        if self.step_t[-1] < t_last:
+            self.step_t.append(t_last)
+            self.step_y.append(y_last.copy())
+            self.step_f.append(self.unknown)
+        return IntegrationError(message, t_failed, step_limit, self.segment(None, t_last, y_last.copy(),
+                                                                            self.solution()))
 
 
 def step_interpolant(fun: Callable[[float, np.ndarray], np.ndarray], step: Step, *, rtol: float, atol: float):
