@@ -31,7 +31,9 @@ SPEED_OF_SOUND = 343.0
 #: counterweight's whole force into a projectile of next to no mass.
 MAX_MASS_RATIO = 1e4
 #: kg. A counterweight beyond any built: the largest working trebuchet, Warwick Castle's
-#: (2005), stands 18 m tall and weighs 22 t in all, counterweight, arm and frame; 100 t is
+#: (built 2005, rebuilt 2023), stands 18 m tall and weighs 22 t in all, counterweight, arm
+#: and frame (BBC News, "New trebuchet attraction installed at Warwick Castle", 2023:
+#: https://www.bbc.co.uk/news/uk-england-coventry-warwickshire-65099834); 100 t is
 #: more than four times that whole machine. The model has no size limit (``analytic.design``
 #: refuses only what overflows the float range), so past this its numbers are arithmetic.
 MAX_COUNTERWEIGHT_MASS = 1e5
