@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import sys
 from dataclasses import dataclass, field, fields
 from typing import Any
 
@@ -42,10 +43,14 @@ BUILT_KINDS = ("hinged", "fixed", "floating-arm")
 MAX_VELOCITY_RELEASE_ANGLE = math.radians(90.0)
 #: Largest ``|release angle|`` for the ``sling`` rule (sling-to-arm angle).
 MAX_SLING_RELEASE_ANGLE = math.radians(180.0)
-#: Largest magnitude of any number in a design, SI units. Far beyond any machine
-#: this models (a 20 t counterweight, a 20 m arm), and it keeps the squares and
-#: products the model forms of its inputs far from overflowing.
-MAX_MAGNITUDE = 1e6
+#: Largest magnitude of any number in a design, SI units: the largest float whose fourth
+#: power is finite (1.16e77, the largest float's fourth root rounded down). It bounds what
+#: the model can compute, not what can be built (how big a machine is plausible is
+#: ``analytic.plausibility``'s to say, in warnings): the equations multiply a design's
+#: numbers together (a mass by gravity by a length, a mass by a length squared), and a
+#: number past it overflows even its own square's square. The products themselves are
+#: checked too (``computable_scales``).
+MAX_MAGNITUDE = math.nextafter(sys.float_info.max ** 0.25, 0.0)
 #: Shortest sling, as a fraction of the long arm. At rest the projectile lies on
 #: the base a sling's length from the arm tip, at the angle whose cosine is the
 #: tip's height above the base over the sling; rounding leaves that height off
@@ -405,6 +410,34 @@ class Design:
             self._check_floating()
         elif isinstance(self.machine, Machine):
             self._check_no_slides()
+        if isinstance(self.machine, Machine) and isinstance(self.projectile, Projectile) \
+                and isinstance(self.environment, Environment):
+            self._check_computable()
+
+    def _check_computable(self) -> None:
+        """Refuse numbers that each lie within ``MAX_MAGNITUDE`` but together overflow the equations.
+
+        The model's scales (``computable_scales``) are the products its equations form: the
+        mass matrix's entries (an inertia), the generalised forces and energies (a weight by a
+        length), the speeds squared and the drag. Each must stay within ``MAX_MAGNITUDE``, so that
+        the mass matrix's determinant (three entries multiplied) and its solutions (two entries by
+        a force) stay finite. The error names the most extreme number in the scale that passes:
+        the one farthest from 1 in decades, the one to change.
+        """
+        for what, unit, scale, inputs in computable_scales(self):
+            if not scale <= MAX_MAGNITUDE:
+                name, value = _most_extreme(inputs)
+                raise DesignError(name, value,
+                                  f"is past the float range the model computes in: with the design's other "
+                                  f"values {what} comes to {scale:.3g} {unit}, beyond {MAX_MAGNITUDE:.3g}, the "
+                                  f"largest at which the equations' products of it stay finite")
+        for what, inertia, inputs in pivot_inertias(self.machine, self.projectile):
+            if not inertia >= sys.float_info.min:
+                name, value = _most_extreme(inputs)
+                raise DesignError(name, value,
+                                  f"is past the float range the model computes in: with the design's other "
+                                  f"values {what} comes to {inertia:.3g} kg m^2, below the smallest normal float "
+                                  f"({sys.float_info.min:.3g}), and the equations divide by it")
 
     def _check_no_slides(self) -> None:
         """Refuse guide and track friction on a machine without a guide and a track."""
@@ -429,6 +462,77 @@ class Design:
             if value is not None and value > 0.0:
                 raise DesignError(f"losses.{name}", value,
                                   "the base's friction is not modelled on a floating-arm machine; leave it out (or 0)")
+
+
+def computable_scales(design: Design) -> list[tuple[str, str, float, tuple[tuple[str, float], ...]]]:
+    """The products the equations form of ``design``'s numbers, each with the numbers it is made of.
+
+    Returns
+    -------
+    list of (what, unit, scale, inputs)
+        ``what`` names the scale and its formula, ``inputs`` are ``(field, SI value)`` pairs.
+    """
+    m, p, env, losses = design.machine, design.projectile, design.environment, design.losses
+    lengths = (("machine.pivot_height", m.pivot_height), ("machine.arm_long", m.arm_long),
+               ("machine.arm_short", m.arm_short), ("machine.counterweight_link", m.counterweight_link),
+               ("machine.sling_length", m.sling_length), ("projectile.diameter", p.diameter),
+               ("losses.axle_radius", losses.axle_radius), ("losses.hinge_radius", losses.hinge_radius))
+    masses = (("machine.arm_mass", m.arm_mass), ("machine.counterweight_mass", m.counterweight_mass),
+              ("projectile.mass", p.mass)) + ((("base.mass", design.base.mass),) if design.base.mass else ())
+    inertias = (("machine.arm_inertia", m.arm_inertia), ("machine.counterweight_inertia", m.counterweight_inertia))
+    coefficients = tuple((f"losses.{name}", getattr(losses, name) or 0.0)
+                         for name in [f"{f}_friction" for f in FRICTIONS] + [f"{f}_static_friction" for f in FRICTIONS])
+    gravity, wind = ("environment.gravity", env.gravity), ("environment.wind_speed", env.wind_speed)
+    length, mass = sum(v for _, v in lengths), sum(v for _, v in masses)
+    grip = 1.0 + max(v for _, v in coefficients)   # friction multiplies the loads by up to this
+    speed_squared = env.gravity * length + env.wind_speed ** 2
+    # The drag curves' Cd is at most about 1 but at creeping flow, where the viscous term takes over.
+    drag_scale = p.drag_factor * (env.air_density * (p.drag_coefficient or 1.0) * p.diameter ** 2 * speed_squared
+                                  + env.air_viscosity * p.diameter * math.sqrt(speed_squared))
+    return [
+        ("the machine's size (the sum of its lengths)", "m", length, lengths),
+        ("the machine's mass (the sum of its masses)", "kg", mass, masses),
+        ("the machine's inertia (its inertias and mass x size^2)", "kg m^2",
+         sum(v for _, v in inertias) + mass * length ** 2, inertias + masses + lengths),
+        ("the work of the machine's weight (mass x gravity x size, with friction)", "J",
+         mass * env.gravity * length * grip, masses + lengths + coefficients + (gravity,)),
+        ("the speed squared (gravity x size + wind^2)", "m^2/s^2", speed_squared, lengths + (gravity, wind)),
+        ("the projectile's drag", "N", drag_scale,
+         (("projectile.drag_factor", p.drag_factor), ("projectile.diameter", p.diameter),
+          ("environment.air_density", env.air_density), ("environment.air_viscosity", env.air_viscosity),
+          gravity, wind) + lengths
+         + ((("projectile.drag_coefficient", p.drag_coefficient),) if p.drag_coefficient is not None else ())),
+    ]
+
+
+def pivot_inertias(machine: Machine, projectile: Projectile) -> list[tuple[str, float, tuple[tuple[str, float], ...]]]:
+    """The mass matrix's diagonal at its smallest, kg m^2, each with the numbers it is made of.
+
+    Each body's inertia about the joint it turns on: the arm with everything on it about the pivot,
+    the hinged counterweight about its hinge, the projectile about the sling's tip. The equations
+    divide by the mass matrix's determinant; an inertia that underflows to zero makes it zero.
+    """
+    m, p = machine, projectile
+    arm = (("machine.arm_inertia", m.arm_inertia), ("machine.arm_mass", m.arm_mass), ("machine.arm_cg", m.arm_cg),
+           ("machine.counterweight_mass", m.counterweight_mass), ("machine.arm_short", m.arm_short),
+           ("projectile.mass", p.mass), ("machine.arm_long", m.arm_long))
+    found = [("the arm's inertia about the pivot (with its counterweight and projectile)",
+              m.arm_inertia + m.arm_mass * m.arm_cg**2 + m.counterweight_mass * m.arm_short**2
+              + p.mass * m.arm_long**2, arm)]
+    if m.kind == "hinged":
+        found.append(("the counterweight's inertia about its hinge (counterweight_inertia + mass x link^2)",
+                      m.counterweight_inertia + m.counterweight_mass * m.counterweight_link**2,
+                      (("machine.counterweight_inertia", m.counterweight_inertia),
+                       ("machine.counterweight_mass", m.counterweight_mass),
+                       ("machine.counterweight_link", m.counterweight_link))))
+    found.append(("the projectile's inertia about the arm's tip (mass x sling_length^2)",
+                  p.mass * m.sling_length**2, (("projectile.mass", p.mass), ("machine.sling_length", m.sling_length))))
+    return found
+
+
+def _most_extreme(inputs: tuple[tuple[str, float], ...]) -> tuple[str, float]:
+    """The ``(field, value)`` of ``inputs`` farthest from 1 in decades (zeros left out): the one to change."""
+    return max(((n, v) for n, v in inputs if v != 0.0), key=lambda item: abs(math.log10(abs(item[1]))))
 
 
 # --------------------------------------------------------------------------- #
@@ -522,7 +626,7 @@ def largest_length(machine: Machine) -> float:
 # --------------------------------------------------------------------------- #
 
 def require_number(name: str, value: Any) -> float:
-    """``value`` as a float if it is a real number, finite and within ``MAX_MAGNITUDE``.
+    """``value`` as a float if it is a real number, finite and within ``MAX_MAGNITUDE`` (the float range's).
 
     Parameters
     ----------
@@ -543,7 +647,9 @@ def require_number(name: str, value: Any) -> float:
     if math.isnan(number) or (math.isinf(number) and not isinstance(value, numbers.Integral)):
         raise DesignError(name, value, "must be finite")
     if not abs(number) <= MAX_MAGNITUDE:
-        raise DesignError(name, value, f"must lie between {-MAX_MAGNITUDE:g} and {MAX_MAGNITUDE:g} (SI units)")
+        raise DesignError(name, value, f"is past the float range the model computes in: it must lie between "
+                                       f"{-MAX_MAGNITUDE:.3g} and {MAX_MAGNITUDE:.3g} (SI units), where the "
+                                       f"equations' products of it stay finite")
     return number
 
 

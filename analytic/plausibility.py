@@ -1,8 +1,9 @@
 """Warnings for valid designs far outside anything buildable: the shot runs, and says which input is implausible.
 
-A design is valid when every value is a finite number in range
-(``analytic.design``); it can still describe a machine no one could build or
-weather no one has seen, and then the numbers that come out are arithmetic,
+A design is valid when it can be built and computed (``analytic.design``:
+positive lengths and masses, a tip that reaches the base, numbers whose
+products stay within the float range), at any size; it can still describe a
+machine larger or smaller than any built, or weather no one has seen, and then the numbers that come out are arithmetic,
 not predictions. ``plausibility_warnings(design, shot)`` says so, one line
 per implausible input, each naming the field, its value and the limit it
 passes. Every ``Shot``, from either model, carries them in ``shot.warnings``
@@ -29,6 +30,19 @@ SPEED_OF_SOUND = 343.0
 #: the model takes as rigid and massless-jointed would have to carry the
 #: counterweight's whole force into a projectile of next to no mass.
 MAX_MASS_RATIO = 1e4
+#: kg. A counterweight beyond any built: the largest working trebuchet, Warwick Castle's
+#: (built 2005, rebuilt 2023), stands 18 m tall and weighs 22 t in all, counterweight, arm
+#: and frame (BBC News, "New trebuchet attraction installed at Warwick Castle", 2023:
+#: https://www.bbc.co.uk/news/uk-england-coventry-warwickshire-65099834); 100 t is
+#: more than four times that whole machine. The model has no size limit (``analytic.design``
+#: refuses only what overflows the float range), so past this its numbers are arithmetic.
+MAX_COUNTERWEIGHT_MASS = 1e5
+#: m. The machine's height standing, its long arm upright (``pivot_height + arm_long``):
+#: from a desk-top kit's 5 cm (the smallest sold are 0.2-0.3 m tall; below a few
+#: centimetres the pin's friction and the sling's stiffness, which shrink with area, rival
+#: the weights, which shrink with volume, and the model has only the weights) to 50 m,
+#: nearly three times Warwick Castle's 18 m, the tallest built.
+HEIGHT_RANGE = (0.05, 50.0)
 #: m/s^2. Gravity at the surface of the Moon (1.62) and of Jupiter's cloud
 #: tops (24.8), the extremes among bodies in the solar system one speaks of
 #: standing on.
@@ -59,6 +73,11 @@ def plausibility_warnings(design, shot) -> tuple[str, ...]:
         found.append(f"machine.counterweight_mass / projectile.mass = {m.counterweight_mass / projectile.mass:.3g}"
                      f" is beyond {MAX_MASS_RATIO:g}: no arm or sling stays rigid between such masses,"
                      f" as the model assumes")
+    if m.counterweight_mass > MAX_COUNTERWEIGHT_MASS:
+        found.append(f"machine.counterweight_mass = {m.counterweight_mass:g} kg is beyond"
+                     f" {MAX_COUNTERWEIGHT_MASS:g} kg, more than four times the whole of the largest trebuchet"
+                     f" built (Warwick Castle's, 22 t): no frame, axle or arm is known to carry it")
+    found.extend(_height_warning(m))
     if abs(env.wind_speed) > MAX_WIND_SPEED:
         found.append(f"environment.wind_speed = {env.wind_speed:g} m/s is beyond the strongest wind ever"
                      f" measured ({MAX_WIND_SPEED:g} m/s)")
@@ -73,6 +92,21 @@ def plausibility_warnings(design, shot) -> tuple[str, ...]:
             found.append(f"the release speed, {speed:.4g} m/s, is beyond the speed of sound"
                          f" ({SPEED_OF_SOUND:g} m/s): the drag curves hold only well below it")
     return tuple(found)
+
+
+def _height_warning(machine) -> list[str]:
+    """A line when the machine standing, long arm upright, is outside ``HEIGHT_RANGE``; none inside."""
+    height, (low, high) = machine.pivot_height + machine.arm_long, HEIGHT_RANGE
+    if height > high:
+        return [f"machine.pivot_height + machine.arm_long = {height:g} m, the machine standing with its long arm"
+                f" upright, is beyond {high:g} m, nearly three times the tallest trebuchet built (Warwick"
+                f" Castle's, 18 m): no beam or sling that long is known to stay as rigid as the model takes"
+                f" them"]
+    if height < low:
+        return [f"machine.pivot_height + machine.arm_long = {height:g} m, the machine standing with its long arm"
+                f" upright, is below {low:g} m: at that size the pin's friction and the sling's stiffness,"
+                f" which the model does not have, rival the weights that drive it"]
+    return []
 
 
 #: Plausible ranges of what calibration fits, file units: name -> (low, high, why). A kinetic

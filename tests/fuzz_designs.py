@@ -28,6 +28,14 @@ from analytic.geometry import RELEASE_RULES
 #: range's lower end for a positive number, as a file may give it.
 SMALLEST_POSITIVE = 5e-324
 SMALLEST_NORMAL = 2.2250738585072014e-308
+#: The largest number the valid extreme designs draw, SI: far past any machine (Trebuchator's
+#: largest has a 3.6e5 kg counterweight). Any number up to ``MAX_MAGNITUDE`` (1.16e77) is valid on
+#: its own, but drawn that large most designs overflow a product of their numbers and are refused
+#: (``analytic.design.computable_scales``), too many to fill a batch of valid ones; up to 1e12 the
+#: products the model forms stay below 1e74 (the largest, the drag's: density, Cd, diameter
+#: squared and speed squared at 1e12 each). The design files' fuzzing reaches ``MAX_MAGNITUDE``
+#: and passes it (``OUT_OF_RANGE_NUMBERS``, ``ANY_NUMBERS``).
+LARGEST = 1e12
 #: One value in this many is drawn from the ends of the valid range rather than from its bulk.
 EDGE_ODDS = 8
 
@@ -51,9 +59,9 @@ def sometimes(edges: tuple[float, ...], bulk: st.SearchStrategy[float]) -> st.Se
 
 @functools.cache
 def positive(low: float) -> st.SearchStrategy[float]:
-    """A positive number: log-uniform from ``low`` up to the largest a file may hold, or an end
-    of that range (the smallest positive float, the smallest normal one, the largest)."""
-    return sometimes((SMALLEST_POSITIVE, SMALLEST_NORMAL, MAX_MAGNITUDE), log_uniform(low, MAX_MAGNITUDE))
+    """A positive number: log-uniform from ``low`` up to ``LARGEST``, or an end of that range
+    (the smallest positive float, the smallest normal one, ``LARGEST``)."""
+    return sometimes((SMALLEST_POSITIVE, SMALLEST_NORMAL, LARGEST), log_uniform(low, LARGEST))
 
 
 @functools.cache
@@ -65,7 +73,7 @@ def non_negative(low: float) -> st.SearchStrategy[float]:
 @functools.cache
 def signed(low: float) -> st.SearchStrategy[float]:
     """Zero, or a number of magnitude log-uniform from ``low`` to the largest, either sign."""
-    magnitude = sometimes((MAX_MAGNITUDE,), log_uniform(low, MAX_MAGNITUDE))
+    magnitude = sometimes((LARGEST,), log_uniform(low, LARGEST))
     return st.one_of(st.just(0.0), magnitude, magnitude.map(lambda x: -x))
 
 
@@ -99,7 +107,7 @@ GRAVITY_LOW, DENSITY_LOW, VISCOSITY_LOW, WIND_LOW, DRAG_COEFFICIENT_LOW = 1e-6, 
 def mass_near(reference: float, low: float, high: float) -> st.SearchStrategy[float]:
     """A mass anywhere in its valid range, or ``reference`` times a ratio log-uniform from ``low``
     to ``high``: independent masses would make half the machines too weak to fire."""
-    relative = log_uniform(low, high).map(lambda r: min(MAX_MAGNITUDE, max(SMALLEST_POSITIVE, reference * r)))
+    relative = log_uniform(low, high).map(lambda r: min(LARGEST, max(SMALLEST_POSITIVE, reference * r)))
     return st.one_of(positive(MASS_LOW), relative)
 
 
@@ -107,13 +115,13 @@ def mass_near(reference: float, low: float, high: float) -> st.SearchStrategy[fl
 def extreme_machines(draw) -> Machine:
     """A machine with every number across its valid range and the lengths in any proportion
     the contract allows (the long arm reaches the base, the counterweight clears it)."""
-    arm_long = draw(sometimes((MAX_MAGNITUDE,), log_uniform(LENGTH_LOW, MAX_MAGNITUDE)))
+    arm_long = draw(sometimes((LARGEST,), log_uniform(LENGTH_LOW, LARGEST)))
     pivot_height = arm_long * draw(fraction())
     arm_short = pivot_height * draw(fraction())
     counterweight_link = (pivot_height - arm_short) * draw(fraction())
     # The arm's centre of mass anywhere on it, the pivot included.
     arm_cg = draw(st.one_of(st.just(0.0), fraction().map(lambda f: -arm_short + f * (arm_long + arm_short))))
-    sling_length = min(MAX_MAGNITUDE, arm_long * draw(log_uniform(MIN_SLING_FRACTION, 1e12)))
+    sling_length = min(LARGEST, arm_long * draw(log_uniform(MIN_SLING_FRACTION, 1e12)))
     counterweight_mass = draw(positive(MASS_LOW))
     rule = draw(st.sampled_from(RELEASE_RULES))
     limit = MAX_VELOCITY_RELEASE_ANGLE if rule == "velocity" else MAX_SLING_RELEASE_ANGLE
@@ -149,8 +157,12 @@ def wholly_extreme_designs(draw) -> Design | None:
     machine = draw(extreme_machines())
     if machine is None:
         return None
-    return Design(machine, draw(extreme_projectiles(machine.counterweight_mass)), draw(extreme_environments()),
-                  name="extreme")
+    try:
+        return Design(machine, draw(extreme_projectiles(machine.counterweight_mass)), draw(extreme_environments()),
+                      name="extreme")
+    except DesignError:
+        # Numbers each within range whose products are not (``analytic.design.computable_scales``).
+        return None
 
 
 #: Parts of a design that can be taken from another valid design without breaking the
@@ -245,15 +257,18 @@ STRAY_KEYS = st.one_of(
                      "environment", "width", "Sling_length", "sling-length", "release angle", "gravity "]),
     TEXT)
 
-#: Numbers no design accepts anywhere: not finite, or beyond +-1e6 in SI.
+#: Numbers no design accepts anywhere: not finite, or past the float range the model computes
+#: in (``MAX_MAGNITUDE``, 1.16e77 in SI).
+_PAST = math.nextafter(MAX_MAGNITUDE, math.inf)
 OUT_OF_RANGE_NUMBERS = st.one_of(
-    st.sampled_from([math.nan, math.inf, -math.inf, 1e300, -1e300, 1.000001e6, -1.000001e6, 10**400, -10**400]),
-    st.floats(min_value=1.0000001e6, allow_infinity=False), st.floats(max_value=-1.0000001e6, allow_infinity=False),
-    st.integers(min_value=1_000_001, max_value=10**30), st.integers(max_value=-1_000_001, min_value=-10**30))
+    st.sampled_from([math.nan, math.inf, -math.inf, 1e300, -1e300, _PAST, -_PAST, 10**400, -10**400]),
+    st.floats(min_value=_PAST, allow_infinity=False), st.floats(max_value=-_PAST, allow_infinity=False),
+    st.integers(min_value=10**78, max_value=10**100), st.integers(max_value=-10**78, min_value=-10**100))
 #: Numbers a design may accept or refuse by field: zero, signs, the ends of the range, anything finite.
 ANY_NUMBERS = st.one_of(
     OUT_OF_RANGE_NUMBERS,
-    st.sampled_from([0.0, -0.0, -1.0, 1e6, -1e6, SMALLEST_POSITIVE, -SMALLEST_POSITIVE, 1e-300, 90.0, 180.0]),
+    st.sampled_from([0.0, -0.0, -1.0, 1e6, -1e6, MAX_MAGNITUDE, -MAX_MAGNITUDE, SMALLEST_POSITIVE,
+                     -SMALLEST_POSITIVE, 1e-300, 90.0, 180.0]),
     st.floats(allow_nan=False, allow_infinity=False), st.integers(min_value=-10**7, max_value=10**7))
 #: Values of every other kind a TOML file can hold, none of them a number or a valid table.
 NOT_NUMBERS = st.recursive(

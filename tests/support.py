@@ -331,9 +331,9 @@ NOT_NUMBERS = {
     "nan": (math.nan, "must be finite"),
     "inf": (math.inf, "must be finite"),
     "minus-inf": (-math.inf, "must be finite"),
-    "huge": (1e300, "must lie between"),
-    "huge-negative": (-1e300, "must lie between"),
-    "huge-integer": (10**400, "must lie between"),   # tomllib reads it: beyond any float
+    "huge": (1e300, "past the float range"),
+    "huge-negative": (-1e300, "past the float range"),
+    "huge-integer": (10**400, "past the float range"),   # tomllib reads it: beyond any float
 }
 
 
