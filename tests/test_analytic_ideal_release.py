@@ -99,3 +99,9 @@ def test_a_release_angle_given_with_the_ideal_rule_is_ignored():
     given = design_from_dict(layout)
     layout["machine"]["release_angle"] = 80.0   # beyond the velocity rule's span: not checked, not used
     assert fast.simulate_fast(design_from_dict(layout)).range == fast.simulate_fast(given).range
+
+
+def test_the_optimiser_does_not_vary_the_release_angle_of_an_ideal_problem():
+    from analytic.design_space import default_problem
+    with pytest.raises(DesignError, match="variables.release_angle"):
+        dataclasses.replace(default_problem(), release_rule="ideal")
