@@ -114,8 +114,10 @@ class Machine:
     sling_length : long-arm tip to projectile centre, m.
     release_angle : rad; the velocity direction above horizontal (rule
         ``velocity``) or the sling-to-arm angle (rule ``sling``, see
-        ``analytic.geometry.sling_arm_angle``).
-    release_rule : ``"velocity"`` or ``"sling"``.
+        ``analytic.geometry.sling_arm_angle``). Not used by the rule ``ideal``:
+        None there, or a number, which is ignored.
+    release_rule : ``"velocity"``, ``"sling"`` or ``"ideal"`` (release at the instant
+        of the free swing that throws farthest: ``analytic.ideal``).
     kind : ``"hinged"`` (the counterweight hangs from a hinge at the short
         arm's tip, the default), ``"fixed"`` (bolted: rigid on the arm, its
         centre at ``arm_short`` on the arm's axis) or ``"floating-arm"``
@@ -133,7 +135,7 @@ class Machine:
     counterweight_link: float
     counterweight_inertia: float
     sling_length: float
-    release_angle: float
+    release_angle: float | None
     release_rule: str = "velocity"
     kind: str = "hinged"
 
@@ -151,8 +153,13 @@ class Machine:
         for name in ("arm_inertia", "counterweight_inertia"):
             require_non_negative(f"machine.{name}", getattr(self, name))
         require_number("machine.arm_cg", self.arm_cg)
-        require_number("machine.release_angle", self.release_angle)
         require_choice("machine.release_rule", self.release_rule, RELEASE_RULES)
+        if self.release_angle is not None or self.release_rule != "ideal":   # the ideal rule ignores it
+            if self.release_angle is None:
+                raise DesignError("machine.release_angle", None,
+                                  f"release_rule {self.release_rule!r} needs a release angle (only "
+                                  f"release_rule 'ideal' goes without one)")
+            require_number("machine.release_angle", self.release_angle)
         if not -self.arm_short <= self.arm_cg <= self.arm_long:
             raise DesignError("machine.arm_cg", self.arm_cg,
                               f"the arm's centre of mass must lie on the arm, between "
@@ -176,7 +183,7 @@ class Machine:
                               f"must be less than pivot_height ({self.pivot_height:g} m)")
         limit = (MAX_VELOCITY_RELEASE_ANGLE if self.release_rule == "velocity"
                  else MAX_SLING_RELEASE_ANGLE)
-        if not -limit < self.release_angle < limit:
+        if self.release_rule != "ideal" and not -limit < self.release_angle < limit:
             raise DesignError("machine.release_angle", f"{math.degrees(self.release_angle):g} deg",
                               f"with release_rule {self.release_rule!r} it must lie strictly "
                               f"between {-math.degrees(limit):g} and {math.degrees(limit):g} deg")

@@ -148,6 +148,8 @@ def machine_from_dict(data: Any) -> Machine:
         values["arm_mass"], values["arm_cg"], values["arm_inertia"] = beam.properties(
             values["arm_long"], values["arm_short"])
 
+    if values.get("release_rule") == "ideal":   # the ideal rule needs no release angle (and ignores one)
+        values.setdefault("release_angle", None)
     require_keys(table, values, _MACHINE_NUMBERS)
     return Machine(**values)
 
@@ -213,7 +215,10 @@ def design_to_dict(design: Design, units: dict[str, str] | None = None) -> dict[
         ``{}`` writes every value with its file unit (``"0.61 m"``).
     """
     machine = dataclasses.asdict(design.machine)
-    machine["release_angle"] = math.degrees(machine["release_angle"])
+    if machine["release_angle"] is None:   # the ideal rule's: none
+        del machine["release_angle"]
+    else:
+        machine["release_angle"] = math.degrees(machine["release_angle"])
     if machine["kind"] == "hinged":   # the default: left out, so files read as they were written
         del machine["kind"]
     else:   # no link on a rigid counterweight

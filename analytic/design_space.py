@@ -85,7 +85,8 @@ class Problem:
     counterweight_density : kg/m^3; the counterweight is a solid sphere of it.
     arm : the beam the arm is cut from.
     projectile, environment : as in a design.
-    release_rule : ``"velocity"`` or ``"sling"`` (``analytic.geometry.release_value``).
+    release_rule : ``"velocity"``, ``"sling"`` (``analytic.geometry.release_value``) or ``"ideal"`` (the
+        release angle then a fixed variable, ignored: ``analytic.ideal``).
     base : the frame every design stands on (``analytic.design.Base``); with a
         ``frame_mass`` variable, its mass is the variable's.
     losses : the friction every design has (``analytic.design.Losses``, ``[losses]`` as in
@@ -159,6 +160,10 @@ class Problem:
                                       f"a {self.kind} machine has no link: its counterweight is rigid on "
                                       f"the arm; leave the variable out (or fix it at 0)")
                 continue
+            if variable.name == "release_angle" and self.release_rule == "ideal" and variable.lower != variable.upper:
+                raise DesignError("variables.release_angle", (variable.lower, variable.upper),
+                                  "release.rule 'ideal' finds its own release, so the release angle is "
+                                  "not a variable: fix it (lower = upper; its value is ignored)")
             low, high = limits[variable.name]
             if not (low < variable.lower and variable.upper < high):
                 unit = "rad" if variable.name in ANGLE_VARIABLES else ("kg" if variable.name == FRAME_MASS else "m")

@@ -17,8 +17,8 @@ from typing import NamedTuple
 import numpy as np
 
 #: Release rules, in the order of their codes in the compiled path.
-RELEASE_RULES = ("velocity", "sling")
-VELOCITY_RULE, SLING_RULE = 0, 1
+RELEASE_RULES = ("velocity", "sling", "ideal")
+VELOCITY_RULE, SLING_RULE, IDEAL_RULE = 0, 1, 2
 
 
 def projectile_state(theta: float, psi: float, dtheta: float, dpsi: float,
@@ -129,6 +129,18 @@ def release_value(rule: int, release_angle: float, ax: float, ay: float, sx: flo
         return Release(math.sin(release_angle) * vx - math.cos(release_angle) * vy, along > 0.0)
     gamma = sling_arm_angle(ax, ay, sx, sy)
     return Release(math.sin(gamma - release_angle), math.cos(gamma - release_angle) > 0.0)
+
+
+def ideal_release(arm_angle: float, theta: float, dtheta: float) -> Release:
+    """The ideal rule's release as an event (``docs/derivation.md``, the release section):
+    ``value = max(arm_angle - theta, theta')`` rises through zero when the arm, swinging
+    forward (theta falling), passes ``arm_angle``, or when it stops (theta' rising through
+    zero), whichever comes first; always armed.
+
+    ``analytic.ideal`` chooses ``arm_angle``: ``-inf`` for the search pass, which runs
+    the free swing to the arm's stop, then the arm angle of the best candidate.
+    """
+    return Release(max(arm_angle - theta, dtheta), True)
 
 
 def release_at(rule: int, release_angle: float, theta: float, psi: float, vx: float,

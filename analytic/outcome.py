@@ -155,6 +155,9 @@ def hits_base_message(time: float) -> str:
 
 def never_releases_message(release_rule: str, release_angle: float, time_limit: float) -> str:
     """``release_angle`` in rad; the message gives it in degrees, as design files do."""
+    if release_rule == "ideal":   # its search found no release that lands, and the arm never stopped
+        return (f"no release in the swing lands, and the arm did not stop its swing within the "
+                f"time limit of {time_limit:.3g} s")
     rule = "velocity direction" if release_rule == "velocity" else "sling-to-arm angle"
     return (f"the {rule} never reached the release angle of {math.degrees(release_angle):g} deg "
             f"within the time limit of {time_limit:.3g} s")

@@ -18,7 +18,8 @@ mW, Lw, IW  counterweight mass, link, inertia about its centre   machine.counter
 Ls          sling, m                                             machine.sling_length
 mP          projectile mass, kg                                  projectile.mass
 h, g        pivot height (m), gravity (m/s^2)                    machine.pivot_height, environment.gravity
-alpha       release angle, rad                                   machine.release_angle
+alpha       release angle, rad (rule "ideal": the arm angle at   machine.release_angle
+            release, ``analytic.ideal``; NaN until it is found)
 rule        release rule code (``geometry.RELEASE_RULES``)       machine.release_rule
 drag        drag model code (``aero.DRAG_MODELS``)               projectile.drag
 cd          constant drag coefficient (NaN unless "constant")    projectile.drag_coefficient
@@ -120,7 +121,7 @@ def params(design) -> Params:
     return Params._make((
         m.arm_long, m.arm_short, m.arm_cg, m.arm_mass, m.arm_inertia,                       # La Lb d mA IA
         m.counterweight_mass, m.counterweight_link, m.counterweight_inertia,                # mW Lw IW
-        m.sling_length, proj.mass, m.pivot_height, env.gravity, m.release_angle,            # Ls mP h g alpha
+        m.sling_length, proj.mass, m.pivot_height, env.gravity, _alpha(m),                  # Ls mP h g alpha
         float(RELEASE_RULES.index(m.release_rule)), float(DRAG_MODELS.index(proj.drag)),    # rule drag
         math.nan if proj.drag_coefficient is None else proj.drag_coefficient,               # cd
         proj.diameter, proj.drag_area, env.air_density, env.air_viscosity, env.wind_speed,  # diameter area rho mu wind
@@ -135,6 +136,12 @@ def params(design) -> Params:
         losses.guide_friction, losses.track_friction,                                       # mug mut
         static_coefficient(losses.guide_static_friction, losses.guide_friction),            # mug_s
         static_coefficient(losses.track_static_friction, losses.track_friction)))           # mut_s
+
+
+def _alpha(machine) -> float:
+    """``Params.alpha`` of a machine: its release angle; NaN for the ideal rule, which ignores it
+    (``analytic.ideal`` puts the arm angle it finds there)."""
+    return math.nan if machine.release_rule == "ideal" else machine.release_angle
 
 
 #: ``Params`` as a numpy record type, field for field: the compiled kernel reads each design row

@@ -32,7 +32,7 @@ from analytic.eom import (FLOATING, Loads, floating_supports_in_air, frame_coupl
                           machine_accelerations, slide_accelerations, slide_constraint, swing_accelerations,
                           total_mass)
 from analytic.friction import AXLE, BASE, HINGE, lossy, machine_friction, rest_balance, slide_friction, swing_friction
-from analytic.geometry import projectile_state, release_at
+from analytic.geometry import IDEAL_RULE, ideal_release, projectile_state, release_at
 from analytic.limits import SLING_VERTICAL_LIMIT
 from analytic.states import (EVENT_COUNT, FIRST_FRICTION_EVENT, FIRST_SWITCH, FLIGHT, FLIGHT_APEX, FLIGHT_LANDING,
                              FLIGHT_VY, FLIGHT_Y, MACHINE, MACHINE_MODES, MACHINE_WORK, SLIDE, SLIDE_ARM_STALLS,
@@ -155,6 +155,8 @@ def event_value(stage, k, y, p):
         if FRICTION and k >= FIRST_SWITCH[SWING]:
             return friction_event(stage, k, y, p)
         if k == SWING_RELEASE:
+            if p.rule == IDEAL_RULE:   # (analytic.ideal: the arm's angle, or its stop)
+                return ideal_release(p.alpha, y[0], y[3]).value
             vx, vy = ground_velocity(y, p)
             return release_at(int(p.rule), p.alpha, y[0], y[2], vx, vy).value
         return p.La * math.cos(y[0]) + p.Ls * math.cos(y[0] + y[2]) + p.h   # hits_base
@@ -204,6 +206,8 @@ def event_turns(stage, k):
 def event_armed(stage, k, y, p):
     """Whether a root of the event at ``y`` counts: only the release has a condition."""
     if stage == SWING and k == SWING_RELEASE:
+        if p.rule == IDEAL_RULE:
+            return True
         vx, vy = ground_velocity(y, p)
         return release_at(int(p.rule), p.alpha, y[0], y[2], vx, vy).armed
     return True

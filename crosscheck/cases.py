@@ -19,7 +19,7 @@ from analytic.design_space import default_problem, sample_designs
 @dataclass(frozen=True)
 class Case:
     """One design to run through both models; ``group`` is paper, exercise, failure, sample, rolling,
-    friction, stage-1-events, fixed, floating-arm, floating-friction, swing-drag or file."""
+    friction, stage-1-events, fixed, floating-arm, floating-friction, swing-drag, ideal-release or file."""
 
     name: str
     design: Design
@@ -356,6 +356,33 @@ def swing_drag_cases() -> list[Case]:
     return [Case(design.name, design, "swing-drag") for design in designs]
 
 
+#: The wind of the ideal-release cases with wind, m/s: a fresh tailwind (Beaufort 5).
+IDEAL_RELEASE_WIND = 8.0
+
+
+def ideal(design: Design, name: str) -> Design:
+    """``design`` released by the ideal rule (no release angle), named ``name``."""
+    return _variant(design, name, machine={"release_rule": "ideal", "release_angle": None})
+
+
+def ideal_release_cases() -> list[Case]:
+    """The ideal release (``machine.release_rule = "ideal"``) on each kind: the paper's machine in
+    vacuum, with its golf ball's drag, and into a tailwind; the bolted machine and the floating arm
+    with the drag."""
+    t3 = default_design()
+    vacuum = {"drag": "none"}
+    designs = [
+        ideal(_variant(t3, "", projectile=vacuum), "ideal-vacuum"),
+        ideal(t3, "ideal-drag"),
+        ideal(_variant(t3, "", environment={"wind_speed": IDEAL_RELEASE_WIND}), "ideal-tailwind"),
+        ideal(fixed_design(t3, ""), "ideal-fixed"),
+        ideal(_variant(fixed_design(t3, ""), "", projectile=vacuum), "ideal-fixed-vacuum"),
+        ideal(floating_design(t3, ""), "ideal-floating"),
+        ideal(_variant(floating_design(t3, ""), "", projectile=vacuum), "ideal-floating-vacuum"),
+    ]
+    return [Case(design.name, design, "ideal-release") for design in designs]
+
+
 def file_cases(paths: list[str]) -> list[Case]:
     """Designs from the user's TOML files, each named by its own name, or by its file (the stem) where
     that name is the built-in default's or more than one file's: twelve files made from the default
@@ -372,7 +399,7 @@ def default_suite(sample: int = 24, seed: int = 0) -> list[Case]:
     """The suite ``python -m crosscheck`` runs with no design files."""
     return (paper_cases() + exercise_cases() + failure_cases() + sample_cases(sample, seed) + rolling_cases()
             + friction_cases() + stage1_event_cases() + fixed_cases(seed=seed) + floating_cases(seed=seed)
-            + floating_friction_cases(seed=seed) + swing_drag_cases())
+            + floating_friction_cases(seed=seed) + swing_drag_cases() + ideal_release_cases())
 
 
 #: The quick suite's cases, by name: the paper's design as published, at 61 deg

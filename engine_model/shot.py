@@ -23,7 +23,7 @@ import numpy as np
 from analytic import outcome
 from analytic.design import Design, initial_angles
 from analytic.result import PEAK_NAMES, EnergyBudget, History, Shot, Stage, Status
-from engine_model import floating
+from engine_model import floating, ideal
 from engine_model import friction as fr
 from engine_model import kinematics as kin
 from engine_model import loads as engine_loads
@@ -86,7 +86,11 @@ def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAU
     """
     budget = dt is None
     step_limit = stepping.MACHINE_STEP_LIMIT if step_limit is None else step_limit
-    dt, run, discarded = _run_machine(design, dt, iterations, sling, step_limit)
+    given = design
+    if design.machine.release_rule == "ideal":
+        design, dt, run, discarded = _ideal_run(design, dt, iterations, sling, step_limit, budget)
+    else:
+        dt, run, discarded = _run_machine(design, dt, iterations, sling, step_limit)
     raw, on_base = np.array(run.raw), np.array(run.on_base)
     steps = _step_lengths(len(raw), dt)
     drift = kin.joint_drift(raw, design, sling, on_base)
@@ -120,7 +124,18 @@ def simulate(design: Design, *, dt: float | None = None, iterations: int = DEFAU
         diagnostics = dataclasses.replace(diagnostics,
                                           support_loads=floating.support_loads(records.supports, records.times,
                                                                                axle_x))
-    return dataclasses.replace(shot, diagnostics=diagnostics)
+    return dataclasses.replace(shot, design=given, diagnostics=diagnostics)
+
+
+def _ideal_run(design: Design, dt: float | None, iterations: int, sling: str, step_limit: int,
+               budget: bool) -> tuple[Design, float, stepping.Run, int]:
+    """Stages 1-2 of an ideal-rule design (``engine_model.ideal``): the search pass to the arm's stop, then
+    the run released at the best arm angle, at the search's step. Returns the design as released (its
+    ``release_angle`` that arm angle), the step, the run, and the steps of the runs discarded."""
+    dt, search, discarded = _run_machine(ideal.searching(design), dt, iterations, sling, step_limit)
+    released = ideal.released_at(design, ideal.best_arm_angle(design, search, dt, budget))
+    run, _ = stepping.run_machine(released, dt, iterations, sling, len(search.raw) + 1)
+    return released, dt, run, discarded + len(search.raw)
 
 
 @dataclass(frozen=True)

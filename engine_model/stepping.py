@@ -17,7 +17,7 @@ import numpy as np
 
 from analytic import outcome
 from analytic.design import Design, Machine, largest_length
-from analytic.geometry import RELEASE_RULES, release_value
+from analytic.geometry import IDEAL_RULE, RELEASE_RULES, ideal_release, release_value
 from analytic.limits import SLING_VERTICAL_LIMIT, swing_time_limit
 from analytic.outcome import LiftoffFailure
 from analytic.result import Status
@@ -174,8 +174,7 @@ def _open(design: Design, dt: float, iterations: int, sling: str, drag, run: Run
     run.on_base.append(on_base)
     run.tension.append(forces.tension)
     run.normal.append(forces.normal)
-    run.release_value.append(_release(row, row, _row_geometry(row, m), RELEASE_RULES.index(m.release_rule),
-                                      m.release_angle)[0])
+    run.release_value.append(_release(row, row, _row_geometry(row, m), *_rule(m))[0])
     run.drag_work.append(_drag_work(_rest_drag(drag), (0.0, 0.0), row, 0.5 * dt))
     joints = None
     if take.friction is not None:
@@ -267,7 +266,7 @@ def _step_to_release(design: Design, dt: float, iterations: int, limit: int,
     lift-off, release and the failures after each (``run_machine``)."""
     m = design.machine
     h, t_limit = m.pivot_height, swing_time_limit(largest_length(m), design.environment.gravity)
-    rule, alpha = RELEASE_RULES.index(m.release_rule), m.release_angle
+    rule, alpha = _rule(m)
     rig, joints, on_base, startup = opening.rig, opening.joints, opening.on_base, opening.startup
     floating_arm = bool(rig.supports)
     step = stepper(rig.space)
@@ -540,12 +539,26 @@ def _forces(before: tuple, row: tuple, geometry: tuple, on_base: bool, design: D
                               (row[p + kin.X], row[p + kin.Y]), on_base, design, dt, base_friction, drag_force)
 
 
+def _rule(machine: Machine) -> tuple[int, float]:
+    """The release rule's code and angle. The ideal rule's angle is the arm angle at release that
+    ``engine_model.ideal`` puts in the machine's ``release_angle``; None (its search pass): ``-inf``,
+    which the arm never passes, so the swing runs on to the arm's stop."""
+    rule = RELEASE_RULES.index(machine.release_rule)
+    if rule == IDEAL_RULE and machine.release_angle is None:
+        return rule, -math.inf
+    return rule, machine.release_angle
+
+
 def _release(before: tuple, row: tuple, geometry: tuple, rule: int, release_angle: float) -> tuple[float, bool]:
-    """``analytic.geometry.release_value`` at the row's instant (mean of the half-step velocities)."""
+    """``analytic.geometry.release_value`` (the ideal rule's: ``ideal_release``) at the row's instant (mean of
+    the half-step velocities)."""
     p = kin.PROJECTILE
+    theta = row[kin.ARM + kin.ANGLE]
+    if rule == IDEAL_RULE:
+        spin = 0.0 if before is row else 0.5 * (before[kin.ARM + kin.W] + row[kin.ARM + kin.W])
+        return ideal_release(release_angle, theta, spin)
     if before is row:
         velocity = (0.0, 0.0)
     else:
         velocity = (0.5 * (before[p + kin.VX] + row[p + kin.VX]), 0.5 * (before[p + kin.VY] + row[p + kin.VY]))
-    theta = row[kin.ARM + kin.ANGLE]
     return release_value(rule, release_angle, -math.sin(theta), math.cos(theta), *geometry[2:4], *velocity)

@@ -49,14 +49,15 @@ import numba
 import numpy as np
 from scipy.integrate import DOP853
 
-from analytic import outcome, stages
+from analytic import ideal, outcome, stages
 from analytic.fast import kernel
 from analytic.fast.compiled import kernel_scope
 from analytic.aero import DRAG_TABLE
 from analytic.design import Design, largest_length
 from analytic.friction import holders, rest_balance
 from analytic.limits import DEFAULT_ATOL, DEFAULT_RTOL, swing_time_limit
-from analytic.parameters import N_PARAMS, params
+from analytic.geometry import IDEAL_RULE
+from analytic.parameters import N_PARAMS, Params, params
 from analytic.result import PEAK_NAMES, Shot, Shots, Status
 from analytic.scope import SCOPES, Scope, needed, needed_rows
 
@@ -285,6 +286,8 @@ def shoot_one(design: Design, rtol: float, atol: float, loads: bool, rec: np.nda
     ``kernel.RECORDING_DTYPE``) and ``samples`` (of ``kernel.SAMPLE_DTYPE``) record its motion
     (``analytic.fast.kernel.shot``; None: not recorded)."""
     p = params(design)
+    if p.rule == IDEAL_RULE:   # the arm angle of the longest throw (analytic.ideal)
+        p = p._replace(alpha=_ideal_arm_angle(np.array(p, dtype=np.float64), rtol, atol))
     row = np.array(p, dtype=np.float64)[np.newaxis]
     shots = _ready(needed(p, loads, recording=rec is not None))
     out = np.empty(1, kernel.RESULT_DTYPE)
@@ -361,6 +364,11 @@ def _shoot_rows(rows: np.ndarray, rtol: float, atol: float, threads: int | None,
     loads = bool(loads)
     if threads < 1:
         raise ValueError(f"threads = {threads!r}: need at least one")
+    ideal_rows = np.flatnonzero(rows[:, _RULE] == IDEAL_RULE)
+    if len(ideal_rows):   # each its arm angle of the longest throw (analytic.ideal), found first
+        rows = rows.copy()
+        for i in ideal_rows:
+            rows[i, _ALPHA] = _ideal_arm_angle(rows[i], rtol, atol)
     shots = _ready(needed_rows(rows, loads))
     n = len(rows)
     out = np.empty(n, kernel.RESULT_DTYPE)
@@ -384,6 +392,50 @@ def _shoot_rows(rows: np.ndarray, rtol: float, atol: float, threads: int | None,
         for done in [pool.submit(work) for _ in range(threads)]:
             done.result()
     return out
+
+
+#: Columns of a design row: the release rule and its angle (``Params.rule``, ``Params.alpha``).
+_RULE, _ALPHA = Params._fields.index("rule"), Params._fields.index("alpha")
+#: Samples of the ideal rule's search pass (``_ideal_window``): it records only each stage's
+#: first and last (its spacing is the whole time limit), within ``motion._EDGE_ROWS``.
+_WINDOW_SAMPLES = 16
+
+
+def _ideal_arm_angle(row: np.ndarray, rtol: float, atol: float) -> float:
+    """The ideal rule's arm angle at release for the design row ``row``, rad (``analytic.ideal``):
+    the window from the search pass, then compiled shots released at candidate arm angles."""
+    row = row.copy()
+    row[_ALPHA] = ideal.SEARCH_ANGLE
+    window = _ideal_window(row, rtol, atol)
+    if window is None:   # it never swings free: the shot fails before any release, as the search pass did
+        return ideal.SEARCH_ANGLE
+    shots = _ready(needed_rows(row[np.newaxis], False))
+
+    def ranges(angles):
+        rows = np.repeat(row[np.newaxis], len(angles), axis=0)
+        rows[:, _ALPHA] = angles
+        out = np.empty(len(rows), kernel.RESULT_DTYPE)
+        shots(rows, 0, len(rows), DRAG_TABLE, COEFFICIENTS, rtol, atol, False, out, _NO_RECORDING, _NO_SAMPLES)
+        return np.where(out["status"] == kernel.OK, out["landing_x"], np.nan)
+
+    return ideal.best_arm_angle(ranges, *window)
+
+
+def _ideal_window(row: np.ndarray, rtol: float, atol: float) -> tuple[float, float] | None:
+    """The ideal rule's search pass of ``row`` (its alpha the search's): the arm angle at lift-off and
+    at the end of the free swing, rad, from the compiled shot's recording of its stages' edges; None
+    if the machine never swings free."""
+    rec = np.zeros(1, kernel.RECORDING_DTYPE)
+    rec["spacing"], rec["flight_spacing"], rec["sample_limit"] = math.inf, math.inf, 1
+    samples = np.empty(_WINDOW_SAMPLES, kernel.SAMPLE_DTYPE)
+    out = np.empty(1, kernel.RESULT_DTYPE)
+    _ready(needed_rows(row[np.newaxis], False, recording=True))(
+        row[np.newaxis], 0, 1, DRAG_TABLE, COEFFICIENTS, rtol, atol, False, out, rec, samples)
+    swing = samples[:int(rec["rows"][0])]
+    swing = swing[swing["stage"] == kernel.SWING]
+    if rec["ran_out"][0] or len(swing) == 0 or math.isnan(out["liftoff_time"][0]):
+        return None
+    return float(swing["state"][0, 0]), float(swing["state"][-1, 0])
 
 
 def scope_for(designs: Sequence[Design], loads: bool = True) -> Scope:

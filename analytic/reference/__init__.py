@@ -14,10 +14,10 @@ import math
 import numpy as np
 from scipy.integrate import OdeSolution
 
-from analytic import eom, friction, outcome, sequence, stages, states
+from analytic import eom, friction, ideal, outcome, sequence, stages, states
 from analytic.aero import DRAG_TABLE
 from analytic.design import Design
-from analytic.geometry import projectile_state
+from analytic.geometry import IDEAL_RULE, projectile_state
 from analytic.reference.ode import Event, IntegrationError, Segment, integrate
 from analytic.limits import DEFAULT_ATOL, DEFAULT_RTOL, STAGE_STEP_LIMITS, flight_time_limit
 from analytic.outcome import Stage, Status
@@ -89,6 +89,15 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
     swing_spacing = spacing_argument("sample_step", sample_step, SWING_OUTPUT_STEP)
     flight_spacing = spacing_argument("flight_sample_step", flight_sample_step, FLIGHT_OUTPUT_STEP)
     p = params(design)
+    if p.rule == IDEAL_RULE:   # the arm angle of the longest throw (analytic.ideal)
+        p = p._replace(alpha=_ideal_arm_angle(design, p, rtol, atol))
+    return _simulate(design, p, rtol, atol, histories, loads, after_release, swing_spacing, flight_spacing,
+                     sampled_loads)
+
+
+def _simulate(design: Design, p: Params, rtol: float, atol: float, histories: bool, loads: bool,
+              after_release: bool | None, swing_spacing: float, flight_spacing: float, sampled_loads: bool) -> Shot:
+    """``simulate`` of ``design`` with its numbers ``p`` (the ideal rule's arm angle found)."""
     output_step = max(swing_spacing, p.t_limit / HISTORY_SAMPLE_LIMIT) if histories else None
     finish = functools.partial(_finish_shot, design, p, sampled_loads=sampled_loads)
     history = [] if histories else None
@@ -143,6 +152,45 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
                                      histories if after_release is None else after_release, rtol, atol, output_step))
     return finish(history, segments, Status.OK, outcome.thrown_message(flight.y_end[states.FLIGHT_X]), **reached,
                   **_landing(flight, start, p))
+
+
+def _ideal_arm_angle(design: Design, p: Params, rtol: float, atol: float) -> float:
+    """The ideal rule's arm angle at release, rad (``analytic.ideal``): the window from the search
+    pass, then summary shots released at candidate arm angles."""
+    window = _ideal_window(p._replace(alpha=ideal.SEARCH_ANGLE), rtol, atol)
+    if window is None:   # it never swings free: the shot fails before any release, as the search pass did
+        return ideal.SEARCH_ANGLE
+
+    def ranges(angles):
+        return np.array([_range(_simulate(design, p._replace(alpha=float(angle)), rtol, atol, False, False, False,
+                                          SWING_OUTPUT_STEP, FLIGHT_OUTPUT_STEP, False)) for angle in angles])
+
+    return ideal.best_arm_angle(ranges, *window)
+
+
+def _range(shot: Shot) -> float:
+    """A shot's range, m; NaN if it did not land."""
+    return math.nan if shot.range is None else shot.range
+
+
+def _ideal_window(p: Params, rtol: float, atol: float) -> tuple[float, float] | None:
+    """The ideal rule's search pass (``p.alpha`` the search's): the arm angle at lift-off and at the
+    end of the free swing, rad; None if the machine never swings free (it never fires, never lifts
+    off, or a step fails first)."""
+    y1 = np.empty(states.state_size(Stage.SLIDE, p))
+    stages.slide_start(p, y1)
+    ddtheta0, normal0 = quietly(stages.fires, p, otherwise=(math.nan, math.nan))
+    if not (math.isfinite(ddtheta0) and math.isfinite(normal0) and ddtheta0 < 0.0):
+        return None
+    switches = [0]
+    try:
+        slide, _, action, _ = _slide(p, y1, normal0, rtol, atol, None, False, switches)
+        if action == sequence.FINISHED:
+            return None
+        swing, _, _, _ = _swing(p, slide, NO_PEAKS, rtol, atol, None, False, switches)
+    except IntegrationError:
+        return None
+    return float(slide.y_end[0]), float(swing.y_end[0])
 
 
 def _unfired(finish, p: Params, y1: np.ndarray, ddtheta0: float, normal0: float, history) -> Shot:

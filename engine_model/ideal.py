@@ -1,0 +1,103 @@
+"""The ideal release in the engine: the arm angle whose release throws farthest, from its own swing and flights.
+
+The engine finds it as the analytic model defines it (``docs/derivation.md``,
+the release section), with nothing of the analytic model's but the rule's
+event (``analytic.geometry.ideal_release``): its search pass steps the swing
+from lift-off to the arm's stop (the machine's ``release_angle`` None), every
+step after lift-off is a candidate, and each candidate's range is the
+engine's own flight (``engine_model.flight.fly``) from that step's state.
+``CANDIDATES`` steps evenly spaced are flown first, then every step between
+the best one's neighbours; a parabola through the best step's range and its
+neighbours' gives the arm angle between steps. ``engine_model.shot`` then
+steps the machine again, with that arm angle as its release angle: the same
+steps up to there (the rule's value changes nothing of the motion), released
+where the arm passes it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from analytic.design import Design
+from engine_model import kinematics as kin
+from engine_model.budget import flight_step_base
+from engine_model.flight import fly
+from engine_model.stepping import Run
+
+#: Steps flown first, evenly spaced over the window: half ``analytic.ideal.CANDIDATES``, as each is
+#: a flight stepped in pymunk (about a tenth of a second with drag), and a whirl of the sling is
+#: still several of them.
+CANDIDATES = 32
+#: The golden ratio: the bracket of steps narrows by it with each flight (``_golden_steps``).
+_GOLDEN = 0.5 * (1.0 + math.sqrt(5.0))
+
+
+def searching(design: Design) -> Design:
+    """``design`` as the search pass steps it: the ideal rule without a release angle (the arm's stop)."""
+    return dataclasses.replace(design, machine=dataclasses.replace(design.machine, release_angle=None))
+
+
+def released_at(design: Design, arm_angle: float | None) -> Design:
+    """``design`` as the release pass steps it: the ideal rule released where the arm passes ``arm_angle``
+    (rad; None: at its stop, as the search pass)."""
+    return dataclasses.replace(design, machine=dataclasses.replace(design.machine, release_angle=arm_angle))
+
+
+def best_arm_angle(design: Design, run: Run, dt: float, budget: bool) -> float | None:
+    """The arm angle of the longest throw over the search pass ``run`` (stepped at ``dt``), rad; None
+    where it never lifted off or no candidate lands (the shot then ends as the search pass did)."""
+    if run.liftoff_time is None or len(run.raw) < 3:
+        return None
+    sync = kin.synchronise(np.array(run.raw), kin.origin_carried(design))
+    times = dt * np.arange(len(sync))
+    arm = kin.column(sync, kin.ARM, kin.ANGLE)
+    spin = kin.column(sync, kin.ARM, kin.W)
+    free = np.flatnonzero((times > run.liftoff_time) & (spin < 0.0))   # lift-off to the arm's stop
+    if len(free) == 0:
+        return None
+    ranges = np.full(len(sync), np.nan)
+
+    def flown(k: int) -> float:
+        if np.isnan(ranges[k]):
+            position = kin.position(sync[k:k + 1], kin.PROJECTILE)[0]
+            velocity = kin.velocity(sync[k:k + 1], kin.PROJECTILE)[0]
+            flight = fly(design, float(times[k]), position, velocity,
+                         flight_step_base(design, position, velocity) if budget else dt)
+            ranges[k] = flight.landing_position[0] if flight.landed else -math.inf
+        return ranges[k]
+
+    stride = max(1, len(free) // CANDIDATES)
+    best = _golden_steps(flown, *_bracket(max(free[::stride], key=flown), stride, free))
+    if not math.isfinite(flown(best)):
+        return None
+    if best - 1 not in free or best + 1 not in free:
+        return float(arm[best])
+    below, at, above = flown(best - 1), flown(best), flown(best + 1)
+    curvature = below - 2.0 * at + above
+    if not (math.isfinite(below) and math.isfinite(above) and curvature < 0.0):
+        return float(arm[best])
+    offset = 0.5 * (below - above) / curvature   # the parabola's vertex, in steps from the best, within +-1/2
+    neighbour = best + 1 if offset > 0.0 else best - 1
+    return float(arm[best] + abs(offset) * (arm[neighbour] - arm[best]))
+
+
+def _bracket(best: int, stride: int, free: np.ndarray) -> tuple[int, int]:
+    """The steps either side of the best of the evenly spaced ones, within the window ``free``."""
+    return max(int(best) - stride, int(free[0])), min(int(best) + stride, int(free[-1]))
+
+
+def _golden_steps(flown, low: int, high: int) -> int:
+    """The step of the longest range in ``[low, high]`` (``flown(k)``: step k's range, kept once
+    flown), by golden-section search over whole steps: a few flights, not one a step."""
+    inner_low, inner_high = high - round((high - low) / _GOLDEN), low + round((high - low) / _GOLDEN)
+    while high - low > 4 and inner_low < inner_high:
+        if flown(inner_low) >= flown(inner_high):
+            high, inner_high = inner_high, inner_low
+            inner_low = high - round((high - low) / _GOLDEN)
+        else:
+            low, inner_low = inner_low, inner_high
+            inner_high = low + round((high - low) / _GOLDEN)
+    return max(range(low, high + 1), key=flown)
