@@ -9,7 +9,9 @@ as it stands in a file, table first.
 Geometry and angle conventions (the same symbols as ``docs/derivation.md``):
 
 * origin at the pivot, x forward (the direction of the throw), y up; the base
-  is the line ``y = -pivot_height``;
+  is the line ``y = -pivot_height``, and the trough the projectile starts on
+  (``Base.trough_height`` above the base, 0 by default: the base itself) the
+  line ``y = -(pivot_height - trough_height)``;
 * ``arm_angle`` (theta): angle of the long arm from the upward vertical,
   counter-clockwise positive, so the long-arm tip is at
   ``arm_long * (-sin theta, cos theta)``; the arm swings clockwise when firing;
@@ -277,13 +279,19 @@ class Base:
     mass : kg, the frame's effective translational mass (the frame, the
         wheels and, if wished, the wheels' rotational inertia as I / r^2);
         required when rolling.
+    trough_height : m, the height above the base of the horizontal trough the
+        projectile starts on and slides along in stage 1, part of the frame
+        (0, the default: the projectile slides on the base itself). The
+        long-arm tip rests at its level; the flight lands on the base.
     """
 
     mobility: str = "fixed"
     mass: float | None = None
+    trough_height: float = 0.0
 
     def __post_init__(self) -> None:
         require_choice("base.mobility", self.mobility, MOBILITIES)
+        require_non_negative("base.trough_height", self.trough_height)
         if self.mass is not None:
             require_positive("base.mass", self.mass)
         elif self.mobility == "rolling":
@@ -413,6 +421,8 @@ class Design:
                     raise DesignError(f"losses.{name}", value,
                                       f"a {self.machine.kind} machine has no hinge: its counterweight is rigid "
                                       f"on the arm; leave losses.{name} out (or 0)")
+        if isinstance(self.machine, Machine) and self.base.trough_height > 0.0:
+            self._check_trough()
         if isinstance(self.machine, Machine) and self.machine.kind == "floating-arm":
             self._check_floating()
         elif isinstance(self.machine, Machine):
@@ -445,6 +455,18 @@ class Design:
                                   f"is past the float range the model computes in: with the design's other "
                                   f"values {what} comes to {inertia:.3g} kg m^2, below the smallest normal float "
                                   f"({sys.float_info.min:.3g}), and the equations divide by it")
+
+    def _check_trough(self) -> None:
+        """Refuse a trough the long arm's tip cannot come down to. At rest the tip lies on the trough,
+        ``arm_long cos theta0 = -(pivot_height - trough_height)``, below the pivot and behind it: a
+        trough at or above the pivot leaves the arm no way down to it. (Below the pivot every trough is
+        within reach, ``arm_long > pivot_height`` being ``Machine``'s; the counterweight's clearance
+        is the base's, checked there too: it swings under the pivot, clear of a trough ahead.)"""
+        m, trough = self.machine, self.base.trough_height
+        if not trough < m.pivot_height:
+            raise DesignError("base.trough_height", trough,
+                              f"the long arm's tip cannot come down to a trough at or above the pivot: "
+                              f"it must be less than pivot_height ({m.pivot_height:g} m)")
 
     def _check_no_slides(self) -> None:
         """Refuse guide and track friction on a machine without a guide and a track."""
@@ -599,21 +621,22 @@ class BeamArm:
 # Start state
 # --------------------------------------------------------------------------- #
 
-def initial_angles(machine: Machine) -> np.ndarray:
+def initial_angles(machine: Machine, trough_height: float = 0.0) -> np.ndarray:
     """Generalised coordinates at rest before firing, shape (3,): [theta, phi, psi], rad.
 
-    The long-arm tip rests on the base (``arm_long cos theta = -h``), the
+    The long-arm tip rests on the trough (``arm_long cos theta = -(h - trough_height)``;
+    ``trough_height`` the design's ``base.trough_height``, 0: on the base), the
     counterweight hangs plumb (``theta + phi = 0``) and the sling lies along the
-    base pointing forward (``theta + psi = -pi/2``).
+    trough pointing forward (``theta + psi = -pi/2``).
     """
-    theta = rest_angle(machine)
+    theta = rest_angle(machine, trough_height)
     return np.array([theta, -theta, -math.pi / 2 - theta])
 
 
-def rest_angle(machine: Machine) -> float:
-    """The arm's angle at rest before firing, rad: its long-arm tip on the base
-    (``arm_long cos theta = -h``)."""
-    return math.acos(-machine.pivot_height / machine.arm_long)
+def rest_angle(machine: Machine, trough_height: float = 0.0) -> float:
+    """The arm's angle at rest before firing, rad: its long-arm tip on the trough
+    (``arm_long cos theta = -(h - trough_height)``; 0, the base: ``-h`` to the bit)."""
+    return math.acos(-(machine.pivot_height - trough_height) / machine.arm_long)
 
 
 def static_coefficient(static: float | None, kinetic: float) -> float:

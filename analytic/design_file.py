@@ -171,8 +171,9 @@ def environment_from_dict(data: Any) -> Environment:
 
 
 def base_from_dict(data: Any) -> Base:
-    """The optional ``[base]`` table: ``mobility`` ("fixed", the default, or "rolling") and ``mass`` (kg)."""
-    values = read_values("base", require_table("base", data, optional=True), numbers=("mass",),
+    """The optional ``[base]`` table: ``mobility`` ("fixed", the default, or "rolling"), ``mass`` (kg) and
+    ``trough_height`` (m, 0 by default)."""
+    values = read_values("base", require_table("base", data, optional=True), numbers=("mass", "trough_height"),
                          texts=("mobility",))
     return Base(**values)
 
@@ -231,7 +232,8 @@ def design_to_dict(design: Design, units: dict[str, str] | None = None) -> dict[
     layout = {"name": design.name, "machine": machine, "projectile": projectile,
               "environment": dataclasses.asdict(design.environment)}
     if design.base != Base():   # a fixed frame is the default: its table is left out
-        layout["base"] = {k: v for k, v in dataclasses.asdict(design.base).items() if v is not None}
+        layout["base"] = {k: v for k, v in dataclasses.asdict(design.base).items()
+                          if v is not None and not (k == "trough_height" and v == 0.0)}   # 0: the default
     if design.losses != Losses():   # no friction and no radii is the default: its table is left out
         layout["losses"] = {k: v for k, v in dataclasses.asdict(design.losses).items() if v is not None}
     if units is not None:

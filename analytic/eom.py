@@ -400,15 +400,16 @@ def frame_displacement(theta, phi, psi, p):
 # --------------------------------------------------------------------------- #
 
 def slide_constraint(theta, dtheta, p):
-    """psi and its rates from the base constraint ``La cos(theta) + Ls cos(beta) = -h``, eqs. (4.1)-(4.2).
+    """psi and its rates from the trough constraint ``La cos(theta) + Ls cos(beta) = -(h - ht)``, eqs. (4.1)-(4.2)
+    (``ht`` the trough's height above the base, 0: the base itself).
 
     Returns ``(psi, psi', s, c, sin beta)`` with ``psi' = s theta'`` and
     ``psi'' = s theta'' + c``, the sling pointing forward and down
-    (``beta = -arccos(-(h + La cos theta) / Ls)``); all NaN where the long-arm
-    tip is higher above the base than the sling is long (out of reach), so
+    (``beta = -arccos(-(h - ht + La cos theta) / Ls)``); all NaN where the long-arm
+    tip is higher above the trough than the sling is long (out of reach), so
     that an integrator step reaching there is rejected.
     """
-    cos_beta = -(p.h + p.La * math.cos(theta)) / p.Ls
+    cos_beta = -(p.h - p.ht + p.La * math.cos(theta)) / p.Ls
     if abs(cos_beta) > 1.0 + 1e-12:
         return math.nan, math.nan, math.nan, math.nan, math.nan
     # Clamp only round-off, so that acos is defined at the reach's very edge.

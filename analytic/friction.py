@@ -354,7 +354,7 @@ def _joints(theta, phi, psi, dtheta, dphi, dpsi, a1, a2, a3, ua1, ua2, ua3, uh1,
 def slide_rate(theta, s, sin_beta, p):
     """``dx_P/dtheta`` along the base constraint: the projectile's slide over the base per
     radian of the arm, m (its velocity over the base is this times theta') [10.5]."""
-    cos_beta = -(p.h + p.La * math.cos(theta)) / p.Ls
+    cos_beta = -(p.h - p.ht + p.La * math.cos(theta)) / p.Ls
     return -(p.La * math.cos(theta) + p.Ls * cos_beta) - s * p.Ls * cos_beta
 
 

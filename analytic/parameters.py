@@ -44,6 +44,8 @@ mug, mut    the floating arm's guide and track Coulomb           losses.guide_fr
             coefficients
 mug_s,      their static coefficients (each at least its         losses.guide_static_friction,
 mut_s       kinetic one; the kinetic one when not given)         track_static_friction
+ht          the trough's height above the base, m (stage 1's     base.trough_height
+            projectile on ``y = -(h - ht)``)
 ==========  ===================================================  ==========================
 """
 
@@ -103,6 +105,7 @@ class Params(NamedTuple):
     mut: float
     mug_s: float
     mut_s: float
+    ht: float
 
 
 #: Length of a design row (``Params`` in order).
@@ -117,7 +120,7 @@ def params(design) -> Params:
     ``tests/test_analytic_parameters.py`` checks each field against its design field by name.
     """
     m, proj, env, losses, base = design.machine, design.projectile, design.environment, design.losses, design.base
-    theta0 = rest_angle(m)   # design.initial_angles' first two, as floats
+    theta0 = rest_angle(m, base.trough_height)   # design.initial_angles' first two, as floats
     return Params._make((
         m.arm_long, m.arm_short, m.arm_cg, m.arm_mass, m.arm_inertia,                       # La Lb d mA IA
         m.counterweight_mass, m.counterweight_link, m.counterweight_inertia,                # mW Lw IW
@@ -135,7 +138,8 @@ def params(design) -> Params:
         float(KINDS.index(m.kind)), float(proj.drag_during_swing),                          # kind drag_swing
         losses.guide_friction, losses.track_friction,                                       # mug mut
         static_coefficient(losses.guide_static_friction, losses.guide_friction),            # mug_s
-        static_coefficient(losses.track_static_friction, losses.track_friction)))           # mut_s
+        static_coefficient(losses.track_static_friction, losses.track_friction),            # mut_s
+        base.trough_height))                                                                # ht
 
 
 def _alpha(machine) -> float:

@@ -21,7 +21,7 @@ from analytic.outcome import LOSS_NAMES, Stage
 def draw_machine(ax, shot, index: int, alpha: float = 1.0) -> None:
     """Draw frame, arm, counterweight link and mass, sling and projectile at sample ``index`` of ``shot.history``.
 
-    On the ground: a rolling frame is drawn where it has rolled to, on wheels.
+    On the ground: a rolling frame is drawn where it has rolled to, on wheels, with its trough if raised.
     """
     h = shot.design.machine.pivot_height
     history = shot.history
@@ -30,6 +30,12 @@ def draw_machine(ax, shot, index: int, alpha: float = 1.0) -> None:
            machine_points(history.q[index], shot.design.machine).items()}
     pts["weight"] = pts["counterweight"]
     ax.plot([x - 0.3 * h, x, x + 0.3 * h], [-h, 0.0, -h], color="0.4", lw=2, alpha=alpha)
+    trough = shot.design.base.trough_height
+    if trough > 0.0:   # on the frame, from under the tip at rest to half a sling past the projectile at rest
+        m = shot.design.machine
+        start = x - math.sqrt(m.arm_long**2 - (h - trough) ** 2)
+        end = start + 1.5 * m.sling_length
+        ax.plot([start, start, end, end], [-h, trough - h, trough - h, -h], color="0.5", lw=1.5, alpha=alpha)
     if shot.design.base.rolling:
         radius = 0.06 * h
         ax.plot([x - 0.3 * h, x + 0.3 * h], [-h + 2 * radius, -h + 2 * radius], color="0.4", lw=2, alpha=alpha)

@@ -403,12 +403,14 @@ def hinge_load_label(design: Design) -> str:
 def ideal_range(design: Design) -> float:
     """Vacuum range at 45 deg if the counterweight's available drop all went into the projectile, m.
 
-    The counterweight starts hanging plumb from the raised short-arm tip and can
+    The counterweight starts hanging plumb from the raised short-arm tip (the long
+    arm's on the trough, ``asin((h - trough_height) / arm_long)`` below horizontal) and can
     at most fall to ``arm_short + counterweight_link`` below the pivot, so
     ``E = m_w g drop`` and ``R = v^2 / g = 2 E / (m_p g) = 2 m_w drop / m_p``.
     """
     m = design.machine
-    start_height = m.arm_short * math.sin(m.starting_angle) - m.counterweight_link
+    start = math.asin((m.pivot_height - design.base.trough_height) / m.arm_long)
+    start_height = m.arm_short * math.sin(start) - m.counterweight_link
     drop = start_height + m.arm_short + m.counterweight_link
     return 2.0 * m.counterweight_mass * drop / design.projectile.mass
 

@@ -123,7 +123,7 @@ def slides_powers(theta, dtheta, q, fg, ft, p, out, at):
 def sling_off_vertical(theta, p):
     """Stage 1: ``|sin beta| - SLING_VERTICAL_LIMIT`` from the constraint, defined (as
     ``-limit``) even beyond the sling's reach."""
-    cos_beta = -(p.h + p.La * math.cos(theta)) / p.Ls
+    cos_beta = -(p.h - p.ht + p.La * math.cos(theta)) / p.Ls
     return math.sqrt(max(0.0, 1.0 - cos_beta * cos_beta)) - SLING_VERTICAL_LIMIT
 
 
@@ -150,7 +150,7 @@ def event_value(stage, k, y, p):
                 return slide_friction(y[0], y[1], y[2], y[3], y[SLIDE_MODES + AXLE], y[SLIDE_MODES + HINGE],
                                       y[SLIDE_MODES + BASE], p).normal
             return slide_accelerations(y[0], y[1], y[2], y[3], p).normal
-        return p.La * math.cos(y[0]) + p.h   # arm_back
+        return p.La * math.cos(y[0]) + p.h - p.ht   # arm_back: the tip back down on the trough
     if stage == SWING:
         if FRICTION and k >= FIRST_SWITCH[SWING]:
             return friction_event(stage, k, y, p)
@@ -159,7 +159,7 @@ def event_value(stage, k, y, p):
                 return ideal_release(p.alpha, y[0], y[3]).value
             vx, vy = ground_velocity(y, p)
             return release_at(int(p.rule), p.alpha, y[0], y[2], vx, vy).value
-        return p.La * math.cos(y[0]) + p.Ls * math.cos(y[0] + y[2]) + p.h   # hits_base
+        return p.La * math.cos(y[0]) + p.Ls * math.cos(y[0] + y[2]) + p.h - p.ht   # hits_base: back on the trough
     if stage == MACHINE:
         return friction_event(stage, k, y, p) if FRICTION else 1.0
     if k == FLIGHT_LANDING:

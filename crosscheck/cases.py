@@ -19,7 +19,8 @@ from analytic.design_space import default_problem, sample_designs
 @dataclass(frozen=True)
 class Case:
     """One design to run through both models; ``group`` is paper, exercise, failure, sample, rolling,
-    friction, stage-1-events, fixed, floating-arm, floating-friction, swing-drag, ideal-release or file."""
+    friction, stage-1-events, fixed, floating-arm, floating-friction, swing-drag, ideal-release, trough
+    or file."""
 
     name: str
     design: Design
@@ -383,6 +384,40 @@ def ideal_release_cases() -> list[Case]:
     return [Case(design.name, design, "ideal-release") for design in designs]
 
 
+#: The raised trough of the trough group, as a fraction of the pivot's height over the base: on the
+#: paper's machine (0.594 m) a trough 0.208 m up, its long arm resting 25 deg below the horizontal
+#: instead of 38.
+TROUGH_FRACTION = 0.35
+
+
+def on_trough(design: Design, name: str, **base) -> Design:
+    """``design`` (as ``name``) with its projectile on a trough ``TROUGH_FRACTION`` of its pivot height up,
+    on a base with ``base``'s other fields (a rolling frame's ``mobility`` and ``mass``)."""
+    trough = round(TROUGH_FRACTION * design.machine.pivot_height, 3)   # to the millimetre
+    return dataclasses.replace(design, name=name, base=Base(**base, trough_height=trough))
+
+
+def trough_cases() -> list[Case]:
+    """The projectile on a raised trough (``base.trough_height``), each kind: the paper's hinged machine,
+    its fixed one (``data/paper_table3_fixed.toml``) and its floating arm, each ideal and with every loss
+    it has (the base's friction acting on the trough: ``REALISTIC_LOSSES``, ``FIXED_LOSSES``; the floating
+    arm's ``FLOATING_LOSSES``), the hinged and the fixed one with them on a ``ROLLING_SAMPLE_FRAME_MASS``
+    frame too (the trough on the frame), and the large machine of each kind (``large_design``)."""
+    fixed = load_design(Path(analytic.__file__).with_name("data") / "paper_table3_fixed.toml")
+    rolling = dict(mobility="rolling", mass=ROLLING_SAMPLE_FRAME_MASS)
+    designs = []
+    for design, losses in ((default_design(), REALISTIC_LOSSES), (fixed, FIXED_LOSSES),
+                           (floating_design(default_design(), "table3-floating-arm"), FLOATING_LOSSES)):
+        designs.append(on_trough(design, f"{design.name}-trough"))
+        lossy = dataclasses.replace(design, losses=losses)
+        designs.append(on_trough(lossy, f"{design.name}-trough-all-losses"))
+        if design.machine.kind != "floating-arm":   # its axle already rides a track: it does not roll
+            designs.append(on_trough(lossy, f"{design.name}-trough-rolling-{ROLLING_SAMPLE_FRAME_MASS:g}kg-all-losses",
+                                     **rolling))
+    designs += [on_trough(large_design(kind), f"large-{kind}-trough") for kind in ("hinged", "fixed", "floating-arm")]
+    return [Case(design.name, design, "trough") for design in designs]
+
+
 def file_cases(paths: list[str]) -> list[Case]:
     """Designs from the user's TOML files, each named by its own name, or by its file (the stem) where
     that name is the built-in default's or more than one file's: twelve files made from the default
@@ -399,7 +434,8 @@ def default_suite(sample: int = 24, seed: int = 0) -> list[Case]:
     """The suite ``python -m crosscheck`` runs with no design files."""
     return (paper_cases() + exercise_cases() + failure_cases() + sample_cases(sample, seed) + rolling_cases()
             + friction_cases() + stage1_event_cases() + fixed_cases(seed=seed) + floating_cases(seed=seed)
-            + floating_friction_cases(seed=seed) + swing_drag_cases() + ideal_release_cases())
+            + floating_friction_cases(seed=seed) + swing_drag_cases() + ideal_release_cases()
+            + trough_cases())
 
 
 #: The quick suite's cases, by name: the paper's design as published, at 61 deg

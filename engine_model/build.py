@@ -29,8 +29,9 @@ Every joint has ``error_bias = 0`` (pymunk's error_bias is the fraction of
 joint error left uncorrected after one second; 0 removes the whole error in
 the next step), ``max_bias`` left at infinity (a cap would bring back the slow
 first-order correction) and ``collide_bodies`` off. There are no collision
-shapes: the parts never touch each other, and the base acts on the projectile
-only through the slide constraint.
+shapes: the parts never touch each other, and the base (or a raised trough,
+``base.trough_height`` above it) acts on the projectile only through the slide
+constraint, a groove at its height (``trough_level``).
 """
 
 from __future__ import annotations
@@ -139,7 +140,7 @@ class Rig:
 def start_positions(design: Design) -> dict[str, tuple[float, float]]:
     """World positions at rest (``analytic.design.initial_angles``), m: see
     ``analytic.geometry.machine_points``, moved by ``axle_start`` along x."""
-    points = machine_points(initial_angles(design.machine), design.machine)
+    points = machine_points(initial_angles(design.machine, design.base.trough_height), design.machine)
     shift = axle_start(design)
     return {name: (float(p[0]) + shift, float(p[1])) for name, p in points.items()}
 
@@ -150,7 +151,7 @@ def axle_start(design: Design) -> float:
     m = design.machine
     if m.kind != "floating-arm":
         return 0.0
-    return -m.arm_short * math.sin(initial_angles(m)[0])
+    return -m.arm_short * math.sin(initial_angles(m, design.base.trough_height)[0])
 
 
 def fixed_arm_properties(design: Design) -> tuple[float, float, float]:
@@ -251,8 +252,8 @@ def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITE
         ``"rope"`` (a SlideJoint with min 0 and max ``sling_length``: it pulls
         only, and goes slack where the rigid sling would push).
     iterations : solver iterations per step.
-    on_base : add the groove that holds the projectile on the base (False
-        when the sling already lifts it at rest).
+    on_base : add the groove that holds the projectile on the base, or on its
+        trough (False when the sling already lifts it at rest).
 
     Notes
     -----
@@ -267,7 +268,7 @@ def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITE
     A rolling frame (``design.base.rolling``) is a body of ``frame_body_mass``
     with an infinite moment on a horizontal groove (``rail``) along the ground;
     it carries the pivot and the groove that holds the projectile on the base,
-    at the base's height below the pivot. It has no friction and never lifts.
+    at the base's (or the trough's) height below the pivot. It has no friction and never lifts.
     """
     if sling not in SLINGS:
         raise ValueError(f"sling = {sling!r}: must be one of {', '.join(SLINGS)}")
@@ -289,9 +290,7 @@ def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITE
         pivot = pymunk.PivotJoint(frame, arm, (0.0, 0.0), (0.0, 0.0))
     hinge = None if fixed else _hinge(design, arm, counterweight)
     sling_joint = _sling(design, sling, arm, projectile)
-    reach = GROOVE_HALF_LENGTH_FACTOR * largest_length(design.machine)
-    groove = pymunk.GrooveJoint(frame, projectile, (-reach, -m.pivot_height),
-                                (reach, -m.pivot_height), (0.0, 0.0))
+    groove = _trough(design, frame, projectile)
 
     joints = [pivot] + ([] if hinge is None else [hinge]) + list(supports[2:]) + [sling_joint]
     joints += ([groove] if on_base else []) + ([rail] if rail else [])
@@ -305,6 +304,21 @@ def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITE
     space.add(*_checked_bodies(named), *joints)
     return Rig(space, arm, counterweight, projectile, pivot, hinge, sling_joint, groove, sling, frame, rail,
                (0.0, -m.arm_short) if fixed else None, supports)
+
+
+def trough_level(design: Design) -> float:
+    """The height below the pivot of what the projectile slides on, m: the trough's top,
+    ``pivot_height - trough_height`` (the base itself without a trough)."""
+    return design.machine.pivot_height - design.base.trough_height
+
+
+def _trough(design: Design, frame: pymunk.Body, projectile: pymunk.Body) -> pymunk.GrooveJoint:
+    """The trough the projectile slides on: a horizontal groove on the frame at ``trough_level`` below the
+    pivot, ``GROOVE_HALF_LENGTH_FACTOR`` machine lengths either way (the projectile is dragged back under
+    the pivot before it swings forward; neither end is ever reached). Removed at lift-off, it leaves
+    the flight to fall past it to the ground (nothing collides)."""
+    reach, level = GROOVE_HALF_LENGTH_FACTOR * largest_length(design.machine), trough_level(design)
+    return pymunk.GrooveJoint(frame, projectile, (-reach, -level), (reach, -level), (0.0, 0.0))
 
 
 def _space(design: Design, iterations: int) -> pymunk.Space:
@@ -345,7 +359,7 @@ def _arm(design: Design) -> pymunk.Body:
     # pymunk keeps the centre of gravity fixed when the angle is set: set the
     # centre of gravity, then the angle, then the origin's position.
     arm.center_of_gravity = (0.0, cg)
-    arm.angle = initial_angles(m)[0]
+    arm.angle = initial_angles(m, design.base.trough_height)[0]
     arm.position = (axle_start(design), 0.0)
     return arm
 
@@ -354,7 +368,7 @@ def _counterweight(design: Design, position: tuple[float, float]) -> pymunk.Body
     """A hinged machine's counterweight at rest, centred at ``position``; a point counterweight's moment
     is a placeholder (``placeholder_moment``: its rotation is decoupled, see ``build``)."""
     m = design.machine
-    theta, phi, _ = initial_angles(m)
+    theta, phi, _ = initial_angles(m, design.base.trough_height)
     moment = (placeholder_moment(m.counterweight_mass, m.counterweight_link) if m.counterweight_inertia == 0.0
               else m.counterweight_inertia)
     counterweight = pymunk.Body(m.counterweight_mass, moment)

@@ -185,7 +185,7 @@ def joint_drift(states: np.ndarray, design: Design, sling: str, on_base: np.ndar
     dict with ``pivot`` (arm origin from the frame's pivot), ``hinge`` (hinged machines only: short
     tip to the counterweight's hinge point, or the link's length error for a
     point counterweight), ``sling`` (length error, or stretch of a rope),
-    ``groove`` (height of the projectile centre off the base, 0 off the base)
+    ``groove`` (height of the projectile centre off the base or its trough, 0 off it)
     and, for a rolling frame only, ``rail`` (height of the frame off its rest
     height: it must neither lift nor sink); for a floating arm, ``track`` and ``guide`` (the
     carriage off its track, the slider off its guide) and ``mount`` (the slider from the arm's
@@ -198,7 +198,8 @@ def joint_drift(states: np.ndarray, design: Design, sling: str, on_base: np.ndar
     sling_length = np.hypot(*(position(states, PROJECTILE) - long_tip(states, design)).T)
     stretch = sling_length - m.sling_length
     sling_drift = np.maximum(stretch, 0.0) if sling == "rope" else np.abs(stretch)
-    groove = np.where(on_base, np.abs(column(states, PROJECTILE, Y) - base_y + m.pivot_height), 0.0)
+    level = m.pivot_height - design.base.trough_height   # the trough's (the base's) depth below the pivot
+    groove = np.where(on_base, np.abs(column(states, PROJECTILE, Y) - base_y + level), 0.0)
     drift = {"pivot": pivot, "sling": sling_drift, "groove": groove}
     if m.kind == "floating-arm":   # the carriage on the track y = 0, the slider on the guide x = 0
         drift["track"] = np.abs(frame_y)
@@ -374,7 +375,7 @@ def constraint_residuals(raw: np.ndarray, design: Design, sling: str, on_base: n
     else:
         sling_miss = np.abs(sling_miss)
     base_y, base_vy = (frame_y, frame_vy) if design.base.rolling else (0.0, 0.0)
-    height = column(raw, PROJECTILE, Y) - base_y + m.pivot_height
+    height = column(raw, PROJECTILE, Y) - base_y + m.pivot_height - design.base.trough_height   # above the trough
     groove = np.where(on_base, np.abs(column(raw, PROJECTILE, VY) - base_vy + height / steps), 0.0)
     residual = {"pivot": pivot, "sling": sling_miss, "groove": groove}
     if m.kind == "floating-arm":   # the carriage's and the slider's grooves, the slider's pivot on the arm

@@ -68,6 +68,7 @@ class _Machine:
             _supports(ax, m)
         else:
             ax.plot([-foot, 0.0, foot], [-h, 0.0, -h], color="#7a6a5a", linewidth=2.5, solid_joinstyle="miter")
+        self.trough = _trough(ax, design)
         self.trace, = ax.plot([], [], color="#f0a030", linewidth=1.0, linestyle=(0, (2, 2)))
         self.sling, = ax.plot([], [], color="#404040", linewidth=1.0)
         self.link, = ax.plot([], [], color="#404040", linewidth=1.5)
@@ -89,6 +90,8 @@ class _Machine:
                        self.projectile] + ([self.bolts] if self.bolted else [])
         if self.wheels:
             self.moving += [self.frame_lines] + [artist for rim, spokes, *_ in self.wheels for artist in (rim, spokes)]
+            if self.trough is not None:   # on the frame: it rolls with it
+                self.moving.append(self.trough[0])
 
     def _add_rolling_frame(self, ax, h: float) -> None:
         """A rolling frame's artists: legs down to the axles, a beam between them, and two wheels
@@ -134,6 +137,9 @@ class _Machine:
             x = state.frame_x
             self.frame_lines.set_data(self.frame_shape[:, 0] + x, self.frame_shape[:, 1])
             self.pivot.set_data([x], [0.0])
+            if self.trough is not None:
+                line, shape = self.trough
+                line.set_data(shape[:, 0] + x, shape[:, 1])
             for rim, spokes, centre, axle, radius in self.wheels:
                 rim.center = (centre + x, axle)
                 # Rolling forward (x growing) turns a wheel clockwise by x / radius.
@@ -165,6 +171,21 @@ class _Machine:
         self.counterweight.set_xy(state.counterweight + self.box_shape @ turn.T)
         bolts = state.counterweight + self.bolt_shape @ turn.T
         self.bolts.set_data(bolts[:, 0], bolts[:, 1])
+
+
+def _trough(ax, design: Design):
+    """A raised trough's artist and its shape at rest, ((k, 2) m), or None without one: its top at
+    ``trough_height`` above the base, from under the long arm's tip at rest to half a sling past
+    where the projectile lies, on legs to the base (for the picture: the model's trough has no length)."""
+    m, trough = design.machine, design.base.trough_height
+    if trough <= 0.0:
+        return None
+    level = trough - m.pivot_height
+    tip = -math.sqrt(m.arm_long**2 - level**2)
+    end = tip + 1.5 * m.sling_length
+    shape = np.array([[tip, -m.pivot_height], [tip, level], [end, level], [end, -m.pivot_height]])
+    line, = ax.plot(shape[:, 0], shape[:, 1], color="#9a7a5a", linewidth=2.0, solid_joinstyle="miter", zorder=1)
+    return line, shape
 
 
 def _supports(ax, machine) -> None:

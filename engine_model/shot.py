@@ -320,7 +320,7 @@ def _friction_work(run: stepping.Run, sync: np.ndarray, design: Design) -> np.nd
     """(n, 3) the work each friction had taken by each row's instant, J (``friction.dissipated_work``)."""
     if not run.friction_impulse:
         return np.zeros((len(sync), len(fr.JOINTS)))
-    qdot = kin.coordinates(sync, design, initial_angles(design.machine))[1]
+    qdot = kin.coordinates(sync, design, initial_angles(design.machine, design.base.trough_height))[1]
     return fr.dissipated_work(np.array(run.friction_impulse), fr.rates(sync, qdot, design))
 
 
@@ -343,7 +343,7 @@ def _frame(state: np.ndarray, quantity: int, design: Design) -> float:
 def _assemble(design: Design, run: stepping.Run, times: np.ndarray, sync: np.ndarray,
               tension: np.ndarray, fields: dict) -> Shot:
     """The ``Shot`` from the synchronised rows (the release instant, if any, is the last row)."""
-    q, qdot = kin.coordinates(sync, design, initial_angles(design.machine))
+    q, qdot = kin.coordinates(sync, design, initial_angles(design.machine, design.base.trough_height))
     machine_energy, projectile_energy = kin.energy_budget(sync, design)
     energy = EnergyBudget(projectile=projectile_energy, machine=machine_energy,
                           total=machine_energy + projectile_energy)

@@ -24,7 +24,7 @@ from analytic.result import Status
 from engine_model import floating
 from engine_model import friction as fr
 from engine_model import kinematics as kin
-from engine_model.build import EngineError, Rig, build
+from engine_model.build import EngineError, Rig, build, trough_level
 from engine_model.events import crossing_fraction
 from engine_model.flight import swing_drag_function
 from engine_model.readout import impulse, rig_row, row_reader, set_force, stepper
@@ -265,7 +265,8 @@ def _step_to_release(design: Design, dt: float, iterations: int, limit: int,
     """Step the machine on from its opening half step, recording each step in ``run``, and watch for
     lift-off, release and the failures after each (``run_machine``)."""
     m = design.machine
-    h, t_limit = m.pivot_height, swing_time_limit(largest_length(m), design.environment.gravity)
+    # The projectile slides on the trough (the base without one), and falls back onto it in the swing.
+    h, t_limit = trough_level(design), swing_time_limit(largest_length(m), design.environment.gravity)
     rule, alpha = _rule(m)
     rig, joints, on_base, startup = opening.rig, opening.joints, opening.on_base, opening.startup
     floating_arm = bool(rig.supports)
@@ -397,8 +398,8 @@ def _lift_off(run: Run, rig: Rig, joints: _Joints | None, k: int, dt: float) -> 
 def _slide_failure(row: tuple, geometry: tuple, t: float, stalls: bool, pivot_height: float,
                    t_limit: float) -> LiftoffFailure | None:
     """Why a projectile still on the base at ``t`` can no longer lift off, or None: the arm stopped
-    by friction (where it ``stalls``), the sling under the tip, the tip back on the base, or the
-    swing's time bound passed."""
+    by friction (where it ``stalls``), the sling under the tip, the tip back on the base (on the
+    trough, ``pivot_height`` the trough's level below the pivot), or the swing's time bound passed."""
     if stalls and row[kin.ARM + kin.W] >= 0.0:
         return LiftoffFailure.STALLED
     if geometry[2] < SLING_VERTICAL_LIMIT:

@@ -4,7 +4,8 @@
 Built from nothing but the geometry in ``analytic.design``'s module docstring; no function of
 ``analytic`` is used to build it. Coordinates ``q = (theta, phi, psi, X)``: the arm, the
 counterweight's link relative to the arm, the sling relative to the arm, and the frame's
-displacement X (the pivot is at ``(X, 0)``, the base at ``y = -h``). On a fixed frame X is held
+displacement X (the pivot is at ``(X, 0)``, the base at ``y = -h`` and the trough the projectile
+starts on at ``y = -(h - ht)``, ``ht`` above the base, part of the frame). On a fixed frame X is held
 at 0 and only the first three coordinates move; on a rolling one the frame of mass ``Mf`` is a
 fourth body. ``machine("fixed")`` is the bolted counterweight's (``docs/derivation.md`` section 11):
 the counterweight's centre at ``Lb`` on the arm's short side and its spin the arm's, so phi appears
@@ -15,8 +16,8 @@ place (the machine's frame is not rolled: ``p.rolling`` 0). From the parts' posi
 
 * velocities and accelerations by differentiation, ``T`` and ``V``, and Lagrange's equations in
   mass-matrix form ``M(q) q'' = f(q, q')`` with ``f = -(dM/dt) q' + dT/dq - dV/dq``;
-* the base constraint ``y_P + h = 0`` (stage 1) as ``J q'' = -J' q'`` with its multiplier, the
-  base's push N on the projectile (positive up): ``M q'' = f + Q + J^T N``;
+* the trough constraint ``y_P + h - ht = 0`` (stage 1; ``ht = 0``: the base) as ``J q'' = -J' q'``
+  with its multiplier, the trough's push N on the projectile (positive up): ``M q'' = f + Q + J^T N``;
 * the friction's generalised forces ``Q = dP/dq'`` from the virtual power of the axle's and the
   hinge's torques and the base's force on the projectile,
   ``P = ta (w_arm - w_frame) + th (w_link - w_arm) + F (x_P' - X')`` (``docs/derivation.md`` 10.1);
@@ -41,7 +42,7 @@ import sympy as sp
 from analytic.parameters import Params
 
 #: The numbers the Lagrangian reads, in ``Params``' names and the order its functions take them.
-NUMBERS = ("La", "Lb", "d", "mA", "IA", "mW", "Lw", "IW", "Ls", "mP", "h", "g", "Mf")
+NUMBERS = ("La", "Lb", "d", "mA", "IA", "mW", "Lw", "IW", "Ls", "mP", "h", "g", "Mf", "ht")
 
 
 def numbers(p: Params) -> tuple[float, ...]:
@@ -65,7 +66,7 @@ class Symbols:
         self.prm = sp.symbols(NUMBERS, real=True)
         self.torques = sp.symbols("ta th F", real=True)   # axle, hinge, base's friction force
         self.normal = sp.Symbol("N", real=True)
-        La, Lb, d, mA, IA, mW, Lw, IW, Ls, mP, h, g, Mf = self.prm
+        La, Lb, d, mA, IA, mW, Lw, IW, Ls, mP, h, g, Mf, ht = self.prm
         theta, phi, psi, x = self.q
         qv, qdv, qddv = sp.Matrix(self.q), sp.Matrix(self.qd), sp.Matrix(self.qdd)
 
@@ -114,6 +115,8 @@ class Symbols:
         self.power = (sp.Matrix([energy]).jacobian(qv) * qdv + sp.Matrix([energy]).jacobian(qdv) * qddv)[0]
 
         y_p = self.projectile[1]
+        self.trough_gap = y_p + h - ht   # the projectile's height above the trough (stage 1 holds it at 0)
+        self.tip_gap = (pivot + La * along_arm)[1] + h - ht   # the long-arm tip's, 0 at rest
         self.base_jacobian = sp.Matrix([y_p]).jacobian(qv)
         self.base_jdot_qd = (qdv.T * sp.hessian(y_p, self.q) * qdv)[0]
 
@@ -156,6 +159,7 @@ class Machine:
         self._moment = compiled(state, s.horizontal_moment)
         self._jacobian = compiled(state, s.base_jacobian)
         self._jdot_qd = compiled(state, s.base_jdot_qd)
+        self._gaps = compiled(state, [s.trough_gap, s.tip_gap])
         self._power = compiled(with_accelerations, s.power)
         self._momentum_rate = compiled(with_accelerations, s.momentum_rate)
         self._generalised = compiled((s.q, s.qd, s.torques, s.prm), s.generalised)
@@ -179,6 +183,11 @@ class Machine:
         """The projectile's position and velocity on the ground, (2,) each."""
         position, velocity = self._projectile(_four(q), _four(qd), numbers(p))
         return np.asarray(position, dtype=float).ravel(), np.asarray(velocity, dtype=float).ravel()
+
+    def gaps(self, p, q) -> tuple[float, float]:
+        """The projectile's and the long-arm tip's heights above the trough, m."""
+        projectile, tip = self._gaps(_four(q), np.zeros(4), numbers(p))
+        return float(projectile), float(tip)
 
     def power(self, p, q, qd, qdd) -> float:
         """dE/dt of the whole machine's energy T + V."""
@@ -273,8 +282,9 @@ class Machine:
 
     @staticmethod
     def base_angle(p, theta: float) -> float:
-        """psi with the projectile on the base, branch sin(theta + psi) < 0, by atan2 (not arccos)."""
-        cos_beta = -(p.h + p.La * math.cos(theta)) / p.Ls
+        """psi with the projectile on the trough (``ht`` above the base; 0: on the base), branch
+        sin(theta + psi) < 0, by atan2 (not arccos)."""
+        cos_beta = (p.ht - p.h - p.La * math.cos(theta)) / p.Ls
         return math.atan2(-math.sqrt(1.0 - cos_beta**2), cos_beta) - theta
 
     def base_reduction(self, p, theta, phi, dtheta, dphi, solve=True) -> dict:

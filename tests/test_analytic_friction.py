@@ -70,7 +70,8 @@ def random_params(rng: np.random.Generator, rolling: bool) -> Params:
                 rolling=float(rolling), Mf=(mW * rng.uniform(0.5, 5.0)) if rolling else 0.0,
                 # Large coefficients and pins, so that friction is O(1) of the forcing and nothing hides.
                 mua=rng.uniform(0.1, 0.8), ra=La * rng.uniform(0.01, 0.1), muh=rng.uniform(0.1, 0.8),
-                rh=La * rng.uniform(0.01, 0.1), mub=rng.uniform(0.1, 0.8))
+                rh=La * rng.uniform(0.01, 0.1), mub=rng.uniform(0.1, 0.8),
+                ht=0.0 if rng.uniform() < 1.0 / 3.0 else h * rng.uniform(0.05, 0.8))   # a trough (0: the base)
     # Static coefficients above the kinetic ones, so that a slipping joint taking the static shows.
     rest.update(mua_s=1.25 * rest["mua"], muh_s=1.25 * rest["muh"], mub_s=1.25 * rest["mub"])
     return Params(**rest)
@@ -89,7 +90,7 @@ def slide_samples(n=10):
     while len(out) < n:
         p = random_params(rng, rolling=bool(len(out) % 2))
         beta = rng.uniform(-math.pi + 0.25, -0.25)
-        cos_theta = (-p.h - p.Ls * math.cos(beta)) / p.La
+        cos_theta = (p.ht - p.h - p.Ls * math.cos(beta)) / p.La
         if abs(cos_theta) > 0.98:
             continue
         theta = math.acos(cos_theta) * rng.choice([-1.0, 1.0])

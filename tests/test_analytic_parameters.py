@@ -43,7 +43,7 @@ def distinct_design(*, statics: bool, drag: str, kind: str, rolling: bool) -> De
                (("axle", 0.013), ("base", 0.43), ("hinge", 0.019), ("guide", 0.047), ("track", 0.053))
                if f"{joint}_friction" in joints or joint == "axle"} if statics else {}
     losses = Losses(axle_friction=0.011, axle_radius=0.023, **joints, **statics)
-    base = Base(mobility="rolling", mass=211.0) if rolling else Base()
+    base = Base(mobility="rolling", mass=211.0, trough_height=0.67) if rolling else Base(trough_height=0.59)
     return Design(machine=machine, projectile=projectile, environment=environment, losses=losses, base=base)
 
 
@@ -54,7 +54,7 @@ CASES = [("constant", "hinged", True), ("golf-ball", "floating-arm", False), ("n
 def expected(design: Design) -> dict[str, float]:
     """``Params``' fields by name, from the table in ``analytic/parameters.py``'s docstring."""
     m, proj, env, losses = design.machine, design.projectile, design.environment, design.losses
-    theta0, phi0, _ = initial_angles(m)
+    theta0, phi0, _ = initial_angles(m, design.base.trough_height)
     return dict(
         La=m.arm_long, Lb=m.arm_short, d=m.arm_cg, mA=m.arm_mass, IA=m.arm_inertia,
         mW=m.counterweight_mass, Lw=m.counterweight_link, IW=m.counterweight_inertia, Ls=m.sling_length,
@@ -69,7 +69,7 @@ def expected(design: Design) -> dict[str, float]:
         mub=losses.base_friction, mua_s=losses.static("axle"), muh_s=losses.static("hinge"),
         mub_s=losses.static("base"), kind=KINDS.index(m.kind), drag_swing=1.0 if proj.drag_during_swing else 0.0,
         mug=losses.guide_friction, mut=losses.track_friction, mug_s=losses.static("guide"),
-        mut_s=losses.static("track"))
+        mut_s=losses.static("track"), ht=design.base.trough_height)
 
 
 def assert_fields(read, design: Design) -> None:

@@ -204,7 +204,7 @@ DIRECT_FIELDS = ("machine.pivot_height", "machine.arm_long", "machine.arm_short"
                  "projectile.mass", "projectile.diameter", "projectile.drag_coefficient", "environment.gravity",
                  "environment.air_density", "environment.air_viscosity", "environment.wind_speed",
                  "losses.axle_friction", "losses.axle_radius", "losses.hinge_friction", "losses.hinge_radius",
-                 "losses.base_friction")
+                 "losses.base_friction", "base.trough_height")
 #: The floating arm's direct fields beyond those (its guide and track friction).
 FLOATING_FIELDS = ("losses.guide_friction", "losses.track_friction")
 
@@ -231,6 +231,7 @@ def test_rows_of_a_direct_design_varying_every_field_at_once(tmp_path):
     data["projectile"] = {"mass": 0.0456, "diameter": 0.04267, "drag": "constant", "drag_coefficient": 0.3}
     data["losses"] = {"axle_friction": 0.15, "axle_radius": 0.0064, "hinge_friction": 0.15, "hinge_radius": 0.005,
                       "base_friction": 0.3}
+    data["base"] = {"trough_height": 0.1}   # varied too: the arm's angle at rest follows it
     path = tmp_path / "direct.toml"
     import tomli_w
 

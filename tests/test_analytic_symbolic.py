@@ -7,6 +7,9 @@ with its multiplier N (the normal force on the projectile, positive up),
 
     [[M, -J^T], [J, 0]] [q'', N] = [f, -J' q'],   J = d y_P / d q,
 
+on a trough of random height ``ht`` above the base (``y_P = -(h - ht)``; some samples at 0,
+the base itself),
+
 and the 4x4 is solved numerically. The sling tension comes from the
 projectile's own Newton equation, not from the Lagrangian.
 
@@ -16,6 +19,7 @@ special value (a zero angle, equal lengths, g = 9.81).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -36,7 +40,7 @@ from analytic.parameters import Params, params
 REL_TOL = 1e-10
 
 #: The machine's numbers in ``Params``, the only ones the equations of motion read.
-MECHANICS = ("La", "Lb", "d", "mA", "IA", "mW", "Lw", "IW", "Ls", "mP", "h", "g")
+MECHANICS = ("La", "Lb", "d", "mA", "IA", "mW", "Lw", "IW", "Ls", "mP", "h", "g", "ht")
 
 #: Seed of the random states and parameters (any fixed value; fixed so a
 #: failure reproduces).
@@ -70,7 +74,12 @@ def random_params(rng: np.random.Generator) -> Params:
                   Lw=h * rng.uniform(0.2, 0.8), IW=mW * rng.uniform(0.0, 0.05),
                   Ls=La * rng.uniform(0.5, 1.3),
                   mP=math.exp(rng.uniform(math.log(0.04), math.log(20.0))), h=h,
-                  g=rng.uniform(1.0, 25.0), **rest)
+                  g=rng.uniform(1.0, 25.0), ht=random_trough(rng, h), **rest)
+
+
+def random_trough(rng: np.random.Generator, h: float) -> float:
+    """A trough's height above the base: none (the base itself) one time in three, else up to 0.8 h."""
+    return 0.0 if rng.uniform() < 1.0 / 3.0 else h * rng.uniform(0.05, 0.8)
 
 
 def swing_samples():
@@ -83,10 +92,10 @@ def swing_samples():
 
 
 def slide_state(p: Params, rng: np.random.Generator):
-    """``(theta, phi, dtheta, dphi)`` of ``p``'s machine with the projectile on the base and the sling
+    """``(theta, phi, dtheta, dphi)`` of ``p``'s machine with the projectile on the trough and the sling
     not near vertical, or None where the drawn sling angle leaves the arm near vertical (draw again)."""
     beta = rng.uniform(-math.pi + 0.25, -0.25)
-    cos_theta = (-p.h - p.Ls * math.cos(beta)) / p.La
+    cos_theta = (p.ht - p.h - p.Ls * math.cos(beta)) / p.La
     if abs(cos_theta) > 0.98:
         return None
     theta = math.acos(cos_theta) * rng.choice([-1.0, 1.0])
@@ -136,11 +145,12 @@ def test_reference_conserves_energy_in_the_swing(lagrangian, sample):
 
 
 @pytest.mark.parametrize("sample", SLIDE, ids=SLIDE_IDS)
-def test_reference_slide_keeps_the_projectile_on_the_base_and_conserves_energy(lagrangian, sample):
+def test_reference_slide_keeps_the_projectile_on_the_trough_and_conserves_energy(lagrangian, sample):
     p, theta, phi, dtheta, dphi = sample
     sol = lagrangian.base_reduction(p, theta, phi, dtheta, dphi)
     (position, velocity) = lagrangian.projectile(p, sol["q"], sol["qd"])
-    assert position[1] == pytest.approx(-p.h, rel=REL_TOL)
+    assert position[1] == pytest.approx(-(p.h - p.ht), rel=REL_TOL)
+    assert abs(lagrangian.gaps(p, sol["q"])[0]) <= REL_TOL * p.La
     assert velocity[1] == pytest.approx(0.0, abs=REL_TOL * np.max(np.abs(velocity)))
     # The normal force does no work (the projectile moves along the base).
     scale = float(np.max(np.abs(sol["m"]))) * float(np.max(np.abs(sol["qd"]))) * float(np.max(np.abs(sol["qdd"])))
@@ -243,6 +253,25 @@ def test_normal_force_is_the_projectiles_weight_at_rest_with_the_sling_flat():
     # so the base carries exactly mP g (design.initial_angles, Table III design).
     p = params(default_design())
     theta, phi, psi = initial_angles(default_design().machine)
+    assert eom.slide_constraint(theta, 0.0, p)[0] == pytest.approx(psi, abs=REL_TOL)
+    _, _, normal = eom.slide_accelerations(theta, phi, 0.0, 0.0, p)
+    assert normal == pytest.approx(p.mP * p.g, rel=REL_TOL)
+
+
+@pytest.mark.parametrize("trough", [0.05, 0.3, 0.55])
+def test_at_rest_on_a_trough_the_tip_and_the_flat_sling_lie_on_it_and_it_carries_the_weight(lagrangian, trough):
+    # The start of section 4 on a trough ``trough`` m above the base (the Table III machine, h 0.594 m):
+    # the sympy positions put the long-arm tip and the projectile on the trough, the sling flat
+    # forward, and the trough carries exactly mP g.
+    design = default_design()
+    design = dataclasses.replace(design, base=dataclasses.replace(design.base, trough_height=trough))
+    p = params(design)
+    theta, phi, psi = initial_angles(design.machine, trough)
+    assert p.theta0 == theta and p.ht == trough
+    projectile_gap, tip_gap = lagrangian.gaps(p, (theta, phi, psi))
+    assert abs(projectile_gap) <= REL_TOL * p.La and abs(tip_gap) <= REL_TOL * p.La
+    position, _ = lagrangian.projectile(p, (theta, phi, psi), (0.0, 0.0, 0.0))
+    assert position[0] > -p.La * math.sin(theta) and math.sin(theta + psi) == pytest.approx(-1.0, abs=REL_TOL)
     assert eom.slide_constraint(theta, 0.0, p)[0] == pytest.approx(psi, abs=REL_TOL)
     _, _, normal = eom.slide_accelerations(theta, phi, 0.0, 0.0, p)
     assert normal == pytest.approx(p.mP * p.g, rel=REL_TOL)

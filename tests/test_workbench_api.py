@@ -234,3 +234,20 @@ def test_the_pages_spacing_draws_each_preset_within_half_a_pixel(name):
     for k in (0, 1):
         between = np.interp(fine.history.flight_t, coarse.history.flight_t, coarse.history.flight_path[:, k])
         assert np.max(np.abs(between - fine.history.flight_path[:, k])) < half_pixel
+
+
+def test_the_form_offers_a_trough_and_a_shot_on_one_is_the_reference_shot(client):
+    import dataclasses
+
+    from analytic.design import Base
+
+    fields = {row["name"]: row for group in client.get("/api/meta").json()["groups"] for row in group["fields"]}
+    assert fields["base.trough_height"]["kind"] == "length"
+    design = tables()
+    design["base"] = {"trough_height": "20 cm"}
+    answer = client.post("/api/shot", json={"design": design}).json()
+    expected = simulate(dataclasses.replace(default_design(), base=Base(trough_height=0.2)), histories=False)
+    assert answer["range"] == pytest.approx(expected.range, rel=1e-7)
+    design["base"] = {"trough_height": "1 m"}   # above the pivot (0.5942 m)
+    refused = client.post("/api/shot", json={"design": design})
+    assert refused.status_code == 400 and refused.json()["field"] == "base.trough_height"

@@ -45,6 +45,9 @@ GROUPS = (
     ("Base", "base", (
         ("mobility", "Fixed: the frame is bolted down. Rolling: it rides on wheels and moves as the arm swings."),
         ("mass", "Mass of the rolling frame (required when rolling)."),
+        ("trough_height", "Height above the base of the trough the projectile starts on and slides along "
+                          "until lift-off, the long arm's tip resting at its level (0: on the base). "
+                          "The shot lands on the base."),
     )),
     ("Losses", "losses", (
         ("axle_friction", "Coulomb coefficient of the axle in its bearing (0: frictionless)."),

@@ -35,7 +35,7 @@ PARAM_OF_FIELD = {
     "environment.air_density": "rho", "environment.air_viscosity": "mu", "environment.wind_speed": "wind",
     "losses.axle_friction": "mua", "losses.axle_radius": "ra", "losses.hinge_friction": "muh",
     "losses.hinge_radius": "rh", "losses.base_friction": "mub", "losses.guide_friction": "mug",
-    "losses.track_friction": "mut",
+    "losses.track_friction": "mut", "base.trough_height": "ht",
 }
 _COLUMN = {name: i for i, name in enumerate(Params._fields)}
 _PAPER_INPUTS = ("machine.arm_short", "machine.counterweight_link", "machine.clearance", "machine.starting_angle")
@@ -129,9 +129,10 @@ def kernel_rows(base: Base, columns: dict[str, np.ndarray]) -> np.ndarray:
                                            if f.startswith("machine.")}))
         rows[:, _COLUMN["t_limit"]] = [swing_time_limit(length, g) for length, g in
                                        zip(lengths, np.broadcast_to(values["environment.gravity"], (size,)))]
-    if varied & {"machine.pivot_height", "machine.arm_long"}:
-        # ``initial_angles``: the arm at rest, its tip on the base; the counterweight plumb.
-        ratio = -np.broadcast_to(values["machine.pivot_height"], (size,)) / values["machine.arm_long"]
+    if varied & {"machine.pivot_height", "machine.arm_long", "base.trough_height"}:
+        # ``initial_angles``: the arm at rest, its tip on the trough (0: the base); the counterweight plumb.
+        ratio = -(np.broadcast_to(values["machine.pivot_height"], (size,))
+                  - values.get("base.trough_height", 0.0)) / values["machine.arm_long"]
         theta = np.array([math.acos(r) for r in ratio])
         rows[:, _COLUMN["theta0"]], rows[:, _COLUMN["phi0"]] = theta, -theta
     return rows

@@ -107,6 +107,17 @@ function drawFloatingFrame(ctx, T, m) {
   line(ctx, T, [0, base], [0, m.arm_short * 1.1], COLORS.frame, 2);             // the guide
 }
 
+// A raised trough, part of the frame (it rolls with a rolling one, at the pivot's x ``px``): its top
+// ``trough`` above the base, from under the long arm's tip at rest to half a sling past where the
+// projectile lies, on legs to the base (a picture: the model's trough has no length).
+function drawTrough(ctx, T, m, trough, px) {
+  const base = -m.pivot_height, top = base + trough;
+  const start = (m.kind === "floating-arm" ? 0 : px) - Math.sqrt(Math.max(0, m.arm_long ** 2 - top ** 2));
+  const end = start + 1.5 * m.sling_length;
+  line(ctx, T, [start, top], [end, top], COLORS.frame, 3);
+  for (const x of [start, end]) line(ctx, T, [x, base], [x, top], COLORS.frame, 2);
+}
+
 function drawMachine(ctx, T, parts, design) {
   const m = design.machine;
   const base = -m.pivot_height;
@@ -125,6 +136,7 @@ function drawMachine(ctx, T, parts, design) {
       ctx.arc(T.X(wx), T.Y(base + 0.08 * m.pivot_height), 0.08 * m.pivot_height * T.s, 0, 2 * Math.PI); ctx.stroke();
     }
   }
+  if (design.base && design.base.trough_height > 0) drawTrough(ctx, T, m, design.base.trough_height, px);
   const tip = parts.long_tip, short = parts.short_tip;
   line(ctx, T, [short[0], short[1]], [tip[0], tip[1]], COLORS.arm, Math.max(3, 0.04 * m.arm_long * T.s));
   line(ctx, T, short, parts.counterweight, "#555", 2);
