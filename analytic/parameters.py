@@ -102,6 +102,7 @@ class Params(NamedTuple):
     mut: float
     mug_s: float
     mut_s: float
+    ht: float
 
 
 #: Length of a design row (``Params`` in order).
@@ -134,7 +135,8 @@ def params(design) -> Params:
         float(KINDS.index(m.kind)), float(proj.drag_during_swing),                          # kind drag_swing
         losses.guide_friction, losses.track_friction,                                       # mug mut
         static_coefficient(losses.guide_static_friction, losses.guide_friction),            # mug_s
-        static_coefficient(losses.track_static_friction, losses.track_friction)))           # mut_s
+        static_coefficient(losses.track_static_friction, losses.track_friction),            # mut_s
+        env.target_height))                                                                 # ht
 
 
 #: ``Params`` as a numpy record type, field for field: the compiled kernel reads each design row
