@@ -42,7 +42,7 @@ GROUPS = (
         ("air_viscosity", "Dynamic viscosity of the air; sets the Reynolds number of the drag laws."),
         ("wind_speed", "Horizontal wind, positive toward the target."),
         ("target_height", "Height of the target above the base (negative: a pit below it); the range is "
-                          "measured where the projectile comes down to it."),
+                          "measured where the projectile comes down to it (empty: 0, the base's level)."),
     )),
     ("Base", "base", (
         ("mobility", "Fixed: the frame is bolted down. Rolling: it rides on wheels and moves as the arm swings."),
