@@ -175,3 +175,20 @@ def test_simulate_json_reports_the_range_at_the_target_and_a_short_shot(main, tm
     assert main(["simulate", str(short), "--json"]) == EXIT_NO_THROW
     missed = json.loads(capsys.readouterr().out)
     assert missed["status"] == "short_of_target" and missed["range"] is None and missed["apex_height"] < 40.0
+
+
+def test_aim_lands_on_the_distance_at_the_targets_level():
+    from analytic.aim import AIM_TOLERANCE, aim, format_aim
+    from analytic.fields import field
+
+    design = _at(default_design(), 3.0)
+    result = aim(design, "machine.release_angle", 30.0)
+    assert result.solutions and result.to_json()["target_height"] == 3.0
+    for solution in result.solutions:   # each lands 30 m out at the target's level, not at the base's
+        shot = simulate(field("machine.release_angle").replace(design, solution.value), histories=False)
+        assert shot.range == pytest.approx(30.0, abs=AIM_TOLERANCE)
+        assert shot.landing_position[1] + design.machine.pivot_height == pytest.approx(3.0, abs=1e-9)
+    short = int((result.status == "short_of_target").sum())
+    assert short > 0   # the steepest downward releases leave below a target 3 m up
+    text = format_aim(result)
+    assert "3.0000 m above the base" in text and f"{short} of the {len(result.status)} settings" in text
