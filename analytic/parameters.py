@@ -102,7 +102,7 @@ class Params(NamedTuple):
     mut: float
     mug_s: float
     mut_s: float
-    ht: float
+    yt: float
 
 
 #: Length of a design row (``Params`` in order).
@@ -136,7 +136,7 @@ def params(design) -> Params:
         losses.guide_friction, losses.track_friction,                                       # mug mut
         static_coefficient(losses.guide_static_friction, losses.guide_friction),            # mug_s
         static_coefficient(losses.track_static_friction, losses.track_friction),            # mut_s
-        env.target_height))                                                                 # ht
+        env.target_height))                                                                 # yt
 
 
 #: ``Params`` as a numpy record type, field for field: the compiled kernel reads each design row

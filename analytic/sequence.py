@@ -142,7 +142,7 @@ def stretch_end(stage, code, switches):
 
 
 def lands_at_release(height, vertical_velocity):
-    """Whether a flight that starts ``height`` (m) above the target (``Params.ht``; the base for the
+    """Whether a flight that starts ``height`` (m) above the target (``Params.yt``; the base for the
     default target) with upward speed ``vertical_velocity`` (m/s) has ended at its start: at or
     below the target and not rising. Below a raised target that is short of it
     (``short_of_target``: its highest point is its start).

@@ -167,17 +167,17 @@ def event_value(stage, k, y, p):
 
 def landing_value(y, p):
     """The flight's landing event at the state ``y`` (``docs/derivation.md``, the flight's landing):
-    the centre's height above the target, ``y + h - ht``, which falls through zero where it comes
-    down to the target's level (below the base for a pit, ``ht < 0``).
+    the centre's height above the target, ``y + h - yt``, which falls through zero where it comes
+    down to the target's level (below the base for a pit, ``yt < 0``).
 
-    A raised target (``ht > 0``) may be out of reach: the larger of the upward speed and the
+    A raised target (``yt > 0``) may be out of reach: the larger of the upward speed and the
     height above the target, which is positive while the projectile rises and falls through zero
     either where it comes down to the target (the height's root) or at an apex below it (the
     speed's root: the flight ends there, and ``sequence.short_of_target`` names it). Only the
     sign counts; the root that ends the flight is the one of the two that is zero there.
     """
-    above = y[FLIGHT_Y] + p.h - p.ht
-    if p.ht > 0.0:
+    above = y[FLIGHT_Y] + p.h - p.yt
+    if p.yt > 0.0:
         return max(y[FLIGHT_VY], above)
     return above
 

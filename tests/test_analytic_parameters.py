@@ -70,7 +70,7 @@ def expected(design: Design) -> dict[str, float]:
         mub=losses.base_friction, mua_s=losses.static("axle"), muh_s=losses.static("hinge"),
         mub_s=losses.static("base"), kind=KINDS.index(m.kind), drag_swing=1.0 if proj.drag_during_swing else 0.0,
         mug=losses.guide_friction, mut=losses.track_friction, mug_s=losses.static("guide"),
-        mut_s=losses.static("track"), ht=env.target_height)
+        mut_s=losses.static("track"), yt=env.target_height)
 
 
 def assert_fields(read, design: Design) -> None:

@@ -582,12 +582,12 @@ def _slide_and_swing(normal0, p, table, coef, rtol, atol, peaks, track_loads, ou
 def _flight(t2, x, y, vx, vy, switches, p, table, coef, rtol, atol, peaks, out, rec, motion):
     """Stage 3: the flight from its release at ``t2`` (the projectile at (x, y), moving at (vx, vy))
     until it lands or its time runs out (``limits.flight_time_limit``); ``out`` gets how it ended."""
-    t_max = t2 + flight_time_limit(y + p.h - p.ht, vy, p.g)   # (the height above the target)
+    t_max = t2 + flight_time_limit(y + p.h - p.yt, vy, p.g)   # (the height above the target)
     y_release = np.empty(4)
     y_release[FLIGHT_X], y_release[FLIGHT_Y], y_release[FLIGHT_VX], y_release[FLIGHT_VY] = x, y, vx, vy
     if RECORDING and rec.shape[0] > 0:
         rec[0].flight_spacing = max(rec[0].flight_spacing, (t_max - t2) / rec[0].sample_limit)
-    if lands_at_release(y + p.h - p.ht, vy):
+    if lands_at_release(y + p.h - p.yt, vy):
         code, t3, y3, apex = FLIGHT_LANDING, t2, y_release, -math.inf
     else:
         code, t3, y3, apex = integrate(FLIGHT, t2, y_release, t_max, coef, rtol, atol, p, table, out, peaks, False,
@@ -603,7 +603,7 @@ def _flight(t2, x, y, vx, vy, switches, p, table, coef, rtol, atol, peaks, out, 
         out.status = status
         return
     apex_height = max(y, apex) + p.h
-    if short_of_target(apex_height, p.ht):   # its end is its apex, to the root
+    if short_of_target(apex_height, p.yt):   # its end is its apex, to the root
         out.status, out.apex_height = SHORT_OF_TARGET, max(apex_height, y3[FLIGHT_Y] + p.h)
         return
     out.status = status

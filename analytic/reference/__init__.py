@@ -140,10 +140,10 @@ def simulate(design: Design, *, rtol: float = DEFAULT_RTOL, atol: float = DEFAUL
         return finish(history, segments, Status.NO_LANDING,
                       outcome.failure_message(Status.NO_LANDING, time=t_max - swing.t_end), **reached)
     apex_height = _apex_height(flight, start, p)
-    if sequence.short_of_target(apex_height, p.ht):
+    if sequence.short_of_target(apex_height, p.yt):
         apex_height = max(apex_height, flight.y_end[states.FLIGHT_Y] + p.h)   # (its end: the apex, to the root)
         return finish(history, segments, Status.SHORT_OF_TARGET,
-                      outcome.failure_message(Status.SHORT_OF_TARGET, apex=(apex_height, p.ht)),
+                      outcome.failure_message(Status.SHORT_OF_TARGET, apex=(apex_height, p.yt)),
                       apex_height=apex_height, flight_t=flight.t,
                       flight_path=flight.y[:, states.FLIGHT_X:states.FLIGHT_Y + 1], **reached)
     reached.update(_frame_at_landing(p, swing, flight, start, reached["frame_release_displacement"],
@@ -227,7 +227,7 @@ def _fly(p: Params, start: np.ndarray, release_time: float, rtol: float, atol: f
     (``limits.flight_time_limit``); sampled ``flight_spacing`` apart (None: no samples). Returns the
     flight's segment, its continuous solution kept for the drag's work (the steps are the same either
     way), and the time limit."""
-    height, rising = start[states.FLIGHT_Y] + p.h - p.ht, start[states.FLIGHT_VY]   # above the target
+    height, rising = start[states.FLIGHT_Y] + p.h - p.yt, start[states.FLIGHT_VY]   # above the target
     t_max = release_time + flight_time_limit(height, rising, p.g)
     flight_step = (None if flight_spacing is None else
                    max(flight_spacing, (t_max - release_time) / HISTORY_SAMPLE_LIMIT))
