@@ -1,5 +1,9 @@
 """Aim: the setting of one design field that lands the projectile on a target distance.
 
+The target stands at the design's ``environment.target_height`` above the base (a pit below it):
+the range aimed at is measured where the flight comes down to that level, and a setting whose
+flight never rises to it (``short_of_target``) does not throw.
+
 A competitor declares a distance and adjusts one thing on the machine (the
 release pin, the counterweight, the sling). ``aim`` scans the field over its
 bounds on the fast path (``analytic.fast.shoot``, one batch), finds every
@@ -66,7 +70,7 @@ class Aim:
     Attributes
     ----------
     field : the field adjusted (``analytic.fields.Field``).
-    target : m.
+    target : m, at ``target_height`` (m above the base: the design's ``environment.target_height``).
     bounds : (2,) the settings searched, file units.
     within : the tolerance of the bands, m, or None.
     solutions : every setting that lands on the target, in increasing order (empty: out of reach).
@@ -84,6 +88,7 @@ class Aim:
     values: np.ndarray
     ranges: np.ndarray
     status: np.ndarray
+    target_height: float = 0.0
 
     @property
     def reached(self) -> bool:
@@ -92,6 +97,7 @@ class Aim:
     def to_json(self) -> dict:
         """The ``aim --json`` object (file units; m)."""
         return {"field": self.field.name, "unit": self.field.unit, "target": self.target,
+                "target_height": self.target_height,
                 "bounds": list(self.bounds), "within": self.within,
                 "solutions": [{"value": s.value, "range": s.range, "metres_per_unit": s.metres_per_unit,
                                "band": None if s.band is None else list(s.band)} for s in self.solutions],
@@ -195,7 +201,8 @@ def aim(design: Design, field_name: str, target: float, *, bounds: tuple[float, 
         found = _solve(design, target_field, fast_range, a, b, target, bounds, within, values, ranges)
         if found is not None:
             solutions.append(found)
-    return Aim(target_field, float(target), bounds, within, tuple(solutions), reachable, values, ranges, status)
+    return Aim(target_field, float(target), bounds, within, tuple(solutions), reachable, values, ranges, status,
+               design.environment.target_height)
 
 
 def scan(design: Design, target_field: Field, values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -320,13 +327,18 @@ def format_aim(result: Aim, system: str = "metric") -> str:
     def setting(value: float) -> str:
         return f"{value * scale:.6f}"
 
-    lines = [f"aim {result.field.name} at {metres(result.target)} "
+    height = (f", {metres(abs(result.target_height))} {'above' if result.target_height > 0.0 else 'below'} the base"
+              if result.target_height != 0.0 else "")
+    lines = [f"aim {result.field.name} at {metres(result.target)}{height} "
              f"(searched {setting(result.bounds[0])} .. {setting(result.bounds[1])} {unit})"]
     if result.reachable is not None:
         lines.append(f"  reachable: {metres(result.reachable[0])} .. {metres(result.reachable[1])}")
     if not result.solutions:
         lines.append("  out of reach: no setting within the bounds lands on the target"
                      + ("" if result.reachable is not None else " (no setting throws at all)"))
+    short = int(np.count_nonzero(result.status == "short_of_target"))
+    if short:
+        lines.append(f"  {short} of the {len(result.status)} settings scanned fall short of the target's height")
     for i, s in enumerate(result.solutions, 1):
         lines.append(f"  solution {i}: {result.field.key} = {setting(s.value)} {unit}  -> {metres(s.range)} "
                      f"(reference path)")

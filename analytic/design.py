@@ -249,18 +249,25 @@ class Projectile:
 
 @dataclass(frozen=True)
 class Environment:
-    """Gravity and air; the defaults are standard sea-level values."""
+    """Gravity and air; the defaults are standard sea-level values.
+
+    ``target_height`` (m, either sign) is the level the shot lands at, above the base (below it,
+    negative: a pit); the flight ends where the projectile's centre comes down through it, and a
+    shot that never rises to it is ``short_of_target`` (``docs/derivation.md``, the flight).
+    """
 
     gravity: float = 9.81
     air_density: float = 1.225
     air_viscosity: float = 1.81e-5
     wind_speed: float = 0.0
+    target_height: float = 0.0
 
     def __post_init__(self) -> None:
         require_positive("environment.gravity", self.gravity)
         require_non_negative("environment.air_density", self.air_density)
         require_positive("environment.air_viscosity", self.air_viscosity)
         require_number("environment.wind_speed", self.wind_speed)
+        require_number("environment.target_height", self.target_height)
 
 
 #: How the frame stands: bolted to the ground, or free to roll horizontally.

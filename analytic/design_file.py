@@ -229,8 +229,10 @@ def design_to_dict(design: Design, units: dict[str, str] | None = None) -> dict[
         del projectile["drag_factor"]
     if not projectile["drag_during_swing"]:   # the default, the paper's model: left out
         del projectile["drag_during_swing"]
-    layout = {"name": design.name, "machine": machine, "projectile": projectile,
-              "environment": dataclasses.asdict(design.environment)}
+    environment = dataclasses.asdict(design.environment)
+    if environment["target_height"] == 0.0:   # the default, the base's level: left out
+        del environment["target_height"]
+    layout = {"name": design.name, "machine": machine, "projectile": projectile, "environment": environment}
     if design.base != Base():   # a fixed frame is the default: its table is left out
         layout["base"] = {k: v for k, v in dataclasses.asdict(design.base).items()
                           if v is not None and not (k == "trough_height" and v == 0.0)}   # 0: the default

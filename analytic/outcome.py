@@ -28,6 +28,7 @@ class Status(enum.StrEnum):
     NEVER_RELEASES = "never_releases"                      # release condition not met in time
     NO_LANDING = "no_landing"                              # the flight never comes down in time
     STEP_FAILED = "step_failed"                            # the integrator could not take a step
+    SHORT_OF_TARGET = "short_of_target"                    # the flight's apex is below the target
 
     @property
     def code(self) -> int:
@@ -168,6 +169,14 @@ def no_landing_message(flight_time_limit: float) -> str:
             f"(is the wind or the drag far outside anything real?)")
 
 
+def short_of_target_message(apex_height: float, target_height: float, length=None) -> str:
+    """``apex_height`` (the flight's highest point) and ``target_height``, m above the base;
+    ``length`` formats a length in the user's units (``analytic.units``; default metres)."""
+    length = length or (lambda metres: f"{metres:.4g} m")
+    return (f"the projectile never reaches the target: its highest point, {length(apex_height)} above the base, "
+            f"is below the target's height of {length(target_height)}")
+
+
 def step_failed_message(time: float, stage: Stage, step_limit: bool = False) -> str:
     """``step_limit``: the stage used up its ``analytic.limits.STAGE_STEP_LIMITS`` steps (else the
     step size fell below the resolution of t, or the state became non-finite)."""
@@ -190,7 +199,7 @@ def step_budget_message(part: str, steps: int, dt: float, time_bound: float, lim
 
 def failure_message(status: Status, *, time: float = 0.0, detail: int = 0, time_limit: float = math.nan,
                     release: tuple[str, float] = ("sling", math.nan), fires: tuple = (math.nan,),
-                    step_limit: bool = False) -> str:
+                    step_limit: bool = False, apex: tuple[float, float] = (math.nan, math.nan)) -> str:
     """The message of a shot that ended in the failure ``status``, whichever model or path ran it.
 
     Each failure reads what it reports: ``fires`` the arguments of
@@ -198,7 +207,8 @@ def failure_message(status: Status, *, time: float = 0.0, detail: int = 0, time_
     the ``Stage`` (``STEP_FAILED``); ``time`` when the shot ended (the flight's length
     for ``NO_LANDING``), s; ``time_limit`` the firing-to-release limit, s; ``release``
     the machine's ``(release_rule, release_angle)``, rad; ``step_limit`` whether the
-    stage ran out of steps.
+    stage ran out of steps; ``apex`` the flight's highest point and the target's height, m above
+    the base (``SHORT_OF_TARGET``).
     """
     status = Status(status)
     if status is Status.NEVER_FIRES:
@@ -213,6 +223,8 @@ def failure_message(status: Status, *, time: float = 0.0, detail: int = 0, time_
         return no_landing_message(time)
     if status is Status.STEP_FAILED:
         return step_failed_message(time, Stage(int(detail)), step_limit)
+    if status is Status.SHORT_OF_TARGET:
+        return short_of_target_message(*apex)
     raise ValueError(f"{status!r} is not a failure")
 
 

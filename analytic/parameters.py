@@ -106,6 +106,7 @@ class Params(NamedTuple):
     mug_s: float
     mut_s: float
     ht: float
+    yt: float
 
 
 #: Length of a design row (``Params`` in order).
@@ -139,7 +140,8 @@ def params(design) -> Params:
         losses.guide_friction, losses.track_friction,                                       # mug mut
         static_coefficient(losses.guide_static_friction, losses.guide_friction),            # mug_s
         static_coefficient(losses.track_static_friction, losses.track_friction),            # mut_s
-        base.trough_height))                                                                # ht
+        base.trough_height,                                                                 # ht
+        env.target_height))                                                                 # yt
 
 
 def _alpha(machine) -> float:

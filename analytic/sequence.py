@@ -93,10 +93,10 @@ REACHED_END, FAILED, OUT_OF_STEPS = -1, -2, -3
 #: What follows a stretch (``stretch_end``).
 SWITCH_MODE, NEXT_STAGE, FINISHED = 0, 1, 2
 
-OK, NEVER_FIRES, NEVER_LIFTS_OFF, HITS_BASE, NEVER_RELEASES, NO_LANDING, STEP_FAILED = (
+OK, NEVER_FIRES, NEVER_LIFTS_OFF, HITS_BASE, NEVER_RELEASES, NO_LANDING, STEP_FAILED, SHORT_OF_TARGET = (
     Status.OK.code, Status.NEVER_FIRES.code, Status.NEVER_LIFTS_OFF.code,
     Status.HITS_BASE_BEFORE_RELEASE.code, Status.NEVER_RELEASES.code, Status.NO_LANDING.code,
-    Status.STEP_FAILED.code)
+    Status.STEP_FAILED.code, Status.SHORT_OF_TARGET.code)
 UNDER_TIP, ARM_BACK, TIME_LIMIT, STALLED = (int(LiftoffFailure.UNDER_TIP), int(LiftoffFailure.ARM_BACK),
                                             int(LiftoffFailure.TIME_LIMIT), int(LiftoffFailure.STALLED))
 #: An event's rate at a state is the backward difference of its value along the state's tangent over
@@ -142,8 +142,10 @@ def stretch_end(stage, code, switches):
 
 
 def lands_at_release(height, vertical_velocity):
-    """Whether a flight that starts ``height`` (m) above the base with upward speed
-    ``vertical_velocity`` (m/s) has landed at its start: at or below the base and not rising.
+    """Whether a flight that starts ``height`` (m) above the target (``Params.yt``; the base for the
+    default target) with upward speed ``vertical_velocity`` (m/s) has ended at its start: at or
+    below the target and not rising. Below a raised target that is short of it
+    (``short_of_target``: its highest point is its start).
 
     The swing ends a shot whose projectile falls through the base (``hits_base``), so a
     release below it is a rounding apart from one on it: the two paths give such a release
@@ -153,6 +155,18 @@ def lands_at_release(height, vertical_velocity):
     paths land such a flight at its start, so the outcome does not turn on the last bit.
     """
     return height <= 0.0 and vertical_velocity <= 0.0
+
+
+def short_of_target(apex_height, target_height):
+    """Whether a flight that ended by its landing event (``stages.landing_value``) with its highest
+    point ``apex_height`` (m above the base: the release's height, or the highest apex root) never
+    reached the target ``target_height`` (m above the base): a raised target above its apex.
+
+    A landing at or below the base's level cannot be short: the swing ends a shot whose projectile
+    falls through the base (``hits_base``), so its flight starts at or above it (to rounding,
+    ``lands_at_release``).
+    """
+    return target_height > 0.0 and apex_height < target_height
 
 
 def counted_crossing(v_start, v_end, direction):

@@ -163,8 +163,25 @@ def event_value(stage, k, y, p):
     if stage == MACHINE:
         return friction_event(stage, k, y, p) if FRICTION else 1.0
     if k == FLIGHT_LANDING:
-        return y[FLIGHT_Y] + p.h
+        return landing_value(y, p)
     return y[FLIGHT_VY]   # apex
+
+
+def landing_value(y, p):
+    """The flight's landing event at the state ``y`` (``docs/derivation.md``, the flight's landing):
+    the centre's height above the target, ``y + h - yt``, which falls through zero where it comes
+    down to the target's level (below the base for a pit, ``yt < 0``).
+
+    A raised target (``yt > 0``) may be out of reach: the larger of the upward speed and the
+    height above the target, which is positive while the projectile rises and falls through zero
+    either where it comes down to the target (the height's root) or at an apex below it (the
+    speed's root: the flight ends there, and ``sequence.short_of_target`` names it). Only the
+    sign counts; the root that ends the flight is the one of the two that is zero there.
+    """
+    above = y[FLIGHT_Y] + p.h - p.yt
+    if p.yt > 0.0:
+        return max(y[FLIGHT_VY], above)
+    return above
 
 
 def first_event(t_a, k_a, t_b, k_b):

@@ -58,7 +58,7 @@ FIELD_KINDS = {
     "pivot_height": LENGTH, "arm_long": LENGTH, "arm_short": LENGTH, "arm_cg": LENGTH, "clearance": LENGTH,
     "counterweight_link": LENGTH, "sling_length": LENGTH, "diameter": LENGTH, "width": LENGTH,
     "depth": LENGTH, "max_footprint": LENGTH, "max_height": LENGTH, "axle_radius": LENGTH,
-    "min_range": LENGTH, "trough_height": LENGTH,
+    "min_range": LENGTH, "trough_height": LENGTH, "target_height": LENGTH,
     "arm_mass": MASS, "counterweight_mass": MASS, "mass": MASS, "frame_mass": MASS,
     "arm_inertia": INERTIA, "counterweight_inertia": INERTIA,
     "release_angle": ANGLE, "starting_angle": ANGLE,

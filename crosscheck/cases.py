@@ -19,8 +19,8 @@ from analytic.design_space import default_problem, sample_designs
 @dataclass(frozen=True)
 class Case:
     """One design to run through both models; ``group`` is paper, exercise, failure, sample, rolling,
-    friction, stage-1-events, fixed, floating-arm, floating-friction, swing-drag, ideal-release, trough
-    or file."""
+    friction, stage-1-events, fixed, floating-arm, floating-friction, swing-drag, ideal-release, trough,
+    target or file."""
 
     name: str
     design: Design
@@ -418,6 +418,39 @@ def trough_cases() -> list[Case]:
     return [Case(design.name, design, "trough") for design in designs]
 
 
+#: The target group's levels above the base, m (``environment.target_height``): a raised target the
+#: paper's machines reach (their apexes are 13.8 m, the floating arm's 10.1 m), a pit, and a target
+#: above every apex (``short_of_target``).
+RAISED_TARGET, PIT_TARGET, OUT_OF_REACH_TARGET = 3.0, -5.0, 40.0
+#: The downward release's target levels, m: below its release (1.79 m above the base, falling at
+#: 13 m/s: it lands on the way down without rising) and above it (short at release).
+BELOW_RELEASE_TARGET, ABOVE_RELEASE_TARGET = 1.0, 2.5
+
+
+def target_cases() -> list[Case]:
+    """The target above and below the base (``environment.target_height``) on each kind: the paper's
+    hinged, fixed and floating-arm machines at ``RAISED_TARGET``, over a ``PIT_TARGET`` and short of an
+    ``OUT_OF_REACH_TARGET`` (``short_of_target``); and the paper's design released 30 deg downward,
+    which never rises: onto a target below its release and short of one above it."""
+    table3 = default_design()
+    fixed = load_design(Path(analytic.__file__).with_name("data") / "paper_table3_fixed.toml")
+    machines = (table3, fixed, floating_design(table3, "table3-floating-arm"))
+    cases = []
+    for machine in machines:
+        for suffix, height, expected in (("raised-target", RAISED_TARGET, None), ("pit", PIT_TARGET, None),
+                                         ("short-of-target", OUT_OF_REACH_TARGET, "short_of_target")):
+            name = f"{machine.name}-{suffix}"
+            cases.append(Case(name, _variant(machine, name, environment={"target_height": height}), "target",
+                              expected))
+    downward = {"release_angle": math.radians(-30.0)}
+    for suffix, height, expected in (("onto-lower-target", BELOW_RELEASE_TARGET, None),
+                                     ("short-of-target", ABOVE_RELEASE_TARGET, "short_of_target")):
+        name = f"downward-release-{suffix}"
+        cases.append(Case(name, _variant(table3, name, machine=downward, environment={"target_height": height}),
+                          "target", expected))
+    return cases
+
+
 def file_cases(paths: list[str]) -> list[Case]:
     """Designs from the user's TOML files, each named by its own name, or by its file (the stem) where
     that name is the built-in default's or more than one file's: twelve files made from the default
@@ -435,7 +468,7 @@ def default_suite(sample: int = 24, seed: int = 0) -> list[Case]:
     return (paper_cases() + exercise_cases() + failure_cases() + sample_cases(sample, seed) + rolling_cases()
             + friction_cases() + stage1_event_cases() + fixed_cases(seed=seed) + floating_cases(seed=seed)
             + floating_friction_cases(seed=seed) + swing_drag_cases() + ideal_release_cases()
-            + trough_cases())
+            + trough_cases() + target_cases())
 
 
 #: The quick suite's cases, by name: the paper's design as published, at 61 deg

@@ -10,6 +10,7 @@ from typing import Callable
 import numpy as np
 
 from analytic.design import Design
+from analytic.outcome import Status
 from analytic.fast import simulate_fast
 from analytic.reference import simulate
 from analytic.result import LOSS_NAMES, PEAK_NAMES, Shot
@@ -166,6 +167,8 @@ def compare_shots(a: Shot, e: Shot) -> tuple[Row, ...]:
     rows = [Row("outcome", "", a.status.value, e.status.value, None, None, bool(a.status is e.status))]
     if a.liftoff_time is not None and e.liftoff_time is not None:
         rows.append(_numeric("liftoff_time", "s", a.liftoff_time, e.liftoff_time, tol.EVENT_TIME))
+    if a.status is e.status is Status.SHORT_OF_TARGET:   # how far short: the apex below the target
+        rows.append(_numeric("apex_height", "m", a.apex_height, e.apex_height, tol.APEX_HEIGHT_REL * a.apex_height))
     if not (a.ok and e.ok):
         return tuple(rows)
     speed = a.release_speed

@@ -114,7 +114,8 @@ def flight_step_base(design: Design, position: np.ndarray, velocity: np.ndarray)
     longer, so that a flight in vacuum from ``position`` (m, over the pivot) at ``velocity`` (m/s)
     would take ``FLIGHT_BUDGET_STEPS``."""
     g = design.environment.gravity
-    height, vy = float(position[1]) + design.machine.pivot_height, float(velocity[1])
+    height = float(position[1]) + design.machine.pivot_height - design.environment.target_height   # above the target
+    vy = float(velocity[1])
     vacuum = (vy + math.sqrt(max(vy * vy + 2.0 * g * height, 0.0))) / g
     return max(DEFAULT_DT, vacuum / (FLIGHT_STEP_MULTIPLE * FLIGHT_BUDGET_STEPS))
 

@@ -1,4 +1,4 @@
-"""Stage 3 in pymunk: the released projectile alone under gravity, drag and wind, to base level."""
+"""Stage 3 in pymunk: the released projectile alone under gravity, drag and wind, to the target's level."""
 
 from __future__ import annotations
 
@@ -58,7 +58,8 @@ SMALLEST_DRAG_COEFFICIENT = {"golf-ball": min(GOLF_BALL_DRAG_COEFFICIENT), "smoo
 
 @dataclass(frozen=True)
 class Flight:
-    """A flight from release to base level, or to the flight time limit.
+    """A flight from release to the target's level (``environment.target_height`` above the base), or to
+    the flight time limit, or to its apex below a raised target (``short``).
 
     Attributes
     ----------
@@ -69,6 +70,8 @@ class Flight:
     landing_position : (2,) m, or None.
     steps : pymunk steps taken.
     limit : the flight time bound, s from release (``analytic.limits.flight_time_limit``).
+    short : it never reaches a raised target: it turned down below it (the caller names it
+        ``short_of_target``; ``apex`` is then its highest point).
     apex : highest centre height, m from the pivot: the vertex of the parabola through
         the highest sample and its neighbours (``events.highest``), not the highest sample.
     drag_work : J the drag took from the projectile from release to landing (or
@@ -88,6 +91,7 @@ class Flight:
     apex: float
     drag_work: float = 0.0
     out_of_steps: bool = False
+    short: bool = False
 
     @property
     def landed(self) -> bool:
@@ -160,7 +164,8 @@ def fall_speed_bound(design: Design) -> float:
 
 def fly(design: Design, release_time: float, position: np.ndarray, velocity: np.ndarray,
         dt: float) -> Flight:
-    """Step the free projectile in its own pymunk Space until its centre is back at base level.
+    """Step the free projectile in its own pymunk Space until its centre comes down to the target's
+    level (``environment.target_height`` above the base; below it for a pit).
 
     The step is ``FLIGHT_STEP_MULTIPLE`` times the machine's ``dt``, or shorter
     where the drag is stiff (below).
@@ -173,10 +178,16 @@ def fly(design: Design, release_time: float, position: np.ndarray, velocity: np.
     (``DRAG_STEP_FRACTION``); each velocity update then spans the mean of the
     steps on either side of its instant (a variable-step leapfrog, still second order).
 
-    A flight that does not reach base level within ``analytic.limits.flight_time_limit``
+    A flight that does not reach the target's level within ``analytic.limits.flight_time_limit``
     is returned unlanded (``landing_time`` None): the caller names it ``no_landing``.
     It ends as soon as landing in time is impossible: the rest of the fall
     takes at least ``height / max(w, fall_speed_bound)`` at falling speed ``w``.
+
+    A raised target is reached once the centre is at or above its level; a flight that turns
+    down (its centre lower than at the step before) without having reached it never will (the
+    height only falls after the apex) and is returned unlanded and ``short``, as is one released
+    below it and not rising. A flight released above a target it never rises to, or over a pit,
+    lands where it comes down through the target's level.
 
     Parameters
     ----------
@@ -189,6 +200,8 @@ def fly(design: Design, release_time: float, position: np.ndarray, velocity: np.
         The flight went non-finite.
     """
     g, h = design.environment.gravity, design.machine.pivot_height
+    target = design.environment.target_height
+    reached = target <= 0.0 or float(position[1]) + h >= target   # (a release is at or above the base)
     dt = FLIGHT_STEP_MULTIPLE * dt
     scheme = _Scheme(drag_rate_function(design), design.environment.wind_speed, g, design.projectile.mass, dt)
     space, body = _flight_space(design)
@@ -197,7 +210,9 @@ def fly(design: Design, release_time: float, position: np.ndarray, velocity: np.
     kicks = 0.0
     work = [0.0]
     times, path = [release_time], [(float(position[0]), float(position[1]))]
-    limit = flight_time_limit(float(position[1]) + h, float(velocity[1]), g)
+    limit = flight_time_limit(float(position[1]) + h - target, float(velocity[1]), g)
+    if not reached and float(velocity[1]) <= 0.0:   # below a raised target, not rising: its start is its apex
+        return Flight(np.array(times), np.array(path), None, None, 0, limit, float(position[1]), 0.0, short=True)
     # The bound is 100 vacuum flights plus a minute: a projectile that only
     # drifts down at its terminal speed would take 1.3e6 steps of 50 us to
     # reach it (the 10 mg, 1 m balloon of crosscheck.cases), so the flight
@@ -233,10 +248,16 @@ def fly(design: Design, release_time: float, position: np.ndarray, velocity: np.
         flown = full_steps * dt + short_time
         times.append(release_time + flown)
         path.append((x, y))
-        if y + h < 0.0:
-            return _landed(times, path, work, steps, taken, limit, h)
+        if y + h - target < 0.0 and reached:
+            return _landed(times, path, work, steps, taken, limit, h, target)
+        if not reached:
+            reached = y + h >= target
+            if not reached and y < path[-2][1]:   # turned down below the target
+                path_array = np.array(path)
+                return Flight(np.array(times), path_array, None, None, steps, limit,
+                              highest(np.array(times), path_array[:, 1]), work[-1], short=True)
         out_of_steps = steps >= FLIGHT_STEP_LIMIT
-        if out_of_steps or flown > limit or flown + (y + h) / max(-kick.fall_velocity, fall_cap) > limit:
+        if out_of_steps or flown > limit or flown + (y + h - target) / max(-kick.fall_velocity, fall_cap) > limit:
             path_array = np.array(path)
             return Flight(np.array(times), path_array, None, None, steps, limit,
                           highest(np.array(times), path_array[:, 1]), work[-1], out_of_steps)
@@ -324,16 +345,17 @@ def _leapfrog_start(body: pymunk.Body, scheme: _Scheme, position: np.ndarray,
 
 
 def _landed(times: list[float], path: list[tuple[float, float]], work: list[float], steps: int,
-            taken: list[float], limit: float, pivot_height: float) -> Flight:
-    """The flight whose last step took its centre below base level, its last sample moved back to the
-    landing instant (``events.crossing_fraction``): on the parabola through three equally spaced
-    samples, or after a change of step (``taken``, the last two steps), on the line through two."""
+            taken: list[float], limit: float, pivot_height: float, target: float) -> Flight:
+    """The flight whose last step took its centre below the target's level (``target`` m above the
+    base), its last sample moved back to the landing instant (``events.crossing_fraction``): on the
+    parabola through three equally spaced samples, or after a change of step (``taken``, the last two
+    steps), on the line through two."""
     h = pivot_height
     samples = 3 if steps >= 2 and taken[0] == taken[1] else 2
-    heights = [p[1] + h for p in path[-samples:]]
+    heights = [p[1] + h - target for p in path[-samples:]]
     fraction = crossing_fraction(tuple(heights))
     landing_position = interpolate(np.array(path[-samples:]), fraction)
-    landing_position[1] = -h
+    landing_position[1] = target - h
     landing_time = times[-2] + fraction * (times[-1] - times[-2])
     t = np.array(times[:-1] + [landing_time])
     flight_path = np.array(path[:-1] + [tuple(landing_position)])

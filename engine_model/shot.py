@@ -234,6 +234,11 @@ def _fly_from_release(design: Design, release_time: float, release_state: np.nda
         fields.update(landing_time=flight.landing_time, landing_position=flight.landing_position,
                       apex_height=flight.apex + design.machine.pivot_height)
         return flight, fields, None
+    if flight.short:
+        apex_height = flight.apex + design.machine.pivot_height
+        fields["apex_height"] = apex_height
+        return flight, fields, (Status.SHORT_OF_TARGET, outcome.short_of_target_message(
+            apex_height, design.environment.target_height))
     if flight.out_of_steps:
         return flight, fields, (Status.STEP_FAILED, stepping.step_limit_message(
             "the flight", flight.steps, FLIGHT_STEP_MULTIPLE * flight_base, flight.limit, FLIGHT_STEP_LIMIT))

@@ -34,7 +34,8 @@ def distinct_design(*, statics: bool, drag: str, kind: str, rolling: bool) -> De
     projectile = Projectile(mass=0.53, diameter=0.19, drag=drag,
                             drag_coefficient=0.47 if drag == "constant" else None, drag_factor=1.3,
                             drag_during_swing=not rolling)
-    environment = Environment(gravity=9.79, air_density=1.19, air_viscosity=1.83e-5, wind_speed=-3.1)
+    environment = Environment(gravity=9.79, air_density=1.19, air_viscosity=1.83e-5, wind_speed=-3.1,
+                              target_height=-2.3 if rolling else 4.1)
     joints = (dict(guide_friction=0.037, track_friction=0.041) if floating
               else dict(hinge_friction=0.017, hinge_radius=0.029) if hinged else {})
     if not floating:
@@ -69,7 +70,7 @@ def expected(design: Design) -> dict[str, float]:
         mub=losses.base_friction, mua_s=losses.static("axle"), muh_s=losses.static("hinge"),
         mub_s=losses.static("base"), kind=KINDS.index(m.kind), drag_swing=1.0 if proj.drag_during_swing else 0.0,
         mug=losses.guide_friction, mut=losses.track_friction, mug_s=losses.static("guide"),
-        mut_s=losses.static("track"), ht=design.base.trough_height)
+        mut_s=losses.static("track"), ht=design.base.trough_height, yt=env.target_height)
 
 
 def assert_fields(read, design: Design) -> None:

@@ -203,8 +203,8 @@ DIRECT_FIELDS = ("machine.pivot_height", "machine.arm_long", "machine.arm_short"
                  "machine.counterweight_inertia", "machine.sling_length", "machine.release_angle",
                  "projectile.mass", "projectile.diameter", "projectile.drag_coefficient", "environment.gravity",
                  "environment.air_density", "environment.air_viscosity", "environment.wind_speed",
-                 "losses.axle_friction", "losses.axle_radius", "losses.hinge_friction", "losses.hinge_radius",
-                 "losses.base_friction", "base.trough_height")
+                 "environment.target_height", "losses.axle_friction", "losses.axle_radius",
+                 "losses.hinge_friction", "losses.hinge_radius", "losses.base_friction", "base.trough_height")
 #: The floating arm's direct fields beyond those (its guide and track friction).
 FLOATING_FIELDS = ("losses.guide_friction", "losses.track_friction")
 

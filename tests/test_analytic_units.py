@@ -64,7 +64,8 @@ def test_every_numeric_design_field_accepts_units_and_round_trips(table3, tmp_pa
     import dataclasses as dc
 
     from analytic.design import Base
-    rolling = dc.replace(table3, base=Base("rolling", 20.0, trough_height=0.1))
+    rolling = dc.replace(table3, base=Base("rolling", 20.0, trough_height=0.1),
+                         environment=dc.replace(table3.environment, target_height=3.5))   # (0, the default, is left out)
     for units in ({}, {"length": "ft", "mass": "lb", "speed": "ft / s", "acceleration": "ft / s ** 2",
                        "density": "lb / ft ** 3", "moment of inertia": "lb * ft ** 2", "angle": "rad"}):
         path = tmp_path / "units.toml"

@@ -505,3 +505,33 @@ def test_the_machine_picker_bolts_the_counterweight_and_back(page, server, tmp_p
     wait_for_next_shot(page, count)
     page.wait_for_load_state("networkidle")
     assert link.is_visible() and range_shown(page)[0] == hinged   # the link it had, restored
+
+
+@pytest.mark.parametrize("height, status", [(3.0, "ok"), (-2.0, "ok"), (40.0, "short_of_target")],
+                         ids=["raised", "pit", "short"])
+def test_a_target_above_or_below_the_base_is_shown_in_feet_and_drawn(page, server, tmp_path, height, status):
+    """The field in the form (feet on the imperial page), the shot reported at its level, and the
+    stage drawn with the target's level (screenshots ``target-*-stage.png``)."""
+    open_page(page, server)
+    page.get_by_test_id("units").select_option("imperial")
+    data = __import__("tomllib").loads((ROOT / "analytic" / "data" / "paper_table3.toml").read_text())
+    data["environment"]["target_height"] = height
+    path = tmp_path / "target.toml"
+    path.write_text(tomli_w.dumps(data))
+    count = shots(page)
+    page.get_by_test_id("upload").set_input_files(str(path))
+    wait_for_next_shot(page, count)
+    assert page.get_by_test_id("status").inner_text() == status
+    shown = float(page.locator('[name="environment.target_height"]').input_value())
+    assert shown == pytest.approx(height / 0.3048, abs=0.01)   # 1 ft = 0.3048 m exactly
+    if status == "ok":
+        feet, _ = range_shown(page)
+        assert feet * 0.3048 == pytest.approx(cli_range(data, tmp_path), abs=DISPLAY_ROUNDING * 0.3048)
+    else:
+        assert page.get_by_test_id("range").inner_text() == "–"
+        assert "target" in page.get_by_test_id("message").inner_text()
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    end = page.evaluate("window.workbench.state.shot.history.flight_t.at(-1)")   # landed, or at its apex
+    page.evaluate(f"window.workbench.state.t = {end}; window.workbench.draw()")
+    page.get_by_test_id("stage").screenshot(path=SHOTS / f"target-{status}-{height:g}m-stage.png")
+    page.get_by_test_id("units").select_option("metric")

@@ -41,6 +41,8 @@ GROUPS = (
         ("air_density", "Density of the air (1.225 kg/m^3 at sea level, 15 C)."),
         ("air_viscosity", "Dynamic viscosity of the air; sets the Reynolds number of the drag laws."),
         ("wind_speed", "Horizontal wind, positive toward the target."),
+        ("target_height", "Height of the target above the base (negative: a pit below it); the range is "
+                          "measured where the projectile comes down to it (empty: 0, the base's level)."),
     )),
     ("Base", "base", (
         ("mobility", "Fixed: the frame is bolted down. Rolling: it rides on wheels and moves as the arm swings."),

@@ -318,8 +318,12 @@ def to_shot(design: Design, out: np.void) -> Shot:
     if status is Status.OK:
         message = outcome.thrown_message(row.landing_x)
         fields.update(landing_time=row.landing_time,
-                      landing_position=np.array([row.landing_x, -design.machine.pivot_height]),
+                      landing_position=np.array([row.landing_x,
+                                                 design.environment.target_height - design.machine.pivot_height]),
                       apex_height=row.apex_height)
+    elif status is Status.SHORT_OF_TARGET:
+        message = outcome.failure_message(status, apex=(row.apex_height, design.environment.target_height))
+        fields["apex_height"] = row.apex_height
     else:
         t_limit = swing_time_limit(largest_length(design.machine), design.environment.gravity)
         message = failure_message(design, status, row.detail, row.rest_acceleration, row.out_of_steps,
@@ -486,7 +490,7 @@ def shoot(designs: Sequence[Design] | np.ndarray, *, rtol: float = DEFAULT_RTOL,
                  release_position=out["release_position"].copy(),
                  release_velocity=out["release_velocity"].copy(),
                  range=np.where(landed, out["landing_x"], np.nan),
-                 apex_height=np.where(landed, out["apex_height"], np.nan),
+                 apex_height=np.where(landed | (out["status"] == kernel.SHORT_OF_TARGET), out["apex_height"], np.nan),
                  end_time=out["end_time"],
                  steps=out["steps"],
                  evaluations=out["evaluations"],

@@ -38,10 +38,10 @@ from analytic.limits import STAGE_STEP_LIMITS, flight_time_limit
 from analytic.parameters import PARAMS_DTYPE
 from analytic.scope import FRICTION, LOADS, RECORDING   # what this copy handles (analytic.scope)
 from analytic.sequence import (FAILED, FINISHED, NEVER_FIRES, NEVER_LIFTS_OFF, NEXT_STAGE, OK, OUT_OF_STEPS,
-                               REACHED_END, STEP_FAILED, SWITCH_MODE, counted_crossing, event_rate, lands_at_release,
-                               leaves_zero, past_root, probe_bracket, probe_time, probe_update, rate_offset,
-                               stretch_end, tangent_state, turn_bracket, turn_first, turn_next, turn_search,
-                               turn_update, turns_back)
+                               REACHED_END, SHORT_OF_TARGET, STEP_FAILED, SWITCH_MODE, counted_crossing, event_rate,
+                               lands_at_release, leaves_zero, past_root, probe_bracket, probe_time, probe_update,
+                               rate_offset, short_of_target, stretch_end, tangent_state, turn_bracket, turn_first,
+                               turn_next, turn_search, turn_update, turns_back)
 from analytic.stages import (ZERO_START_PROBES, event_armed, event_count, event_direction, event_terminal,
                              event_turns, event_value, fires, first_event, flight_start, frame_state, loads_after_step,
                              loads_at, slide_start, swing_start)
@@ -582,12 +582,12 @@ def _slide_and_swing(normal0, p, table, coef, rtol, atol, peaks, track_loads, ou
 def _flight(t2, x, y, vx, vy, switches, p, table, coef, rtol, atol, peaks, out, rec, motion):
     """Stage 3: the flight from its release at ``t2`` (the projectile at (x, y), moving at (vx, vy))
     until it lands or its time runs out (``limits.flight_time_limit``); ``out`` gets how it ended."""
-    t_max = t2 + flight_time_limit(y + p.h, vy, p.g)
+    t_max = t2 + flight_time_limit(y + p.h - p.yt, vy, p.g)   # (the height above the target)
     y_release = np.empty(4)
     y_release[FLIGHT_X], y_release[FLIGHT_Y], y_release[FLIGHT_VX], y_release[FLIGHT_VY] = x, y, vx, vy
     if RECORDING and rec.shape[0] > 0:
         rec[0].flight_spacing = max(rec[0].flight_spacing, (t_max - t2) / rec[0].sample_limit)
-    if lands_at_release(y + p.h, vy):
+    if lands_at_release(y + p.h - p.yt, vy):
         code, t3, y3, apex = FLIGHT_LANDING, t2, y_release, -math.inf
     else:
         code, t3, y3, apex = integrate(FLIGHT, t2, y_release, t_max, coef, rtol, atol, p, table, out, peaks, False,
@@ -599,10 +599,15 @@ def _flight(t2, x, y, vx, vy, switches, p, table, coef, rtol, atol, peaks, out, 
     if status == STEP_FAILED:
         _step_failed(out, code, FLIGHT)
         return
-    out.status = status
     if status != OK:
+        out.status = status
         return
-    out.landing_time, out.landing_x, out.apex_height = t3, y3[FLIGHT_X], max(y, apex) + p.h
+    apex_height = max(y, apex) + p.h
+    if short_of_target(apex_height, p.yt):   # its end is its apex, to the root
+        out.status, out.apex_height = SHORT_OF_TARGET, max(apex_height, y3[FLIGHT_Y] + p.h)
+        return
+    out.status = status
+    out.landing_time, out.landing_x, out.apex_height = t3, y3[FLIGHT_X], apex_height
 
 
 @internal

@@ -25,7 +25,7 @@ import numpy as np
 
 from analytic import eom, fast, stages, states
 from analytic.fast import kernel
-from analytic.outcome import dissipated
+from analytic.outcome import Status, dissipated
 from analytic.design import Design
 from analytic.friction import lossy
 from analytic.limits import DEFAULT_ATOL, DEFAULT_RTOL
@@ -101,7 +101,7 @@ def simulate_motion(design: Design, *, sample_step: float | None = None, flight_
         samples["t"][0], samples["stage"][0] = 0.0, SLIDE
         rows = 1
     shot = fast.to_shot(design, out)
-    motion = _motion(samples[:rows], p, shot.ok)
+    motion = _motion(samples[:rows], p, shot.ok or shot.status is Status.SHORT_OF_TARGET)
     shot = _completed(shot, motion, samples[:rows], p)
     if shot.release_time is not None:
         moving, _ = eom.kinetic_energy(*motion.q[-1], *motion.qdot[-1], p)
@@ -111,7 +111,7 @@ def simulate_motion(design: Design, *, sample_step: float | None = None, flight_
 
 def _motion(samples: np.ndarray, p, landed: bool) -> Motion:
     """The ``Motion`` of a recording's samples (``analytic.fast.kernel.SAMPLE_DTYPE``); the flight's only if
-    it ``landed`` (as the reference path's ``History``)."""
+    it ``landed``, or flew to its apex short of its target (as the reference path's ``History``)."""
     t, stage = samples["t"], samples["stage"]
     lifted = (stage[1:] == SWING) & (stage[:-1] == SLIDE) & (t[1:] == t[:-1])
     samples = samples[np.concatenate([[True], ~lifted])]   # lift-off once, as the slide's last

@@ -148,6 +148,13 @@ def _simulate(design: Design, p: Params, rtol: float, atol: float, histories: bo
     if status == sequence.NO_LANDING:
         return finish(history, segments, Status.NO_LANDING,
                       outcome.failure_message(Status.NO_LANDING, time=t_max - swing.t_end), **reached)
+    apex_height = _apex_height(flight, start, p)
+    if sequence.short_of_target(apex_height, p.yt):
+        apex_height = max(apex_height, flight.y_end[states.FLIGHT_Y] + p.h)   # (its end: the apex, to the root)
+        return finish(history, segments, Status.SHORT_OF_TARGET,
+                      outcome.failure_message(Status.SHORT_OF_TARGET, apex=(apex_height, p.yt)),
+                      apex_height=apex_height, flight_t=flight.t,
+                      flight_path=flight.y[:, states.FLIGHT_X:states.FLIGHT_Y + 1], **reached)
     reached.update(_frame_at_landing(p, swing, flight, start, reached["frame_release_displacement"],
                                      histories if after_release is None else after_release, rtol, atol, output_step))
     return finish(history, segments, Status.OK, outcome.thrown_message(flight.y_end[states.FLIGHT_X]), **reached,
@@ -268,7 +275,7 @@ def _fly(p: Params, start: np.ndarray, release_time: float, rtol: float, atol: f
     (``limits.flight_time_limit``); sampled ``flight_spacing`` apart (None: no samples). Returns the
     flight's segment, its continuous solution kept for the drag's work (the steps are the same either
     way), and the time limit."""
-    height, rising = start[states.FLIGHT_Y] + p.h, start[states.FLIGHT_VY]
+    height, rising = start[states.FLIGHT_Y] + p.h - p.yt, start[states.FLIGHT_VY]   # above the target
     t_max = release_time + flight_time_limit(height, rising, p.g)
     flight_step = (None if flight_spacing is None else
                    max(flight_spacing, (t_max - release_time) / HISTORY_SAMPLE_LIMIT))
@@ -278,11 +285,16 @@ def _fly(p: Params, start: np.ndarray, release_time: float, rtol: float, atol: f
 
 
 def _landing(flight: Segment, start: np.ndarray, p: Params) -> dict:
-    """The ``Shot`` fields of a flight that landed: where and when, its highest point above the base (the
-    release's height, or the highest apex root) and its samples."""
-    apex = max([start[states.FLIGHT_Y]] + [y[states.FLIGHT_Y] for _, y in flight.roots["apex"]])
+    """The ``Shot`` fields of a flight that landed: where and when, its highest point above the base
+    (``_apex_height``) and its samples."""
     return dict(landing_time=flight.t_end, landing_position=flight.y_end[states.FLIGHT_X:states.FLIGHT_Y + 1],
-                apex_height=apex + p.h, flight_t=flight.t, flight_path=flight.y[:, states.FLIGHT_X:states.FLIGHT_Y + 1])
+                apex_height=_apex_height(flight, start, p), flight_t=flight.t,
+                flight_path=flight.y[:, states.FLIGHT_X:states.FLIGHT_Y + 1])
+
+
+def _apex_height(flight: Segment, start: np.ndarray, p: Params) -> float:
+    """The flight's highest point above the base, m: the release's height, or the highest apex root."""
+    return max([start[states.FLIGHT_Y]] + [y[states.FLIGHT_Y] for _, y in flight.roots["apex"]]) + p.h
 
 
 def spacing_argument(name: str, value: float | None, default: float) -> float:

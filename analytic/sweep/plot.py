@@ -13,7 +13,8 @@ from analytic.sweep.analyses import OK, GridMap, Sensitivity, Spread
 
 #: One colour per failure, none of them in the output's colour map (viridis).
 FAILURE_COLOURS = {"never_fires": "#4d4d4d", "never_lifts_off": "#8c8c8c", "hits_base_before_release": "#d62728",
-                   "never_releases": "#ff9896", "no_landing": "#9467bd", "step_failed": "#000000"}
+                   "never_releases": "#ff9896", "no_landing": "#9467bd", "step_failed": "#000000",
+                   "short_of_target": "#e377c2"}
 _OUTPUT_LABELS = {"range": "range (m)", "y": "y"}
 #: The unit each output's figures carry in legends (none for a test function's y).
 _OUTPUT_UNITS = {"range": " m", "y": ""}

@@ -23,8 +23,8 @@ SWEEP_FIELDS = (
     "machine.starting_angle", "machine.arm_beam.width", "machine.arm_beam.depth", "machine.arm_beam.density",
     "projectile.mass", "projectile.diameter", "projectile.drag_coefficient", "projectile.drag_factor",
     "environment.gravity", "environment.air_density", "environment.air_viscosity", "environment.wind_speed",
-    "losses.axle_friction", "losses.axle_radius", "losses.hinge_friction", "losses.hinge_radius",
-    "losses.base_friction", "base.trough_height",
+    "environment.target_height", "losses.axle_friction", "losses.axle_radius", "losses.hinge_friction",
+    "losses.hinge_radius", "losses.base_friction", "base.trough_height",
 )
 #: Each one's unit in files: that of the kind its key names (``analytic.units.FIELD_KINDS``).
 FIELD_UNITS = {field: kind_of(field).file_unit for field in SWEEP_FIELDS}

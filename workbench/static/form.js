@@ -2,7 +2,7 @@
 
 // Slider spans, in file units, for fields whose span does not follow from their value.
 const FIXED_SPANS = {
-  "machine.release_angle": [-89, 89], "environment.wind_speed": [-20, 20],
+  "machine.release_angle": [-89, 89], "environment.wind_speed": [-20, 20], "environment.target_height": [-10, 20],
   "losses.axle_friction": [0, 1], "losses.hinge_friction": [0, 1], "losses.base_friction": [0, 1],
   "losses.axle_static_friction": [0, 1], "losses.hinge_static_friction": [0, 1],
   "losses.base_static_friction": [0, 1], "losses.guide_friction": [0, 1], "losses.track_friction": [0, 1],

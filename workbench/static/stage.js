@@ -1,7 +1,12 @@
 // The stage: the machine and its shot drawn to scale on a canvas from the shot's history (m, s).
 
 const COLORS = {arm: "#6b4226", frame: "#8a8a8a", weight: "#333", sling: "#b08d57", ball: "#c0392b",
-  path: "#c0392b", ghost: "#5d6d7e", engine: "#117a65", dimension: "#1f618d", ground: "#c9b98f"};
+  path: "#c0392b", ghost: "#5d6d7e", engine: "#117a65", dimension: "#1f618d", ground: "#c9b98f", target: "#7d6608"};
+
+// The target's level, m from the pivot: ``environment.target_height`` above the base (below it: a pit).
+function targetLevel(design) {
+  return (design.environment?.target_height ?? 0) - design.machine.pivot_height;
+}
 
 // Index of the last sample at or before ``t`` in the sorted ``times``.
 function before(times, t) {
@@ -52,8 +57,8 @@ export function pose(shot, t) {
 function fieldWindow(shot, design, ghosts) {
   const m = design.machine;
   const reach = m.arm_long + m.sling_length;
-  let xmin = -reach, xmax = reach, ymax = m.arm_long + m.sling_length;
-  const ymin = -m.pivot_height;
+  let xmin = -reach, xmax = reach, ymax = Math.max(m.arm_long + m.sling_length, targetLevel(design));
+  const ymin = Math.min(-m.pivot_height, targetLevel(design));
   for (const path of [shot.history?.flight_path ?? [], ...ghosts.map((g) => g.path)]) {
     for (const [x, y] of path) { xmin = Math.min(xmin, x); xmax = Math.max(xmax, x); ymax = Math.max(ymax, y); }
   }
@@ -65,7 +70,8 @@ function followWindow(parts, design) {
   const size = 0.8 * (m.arm_long + m.sling_length);
   const cx = parts.flying ? parts.ball[0] : parts.pivot[0];
   const cy = parts.flying ? parts.ball[1] : 0;
-  return {xmin: cx - size, xmax: cx + size, ymin: Math.min(-m.pivot_height, cy - size), ymax: cy + size};
+  return {xmin: cx - size, xmax: cx + size, ymin: Math.min(-m.pivot_height, targetLevel(design), cy - size),
+    ymax: cy + size};
 }
 
 // One scale for x and y (to scale), the window centred in the canvas with a margin.
@@ -149,9 +155,19 @@ function drawMachine(ctx, T, parts, design) {
   disc(ctx, T, parts.pivot, 0.02 * m.arm_long, "#000");
 }
 
+// A raised target or a pit: a dashed line across the field at its level, named.
+function drawTarget(ctx, T, design, canvas) {
+  if (!design.environment?.target_height) return;
+  const y = T.Y(targetLevel(design));
+  ctx.strokeStyle = COLORS.target; ctx.lineWidth = 1.5; ctx.setLineDash([8, 5]);
+  ctx.beginPath(); ctx.moveTo(0, y); ctx.lineTo(canvas.width, y); ctx.stroke(); ctx.setLineDash([]);
+  ctx.fillStyle = COLORS.target; ctx.font = "12px sans-serif"; ctx.textAlign = "right";
+  ctx.fillText(design.environment.target_height > 0 ? "target level" : "target level (pit)", canvas.width - 8, y - 5);
+}
+
 function drawDimension(ctx, T, shot, design, label) {
   if (shot.range === null) return;
-  const y = -design.machine.pivot_height;
+  const y = targetLevel(design);   // the range is measured at the target's level
   const below = y - 14 / T.s;
   line(ctx, T, [0, below], [shot.range, below], COLORS.dimension, 1);
   line(ctx, T, [0, y], [0, below - 4 / T.s], COLORS.dimension, 1);
@@ -210,6 +226,7 @@ export function drawStage(canvas, shot, design, t, {ghosts = [], camera = "field
   const ground = -design.machine.pivot_height;
   ctx.fillStyle = COLORS.ground;
   ctx.fillRect(0, T.Y(ground), canvas.width, canvas.height - T.Y(ground));
+  drawTarget(ctx, T, design, canvas);
   for (const ghost of ghosts) {
     polyline(ctx, T, ghost.path, ghost.engine ? COLORS.engine : COLORS.ghost, 1.5, ghost.engine ? [2, 4] : [6, 5]);
   }
