@@ -234,3 +234,19 @@ def test_the_pages_spacing_draws_each_preset_within_half_a_pixel(name):
     for k in (0, 1):
         between = np.interp(fine.history.flight_t, coarse.history.flight_t, coarse.history.flight_path[:, k])
         assert np.max(np.abs(between - fine.history.flight_path[:, k])) < half_pixel
+
+
+def test_a_floating_arm_takes_the_bases_friction_on_the_page(client):
+    """The page's form shows ``losses.base_friction`` for every kind; a floating arm's is simulated
+    (no longer refused), as ``python -m analytic simulate`` throws it."""
+    import dataclasses
+
+    from analytic.design import Losses
+    from analytic.design_file import load_design
+    from support import TABLE3_FLOATING_FILE
+
+    design = dataclasses.replace(load_design(TABLE3_FLOATING_FILE), losses=Losses(base_friction=0.3))
+    answer = client.post("/api/shot", json={"design": json.loads(json.dumps(design_to_dict(design)))})
+    assert answer.status_code == 200, answer.json()
+    assert answer.json()["status"] == "ok"
+    assert answer.json()["range"] == _approx(simulate(design).range)
