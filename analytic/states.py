@@ -27,7 +27,8 @@ stage  state y                                      events (value; counted direc
 
 With friction (``docs/derivation.md`` section 10) stages 1-2 and 4 carry six more
 entries after the stage's own (``FRICTION_STATE``): the work each friction dissipated
-(``SLIDE_WORK + AXLE`` ...), then the joints' modes (``SLIDE_MODES + AXLE`` ...). A
+(``SLIDE_WORK + AXLE`` ...), then the joints' modes (``SLIDE_MODES + AXLE`` ...); a floating
+arm with the base's friction one more, its base's work (``SLIDE_BASE_WORK`` ...). A
 friction event ends an integration, ``switch_mode`` writes the new modes into the
 state and the stage goes on from there. Without friction those events are a
 constant 1 and the state is as in the table.
