@@ -487,17 +487,12 @@ class Design:
 
     def _check_floating(self) -> None:
         """Refuse what the floating-arm machine does not model: a rolling frame (its axle already rides a
-        track) and the base's friction (its generalised force is the hinged machine's, without the axle's
-        motion); the axle's, the guide's and the track's friction and the drag before release are modelled."""
+        track); the axle's, the base's, the guide's and the track's friction and the drag before release
+        are modelled."""
         if self.base.rolling:
             raise DesignError("base.mobility", self.base.mobility,
                               "a floating-arm machine's axle already rides its track: its frame cannot roll; "
                               'use mobility = "fixed"')
-        for name in ("base_friction", "base_static_friction"):
-            value = getattr(self.losses, name)
-            if value is not None and value > 0.0:
-                raise DesignError(f"losses.{name}", value,
-                                  "the base's friction is not modelled on a floating-arm machine; leave it out (or 0)")
 
 
 def computable_scales(design: Design) -> list[tuple[str, str, float, tuple[tuple[str, float], ...]]]:

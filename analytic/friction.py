@@ -94,7 +94,8 @@ class SlideFriction(NamedTuple):
     on the projectile, N; the friction torques at the axle and the hinge, N m, and the base's friction
     force, N; the loads on the bearings ``|A|``, ``|H|``, N; ``slide_ratio`` dx_P/dtheta, m/rad. A
     floating arm's [12.10]: ``axle_torque`` as in ``SwingFriction``, ``hinge_torque`` and
-    ``base_force`` the guide's and the track's friction forces, N, ``axle_load`` the hold."""
+    ``base_force`` the guide's and the track's friction forces, N, ``axle_load`` the hold, and
+    ``hinge_load`` the base's friction force F, N [12.13]."""
 
     ddtheta: float
     ddphi: float
@@ -299,7 +300,7 @@ def swing_friction(theta, phi, psi, dtheta, dphi, dpsi, sa, sh, p):
     c11, c12, c13, c22, c23, _, det = symmetric_cofactors(m11, m12, m13, m22, m23, m33)
     ua1, ua2, ua3 = c11 / det, c12 / det, c13 / det
     if FLOATING_ARM and p.kind == FLOATING:
-        slides = slides_friction(theta, psi, dtheta, dpsi, a1, a3, 0.0, ua1, ua3, 0.0, sa, p)
+        slides = slides_friction(theta, psi, dtheta, dpsi, a1, a3, 0.0, ua1, ua3, 0.0, sa, p, 0.0, 0.0)
         return SwingFriction(slides.ddtheta, 0.0, slides.ddpsi, slides.generalised_force, slides.guide_force,
                              slides.hold, slides.track_force)
     uh1, uh2, uh3 = c12 / det, c22 / det, c23 / det
@@ -317,7 +318,7 @@ def machine_friction(theta, phi, dtheta, dphi, sa, sh, m):
     a1, a2 = solve_pair(m11, m12, m22, f1, f2)
     ua1, ua2 = solve_pair(m11, m12, m22, 1.0, 0.0)
     if FLOATING_ARM and m.kind == FLOATING:
-        slides = slides_friction(theta, 0.0, dtheta, 0.0, a1, 0.0, 0.0, ua1, 0.0, 0.0, sa, m)
+        slides = slides_friction(theta, 0.0, dtheta, 0.0, a1, 0.0, 0.0, ua1, 0.0, 0.0, sa, m, 0.0, 0.0)
         return MachineFriction(slides.ddtheta, 0.0, slides.generalised_force, slides.guide_force, slides.hold,
                                slides.track_force)
     uh1, uh2 = solve_pair(m11, m12, m22, 0.0, 1.0)
@@ -353,8 +354,11 @@ def _joints(theta, phi, psi, dtheta, dphi, dpsi, a1, a2, a3, ua1, ua2, ua3, uh1,
 
 def slide_rate(theta, s, sin_beta, p):
     """``dx_P/dtheta`` along the base constraint: the projectile's slide over the base per
-    radian of the arm, m (its velocity over the base is this times theta') [10.5]."""
+    radian of the arm, m (its velocity over the base is this times theta') [10.5]; a floating
+    arm's adds its axle's travel on the track, ``dx_A/dtheta = -Lb cos(theta)`` [12.13]."""
     cos_beta = -(p.h - p.ht + p.La * math.cos(theta)) / p.Ls
+    if FLOATING_ARM and p.kind == FLOATING:
+        return -(p.La * math.cos(theta) + p.Ls * cos_beta) - s * p.Ls * cos_beta - p.Lb * math.cos(theta)
     return -(p.La * math.cos(theta) + p.Ls * cos_beta) - s * p.Ls * cos_beta
 
 
@@ -386,9 +390,16 @@ def slide_friction(theta, phi, dtheta, dphi, sa, sh, sb, p):
     a1, a2, a3, n0 = _slide_response(a, b, e, det, m13, m23, m33, s, c, lever, r1, r2, f3)
     ua1, ua2, ua3, uan = _slide_response(a, b, e, det, m13, m23, m33, s, 0.0, lever, 1.0, 0.0, 0.0)
     if FLOATING_ARM and p.kind == FLOATING:
-        slides = slides_friction(theta, psi, dtheta, dpsi, a1, a3, n0, ua1, ua3, uan, sa, p)
+        base0, base_q = 0.0, 0.0
+        grip = -(p.mub if sa != 0.0 else p.mub_s) * sb   # F = grip N: slipping kinetic, held at its static limit
+        if grip != 0.0:   # F eliminated: affine in Q_theta, and with it every response [12.13]
+            ub1, _, ub3, ubn = _slide_response(a, b, e, det, m13, m23, m33, s, 0.0, lever, dx, 0.0, dx_dpsi)
+            base0, base_q = grip * n0 / (1.0 - grip * ubn), grip * uan / (1.0 - grip * ubn)
+            a1, a3, n0 = a1 + base0 * ub1, a3 + base0 * ub3, n0 + base0 * ubn
+            ua1, ua3, uan = ua1 + base_q * ub1, ua3 + base_q * ub3, uan + base_q * ubn
+        slides = slides_friction(theta, psi, dtheta, dpsi, a1, a3, n0, ua1, ua3, uan, sa, p, base0, base_q)
         return SlideFriction(slides.ddtheta, 0.0, slides.normal, slides.generalised_force, slides.guide_force,
-                             slides.track_force, slides.hold, 0.0, dx)
+                             slides.track_force, slides.hold, slides.base_force, dx)
     uh1, uh2, uh3, uhn = _slide_response(a, b, e, det, m13, m23, m33, s, 0.0, lever, 0.0, 1.0, 0.0)
     ub1, ub2, ub3, ubn = _slide_response(a, b, e, det, m13, m23, m33, s, 0.0, lever, dx, 0.0, dx_dpsi)
     bx, by, bhx, bhy, _, _ = joint_forces(theta, phi, psi, dtheta, dphi, dpsi, a1, a2, a3, n0, p)
@@ -430,8 +441,13 @@ def rest_balance(p):
     system = slide_system(theta, phi, 0.0, 0.0, p)
     r1 = system.r1
     psi, _, _, _, _ = slide_constraint(theta, 0.0, p)
-    if FLOATING_ARM and p.kind == FLOATING:   # the axle's, the guide's and the track's hold together; no base friction [12.11]
-        return -r1, slide_friction(theta, phi, 0.0, 0.0, 0.0, 0.0, 0.0, p).axle_load, 0.0
+    if FLOATING_ARM and p.kind == FLOATING:   # the axle's, the guide's and the track's hold together; the base's apart [12.11]
+        if p.mub_s == 0.0:
+            return -r1, slide_friction(theta, phi, 0.0, 0.0, 0.0, 0.0, 0.0, p).axle_load, 0.0
+        # With the base's friction at its static limit against the clockwise start [12.13], (10.7).
+        held = slide_friction(theta, phi, 0.0, 0.0, 0.0, 0.0, -1.0 if slide_rate(theta, system.s, system.sin_beta,
+                                                                                  p) >= 0.0 else 1.0, p)
+        return -r1, held.axle_load, held.hinge_load * held.slide_ratio
     normal = -system.f3 / (-p.Ls * system.sin_beta)
     dx = slide_rate(theta, system.s, system.sin_beta, p)
     base_force = p.mub_s * normal if dx >= 0.0 else -p.mub_s * normal
@@ -455,8 +471,8 @@ def rest_balance(p):
 class SlidesFriction(NamedTuple):
     """A floating arm's friction and motion (``slides_friction``): theta'' and psi'', rad/s^2; the base's
     push N, N; the friction's generalised force on theta, N m; the axle's torque, N m; the guide's and
-    the track's friction forces, N; and the hold (slipping: the carriage's load ``|(ft, T)|``, N; stuck:
-    the most static friction can hold, N m)."""
+    the track's friction forces, N; the hold (slipping: the carriage's load ``|(ft, T)|``, N; stuck:
+    the most static friction can hold, N m); and the base's friction force F, N (0 off the base) [12.13]."""
 
     ddtheta: float
     ddpsi: float
@@ -466,6 +482,7 @@ class SlidesFriction(NamedTuple):
     guide_force: float
     track_force: float
     hold: float
+    base_force: float
 
 
 #: ``slides_newton`` takes a sign choice's solution when its equations' residual is within this of the
@@ -551,12 +568,15 @@ def _slides_signed(theta, sa, guide0, guide_u, track0, track_u, ka, kg, kt, eg, 
     return ta, fg, ft, guide, track
 
 
-def slides_friction(theta, psi, dtheta, dpsi, a1, a3, n0, ua1, ua3, uan, sa, p):
+def slides_friction(theta, psi, dtheta, dpsi, a1, a3, n0, ua1, ua3, uan, sa, p, base0, base_q):
     """A floating arm's friction and motion [12.10] from its accelerations without friction
     ``(a1, a3, n0)`` (theta'', psi'', the base's push N) and their change per unit of Q on theta
     ``(ua1, ua3, uan)``; ``sa`` is the mode.
 
-    Returns a ``SlidesFriction`` ``(theta'', psi'', N, Q, ta, fg, ft, hold)``: Q the friction's generalised force on theta
+    In stage 1 the base's friction ``F = base0 + Q base_q`` (N), already in the responses, pushes the
+    whole machine along x too: the guide's force is less it [12.13].
+
+    Returns a ``SlidesFriction`` ``(theta'', psi'', N, Q, ta, fg, ft, hold, F)``: Q the friction's generalised force on theta
     (N m), ta the axle's torque, fg and ft the guide's and the track's forces (N). Slipping,
     ``hold`` is |(ft, T)|. Stuck (``sa`` 0), theta'' = 0, Q holds the arm, and ``hold`` is the most
     static friction can (N m, ``static_arm`` being 1): every friction at its static limit against
@@ -566,18 +586,20 @@ def slides_friction(theta, psi, dtheta, dpsi, a1, a3, n0, ua1, ua3, uan, sa, p):
     total_g = (p.mA + p.mW + p.mP) * p.g
     track_u, guide_u = support_forces(theta, psi, 0.0, 0.0, ua1, ua3, uan, p)   # per unit Q: no drag
     track_u -= total_g
+    guide_u -= base_q
     if sa != 0.0:
         track0, guide0 = floating_supports_in_air(theta, psi, dtheta, dpsi, a1, a3, n0, p)
-        ta, fg, ft = slides_newton(theta, sa, guide0, guide_u, track0, track_u, kinetic_arm(AXLE, p), p.mug,
+        ta, fg, ft = slides_newton(theta, sa, guide0 - base0, guide_u, track0, track_u, kinetic_arm(AXLE, p), p.mug,
                                    p.mut, p)
         q = ta + p.Lb * math.sin(theta) * fg - p.Lb * math.cos(theta) * ft
         track = track0 + q * track_u - fg
-        return SlidesFriction(a1 + q * ua1, a3 + q * ua3, n0 + q * uan, q, ta, fg, ft, _size(ft, track))
+        return SlidesFriction(a1 + q * ua1, a3 + q * ua3, n0 + q * uan, q, ta, fg, ft, _size(ft, track),
+                              base0 + q * base_q)
     q = -a1 / ua1
-    ddpsi, normal = a3 + q * ua3, n0 + q * uan
+    ddpsi, normal, base_force = a3 + q * ua3, n0 + q * uan, base0 + q * base_q
     track0, guide0 = floating_supports_in_air(theta, psi, dtheta, dpsi, 0.0, ddpsi, normal, p)
-    ta, fg, ft = slides_newton(theta, 1.0 if q < 0.0 else -1.0, guide0, 0.0, track0, 0.0,
+    ta, fg, ft = slides_newton(theta, 1.0 if q < 0.0 else -1.0, guide0 - base_force, 0.0, track0, 0.0,
                                p.mua_s * p.ra, p.mug_s, p.mut_s, p)
     hold = ta + p.Lb * math.sin(theta) * fg - p.Lb * math.cos(theta) * ft
     share = q / hold if hold != 0.0 else 0.0
-    return SlidesFriction(0.0, ddpsi, normal, q, share * ta, share * fg, share * ft, abs(hold))
+    return SlidesFriction(0.0, ddpsi, normal, q, share * ta, share * fg, share * ft, abs(hold), base_force)

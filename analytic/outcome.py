@@ -51,18 +51,20 @@ _CODES = {status: i for i, status in enumerate(_STATUSES)}
 LOSS_NAMES = ("axle", "hinge", "base", "drag", "swing_drag", "guide", "track")
 
 
-def friction_work_names(floating: bool) -> tuple[str, str, str]:
-    """The frictions whose work a shot's state carries (``analytic.states.FRICTION_WORK``), in order:
+def friction_work_names(floating: bool, floating_base: bool = False) -> tuple[str, ...]:
+    """The frictions whose work a shot's state carries (``analytic.states.friction_work``), in order:
     the axle's, the hinge's and the base's, or a floating arm's axle's, guide's and track's (it
-    has no hinge and no friction on the base)."""
-    return ("axle", "guide", "track") if floating else ("axle", "hinge", "base")
+    has no hinge), then, with ``floating_base`` (``analytic.states.floating_base``), its base's."""
+    if floating:
+        return ("axle", "guide", "track", "base") if floating_base else ("axle", "guide", "track")
+    return ("axle", "hinge", "base")
 
 
-def dissipated(work, drag: float, swing_drag: float, floating: bool) -> dict[str, float]:
-    """``Shot.energy_dissipated``, keyed ``LOSS_NAMES``: the friction's ``work`` (its three slots,
+def dissipated(work, drag: float, swing_drag: float, floating: bool, floating_base: bool = False) -> dict[str, float]:
+    """``Shot.energy_dissipated``, keyed ``LOSS_NAMES``: the friction's ``work`` (its slots,
     ``friction_work_names``), the drag's in flight and before release, 0 for every other loss."""
     losses = dict.fromkeys(LOSS_NAMES, 0.0)
-    losses.update(zip(friction_work_names(floating), work, strict=True))
+    losses.update(zip(friction_work_names(floating, floating_base), work, strict=True))
     losses.update(drag=drag, swing_drag=swing_drag)
     return losses
 

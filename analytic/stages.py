@@ -28,16 +28,17 @@ from typing import NamedTuple
 from analytic.scope import FLOATING_ARM, FRICTION   # what this copy handles (analytic.scope)
 from analytic.aero import drag_rate
 from analytic.eom import (FLOATING, Loads, floating_supports_in_air, frame_coupling, frame_displacement,
-                          frame_velocity, horizontal_moment, joint_forces, loads, loads_sliding,
+                          frame_velocity, horizontal_moment, joint_forces_sliding, loads, loads_sliding,
                           machine_accelerations, slide_accelerations, slide_constraint, swing_accelerations,
                           total_mass)
 from analytic.friction import AXLE, BASE, HINGE, lossy, machine_friction, rest_balance, slide_friction, swing_friction
 from analytic.geometry import IDEAL_RULE, ideal_release, projectile_state, release_at
 from analytic.limits import SLING_VERTICAL_LIMIT
 from analytic.states import (EVENT_COUNT, FIRST_FRICTION_EVENT, FIRST_SWITCH, FLIGHT, FLIGHT_APEX, FLIGHT_LANDING,
-                             FLIGHT_VY, FLIGHT_Y, MACHINE, MACHINE_MODES, MACHINE_WORK, SLIDE, SLIDE_ARM_STALLS,
-                             SLIDE_LIFTOFF, SLIDE_MODES, SLIDE_UNDER_TIP, SLIDE_WORK, SWING, SWING_MODES,
-                             SWING_RELEASE, SWING_WORK, friction_event, friction_solution, rest_modes, settle)
+                             FLIGHT_VY, FLIGHT_Y, MACHINE, MACHINE_BASE_WORK, MACHINE_MODES, MACHINE_WORK, SLIDE,
+                             SLIDE_ARM_STALLS, SLIDE_BASE_WORK, SLIDE_LIFTOFF, SLIDE_MODES, SLIDE_UNDER_TIP,
+                             SLIDE_WORK, SWING, SWING_BASE_WORK, SWING_MODES, SWING_RELEASE, SWING_WORK,
+                             friction_event, friction_solution, rest_modes, settle)
 
 #: Event roots are located to this absolute time tolerance, s (Brent's method on the dense output).
 ROOT_TIME_TOLERANCE = 1e-14
@@ -66,7 +67,7 @@ def derivative(stage, y, p, table, out):
     """
     if stage == SLIDE:
         if FRICTION and lossy(p):
-            ddtheta, ddphi, _, ta, th, fb, _, _, dx = slide_friction(
+            ddtheta, ddphi, _, ta, th, fb, _, hinge, dx = slide_friction(
                 y[0], y[1], y[2], y[3], y[SLIDE_MODES + AXLE], y[SLIDE_MODES + HINGE], y[SLIDE_MODES + BASE], p)
             out[0], out[1], out[2], out[3] = y[2], y[3], ddtheta, ddphi
             # The friction's power, -t rate: |t rate| while the mode is consistent, and
@@ -76,6 +77,8 @@ def derivative(stage, y, p, table, out):
                                                                                     -fb * dx * y[2])
             if FLOATING_ARM and p.kind == FLOATING:
                 slides_powers(y[0], y[2], ta, th, fb, p, out, SLIDE_WORK)
+                if p.mub > 0.0:   # the base's friction F (``hinge``) against the slide D theta' [12.13]
+                    out[SLIDE_BASE_WORK] = -hinge * dx * y[2]
             out[SLIDE_MODES + AXLE], out[SLIDE_MODES + HINGE], out[SLIDE_MODES + BASE] = 0.0, 0.0, 0.0
             return
         ddtheta, ddphi, _ = slide_accelerations(y[0], y[1], y[2], y[3], p)
@@ -88,6 +91,8 @@ def derivative(stage, y, p, table, out):
             out[SWING_WORK + AXLE], out[SWING_WORK + HINGE], out[SWING_WORK + BASE] = -ta * y[3], -th * y[4], 0.0
             if FLOATING_ARM and p.kind == FLOATING:
                 slides_powers(y[0], y[3], ta, th, hinge, p, out, SWING_WORK)
+                if p.mub > 0.0:
+                    out[SWING_BASE_WORK] = 0.0
             out[SWING_MODES + AXLE], out[SWING_MODES + HINGE], out[SWING_MODES + BASE] = 0.0, 0.0, 0.0
             return
         a, b, c = swing_accelerations(y[0], y[1], y[2], y[3], y[4], y[5], p)
@@ -100,6 +105,8 @@ def derivative(stage, y, p, table, out):
             out[MACHINE_WORK + AXLE], out[MACHINE_WORK + HINGE], out[MACHINE_WORK + BASE] = -ta * y[2], -th * y[3], 0.0
             if FLOATING_ARM and p.kind == FLOATING:
                 slides_powers(y[0], y[2], ta, th, hinge, p, out, MACHINE_WORK)
+                if p.mub > 0.0:
+                    out[MACHINE_BASE_WORK] = 0.0
             out[MACHINE_MODES + AXLE], out[MACHINE_MODES + HINGE], out[MACHINE_MODES + BASE] = 0.0, 0.0, 0.0
             return
         ddtheta, ddphi = machine_accelerations(y[0], y[1], y[2], y[3], p)
@@ -281,6 +288,8 @@ def slide_start(p, y):
     if FRICTION and lossy(p):
         y[SLIDE_WORK + AXLE], y[SLIDE_WORK + HINGE], y[SLIDE_WORK + BASE] = 0.0, 0.0, 0.0
         y[SLIDE_MODES + AXLE], y[SLIDE_MODES + HINGE], y[SLIDE_MODES + BASE] = rest_modes(p)
+        if FLOATING_ARM and p.kind == FLOATING and p.mub > 0.0:
+            y[SLIDE_BASE_WORK] = 0.0
 
 
 def swing_start(y, p, out):
@@ -291,6 +300,8 @@ def swing_start(y, p, out):
     out[0], out[1], out[2], out[3], out[4], out[5] = y[0], y[1], psi, y[2], y[3], dpsi
     if FRICTION and lossy(p):
         _carry_friction(y, SLIDE_WORK, SLIDE_MODES, out, SWING_WORK, SWING_MODES)
+        if FLOATING_ARM and p.kind == FLOATING and p.mub > 0.0:
+            out[SWING_BASE_WORK] = y[SLIDE_BASE_WORK]
         settle(SWING, out, p)
 
 
@@ -337,6 +348,8 @@ def machine_start(y, m, out):
     out[0], out[1], out[2], out[3] = y[0], y[1], y[3], y[4]
     if FRICTION and lossy(m):
         _carry_friction(y, SWING_WORK, SWING_MODES, out, MACHINE_WORK, MACHINE_MODES)
+        if FLOATING_ARM and m.kind == FLOATING and m.mub > 0.0:
+            out[MACHINE_BASE_WORK] = y[SWING_BASE_WORK]
         settle(MACHINE, out, m)
 
 
@@ -358,23 +371,23 @@ def machine_frame(y, m, momentum, start_time, start_y, start_x, time):
 def floating_supports(stage, y, p):
     """A floating arm's ``(track_y, guide_x)``, N (``analytic.eom.floating_supports_in_air``), at the
     stage-1 state ``[theta, phi, theta', phi']`` or the stage-2 state ``[theta, phi, psi, theta', phi', psi']``
-    (the axle's, the guide's and the track's friction and the drag during the swing included)."""
+    (the axle's, the guide's, the track's and the base's friction and the drag during the swing included)."""
     if FRICTION and lossy(p):
         solution = friction_solution(stage, y, p)
         ddtheta, ddpsi, normal = solution.ddtheta, solution.ddpsi, solution.normal
-        guide_friction, track_friction = solution.hinge_torque, solution.base_force
+        guide_friction, track_friction, base_friction = solution.hinge_torque, solution.base_force, solution.hinge_load
     else:
         ddtheta, _, ddpsi = accelerations(stage, y, p)
         normal = slide_accelerations(y[0], y[1], y[2], y[3], p).normal if stage == SLIDE else 0.0
-        guide_friction, track_friction = 0.0, 0.0
+        guide_friction, track_friction, base_friction = 0.0, 0.0, 0.0
     if stage == SLIDE:
         psi, dpsi, _, _, _ = slide_constraint(y[0], y[2], p)
         dtheta = y[2]
     else:
         psi, dtheta, dpsi = y[2], y[3], y[5]
     track_y, guide_x = floating_supports_in_air(y[0], psi, dtheta, dpsi, ddtheta, ddpsi, normal, p)
-    # Each support's normal force is the momentum's rate less the other support's friction [12.10].
-    return track_y - guide_friction, guide_x - track_friction
+    # Each support's normal force is the momentum's rate less the other supports' friction [12.10], [12.13].
+    return track_y - guide_friction, guide_x - track_friction - base_friction
 
 
 #: What ``loads_at`` returns, in order (``analytic.eom.Loads``): N, N, N, m/s^2, N m.
@@ -399,7 +412,8 @@ def loads_at(stage, y, p):
         solution = friction_solution(stage, y, p)
         ddtheta, ddphi, ddpsi, normal = solution.ddtheta, solution.ddphi, solution.ddpsi, solution.normal
         if FLOATING_ARM and p.kind == FLOATING:   # the guide's and the track's friction forces
-            return _floating_loads(stage, y, ddtheta, ddpsi, normal, solution.hinge_torque, solution.base_force, p)
+            return _floating_loads(stage, y, ddtheta, ddpsi, normal, solution.hinge_torque, solution.base_force,
+                                   solution.hinge_load, p)
         if stage == SLIDE:
             psi, dpsi, _, _, _ = slide_constraint(y[0], y[2], p)
             return loads_sliding(y[0], y[1], psi, y[2], y[3], dpsi, ddtheta, ddphi, ddpsi, normal,
@@ -413,17 +427,19 @@ def loads_at(stage, y, p):
     return loads(y[0], y[1], y[2], y[3], y[4], y[5], ddtheta, ddphi, ddpsi, 0.0, p)
 
 
-def _floating_loads(stage, y, ddtheta, ddpsi, normal, guide_friction, track_friction, p):
-    """``loads_at`` of a floating arm with friction: ``eom.loads``, with the axle's load the carriage's
-    ``(ft, T)`` and the counterweight's mount's less the guide's friction too [12.10]."""
+def _floating_loads(stage, y, ddtheta, ddpsi, normal, guide_friction, track_friction, base_friction, p):
+    """``loads_at`` of a floating arm with friction: ``eom.loads_sliding`` with the base's friction
+    ``base_friction`` (N, 0 off the base) [12.13], with the axle's load the carriage's ``(ft, T)`` and the
+    counterweight's mount's less the guide's friction too [12.10]."""
     if stage == SLIDE:
         psi, dpsi, _, _, _ = slide_constraint(y[0], y[2], p)
         theta, phi, dtheta, dphi = y[0], y[1], y[2], y[3]
     else:
         theta, phi, psi, dtheta, dphi, dpsi = y[0], y[1], y[2], y[3], y[4], y[5]
-    _, _, tension, felt, bending = loads(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, 0.0, ddpsi, normal, p)
-    _, track, mount_x, mount_y, _, _ = joint_forces(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, 0.0, ddpsi,
-                                                    normal, p)
+    _, _, tension, felt, bending = loads_sliding(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, 0.0, ddpsi, normal,
+                                                 base_friction, p)
+    _, track, mount_x, mount_y, _, _ = joint_forces_sliding(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, 0.0, ddpsi,
+                                                            normal, base_friction, p)
     track -= guide_friction
     mount_x += track_friction
     mount_y -= guide_friction

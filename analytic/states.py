@@ -27,7 +27,8 @@ stage  state y                                      events (value; counted direc
 
 With friction (``docs/derivation.md`` section 10) stages 1-2 and 4 carry six more
 entries after the stage's own (``FRICTION_STATE``): the work each friction dissipated
-(``SLIDE_WORK + AXLE`` ...), then the joints' modes (``SLIDE_MODES + AXLE`` ...). A
+(``SLIDE_WORK + AXLE`` ...), then the joints' modes (``SLIDE_MODES + AXLE`` ...); a floating
+arm with the base's friction one more, its base's work (``SLIDE_BASE_WORK`` ...). A
 friction event ends an integration, ``switch_mode`` writes the new modes into the
 state and the stage goes on from there. Without friction those events are a
 constant 1 and the state is as in the table.
@@ -74,6 +75,11 @@ FRICTION_WORK, FRICTION_MODES = 0, 3
 SLIDE_WORK, SLIDE_MODES = STATE_SIZE[SLIDE] + FRICTION_WORK, STATE_SIZE[SLIDE] + FRICTION_MODES
 SWING_WORK, SWING_MODES = STATE_SIZE[SWING] + FRICTION_WORK, STATE_SIZE[SWING] + FRICTION_MODES
 MACHINE_WORK, MACHINE_MODES = STATE_SIZE[MACHINE] + FRICTION_WORK, STATE_SIZE[MACHINE] + FRICTION_MODES
+#: A floating arm with the base's friction carries one entry more, after the modes: the base's work
+#: (its three work entries are the axle's, the guide's and the track's) [12.13].
+SLIDE_BASE_WORK, SWING_BASE_WORK, MACHINE_BASE_WORK = (STATE_SIZE[SLIDE] + FRICTION_STATE,
+                                                       STATE_SIZE[SWING] + FRICTION_STATE,
+                                                       STATE_SIZE[MACHINE] + FRICTION_STATE)
 #: Events of each stage, in their index order (indexed by stage number). The
 #: friction's (from ``arm_stalls`` and ``axle_stops`` on) are inert (a constant
 #: 1) for a design without that friction.
@@ -113,10 +119,28 @@ MODE_SWITCH_LIMIT = 2000
 
 def state_size(stage, p):
     """Length of ``stage``'s state for the design ``p``: ``STATE_SIZE`` plus, in stages 1-2
-    of a design with friction, ``FRICTION_STATE``."""
+    and 4 of a design with friction, ``FRICTION_STATE``, and one more for a floating arm's
+    base work (``floating_base``)."""
     if stage != FLIGHT and FRICTION and lossy(p):
-        return STATE_SIZE[stage] + FRICTION_STATE
+        return STATE_SIZE[stage] + FRICTION_STATE + (1 if floating_base(p) else 0)
     return STATE_SIZE[stage]
+
+
+def floating_base(p):
+    """Whether ``p`` is a floating arm with the base's (kinetic) friction, whose work its state carries
+    in one more entry (``SLIDE_BASE_WORK`` ...) [12.13]."""
+    return FLOATING_ARM and p.kind == FLOATING and p.mub > 0.0
+
+
+def friction_work(stage, y, p):
+    """The work the friction dissipated so far at ``stage``'s state ``y`` of a design with friction, J,
+    in ``outcome.friction_work_names``' order: the three work entries, then a floating arm's base's.
+    Python only (the paths' results)."""
+    core = STATE_SIZE[stage]
+    work = tuple(float(w) for w in y[core + FRICTION_WORK:core + FRICTION_WORK + 3])
+    if floating_base(p):
+        return (*work, float(y[core + FRICTION_STATE]))
+    return work
 
 
 def mode_slot(stage, joint):
@@ -161,7 +185,8 @@ class FrictionSolution(NamedTuple):
     A floating arm's [12.10]: ``axle_torque`` is the generalised force on theta of the axle's,
     the guide's and the track's friction together, N m; ``hinge_torque`` and ``base_force`` are
     the guide's and the track's friction forces, N (its hinge and base have none); ``axle_load``
-    is the hold of ``friction.slides_friction`` (``friction.static_arm`` is 1), ``hinge_load`` 0.
+    is the hold of ``friction.slides_friction`` (``friction.static_arm`` is 1), ``hinge_load`` the
+    base's friction force F, N (0 off the base) [12.13].
     """
 
     ddtheta: float

@@ -20,7 +20,7 @@ from analytic.design_space import default_problem, sample_designs
 class Case:
     """One design to run through both models; ``group`` is paper, exercise, failure, sample, rolling,
     friction, stage-1-events, fixed, floating-arm, floating-friction, swing-drag, ideal-release, trough,
-    target or file."""
+    target, floating-base-friction or file."""
 
     name: str
     design: Design
@@ -296,7 +296,7 @@ def floating_cases(sample: int = FLOATING_SAMPLE, seed: int = 0) -> list[Case]:
 
 #: A floating arm's slides with friction: the counterweight's guide and the axle's carriage on its
 #: track, greased hardwood on hardwood (Coulomb 0.2); with the axle's of ``REALISTIC_LOSSES``, every
-#: loss a floating arm has (no hinge; the base's friction is refused on it).
+#: loss of its supports (the base's is ``floating_base_friction_cases``').
 SLIDE_LOSSES = Losses(guide_friction=0.2, track_friction=0.2)
 FLOATING_LOSSES = dataclasses.replace(SLIDE_LOSSES, axle_friction=REALISTIC_LOSSES.axle_friction,
                                       axle_radius=REALISTIC_LOSSES.axle_radius)
@@ -327,6 +327,38 @@ def floating_friction_cases(seed: int = 0) -> list[Case]:
              for design, suffix, losses in variants]
     held = dataclasses.replace(table3, name=f"{table3.name}-held-by-its-track", losses=HELD_TRACK)
     return cases + [Case(held.name, held, "floating-friction", "never_fires")]
+
+
+#: A floating arm's projectile on the base with ``REALISTIC_LOSSES``' base friction, and with every loss
+#: of its supports (``FLOATING_LOSSES``), kinetic, and static ``STATIC_FACTOR`` times above.
+FLOATING_BASE_LOSSES = dataclasses.replace(FLOATING_LOSSES, base_friction=REALISTIC_LOSSES.base_friction)
+FLOATING_BASE_STATIC_LOSSES = dataclasses.replace(
+    FLOATING_STATIC_LOSSES, base_friction=REALISTIC_LOSSES.base_friction,
+    base_static_friction=STATIC_FACTOR * REALISTIC_LOSSES.base_friction)
+#: A base that holds the paper's floating arm throwing a 1.5 kg stone through the flat sling: static
+#: friction holds 11.8 N m against gravity's 7.8 N m at rest, the kinetic coefficient alone 5.9 N m
+#: (``analytic.friction.rest_balance``, ``tests/test_crosscheck_floating_base_friction.py``).
+HELD_BASE = Losses(base_friction=0.5, base_static_friction=1.0)
+HELD_BASE_STONE = 1.5
+
+
+def floating_base_friction_cases(seed: int = 0) -> list[Case]:
+    """Floating arms with the base's friction on their projectile: the paper's floating arm with the
+    base's alone, with its slides', with every loss (``FLOATING_BASE_LOSSES``) and with those static
+    (``FLOATING_BASE_STATIC_LOSSES``), the first sampled floating arm with every loss, and the paper's
+    throwing a stone its base holds at rest (``HELD_BASE``: it sticks, and never fires)."""
+    table3, sampled, _ = (case.design for case in floating_cases(sample=1, seed=seed))
+    base = Losses(base_friction=REALISTIC_LOSSES.base_friction)
+    slides = dataclasses.replace(SLIDE_LOSSES, base_friction=base.base_friction)
+    variants = [(table3, "base-friction", base), (table3, "base-and-slide-friction", slides),
+                (table3, "every-loss", FLOATING_BASE_LOSSES),
+                (table3, "every-loss-static", FLOATING_BASE_STATIC_LOSSES), (sampled, "every-loss", FLOATING_BASE_LOSSES)]
+    cases = [Case(f"{design.name}-{suffix}", dataclasses.replace(design, name=f"{design.name}-{suffix}",
+                                                                 losses=losses), "floating-base-friction")
+             for design, suffix, losses in variants]
+    held = _variant(table3, f"{table3.name}-held-by-its-base", projectile={"mass": HELD_BASE_STONE})
+    held = dataclasses.replace(held, losses=HELD_BASE)
+    return cases + [Case(held.name, held, "floating-base-friction", "never_fires")]
 
 
 #: The wind of the drag-during-swing cases with wind, m/s: a strong headwind and a strong
@@ -468,7 +500,7 @@ def default_suite(sample: int = 24, seed: int = 0) -> list[Case]:
     return (paper_cases() + exercise_cases() + failure_cases() + sample_cases(sample, seed) + rolling_cases()
             + friction_cases() + stage1_event_cases() + fixed_cases(seed=seed) + floating_cases(seed=seed)
             + floating_friction_cases(seed=seed) + swing_drag_cases() + ideal_release_cases()
-            + trough_cases() + target_cases())
+            + trough_cases() + target_cases() + floating_base_friction_cases(seed=seed))
 
 
 #: The quick suite's cases, by name: the paper's design as published, at 61 deg

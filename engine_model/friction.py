@@ -534,14 +534,16 @@ def axle_load_from_momentum(before: tuple, row: tuple, design: Design, base_forc
 def rates(sync: np.ndarray, qdot: np.ndarray, design: Design) -> np.ndarray:
     """Each friction joint's relative sliding rate at the rows of ``sync`` (n, 5; ``JOINTS``): the arm's
     turn on the frame (rad/s), the counterweight's (for a point counterweight, its link's) on the arm
-    (rad/s), the projectile's along the base and a floating arm's slides (``slide_rates``; m/s), as
-    magnitudes. ``qdot``: (n, 3) ``kinematics.coordinates``' rates."""
+    (rad/s), the projectile's along the base (a floating arm's on the ground: its base's) and a floating
+    arm's slides (``slide_rates``; m/s), as magnitudes. ``qdot``: (n, 3) ``kinematics.coordinates``' rates."""
     axle = np.abs(kin.column(sync, kin.ARM, kin.W) - kin.column(sync, kin.FRAME, kin.W))
     if design.machine.counterweight_inertia == 0.0 and design.machine.kind == "hinged":
         hinge = np.abs(qdot[:, 1])
     else:
         hinge = np.abs(kin.column(sync, kin.COUNTERWEIGHT, kin.W) - kin.column(sync, kin.ARM, kin.W))
-    base = np.abs(kin.column(sync, kin.PROJECTILE, kin.VX) - kin.column(sync, kin.FRAME, kin.VX))
+    # The base stands on the frame; a floating arm's frame columns are its carriage's, its base on the ground.
+    ground = design.machine.kind == "floating-arm"
+    base = np.abs(kin.column(sync, kin.PROJECTILE, kin.VX) - (0.0 if ground else kin.column(sync, kin.FRAME, kin.VX)))
     guide, track = (np.broadcast_to(np.abs(rate), axle.shape) for rate in slide_rates(sync.T, design))
     return np.column_stack([axle, hinge, base, guide, track])
 

@@ -157,20 +157,25 @@ LOSSY = {"guide": _with_losses(guide_friction=0.3),
                              guide_static_friction=0.4, track_static_friction=0.3, axle_static_friction=0.3)}
 
 
-@pytest.mark.parametrize("name", LOSSY)
-def test_the_energy_audit_closes_with_the_guides_and_the_tracks_friction(name):
+def _audited(design):
+    """The reference path's shot of ``design``, its energy audit closed, each friction's work taken
+    where the design has that friction (and reported as the history's last); the hinge's none."""
     from analytic.reference import simulate
 
-    shot = simulate(LOSSY[name])
+    shot = simulate(design)
     assert shot.ok
     e = shot.history.energy
     assert np.max(np.abs(e.total + e.lost)) <= AUDIT_TOL * shot.counterweight_energy_released
-    losses = LOSSY[name].losses
-    for loss in ("guide", "track"):
-        assert (shot.energy_dissipated[loss] > 0.0) == (getattr(losses, f"{loss}_friction") > 0.0), loss
-        assert shot.energy_dissipated[loss] == e.dissipated[loss][-1]
-    assert (shot.energy_dissipated["axle"] > 0.0) == (losses.axle_friction > 0.0)
-    assert shot.energy_dissipated["hinge"] == shot.energy_dissipated["base"] == 0.0
+    for loss in ("axle", "guide", "track", "base"):
+        assert (shot.energy_dissipated[loss] > 0.0) == (getattr(design.losses, f"{loss}_friction") > 0.0), loss
+        assert shot.energy_dissipated[loss] == (e.dissipated[loss][-1] if loss in e.dissipated else 0.0), loss
+    assert shot.energy_dissipated["hinge"] == 0.0
+    return shot
+
+
+@pytest.mark.parametrize("name", LOSSY)
+def test_the_energy_audit_closes_with_the_guides_and_the_tracks_friction(name):
+    _audited(LOSSY[name])
 
 
 def test_more_friction_takes_more_and_throws_shorter():
@@ -302,3 +307,164 @@ def test_a_held_machine_whose_slides_would_jam_slipping_is_held_not_failed():
     assert math.isnan(friction.slide_friction(p.theta0, p.phi0, 0.0, 0.0, -1.0, 0.0, 0.0, p)[0])
     for shot in (simulate(design), simulate_fast(design)):
         assert shot.status is Status.NEVER_FIRES, shot.message
+
+
+# --------------------------------------------------------------------------- #
+# The base's friction on a floating arm [12.13]
+# --------------------------------------------------------------------------- #
+
+#: The base's coefficients, alone and with the axle's, the guide's and the track's (``COEFFICIENTS``).
+BASE_COEFFICIENTS = {"base": dict(mub=0.4, mub_s=0.55),
+                     "base-and-slides": dict(COEFFICIENTS, mub=0.4, mub_s=0.55)}
+
+
+def _on_base(lagrangian, p, theta, dtheta):
+    """A stage-1 state ``(q4, qd4, s)`` from the base constraint, and the slide's rate ``D``: the
+    projectile's ground x velocity per unit theta' along the constraint, by sympy."""
+    psi, dpsi, s, _, _ = stages.slide_constraint(theta, dtheta, p)
+    q4 = (theta, 0.0, psi, 0.0)
+    slide = lagrangian.projectile(p, q4, (1.0, 0.0, s, 0.0))[1][0]
+    return q4, (dtheta, 0.0, dpsi, 0.0), s, slide
+
+
+def _base_residual(lagrangian, p, q4, qd4, acc, normal, q_theta, base_force):
+    """``M q'' - f - J^T N - Q`` over (theta, psi), Q the slides' on theta and the base's friction's virtual
+    work on the projectile's ground position (sympy's Jacobian, the axle's travel in it)."""
+    m, f = lagrangian.mass(p, q4, qd4), lagrangian.forcing(p, q4, qd4)
+    jacobian = lagrangian.base_jacobian(p, q4)
+    base = lagrangian.force_on_projectile(p, q4, (base_force, 0.0))
+    residual = (m @ acc - f - jacobian * normal - base)[[0, 2]] - [q_theta, 0.0]
+    return residual, float(np.max(np.abs(f))) + abs(q_theta) + abs(base_force) * (p.La + p.Lb + p.Ls)
+
+
+@pytest.mark.parametrize("i", range(len(SLIDE)))
+@pytest.mark.parametrize("losses", BASE_COEFFICIENTS)
+def test_the_bases_friction_is_coulombs_law_on_the_projectiles_ground_slide(lagrangian, i, losses):
+    """Stage 1, slipping clockwise, with the base's friction: ``F = -mub sb N`` against the projectile's
+    slide on the ground (the axle's travel included), its virtual work in the motion, the guide's normal
+    force less it, and the slides' Coulomb's law as before, against sympy."""
+    p, theta, dtheta = SLIDE[i]
+    p = p._replace(**BASE_COEFFICIENTS[losses])
+    dtheta = -abs(dtheta)
+    q4, qd4, s, slide = _on_base(lagrangian, p, theta, dtheta)
+    sb = float(np.sign(slide * dtheta))
+    solved = friction.slide_friction(theta, 0.0, dtheta, 0.0, -1.0, 0.0, sb, p)
+    ddtheta, _, normal, q_theta, fg, ft, _, base_force, dx = solved
+    _close(dx, slide, "D = dx_P/dtheta", p.La + p.Lb + p.Ls)
+    psi_rates = stages.slide_constraint(theta, dtheta, p)
+    acc = np.array([ddtheta, 0.0, s * ddtheta + psi_rates[3], 0.0])
+    residual, scale = _base_residual(lagrangian, p, q4, qd4, acc, normal, q_theta, base_force)
+    _close(residual, np.zeros(2), "M q'' - f - J^T N - Q", scale)
+    _close(base_force, -sb * p.mub * normal, "base friction F", abs(normal))
+    guide, track = _supports(lagrangian, p, q4, qd4, acc, normal, fg, ft)
+    guide -= base_force   # the base pushes the whole machine along x too
+    _, v_weight, v_axle = lagrangian.slides(p, q4, qd4, fg, ft)
+    scale = (p.mA + p.mW + p.mP) * p.g + abs(guide) + abs(track)
+    _close(fg, -np.sign(v_weight[1]) * p.mug * abs(guide), "guide friction fg", scale)
+    _close(ft, -np.sign(v_axle[0]) * p.mut * abs(track), "track friction ft", scale)
+    y = [theta, 0.0, dtheta, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, sb, 0.0]
+    _close(stages.floating_supports(states.SLIDE, y, p), [track, guide], "(T, G)", scale)
+
+
+@pytest.mark.parametrize("i", range(len(SLIDE)))
+@pytest.mark.parametrize("losses", BASE_COEFFICIENTS)
+def test_held_on_the_base_every_friction_is_at_its_static_limit(lagrangian, i, losses):
+    """Stage 1 held (the arm still, ``sa`` 0): theta'' = 0, the base's friction at its static limit
+    ``mub_s N`` against the clockwise slide, the slides' hold at their static limits with the guide's
+    force less F, and the friction's Q what holds the arm; against sympy."""
+    p, theta, _ = SLIDE[i]
+    p = p._replace(**BASE_COEFFICIENTS[losses])
+    q4, qd4, s, slide = _on_base(lagrangian, p, theta, 0.0)
+    sb = -float(np.sign(slide))   # the way a clockwise start slides it
+    ddtheta, _, normal, q_theta, _, _, hold, base_force, _ = friction.slide_friction(theta, 0.0, 0.0, 0.0, 0.0,
+                                                                                      0.0, sb, p)
+    assert ddtheta == 0.0
+    acc = np.array([0.0, 0.0, stages.slide_constraint(theta, 0.0, p)[3], 0.0])
+    residual, scale = _base_residual(lagrangian, p, q4, qd4, acc, normal, q_theta, base_force)
+    _close(residual, np.zeros(2), "M q'' - f - J^T N - Q held", scale)
+    _close(base_force, -sb * p.mub_s * normal, "F at its static limit", abs(normal))
+    if p.mug_s == 0.0 and p.mut_s == 0.0 and p.mua_s == 0.0:
+        return
+    # The slides' static limits at the held arm's forces, the guide's less F (fixed point, as ``_limit``).
+    sa = -1.0 if q_theta > 0.0 else 1.0
+    _, v_weight, v_axle = lagrangian.slides(p, q4, (sa, 0.0, 0.0, 0.0), 0.0, 0.0)
+    sg, st = np.sign(v_weight[1]), np.sign(v_axle[0])
+    fg = ft = 0.0
+    for _ in range(200):
+        guide, track = _supports(lagrangian, p, q4, qd4, acc, normal, fg, ft)
+        fg, ft = -sg * p.mug_s * abs(guide - base_force), -st * p.mut_s * abs(track)
+    _, track = _supports(lagrangian, p, q4, qd4, acc, normal, fg, ft)
+    limit = -sa * p.mua_s * p.ra * math.hypot(ft, track) + lagrangian.slides(p, q4, qd4, fg, ft)[0][0]
+    _close(hold, abs(limit), "the hold", abs(limit))
+
+
+@pytest.mark.parametrize("losses", BASE_COEFFICIENTS)
+def test_at_rest_the_base_holds_its_static_limit_through_the_flat_sling(lagrangian, losses):
+    """``rest_balance`` of a floating arm: gravity's drive as without the base, the base's hold
+    ``mub_s N |D|`` with D the projectile's ground slide per radian (sympy; the axle's travel in it),
+    and the slides' hold the held arm's (``slide_friction`` held)."""
+    p = params(load_design(TABLE3_FLOATING_FILE))._replace(**BASE_COEFFICIENTS[losses])
+    q4, _, _, slide = _on_base(lagrangian, p, p.theta0, 0.0)
+    drive, hold, base_hold = friction.rest_balance(p)
+    without = friction.rest_balance(p._replace(mub=0.0, mub_s=0.0))
+    assert drive == without[0]
+    held = friction.slide_friction(p.theta0, p.phi0, 0.0, 0.0, 0.0, 0.0, -float(np.sign(slide)), p)
+    _close(base_hold, p.mub_s * held.normal * abs(slide), "mub_s N |D|", abs(base_hold))
+    assert hold == held.axle_load
+    # The flat sling carries no weight: the base carries the projectile's.
+    _close(held.normal, p.mP * p.g, "N at rest", p.mP * p.g)
+
+
+#: Designs of the sample floating arm with the base's friction: alone, with every other friction,
+#: and with a static coefficient above its kinetic one.
+BASE_LOSSY = {"base": _with_losses(base_friction=0.3),
+              "base-static": _with_losses(base_friction=0.3, base_static_friction=0.6),
+              "base-and-slides": _with_losses(base_friction=0.3, guide_friction=0.2, track_friction=0.25,
+                                            axle_friction=0.2, axle_radius=0.02, guide_static_friction=0.4,
+                                            track_static_friction=0.3, axle_static_friction=0.3)}
+
+
+@pytest.mark.parametrize("name", BASE_LOSSY)
+def test_the_energy_audit_closes_with_the_bases_friction(name):
+    _audited(BASE_LOSSY[name])
+
+
+def test_more_base_friction_takes_more_on_the_base():
+    from analytic.reference import simulate
+
+    shots = [simulate(_with_losses(base_friction=mu), histories=False) for mu in (0.0, 0.3, 0.6)]
+    taken = [shot.energy_dissipated["base"] for shot in shots]
+    assert taken[0] == 0.0 < taken[1] < taken[2]
+
+
+def _heavy(design):
+    """``design`` throwing a 1.5 kg stone: a base can hold its arm through the flat sling at rest."""
+    return dataclasses.replace(design, projectile=dataclasses.replace(design.projectile, mass=1.5))
+
+
+#: A base that holds the sample machine throwing a 1.5 kg stone: gravity turns its arm with 7.8 N m
+#: at rest, and its base holds ``mub_s N |D|`` through the flat sling, 11.8 N m at a static coefficient
+#: of 1 and 5.9 N m at the kinetic 0.5 (``friction.rest_balance``; the test reads both).
+BASE_HELD = _heavy(_with_losses(base_friction=0.5, base_static_friction=1.0))
+
+
+@pytest.mark.parametrize("name", [*BASE_LOSSY, "held"])
+def test_the_two_paths_agree_with_the_bases_friction(name):
+    from test_analytic_fast import _assert_agree
+
+    _assert_agree(BASE_HELD if name == "held" else BASE_LOSSY[name])
+
+
+def test_a_machine_its_base_holds_at_rest_never_fires_and_says_why():
+    from analytic.reference import simulate
+
+    drive, hold, base = friction.rest_balance(params(BASE_HELD))
+    assert hold == 0.0 < drive <= base
+    for shot in (simulate(BASE_HELD), simulate_fast(BASE_HELD)):
+        assert shot.status is Status.NEVER_FIRES
+        assert "base" in shot.message, shot.message
+    # Its kinetic coefficient alone would not hold it: with the static one equal to it, it fires.
+    fires = _heavy(_with_losses(base_friction=0.5))
+    drive, _, base = friction.rest_balance(params(fires))
+    assert base < drive
+    assert simulate_fast(fires).status is not Status.NEVER_FIRES

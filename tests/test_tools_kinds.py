@@ -106,6 +106,22 @@ def test_a_sweep_of_a_fixed_design_shoots_fixed_machines(tmp_path, fixed):
         assert distance == pytest.approx(alone.range, rel=1e-12)
 
 
+def test_a_sweep_of_a_floating_arms_base_friction_shoots_each_friction(tmp_path):
+    from analytic.design import Losses
+    from support import TABLE3_FLOATING_FILE
+
+    sweep = sweep_from_dict({"design": str(TABLE3_FLOATING_FILE), "grid": {
+        "losses.base_friction": {"from": 0.0, "to": 0.6, "steps": 3}}})
+    run_sweep(sweep, tmp_path / "out")
+    table = read_table(tmp_path / "out").to_pandas()
+    floating = load_design(TABLE3_FLOATING_FILE)
+    distances = list(table["range"])
+    for mu, distance in zip(table["losses.base_friction"], distances, strict=True):
+        alone = simulate_fast(dataclasses.replace(floating, losses=Losses(base_friction=mu)))
+        assert distance == pytest.approx(alone.range, rel=1e-12)
+    assert len(set(distances)) == 3   # each friction throws its own range
+
+
 def test_a_sweep_of_a_fixed_problem_shoots_fixed_machines(tmp_path):
     data = _paper_problem_data()
     del data["variables"]["counterweight_link"]

@@ -251,3 +251,19 @@ def test_the_form_offers_a_trough_and_a_shot_on_one_is_the_reference_shot(client
     design["base"] = {"trough_height": "1 m"}   # above the pivot (0.5942 m)
     refused = client.post("/api/shot", json={"design": design})
     assert refused.status_code == 400 and refused.json()["field"] == "base.trough_height"
+
+
+def test_a_floating_arm_takes_the_bases_friction_on_the_page(client):
+    """The page's form shows ``losses.base_friction`` for every kind; a floating arm's is simulated
+    (no longer refused), as ``python -m analytic simulate`` throws it."""
+    import dataclasses
+
+    from analytic.design import Losses
+    from analytic.design_file import load_design
+    from support import TABLE3_FLOATING_FILE
+
+    design = dataclasses.replace(load_design(TABLE3_FLOATING_FILE), losses=Losses(base_friction=0.3))
+    answer = client.post("/api/shot", json={"design": json.loads(json.dumps(design_to_dict(design)))})
+    assert answer.status_code == 200, answer.json()
+    assert answer.json()["status"] == "ok"
+    assert answer.json()["range"] == _approx(simulate(design).range)

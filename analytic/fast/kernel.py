@@ -79,8 +79,8 @@ RESULT_DTYPE = np.dtype([
 RECORDING_DTYPE = np.dtype([
     ("next_sample", np.float64), ("spacing", np.float64), ("flight_spacing", np.float64),
     ("sample_limit", np.int64), ("rows", np.int64), ("ran_out", np.bool_)], align=True)
-#: The longest state a sample holds (stage 2 with friction).
-MAX_STATE = 12
+#: The longest state a sample holds (stage 2 with friction, a floating arm's with the base's work).
+MAX_STATE = 13
 #: A recorded sample: its time, its stage, and the stage's state (NaN past its length).
 SAMPLE_DTYPE = np.dtype([("t", np.float64), ("stage", np.int64), ("state", np.float64, (MAX_STATE,))],
                         align=True)

@@ -25,15 +25,14 @@ import numpy as np
 
 from analytic import eom, fast, stages, states
 from analytic.fast import kernel
-from analytic.outcome import Status, dissipated
+from analytic.outcome import Status, dissipated, friction_work_names
 from analytic.design import Design
 from analytic.friction import lossy
 from analytic.limits import DEFAULT_ATOL, DEFAULT_RTOL
 from analytic.parameters import params
 from analytic.reference import FLIGHT_OUTPUT_STEP, HISTORY_SAMPLE_LIMIT, SWING_OUTPUT_STEP, spacing_argument
 from analytic.result import Shot
-from analytic.states import (FLIGHT, FLIGHT_VX, FLIGHT_VY, FLIGHT_X, FLIGHT_Y, FRICTION_WORK, SLIDE, STATE_SIZE,
-                             SWING)
+from analytic.states import FLIGHT, FLIGHT_VX, FLIGHT_VY, FLIGHT_X, FLIGHT_Y, SLIDE, STATE_SIZE, SWING
 
 #: Rows of a recording beyond its grids': each stage's first and last sample.
 _EDGE_ROWS = 8
@@ -129,9 +128,9 @@ def _motion(samples: np.ndarray, p, landed: bool) -> Motion:
 def _completed(shot: Shot, motion: Motion, samples: np.ndarray, p) -> Shot:
     """``shot`` with the energies its recording gives (``simulate_motion``)."""
     last = samples[samples["stage"] != FLIGHT][-1]
-    core = STATE_SIZE[int(last["stage"])]
-    work = (tuple(float(w) for w in last["state"][core + FRICTION_WORK:core + FRICTION_WORK + 3]) if lossy(p)
-            else (0.0, 0.0, 0.0))
+    floating_base = states.floating_base(p)
+    work = (states.friction_work(int(last["stage"]), last["state"], p) if lossy(p)
+            else (0.0,) * len(friction_work_names(p.kind == eom.FLOATING, floating_base)))
     fields = {}
     drag = 0.0
     if shot.release_time is not None:
@@ -145,7 +144,7 @@ def _completed(shot: Shot, motion: Motion, samples: np.ndarray, p) -> Shot:
             drag = float(_flight_energy(release, p) - _flight_energy(samples["state"][-1, :STATE_SIZE[FLIGHT]], p))
     if shot.ok and not p.rolling:
         fields.update(frame_landing_displacement=0.0, frame_landing_velocity=0.0)
-    losses = dissipated(work, drag, _swing_drag(motion, p, work), p.kind == eom.FLOATING)
+    losses = dissipated(work, drag, _swing_drag(motion, p, work), p.kind == eom.FLOATING, floating_base)
     return dataclasses.replace(shot, energy_dissipated=losses, **fields)
 
 

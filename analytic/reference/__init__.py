@@ -515,13 +515,13 @@ def _events(stage: Stage, p: Params) -> tuple[Event, ...]:
 # --------------------------------------------------------------------------- #
 
 def _history(stage: Stage, segment: Segment, p: Params):
-    """Rows ``(t, stage, (theta, phi, psi, theta', phi', psi'), sling tension, (axle, hinge, base work),
-    stage state)`` of a segment."""
+    """Rows ``(t, stage, (theta, phi, psi, theta', phi', psi'), sling tension, the friction's work
+    (``states.friction_work``), stage state)`` of a segment."""
     core = states.STATE_SIZE[stage]
     full = (lambda y: eom.slide_state(*y[:core], p)) if stage is Stage.SLIDE else (lambda y: tuple(y[:core]))
     lossy = friction.lossy(p)
-    work = core + states.FRICTION_WORK
-    return [(t, stage, full(y), sling_tension_at(stage, y, p), tuple(y[work:work + 3]) if lossy else (0.0, 0.0, 0.0), y)
+    idle = (0.0,) * len(outcome.friction_work_names(p.kind == eom.FLOATING, states.floating_base(p)))
+    return [(t, stage, full(y), sling_tension_at(stage, y, p), states.friction_work(stage, y, p) if lossy else idle, y)
             for t, y in zip(segment.t.tolist(), segment.y.tolist(), strict=True)]   # Python floats: see stage_rhs
 
 
@@ -534,12 +534,12 @@ def jump_warning(force: float, time: float, gravity: float) -> str:
 
 def _dissipated(p: Params, segments, drag: float) -> dict[str, float]:
     """``Shot.energy_dissipated`` from the last segment of stages 1-2 (its friction states) and the drag's work."""
-    work = (0.0, 0.0, 0.0)
+    floating_base = states.floating_base(p)
+    work = (0.0,) * len(outcome.friction_work_names(p.kind == eom.FLOATING, floating_base))
     if segments and friction.lossy(p):
         stage, segment = segments[-1]
-        work_slots = states.STATE_SIZE[stage] + states.FRICTION_WORK
-        work = tuple(float(w) for w in segment.y_end[work_slots:work_slots + 3])
-    return outcome.dissipated(work, drag, swing_drag_work(segments, p), p.kind == eom.FLOATING)
+        work = states.friction_work(stage, segment.y_end, p)
+    return outcome.dissipated(work, drag, swing_drag_work(segments, p), p.kind == eom.FLOATING, floating_base)
 
 
 def _support_extremes(stage: np.ndarray, raw: list, p: Params) -> dict[str, float]:
@@ -608,9 +608,9 @@ def _with_history(design: Design, p: Params, history, segments, status: Status, 
 
 def _sampled(history, p: Params):
     """The stages' samples (``history``: each stage's rows of ``_history``) as arrays: times (n,), stages
-    (n,), coordinates and rates (n, 6), sling tension (n,), the friction's work (n, 3: axle, hinge,
-    base) and each sample's own stage state (a list). A shot that failed in its very first stretch
-    has one: the state at rest."""
+    (n,), coordinates and rates (n, 6), sling tension (n,), the friction's work (n, 3 or 4:
+    ``outcome.friction_work_names``) and each sample's own stage state (a list). A shot that failed in
+    its very first stretch has one: the state at rest."""
     rows = [row for part in history for row in part]
     if not rows:
         y1 = np.empty(states.state_size(Stage.SLIDE, p))
@@ -636,5 +636,6 @@ def _energy_budget(state_rows: list, work: np.ndarray, p: Params) -> tuple[Energ
         path[i, 0] += eom.frame_displacement(theta, phi, psi, p)   # on the ground, as the flight is
     energy = EnergyBudget(projectile=budget[:, 1], machine=budget[:, 0], total=budget.sum(axis=1),
                           dissipated={name: work[:, i] for i, name in
-                                      enumerate(outcome.friction_work_names(p.kind == eom.FLOATING))})
+                                      enumerate(outcome.friction_work_names(p.kind == eom.FLOATING,
+                                                                            states.floating_base(p)))})
     return energy, path
