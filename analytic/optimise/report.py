@@ -28,6 +28,10 @@ PURPORTED_RATIOS = (3.75, 1.0, 133.0)
 #: The same ratios of the paper's optimum as published (the paper's Table IV).
 PAPER_RATIOS = (2.91, 0.87, 143.0)
 
+#: What the report says of a problem under the ideal rule.
+IDEAL_NOTE = ("Release rule 'ideal': each design releases at its longest throw, so the release angle is no "
+              "variable (dropped from the search; each optimum's shot gives its launch angle, the pin to set "
+              "under the velocity rule: python -m analytic simulate optimum.toml)")
 #: Rows of the Table III analogue: label, machine attribute or variable, display unit.
 _DIMENSIONS = (("L_Al  long arm", "arm_long", "cm"), ("L_As  short arm", "arm_short", "cm"),
                ("L_S   sling", "sling_length", "cm"), ("L_W   weight link", "counterweight_link", "cm"),
@@ -68,12 +72,16 @@ def display(name: str, value):
 
 
 def dimensions(problem: Problem, values: np.ndarray) -> dict[str, float]:
-    """The design's Table III quantities in cm and deg, keyed as ``_DIMENSIONS``."""
+    """The design's Table III quantities in cm and deg, keyed as ``_DIMENSIONS`` (the release angle
+    NaN under the ideal rule, which has none)."""
     machine = design_at(problem, values).machine
     not_in_machine = {"clearance": values[2], "starting_angle": machine.starting_angle}
     result = {}
     for _, key, unit in _DIMENSIONS:
         value = not_in_machine[key] if key in not_in_machine else getattr(machine, key)
+        if value is None:   # the ideal rule's release angle: none, it finds its own release
+            result[key] = math.nan
+            continue
         result[key] = math.degrees(value) if unit == "deg" else 100.0 * value
     return result
 
@@ -110,6 +118,9 @@ def format_tables(problem: Problem, columns: list[tuple[str, np.ndarray, float]]
                         + (f"; static: {', '.join(static)}" if static else ""))
     dims = [dimensions(problem, values) for _, values, _ in columns]
     for label, key, unit in _DIMENSIONS:
+        if key == "release_angle" and problem.release_rule == "ideal":
+            lines.append(f"{label:<24}" + "".join(f"{'(ideal)':>{width}}" for _ in dims))
+            continue
         digits = 1 if unit == "deg" and key == "release_angle" else 2
         scale = 1.0 if unit == "deg" else per_cm
         lines.append(f"{label:<24}" + "".join(f"{d[key] * scale:>{width}.{digits}f}" for d in dims))
@@ -268,6 +279,7 @@ def format_report(result: Optimisation, system: str = "metric") -> str:
                  f"Machine: {problem.kind}. Columns: the paper's Table III machine with its counterweight "
                  f"bolted to the arm's end (the link's length added to the clearance), under this problem "
                  f"and our model; ") + "; ".join(f"our {label}" for label in optima),
+                *([IDEAL_NOTE] if problem.release_rule == "ideal" else []),
                 format_tables(problem, columns, system), format_constraints(problem, columns, system),
                 format_peaks(problem, {heading: result.peaks[label] for heading, label in
                                        [(paper_heading, PAPER_LABEL), *((label, label) for label in optima)]},
