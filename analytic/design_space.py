@@ -351,8 +351,12 @@ def problem_from_dict(data: dict[str, Any], name: str = "problem") -> Problem:
         variables = {**variables, "counterweight_link": {"value": 0.0}}   # rigid on the arm: no link
     release = read_values("release", require_table("release", data.get("release"), optional=True),
                           numbers=(), texts=("rule",))
-    if release.get("rule") == "ideal" and "release_angle" not in variables:
-        variables = {**variables, "release_angle": {"value": 0.0}}   # no variable: its own release
+    if release.get("rule") == "ideal":   # no variable: it finds its own release
+        entry = variables.get("release_angle")
+        if entry is None:
+            variables = {**variables, "release_angle": {"value": 0.0}}
+        elif isinstance(entry, dict) and "value" not in entry and entry.get("lower") != entry.get("upper"):
+            raise DesignError("variables.release_angle", entry, IDEAL_RELEASE_NOT_A_VARIABLE)   # as written
     constraints = read_values("constraints", require_table("constraints", data.get("constraints")),
                               numbers=_CONSTRAINT_KEYS, required=_CONSTRAINT_KEYS)
     counterweight = read_values("counterweight", require_table("counterweight", data.get("counterweight")),

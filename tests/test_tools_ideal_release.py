@@ -166,6 +166,7 @@ def test_an_ideal_problem_that_bounds_the_release_angle_is_refused():
     with pytest.raises(DesignError, match="ideal.*no variable") as error:
         problem_from_dict(data)
     assert error.value.field == "variables.release_angle"
+    assert error.value.value == {"lower": 10.0, "upper": 60.0}   # as the file wrote it (deg)
 
 
 def test_an_ideal_problem_has_no_robust_variant(tmp_path, capsys):
