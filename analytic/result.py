@@ -420,8 +420,8 @@ def ideal_range(design: Design) -> float:
 SHOT_COLUMNS = {
     "status": np.str_, "range": np.float64, "liftoff_time": np.float64, "release_time": np.float64,
     "landing_time": np.float64, "release_x": np.float64, "release_y": np.float64, "release_vx": np.float64,
-    "release_vy": np.float64, "launch_angle": np.float64, "apex_height": np.float64, "end_time": np.float64, "steps": np.int64,
-    "evaluations": np.int64, **{f"{name}{suffix}": np.float64 for name in PEAK_NAMES for suffix in ("", "_time")},
+    "release_vy": np.float64, "launch_angle": np.float64, "apex_height": np.float64, "end_time": np.float64,
+    "steps": np.int64, "evaluations": np.int64, **{f"{name}{suffix}": np.float64 for name in PEAK_NAMES for suffix in ("", "_time")},
 }
 
 

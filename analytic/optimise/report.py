@@ -23,6 +23,8 @@ if TYPE_CHECKING:
 PAPER_RANGE = 35.9
 #: Column of the paper's Table III design shot under the problem and our model.
 PAPER_LABEL = "paper, ours"
+#: Column of the paper's published Table III optimum (its numbers, not ours).
+PUBLISHED_LABEL = "paper"
 #: L_Al:L_As, L_S:L_Al, m_W:m_P "purported optimal" (the paper's Table I).
 PURPORTED_RATIOS = (3.75, 1.0, 133.0)
 #: The same ratios of the paper's optimum as published (the paper's Table IV).
@@ -118,8 +120,9 @@ def format_tables(problem: Problem, columns: list[tuple[str, np.ndarray, float]]
                         + (f"; static: {', '.join(static)}" if static else ""))
     dims = [dimensions(problem, values) for _, values, _ in columns]
     for label, key, unit in _DIMENSIONS:
-        if key == "release_angle" and problem.release_rule == "ideal":
-            lines.append(f"{label:<24}" + "".join(f"{'(ideal)':>{width}}" for _ in dims))
+        if key == "release_angle" and problem.release_rule == "ideal":   # the published optimum's is its own
+            lines.append(f"{label:<24}" + "".join(f"{math.degrees(values[5]):>{width}.1f}" if heading == PUBLISHED_LABEL
+                                                  else f"{'(ideal)':>{width}}" for heading, values, _ in columns))
             continue
         digits = 1 if unit == "deg" and key == "release_angle" else 2
         scale = 1.0 if unit == "deg" else per_cm
@@ -259,7 +262,7 @@ def format_report(result: Optimisation, system: str = "metric") -> str:
     problem, optima, ranges, scatter = result.problem, result.optima, result.ranges, result.scatter
     if problem.kind == "hinged":
         paper_heading = PAPER_LABEL
-        columns = [("paper", result.paper, PAPER_RANGE), (PAPER_LABEL, result.paper, ranges[PAPER_LABEL])]
+        columns = [(PUBLISHED_LABEL, result.paper, PAPER_RANGE), (PAPER_LABEL, result.paper, ranges[PAPER_LABEL])]
     else:   # the paper's machine, its counterweight bolted to the arm (``design_space.bolted``)
         paper_heading = f"paper, {problem.kind}"
         columns = [(paper_heading, result.paper, ranges[PAPER_LABEL])]

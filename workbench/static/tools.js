@@ -61,7 +61,8 @@ export function setupTools(state, api) {
     const result = await runJob(state, "best_pin", {}, api);
     if (!result) return;
     if (result.ideal) {   // nothing to scan: the shot's launch angle is the velocity rule's best pin
-      $("best-pin-result").textContent = result.value === null ? "not needed (the ideal rule): this design does not throw"
+      $("best-pin-result").textContent = result.value === null
+        ? "not needed (the ideal rule): this design does not throw"
         : `not needed: the ideal rule releases at the longest throw itself; for rule velocity set the pin to `
           + `${result.value.toFixed(2)} deg (${api.show(result.range, "length")})`;
       return;
