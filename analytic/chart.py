@@ -74,6 +74,8 @@ class Chart:
     range : (S,) m, NaN where the shot did not throw.
     loads : name (``LOAD_COLUMNS``) -> (S,) peak load, N, m/s^2 or N m, NaN where not reached.
     seconds : wall time of building and shooting the grid.
+    launch_angle : (S,) deg, NaN where the shot did not release, for a design whose
+        ``release_rule`` is ``ideal`` (each setting's pin to set); None for the other rules.
     """
 
     design: Design
@@ -83,6 +85,7 @@ class Chart:
     range: np.ndarray
     loads: dict[str, np.ndarray]
     seconds: float
+    launch_angle: np.ndarray | None = None
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -126,18 +129,25 @@ def chart(design: Design, varies: list[Vary]) -> Chart:
         designs.append(point)
     ranges = np.full(len(settings), math.nan)
     loads = {name: np.full(len(settings), math.nan) for name, _, _ in LOAD_COLUMNS}
+    ideal = design.machine.release_rule == "ideal"
+    launch = np.full(len(settings), math.nan) if ideal else None
     if designs:
         shots = fast.shoot(designs, loads=True)   # the chart draws them
         status[built] = shots.status
         ranges[built] = shots.range
         for name in loads:
             loads[name][built] = getattr(shots, name)
-    return Chart(design, tuple(varies), settings, status.astype(str), ranges, loads, time.perf_counter() - began)
+        if ideal:
+            launch[built] = np.degrees(shots.columns(("launch_angle",))["launch_angle"])
+    return Chart(design, tuple(varies), settings, status.astype(str), ranges, loads, time.perf_counter() - began,
+                 launch)
 
 
 def write_csv(result: Chart, path: str | Path) -> None:
-    """One row a design: the varied fields (file units), status, range (m), the peak loads."""
-    header = ([f"{v.field.name} [{v.field.unit}]" for v in result.varies] + ["status", "range [m]"]
+    """One row a design: the varied fields (file units), status, range (m), under the ideal rule
+    the launch angle (deg: the pin to set), the peak loads."""
+    launch = [] if result.launch_angle is None else ["launch_angle [deg]"]
+    header = ([f"{v.field.name} [{v.field.unit}]" for v in result.varies] + ["status", "range [m]"] + launch
               + [f"{name} [{unit}]" for name, unit, _ in LOAD_COLUMNS])
 
     def cell(value: float) -> str:
@@ -147,7 +157,8 @@ def write_csv(result: Chart, path: str | Path) -> None:
         writer = csv.writer(handle)
         writer.writerow(header)
         for i, row in enumerate(result.settings):
-            writer.writerow([repr(float(v)) for v in row] + [result.status[i], cell(result.range[i])]
+            launch = [] if result.launch_angle is None else [cell(result.launch_angle[i])]
+            writer.writerow([repr(float(v)) for v in row] + [result.status[i], cell(result.range[i])] + launch
                             + [cell(result.loads[name][i]) for name, _, _ in LOAD_COLUMNS])
 
 

@@ -35,6 +35,9 @@ VARIABLE_NAMES = ("arm_short", "counterweight_link", "clearance", "sling_length"
                   "starting_angle", "release_angle")
 #: Variables that are angles (degrees in files and tables, radians inside).
 ANGLE_VARIABLES = ("starting_angle", "release_angle")
+#: Why a problem under the ideal rule may not bound the release angle.
+IDEAL_RELEASE_NOT_A_VARIABLE = ("release.rule 'ideal' finds each design's release itself (its longest throw), "
+                                "so the release angle is no variable: leave release_angle out of [variables]")
 #: A seventh variable, present only when a rolling frame's mass is free between bounds, kg.
 FRAME_MASS = "frame_mass"
 
@@ -85,8 +88,9 @@ class Problem:
     counterweight_density : kg/m^3; the counterweight is a solid sphere of it.
     arm : the beam the arm is cut from.
     projectile, environment : as in a design.
-    release_rule : ``"velocity"``, ``"sling"`` (``analytic.geometry.release_value``) or ``"ideal"`` (the
-        release angle then a fixed variable, ignored: ``analytic.ideal``).
+    release_rule : ``"velocity"``, ``"sling"`` (``analytic.geometry.release_value``) or ``"ideal"``
+        (``analytic.ideal``: each design releases at its longest throw, so the release angle is no
+        variable: ``release_angle`` is fixed, its value ignored, and designs have none).
     base : the frame every design stands on (``analytic.design.Base``); with a
         ``frame_mass`` variable, its mass is the variable's.
     losses : the friction every design has (``analytic.design.Losses``, ``[losses]`` as in
@@ -160,10 +164,11 @@ class Problem:
                                       f"a {self.kind} machine has no link: its counterweight is rigid on "
                                       f"the arm; leave the variable out (or fix it at 0)")
                 continue
-            if variable.name == "release_angle" and self.release_rule == "ideal" and variable.lower != variable.upper:
-                raise DesignError("variables.release_angle", (variable.lower, variable.upper),
-                                  "release.rule 'ideal' finds its own release, so the release angle is "
-                                  "not a variable: fix it (lower = upper; its value is ignored)")
+            if variable.name == "release_angle" and self.release_rule == "ideal":
+                if not variable.fixed:
+                    raise DesignError("variables.release_angle", (variable.lower, variable.upper),
+                                      IDEAL_RELEASE_NOT_A_VARIABLE)
+                continue
             low, high = limits[variable.name]
             if not (low < variable.lower and variable.upper < high):
                 unit = "rad" if variable.name in ANGLE_VARIABLES else ("kg" if variable.name == FRAME_MASS else "m")
@@ -266,7 +271,9 @@ def design_at(problem: Problem, values: np.ndarray, name: str = "optimum") -> De
                       arm_mass=arm_mass, arm_cg=arm_cg, arm_inertia=arm_inertia,
                       counterweight_mass=problem.counterweight_mass, counterweight_link=link,
                       counterweight_inertia=problem.counterweight_inertia, sling_length=sling,
-                      release_angle=release_angle, release_rule=problem.release_rule, kind=problem.kind)
+                      # the ideal rule finds its own release: the angle is no variable, and a design has none
+                      release_angle=None if problem.release_rule == "ideal" else release_angle,
+                      release_rule=problem.release_rule, kind=problem.kind)
     return Design(machine, problem.projectile, problem.environment, name=name, base=base, losses=problem.losses)
 
 
@@ -325,7 +332,8 @@ def problem_from_dict(data: dict[str, Any], name: str = "problem") -> Problem:
 
     Each ``[variables]`` entry is ``{ lower = .., upper = .. }`` or ``{ value = .. }``
     (fixed); lengths in m, angles in degrees. ``[projectile]``, ``[environment]``
-    (optional) and ``[arm_beam]`` are read as in design files.
+    (optional) and ``[arm_beam]`` are read as in design files. Under ``[release]
+    rule = "ideal"`` the release angle is no variable: leave it out (a fixed value is ignored).
 
     Raises
     ------
@@ -341,12 +349,18 @@ def problem_from_dict(data: dict[str, Any], name: str = "problem") -> Problem:
     reject_unknown_keys("variables", variables, VARIABLE_NAMES)
     if kind != "hinged" and "counterweight_link" not in variables:
         variables = {**variables, "counterweight_link": {"value": 0.0}}   # rigid on the arm: no link
+    release = read_values("release", require_table("release", data.get("release"), optional=True),
+                          numbers=(), texts=("rule",))
+    if release.get("rule") == "ideal":   # no variable: it finds its own release
+        entry = variables.get("release_angle")
+        if entry is None:
+            variables = {**variables, "release_angle": {"value": 0.0}}
+        elif isinstance(entry, dict) and "value" not in entry and entry.get("lower") != entry.get("upper"):
+            raise DesignError("variables.release_angle", entry, IDEAL_RELEASE_NOT_A_VARIABLE)   # as written
     constraints = read_values("constraints", require_table("constraints", data.get("constraints")),
                               numbers=_CONSTRAINT_KEYS, required=_CONSTRAINT_KEYS)
     counterweight = read_values("counterweight", require_table("counterweight", data.get("counterweight")),
                                 numbers=("mass", "density"), required=("mass", "density"))
-    release = read_values("release", require_table("release", data.get("release"), optional=True),
-                          numbers=(), texts=("rule",))
     base, frame_mass = _base(data.get("base"))
     loads = require_table("loads", data.get("loads"), optional=True)
     reject_unknown_keys("loads", loads, _LOAD_KEYS + ("minimise",))

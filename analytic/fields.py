@@ -24,6 +24,10 @@ _TABLES = {"machine": Machine, "projectile": Projectile, "environment": Environm
            "losses": Losses}
 #: Fields of those dataclasses that are not numbers (choices), refused as fields to vary.
 _CHOICES = {"release_rule", "kind", "drag", "mobility", "drag_during_swing"}
+#: Why a tool refuses to vary ``machine.release_angle`` under the ideal rule.
+IDEAL_IGNORES_RELEASE_ANGLE = ("release_rule 'ideal' finds the release itself and ignores the release angle, so "
+                               "varying it changes nothing; vary another field, or set release_rule to "
+                               "'velocity' (the shot's launch_angle is the pin that throws as far)")
 
 
 @dataclass(frozen=True)
@@ -61,7 +65,10 @@ class Field:
         return math.degrees(value) if self.kind is ANGLE else float(value)
 
     def check(self, design: Design) -> float:
-        """The field's value in ``design`` (file units); ``DesignError`` if the design does not use it."""
+        """The field's value in ``design`` (file units); ``DesignError`` if the design does not use it
+        (a fixed frame's mass; the release angle of a design whose ``release_rule`` is ``ideal``)."""
+        if self.name == "machine.release_angle" and design.machine.release_rule == "ideal":
+            raise DesignError("field", self.name, IDEAL_IGNORES_RELEASE_ANGLE)
         value = self.get(design)
         if value is None:
             reason = ('the frame is fixed: give [base] mobility = "rolling" and a mass to vary it'

@@ -417,12 +417,13 @@ def ideal_range(design: Design) -> float:
 
 #: The columns of a table of shots (``Shots.columns``, ``Shots.to_arrow``, a sweep's Parquet files),
 #: in order, each with its numpy dtype: ``status`` is the ``Status`` value as text; the rest are
-#: SI (NaN where a shot did not get there), the release position and velocity by component.
+#: SI (NaN where a shot did not get there), the release position and velocity by component, and
+#: the launch angle (rad, ``Shot.launch_angle``: under the ideal rule, the pin to set).
 SHOT_COLUMNS = {
     "status": np.str_, "range": np.float64, "liftoff_time": np.float64, "release_time": np.float64,
     "landing_time": np.float64, "release_x": np.float64, "release_y": np.float64, "release_vx": np.float64,
-    "release_vy": np.float64, "apex_height": np.float64, "end_time": np.float64, "steps": np.int64,
-    "evaluations": np.int64, **{f"{name}{suffix}": np.float64 for name in PEAK_NAMES for suffix in ("", "_time")},
+    "release_vy": np.float64, "launch_angle": np.float64, "apex_height": np.float64, "end_time": np.float64,
+    "steps": np.int64, "evaluations": np.int64, **{f"{name}{suffix}": np.float64 for name in PEAK_NAMES for suffix in ("", "_time")},
 }
 
 
@@ -502,6 +503,8 @@ class Shots:
             if name in _COMPONENTS:
                 pair, k = _COMPONENTS[name]
                 return getattr(self, pair)[:, k]
+            if name == "launch_angle":   # Shot.launch_angle's arithmetic, row by row (NaN: no release)
+                return np.array([math.atan2(vy, vx) for vx, vy in self.release_velocity.tolist()])
             return getattr(self, name)
 
         return {name: np.asarray(column(name), dtype=SHOT_COLUMNS[name]) for name in names}

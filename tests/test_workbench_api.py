@@ -267,3 +267,56 @@ def test_a_floating_arm_takes_the_bases_friction_on_the_page(client):
     assert answer.status_code == 200, answer.json()
     assert answer.json()["status"] == "ok"
     assert answer.json()["range"] == _approx(simulate(design).range)
+
+
+def ideal_tables():
+    """The default design under the ideal release rule, as the page sends it (no release angle)."""
+    design = tables()
+    design["machine"]["release_rule"] = "ideal"
+    del design["machine"]["release_angle"]
+    return design
+
+
+def test_the_page_offers_the_ideal_rule_and_shoots_it(client):
+    from analytic.fast import simulate_fast
+    from analytic.geometry import RELEASE_RULES
+    from crosscheck.cases import ideal
+
+    rows = [row for group in client.get("/api/meta").json()["groups"] for row in group["fields"]]
+    assert next(r for r in rows if r["name"] == "machine.release_rule")["choices"] == list(RELEASE_RULES)
+    answer = client.post("/api/shot", json={"design": ideal_tables()})
+    assert answer.status_code == 200
+    data = answer.json()
+    expected = simulate_fast(ideal(default_design(), "ideal"))
+    assert data["status"] == "ok" and data["range"] == _approx(expected.range)
+    assert data["launch_angle"] == _approx(np.degrees(expected.launch_angle))
+    assert history_lands(data)
+
+
+def history_lands(data) -> bool:
+    """The drawn flight ends at the landing point (within the history's rounding to 10 um)."""
+    return abs(data["history"]["flight_path"][-1][0] - data["range"]) <= 1e-5
+
+
+def test_best_pin_on_an_ideal_design_is_its_launch_angle_without_a_scan(client):
+    from analytic.fast import simulate_fast
+    from analytic.fields import field
+
+    job = wait(client, client.post("/api/jobs", json={"tool": "best_pin", "design": ideal_tables(),
+                                                      "client": "i"}).json())
+    assert job["state"] == "done"
+    best = job["result"]
+    assert best["ideal"] is True and best["values"] == []
+    # The pin it gives, under the velocity rule, throws as far (tests/test_analytic_ideal_release.py).
+    pinned = field("machine.release_angle").replace(default_design(), best["value"])
+    assert simulate_fast(pinned).range == pytest.approx(best["range"], rel=1e-7)
+
+
+@pytest.mark.parametrize("tool", ["aim", "what_if"])
+def test_aim_and_what_if_refuse_the_release_angle_of_an_ideal_design(client, tool):
+    inputs = {"field": "machine.release_angle", "target": 30.0, "low": 20.0, "high": 60.0}
+    job = wait(client, client.post("/api/jobs", json={"tool": tool, "design": ideal_tables(), "inputs": inputs,
+                                                      "client": f"r{tool}"}).json())
+    assert job["state"] == "error"
+    assert job["error"]["field"] == "field" and "machine.release_angle" in job["error"]["error"]
+    assert "release_rule 'ideal'" in job["error"]["error"]

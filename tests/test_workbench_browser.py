@@ -535,3 +535,62 @@ def test_a_target_above_or_below_the_base_is_shown_in_feet_and_drawn(page, serve
     page.evaluate(f"window.workbench.state.t = {end}; window.workbench.draw()")
     page.get_by_test_id("stage").screenshot(path=SHOTS / f"target-{status}-{height:g}m-stage.png")
     page.get_by_test_id("units").select_option("metric")
+
+
+def test_the_ideal_rule_disables_the_release_angle_shoots_and_gives_the_pin(page, server, tmp_path):
+    open_page(page, server)
+    angle = page.locator('.field[data-field="machine.release_angle"]')
+    number = angle.locator("input[type=number]")
+    assert number.is_enabled() and angle.locator(".note").is_hidden()
+    count = shots(page)
+    page.select_option('[name="machine.release_rule"]', "ideal")
+    wait_for_next_shot(page, count)
+    wait_until_current(page)
+    # The release angle is kept (for another rule) but cannot be edited, and the page says why.
+    assert number.is_disabled() and angle.locator(".slider").is_disabled()
+    assert angle.locator(".note").inner_text() == "the ideal rule finds the release itself"
+    assert page.get_by_test_id("status").inner_text() == "ok"
+    design = page.evaluate("window.workbench.state.design")
+    assert design["machine"]["release_rule"] == "ideal"
+    shown, _ = range_shown(page)
+    # The ideal shot's own range, as python -m analytic simulate --json gives it for the page's design.
+    assert shown == pytest.approx(cli_range(design, tmp_path), abs=DISPLAY_ROUNDING)
+    launch = page.evaluate("window.workbench.state.shot.launch_angle")
+    assert f"set the pin to {launch:.1f} deg" in page.locator("#numbers").inner_text()
+    # The aim cannot pick the ignored angle; best pin says it is not needed and gives the pin.
+    assert page.locator('#aim-field option[value="machine.release_angle"]').is_disabled()
+    assert page.get_by_test_id("aim-field").input_value() != "machine.release_angle"
+    text = run_tool(page, "best-pin", "best-pin-result")
+    assert text.startswith("not needed") and f"{launch:.2f} deg" in text
+    # Back to the velocity rule: the field comes back, with its value.
+    count = shots(page)
+    page.select_option('[name="machine.release_rule"]', "velocity")
+    wait_for_next_shot(page, count)
+    wait_until_current(page)
+    assert number.is_enabled() and angle.locator(".note").is_hidden()
+    assert float(number.input_value()) == pytest.approx(43.4)   # paper_table3.toml's release angle
+    assert page.locator('#aim-field option[value="machine.release_angle"]').is_enabled()
+
+
+def test_leaving_the_ideal_rule_without_a_release_angle_pins_the_launch_angle(page, server):
+    """A shared link of an ideal design has no release angle; the velocity rule then takes the
+    shot's launch angle, the pin that throws as far."""
+    from urllib.parse import quote
+
+    from analytic.design_file import default_design, design_to_dict
+
+    tables = design_to_dict(default_design())
+    tables["machine"]["release_rule"] = "ideal"
+    del tables["machine"]["release_angle"]
+    open_page(page, f"{server}#design={quote(json.dumps(tables))}")
+    assert page.evaluate("window.workbench.state.design.machine.release_angle") is None
+    ideal_range, _ = range_shown(page)
+    launch = page.evaluate("window.workbench.state.shot.launch_angle")
+    count = shots(page)
+    page.select_option('[name="machine.release_rule"]', "velocity")
+    wait_for_next_shot(page, count)
+    wait_until_current(page)
+    number = page.locator('.field[data-field="machine.release_angle"] input[type=number]')
+    assert float(number.input_value()) == pytest.approx(launch, abs=5e-4)   # six figures
+    # The pin at the launch angle throws as far (tests/test_analytic_ideal_release.py), to the readout's cm.
+    assert range_shown(page)[0] == pytest.approx(ideal_range, abs=0.01)

@@ -26,8 +26,11 @@ GROUPS = (
         ("counterweight_inertia", "The counterweight's moment of inertia about its own centre."),
         ("sling_length", "Arm tip to the projectile's centre, along the sling."),
         ("release_angle", "When the sling lets go: the projectile's flight direction above horizontal "
-                          "(rule velocity), or the sling-to-arm angle (rule sling). The pin's setting."),
-        ("release_rule", "What the release angle measures: velocity direction, or sling-to-arm angle."),
+                          "(rule velocity), or the sling-to-arm angle (rule sling). The pin's setting. "
+                          "Not used by rule ideal."),
+        ("release_rule", "What the release angle measures: velocity direction, or sling-to-arm angle; or "
+                         "ideal: release at the instant that throws farthest (its launch angle is the pin "
+                         "to set for rule velocity)."),
     )),
     ("Projectile", "projectile", (
         ("mass", "Mass of the projectile."),

@@ -55,10 +55,20 @@ def _ranges(design: Design, target: Field, values: np.ndarray, job: Job, loads: 
 
 
 def best_pin(design: Design, inputs: dict[str, Any], job: Job) -> dict[str, Any]:
-    """The release angle of the longest range: a scan over the rule's span, then a bounded refinement."""
+    """The release angle of the longest range: a scan over the rule's span, then a bounded refinement.
+
+    A design whose ``release_rule`` is ``ideal`` needs no scan: it already releases at its longest
+    throw, and its shot's launch angle is the velocity rule's best pin (``docs/guide/design-files.md``).
+    The answer then says so (``"ideal": true``, ``value`` that launch angle, deg) and scans nothing.
+    """
     from scipy.optimize import minimize_scalar
 
     target = field("machine.release_angle")
+    if design.machine.release_rule == "ideal":
+        shot = fast.simulate_fast(design, loads=False)
+        angle = shot.launch_angle if shot.ok else None
+        return {"field": target.name, "ideal": True, "value": None if angle is None else math.degrees(angle),
+                "range": shot.range if shot.ok else None, "values": [], "ranges": []}
     low, high = default_bounds(target, design)
     values = np.linspace(low, high, BEST_PIN_POINTS)
     ranges, _, _ = _ranges(design, target, values, job)

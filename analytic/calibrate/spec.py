@@ -384,6 +384,11 @@ def _validity(name: str, target: Field | None, spec: CalibrationSpec) -> tuple[f
 
 def _parameter(name: str, spec: CalibrationSpec, start: Any, bounds: Any) -> Parameter:
     if name == RELEASE_ANGLE_OFFSET:
+        for shot in spec.shots:
+            if shot.design.machine.release_rule == "ideal":
+                raise DesignError("fit", name, f"{shot.label} ({shot.design_file}) has release_rule 'ideal', "
+                                               f"which finds the release itself and ignores the release angle: "
+                                               f"an offset to it changes nothing; leave {name} out of fit")
         target, unit, default, scale = None, "deg", 0.0, 1.0
     else:
         target = field("projectile.drag_factor" if name == DRAG_FACTOR else name)

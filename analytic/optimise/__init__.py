@@ -26,6 +26,9 @@ from analytic.optimise.robust import DEFAULT_NODES, Scatter, release_scatter
 from analytic.optimise.search import Optimum, Settings, maximise
 from analytic.optimise.sensitivity import Sensitivity, scan
 
+#: Why a problem under the ideal release rule has no robust variant.
+IDEAL_NO_SCATTER = "release.rule 'ideal' finds each design's release itself: there is no set release angle to scatter"
+
 __all__ = ["Optimisation", "Problem", "default_problem", "load_problem", "optimise"]
 
 
@@ -110,12 +113,14 @@ def optimise(problem: Problem, *, seed: int = 0, robust_sigma: float | None = No
         For a ``robust_sigma`` that is not a positive angle, fewer than one
         node, an unknown path or fewer than one worker; or a ``robust_sigma`` with a
         problem that limits or minimises loads (not offered: the loads are the
-        nominal shot's).
+        nominal shot's), or with a problem under the ideal release rule (no release angle to scatter).
     """
     if robust_sigma is not None and not (math.isfinite(robust_sigma) and robust_sigma > 0.0):
         raise ValueError(f"robust_sigma = {robust_sigma!r}: must be a positive angle in rad")
     if robust_sigma is not None and problem.outcome_constraints:
         raise ValueError("robust_sigma: a problem with [loads] is optimised for the nominal shot only")
+    if robust_sigma is not None and problem.release_rule == "ideal":
+        raise ValueError(f"robust_sigma: {IDEAL_NO_SCATTER}")
     began = time.perf_counter()
     settings = Settings(seed=seed)
     scatter = None if robust_sigma is None else release_scatter(robust_sigma, nodes)

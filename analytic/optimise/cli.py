@@ -19,7 +19,7 @@ from analytic.cli_shared import (EXIT_INVALID, EXIT_OK, OutputPathError, output_
                                  units_argument)
 from analytic.design import KINDS, DesignError
 from analytic.design_file import chosen_units, save_design
-from analytic.optimise import Optimisation, optimise
+from analytic.optimise import IDEAL_NO_SCATTER, Optimisation, optimise
 from analytic.optimise.evaluate import DEFAULT_PROCESSES, PATHS
 from analytic.design_space import default_problem, design_at, load_problem, with_kind
 from analytic.optimise.report import format_report
@@ -73,6 +73,9 @@ def run(args: argparse.Namespace) -> int:
     if args.robust is not None and problem.outcome_constraints:
         print(f"invalid --robust {args.robust!r}: a problem with [loads] is optimised for the nominal shot only",
               file=sys.stderr)
+        return EXIT_INVALID
+    if args.robust is not None and problem.release_rule == "ideal":
+        print(f"invalid --robust {args.robust!r}: {IDEAL_NO_SCATTER}", file=sys.stderr)
         return EXIT_INVALID
     if args.nodes < 1 or (args.workers is not None and args.workers < 1):
         print("invalid --nodes / --workers: must be at least 1", file=sys.stderr)

@@ -23,11 +23,17 @@ if TYPE_CHECKING:
 PAPER_RANGE = 35.9
 #: Column of the paper's Table III design shot under the problem and our model.
 PAPER_LABEL = "paper, ours"
+#: Column of the paper's published Table III optimum (its numbers, not ours).
+PUBLISHED_LABEL = "paper"
 #: L_Al:L_As, L_S:L_Al, m_W:m_P "purported optimal" (the paper's Table I).
 PURPORTED_RATIOS = (3.75, 1.0, 133.0)
 #: The same ratios of the paper's optimum as published (the paper's Table IV).
 PAPER_RATIOS = (2.91, 0.87, 143.0)
 
+#: What the report says of a problem under the ideal rule.
+IDEAL_NOTE = ("Release rule 'ideal': each design releases at its longest throw, so the release angle is no "
+              "variable (dropped from the search; each optimum's shot gives its launch angle, the pin to set "
+              "under the velocity rule: python -m analytic simulate optimum.toml)")
 #: Rows of the Table III analogue: label, machine attribute or variable, display unit.
 _DIMENSIONS = (("L_Al  long arm", "arm_long", "cm"), ("L_As  short arm", "arm_short", "cm"),
                ("L_S   sling", "sling_length", "cm"), ("L_W   weight link", "counterweight_link", "cm"),
@@ -68,12 +74,16 @@ def display(name: str, value):
 
 
 def dimensions(problem: Problem, values: np.ndarray) -> dict[str, float]:
-    """The design's Table III quantities in cm and deg, keyed as ``_DIMENSIONS``."""
+    """The design's Table III quantities in cm and deg, keyed as ``_DIMENSIONS`` (the release angle
+    NaN under the ideal rule, which has none)."""
     machine = design_at(problem, values).machine
     not_in_machine = {"clearance": values[2], "starting_angle": machine.starting_angle}
     result = {}
     for _, key, unit in _DIMENSIONS:
         value = not_in_machine[key] if key in not_in_machine else getattr(machine, key)
+        if value is None:   # the ideal rule's release angle: none, it finds its own release
+            result[key] = math.nan
+            continue
         result[key] = math.degrees(value) if unit == "deg" else 100.0 * value
     return result
 
@@ -110,6 +120,10 @@ def format_tables(problem: Problem, columns: list[tuple[str, np.ndarray, float]]
                         + (f"; static: {', '.join(static)}" if static else ""))
     dims = [dimensions(problem, values) for _, values, _ in columns]
     for label, key, unit in _DIMENSIONS:
+        if key == "release_angle" and problem.release_rule == "ideal":   # the published optimum's is its own
+            lines.append(f"{label:<24}" + "".join(f"{math.degrees(values[5]):>{width}.1f}" if heading == PUBLISHED_LABEL
+                                                  else f"{'(ideal)':>{width}}" for heading, values, _ in columns))
+            continue
         digits = 1 if unit == "deg" and key == "release_angle" else 2
         scale = 1.0 if unit == "deg" else per_cm
         lines.append(f"{label:<24}" + "".join(f"{d[key] * scale:>{width}.{digits}f}" for d in dims))
@@ -248,7 +262,7 @@ def format_report(result: Optimisation, system: str = "metric") -> str:
     problem, optima, ranges, scatter = result.problem, result.optima, result.ranges, result.scatter
     if problem.kind == "hinged":
         paper_heading = PAPER_LABEL
-        columns = [("paper", result.paper, PAPER_RANGE), (PAPER_LABEL, result.paper, ranges[PAPER_LABEL])]
+        columns = [(PUBLISHED_LABEL, result.paper, PAPER_RANGE), (PAPER_LABEL, result.paper, ranges[PAPER_LABEL])]
     else:   # the paper's machine, its counterweight bolted to the arm (``design_space.bolted``)
         paper_heading = f"paper, {problem.kind}"
         columns = [(paper_heading, result.paper, ranges[PAPER_LABEL])]
@@ -268,6 +282,7 @@ def format_report(result: Optimisation, system: str = "metric") -> str:
                  f"Machine: {problem.kind}. Columns: the paper's Table III machine with its counterweight "
                  f"bolted to the arm's end (the link's length added to the clearance), under this problem "
                  f"and our model; ") + "; ".join(f"our {label}" for label in optima),
+                *([IDEAL_NOTE] if problem.release_rule == "ideal" else []),
                 format_tables(problem, columns, system), format_constraints(problem, columns, system),
                 format_peaks(problem, {heading: result.peaks[label] for heading, label in
                                        [(paper_heading, PAPER_LABEL), *((label, label) for label in optima)]},

@@ -24,8 +24,9 @@ from analytic.result import arrow_table
 SETTINGS_NAME = "_sweep.json"
 #: Where ``--report`` writes unless told otherwise (skipped by pyarrow's dataset discovery).
 REPORT_NAME = "_report"
-#: Version of this layout; a folder of another version is refused, not misread.
-FORMAT = 1
+#: Version of this layout; a folder of another version is refused, not misread (2: the chunks hold
+#: the ``launch_angle`` column).
+FORMAT = 2
 #: The settings that decide a sweep's numbers (its name does not).
 IDENTITY = ("format", "sweep", "model")
 _CHUNK = re.compile(r"chunk-(\d{6,})\.parquet")

@@ -34,6 +34,7 @@ import numpy as np
 
 from analytic.design import DesignError, MissingValueError, require_choice, require_number
 from analytic.design_file import design_from_dict, read_toml, reject_unknown_keys, require_table
+from analytic.fields import IDEAL_IGNORES_RELEASE_ANGLE
 from analytic.units import registry
 from analytic.sweep.distributions import MIN_WINDOW_PROBABILITY, Distribution, Normal, Uniform
 from analytic.sweep.spec import (ANGLE_FIELDS, DEFAULT_CHUNK_SIZE, FIELD_UNITS, METHODS, TEST_FUNCTIONS, Axis, Base,
@@ -149,6 +150,8 @@ def _base(data: dict, directory: Path | None) -> Base:
         machine["kind"] = problem.kind
     bounds = {}
     for variable in problem.variables:
+        if variable.name == "release_angle" and problem.release_rule == "ideal":
+            continue   # no variable: the rule finds its own release
         lower, upper = ((math.degrees(variable.lower), math.degrees(variable.upper))
                         if variable.name in ANGLE_VARIABLES else (variable.lower, variable.upper))
         if variable.fixed:
@@ -198,6 +201,8 @@ def _entries(table_name: str, table: Any, base: Base) -> dict[str, dict]:
             if table_name == "sample" and not prefix and key in _SAMPLE_SETTINGS:
                 continue
             if field in known:
+                if field == "machine.release_angle" and base.data.get("machine", {}).get("release_rule") == "ideal":
+                    raise DesignError(f"{table_name}.{field}", entry, IDEAL_IGNORES_RELEASE_ANGLE)
                 entries[field] = require_table(f"{table_name}.{field}", entry)
             elif isinstance(entry, dict) and not set(entry) & set(_ENTRY_KEYS) and any(
                     name.startswith(f"{field}.") for name in known):

@@ -1,7 +1,7 @@
 // The workbench page: the design form, live shots (latest wins), the stage's playback, readouts, files and links.
 import {buildForm, fillForm, round, setValue, showError, shownValue, unitLabel} from "./form.js";
 import {drawStage, duration} from "./stage.js";
-import {setupTools} from "./tools.js";
+import {followRule, setupTools} from "./tools.js";
 
 const $ = (id) => document.getElementById(id);
 export const state = {meta: null, presets: [], design: null, system: "metric", shot: null, ghosts: [],
@@ -84,6 +84,9 @@ function readouts(s) {
   const rows = [
     ["release speed", show(s.release_speed, "speed")],
     ["launch angle", s.launch_angle === null ? "–" : `${s.launch_angle.toFixed(1)} deg`],
+    // The ideal rule's launch angle is the velocity rule's pin that throws as far.
+    ...(state.design.machine.release_rule === "ideal" && s.launch_angle !== null
+      ? [["release pin", `set the pin to ${s.launch_angle.toFixed(1)} deg (rule velocity)`]] : []),
     ["apex", show(s.apex_height, "length")],
     ["flight time", s.flight_time === null ? "–" : `${s.flight_time.toFixed(3)} s`],
     ["energy efficiency", percent(s.energy_efficiency)],
@@ -157,6 +160,7 @@ export function loadDesign(design, system = null) {
   state.twin = null;   // the engine's shot was of the design before
   if (system) setSystem(system);
   fillForm($("fields"), state.design, state.meta.units, state.system);
+  followRule(state.design);
   requestShot();
 }
 
@@ -173,7 +177,22 @@ function onField(name, value) {
   state.inputAt = performance.now();
   state.twin = null;
   if (name === "machine.kind") return changeKind(value);
+  if (name === "machine.release_rule") return changeRule(value);
   setValue(state.design, name, value);
+  requestShot();
+}
+
+// The ideal rule ignores the release angle: its row is disabled (the value kept for another rule).
+// Leaving the ideal rule for the velocity rule with no release angle set takes the last shot's
+// launch angle, the pin that throws as far.
+function changeRule(rule) {
+  const m = state.design.machine;
+  m.release_rule = rule;
+  if (rule === "velocity" && m.release_angle === undefined && state.shot?.launch_angle != null) {
+    m.release_angle = round(state.shot.launch_angle);
+  }
+  fillForm($("fields"), state.design, state.meta.units, state.system);
+  followRule(state.design);
   requestShot();
 }
 

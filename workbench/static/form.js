@@ -8,6 +8,8 @@ const FIXED_SPANS = {
   "losses.base_static_friction": [0, 1], "losses.guide_friction": [0, 1], "losses.track_friction": [0, 1],
   "losses.guide_static_friction": [0, 1], "losses.track_static_friction": [0, 1], "projectile.drag_factor": [0, 3],
 };
+// Why the release angle's row is disabled under the ideal rule (the value is kept for another rule).
+export const IDEAL_NOTE = "the ideal rule finds the release itself";
 // A positive value's slider spans value / SPREAD to value * SPREAD.
 const SPREAD = 3;
 const STEPS = 400;
@@ -73,7 +75,7 @@ function fieldRow(field, onChange) {
   row.innerHTML = `<label for="${id}">${field.key.replaceAll("_", " ")}</label>${help}
     <input type="range" class="slider" min="0" max="${STEPS}" aria-label="${field.key} slider">
     <input type="number" id="${id}" name="${field.name}" step="any">
-    <span class="unit"></span><p class="error" hidden></p>`;
+    <span class="unit"></span><p class="note" hidden></p><p class="error" hidden></p>`;
   row.querySelector(".slider").addEventListener("input", () => row.onSlide());
   row.querySelector("input[type=number]").addEventListener("input", (e) => row.onType(e.target.value));
   row.onChange = onChange;
@@ -92,6 +94,11 @@ export function fillForm(form, design, units, system) {
       row.querySelector("select").value = value ?? row.querySelector("select").options[0].value;
       continue;
     }
+    // The ideal rule ignores the release angle: its row stays, disabled, with the reason.
+    const unused = name === "machine.release_angle" && design.machine.release_rule === "ideal";
+    for (const input of row.querySelectorAll("input")) input.disabled = unused;
+    row.querySelector(".note").hidden = !unused;
+    row.querySelector(".note").textContent = unused ? IDEAL_NOTE : "";
     const kind = row.dataset.kind;
     const number = row.querySelector("input[type=number]");
     const slider = row.querySelector(".slider");

@@ -60,6 +60,13 @@ export function setupTools(state, api) {
   $("best-pin").addEventListener("click", async () => {
     const result = await runJob(state, "best_pin", {}, api);
     if (!result) return;
+    if (result.ideal) {   // nothing to scan: the shot's launch angle is the velocity rule's best pin
+      $("best-pin-result").textContent = result.value === null
+        ? "not needed (the ideal rule): this design does not throw"
+        : `not needed: the ideal rule releases at the longest throw itself; for rule velocity set the pin to `
+          + `${result.value.toFixed(2)} deg (${api.show(result.range, "length")})`;
+      return;
+    }
     if (result.value === null) { $("best-pin-result").textContent = "no release angle throws"; return; }
     $("best-pin-result").textContent = `${result.value.toFixed(2)} deg: ${api.show(result.range, "length")}`;
     adoptValue(state, api, "machine.release_angle", result.value);
@@ -141,6 +148,20 @@ export function setupTools(state, api) {
     if (result.engine?.history.flight_path.length) state.ghosts.push({path: result.engine.history.flight_path, engine: true});
     api.draw();
   });
+}
+
+// The tools' field choices under the design's rule: the ideal rule ignores the release angle, so it
+// is not offered (an aim or sweep over it would change nothing); a choice of it moves to the
+// counterweight's mass.
+export function followRule(design) {
+  const ideal = design.machine.release_rule === "ideal";
+  for (const select of [$("aim-field"), $("whatif-field")]) {
+    const option = select.querySelector('option[value="machine.release_angle"]');
+    if (!option) continue;
+    option.disabled = ideal;
+    option.title = ideal ? "the ideal rule finds the release itself" : "";
+    if (ideal && select.value === option.value) select.value = "machine.counterweight_mass";
+  }
 }
 
 // Each optimum: its axle-load cap, range and peak axle load, and a button that adopts its design.
