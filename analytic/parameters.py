@@ -43,6 +43,8 @@ mug, mut    the floating arm's guide and track Coulomb           losses.guide_fr
             coefficients
 mug_s,      their static coefficients (each at least its         losses.guide_static_friction,
 mut_s       kinetic one; the kinetic one when not given)         track_static_friction
+mS, mQ      sling mass (a uniform rod, tip to projectile) and    machine.sling_mass, pouch_mass
+            pouch mass (a point at the projectile), kg
 ==========  ===================================================  ==========================
 """
 
@@ -102,6 +104,8 @@ class Params(NamedTuple):
     mut: float
     mug_s: float
     mut_s: float
+    mS: float
+    mQ: float
 
 
 #: Length of a design row (``Params`` in order).
@@ -112,7 +116,7 @@ def params(design) -> Params:
     """The ``Params`` of an ``analytic.design.Design``.
 
     Built positionally, one line per group of fields in ``Params``' order (a keyword call of
-    40 fields costs about three times as much, on every fast-path shot);
+    42 fields costs about three times as much, on every fast-path shot);
     ``tests/test_analytic_parameters.py`` checks each field against its design field by name.
     """
     m, proj, env, losses, base = design.machine, design.projectile, design.environment, design.losses, design.base
@@ -134,10 +138,11 @@ def params(design) -> Params:
         float(KINDS.index(m.kind)), float(proj.drag_during_swing),                          # kind drag_swing
         losses.guide_friction, losses.track_friction,                                       # mug mut
         static_coefficient(losses.guide_static_friction, losses.guide_friction),            # mug_s
-        static_coefficient(losses.track_static_friction, losses.track_friction)))           # mut_s
+        static_coefficient(losses.track_static_friction, losses.track_friction),            # mut_s
+        m.sling_mass, m.pouch_mass))                                                        # mS mQ
 
 
 #: ``Params`` as a numpy record type, field for field: the compiled kernel reads each design row
 #: through it in place (``kernel.params``); numba passes a record to a function as one pointer,
-#: a ``Params`` tuple as its 40 numbers.
+#: a ``Params`` tuple as its 42 numbers.
 PARAMS_DTYPE = np.dtype([(name, np.float64) for name in Params._fields])

@@ -35,7 +35,7 @@ PARAM_OF_FIELD = {
     "environment.air_density": "rho", "environment.air_viscosity": "mu", "environment.wind_speed": "wind",
     "losses.axle_friction": "mua", "losses.axle_radius": "ra", "losses.hinge_friction": "muh",
     "losses.hinge_radius": "rh", "losses.base_friction": "mub", "losses.guide_friction": "mug",
-    "losses.track_friction": "mut",
+    "losses.track_friction": "mut", "machine.sling_mass": "mS", "machine.pouch_mass": "mQ",
 }
 _COLUMN = {name: i for i, name in enumerate(Params._fields)}
 _PAPER_INPUTS = ("machine.arm_short", "machine.counterweight_link", "machine.clearance", "machine.starting_angle")

@@ -24,7 +24,7 @@ SWEEP_FIELDS = (
     "projectile.mass", "projectile.diameter", "projectile.drag_coefficient", "projectile.drag_factor",
     "environment.gravity", "environment.air_density", "environment.air_viscosity", "environment.wind_speed",
     "losses.axle_friction", "losses.axle_radius", "losses.hinge_friction", "losses.hinge_radius",
-    "losses.base_friction",
+    "losses.base_friction", "machine.sling_mass", "machine.pouch_mass",
 )
 #: Each one's unit in files: that of the kind its key names (``analytic.units.FIELD_KINDS``).
 FIELD_UNITS = {field: kind_of(field).file_unit for field in SWEEP_FIELDS}
