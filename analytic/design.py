@@ -125,6 +125,10 @@ class Machine:
         centre at ``arm_short`` on the arm's axis) or ``"floating-arm"``
         (the axle rides a horizontal track and the counterweight a vertical
         guide). ``counterweight_link`` is 0 unless the kind is hinged.
+    sling_mass : mass of the sling, kg (0 by default: massless): a uniform straight rod from
+        the long-arm tip to the projectile's centre; it stays on the arm at release.
+    pouch_mass : mass of the pouch, kg (0 by default): a point at the projectile's centre
+        while it holds the projectile; it stays with the sling at release.
     """
 
     pivot_height: float
@@ -140,6 +144,8 @@ class Machine:
     release_angle: float | None
     release_rule: str = "velocity"
     kind: str = "hinged"
+    sling_mass: float = 0.0
+    pouch_mass: float = 0.0
 
     def __post_init__(self) -> None:
         require_kind("machine.kind", self.kind)
@@ -152,7 +158,7 @@ class Machine:
             raise DesignError("machine.counterweight_link", self.counterweight_link,
                               f"a {self.kind} machine has no link: its counterweight is rigid on the "
                               f"arm; leave counterweight_link out (or 0)")
-        for name in ("arm_inertia", "counterweight_inertia"):
+        for name in ("arm_inertia", "counterweight_inertia", "sling_mass", "pouch_mass"):
             require_non_negative(f"machine.{name}", getattr(self, name))
         require_number("machine.arm_cg", self.arm_cg)
         require_choice("machine.release_rule", self.release_rule, RELEASE_RULES)
@@ -510,6 +516,7 @@ def computable_scales(design: Design) -> list[tuple[str, str, float, tuple[tuple
                ("losses.axle_radius", losses.axle_radius), ("losses.hinge_radius", losses.hinge_radius))
     masses = (("machine.arm_mass", m.arm_mass), ("machine.counterweight_mass", m.counterweight_mass),
               ("projectile.mass", p.mass)) + ((("base.mass", design.base.mass),) if design.base.mass else ())
+    masses += tuple((f"machine.{name}", getattr(m, name)) for name in ("sling_mass", "pouch_mass") if getattr(m, name))
     inertias = (("machine.arm_inertia", m.arm_inertia), ("machine.counterweight_inertia", m.counterweight_inertia))
     coefficients = tuple((f"losses.{name}", getattr(losses, name) or 0.0)
                          for name in [f"{f}_friction" for f in FRICTIONS] + [f"{f}_static_friction" for f in FRICTIONS])

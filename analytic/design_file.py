@@ -17,6 +17,8 @@ from analytic.units import (ANGLE, FIELD_KINDS, SYSTEM_KINDS, Written, from_file
                             written_system)
 
 _MACHINE_NUMBERS = tuple(f.name for f in dataclasses.fields(Machine) if f.name not in ("release_rule", "kind"))
+#: The machine's numbers a file may leave out (0 by default: massless sling and pouch).
+_MACHINE_OPTIONAL = ("sling_mass", "pouch_mass")
 _ENVIRONMENT_KEYS = tuple(f.name for f in dataclasses.fields(Environment))
 _BEAM_KEYS = tuple(f.name for f in dataclasses.fields(BeamArm))
 _ANGLE_KEYS = ("release_angle", "starting_angle")  # degrees in files
@@ -150,7 +152,7 @@ def machine_from_dict(data: Any) -> Machine:
 
     if values.get("release_rule") == "ideal":   # the ideal rule needs no release angle (and ignores one)
         values.setdefault("release_angle", None)
-    require_keys(table, values, _MACHINE_NUMBERS)
+    require_keys(table, values, tuple(key for key in _MACHINE_NUMBERS if key not in _MACHINE_OPTIONAL))
     return Machine(**values)
 
 
@@ -224,6 +226,9 @@ def design_to_dict(design: Design, units: dict[str, str] | None = None) -> dict[
         del machine["kind"]
     else:   # no link on a rigid counterweight
         del machine["counterweight_link"]
+    for key in _MACHINE_OPTIONAL:   # massless by default: left out, so files read as they were written
+        if machine[key] == 0.0:
+            del machine[key]
     projectile = {k: v for k, v in dataclasses.asdict(design.projectile).items() if v is not None}
     if projectile["drag_factor"] == 1.0:   # the default: left out, so files read as they were written
         del projectile["drag_factor"]

@@ -46,6 +46,8 @@ mug_s,      their static coefficients (each at least its         losses.guide_st
 mut_s       kinetic one; the kinetic one when not given)         track_static_friction
 ht          the trough's height above the base, m (stage 1's     base.trough_height
             projectile on ``y = -(h - ht)``)
+mS, mQ      sling mass (a uniform rod, tip to projectile) and    machine.sling_mass, pouch_mass
+            pouch mass (a point at the projectile), kg
 ==========  ===================================================  ==========================
 """
 
@@ -107,6 +109,8 @@ class Params(NamedTuple):
     mut_s: float
     ht: float
     yt: float
+    mS: float
+    mQ: float
 
 
 #: Length of a design row (``Params`` in order).
@@ -117,7 +121,7 @@ def params(design) -> Params:
     """The ``Params`` of an ``analytic.design.Design``.
 
     Built positionally, one line per group of fields in ``Params``' order (a keyword call of
-    40 fields costs about three times as much, on every fast-path shot);
+    42 fields costs about three times as much, on every fast-path shot);
     ``tests/test_analytic_parameters.py`` checks each field against its design field by name.
     """
     m, proj, env, losses, base = design.machine, design.projectile, design.environment, design.losses, design.base
@@ -141,7 +145,8 @@ def params(design) -> Params:
         static_coefficient(losses.guide_static_friction, losses.guide_friction),            # mug_s
         static_coefficient(losses.track_static_friction, losses.track_friction),            # mut_s
         base.trough_height,                                                                 # ht
-        env.target_height))                                                                 # yt
+        env.target_height,                                                                  # yt
+        m.sling_mass, m.pouch_mass))                                                        # mS mQ
 
 
 def _alpha(machine) -> float:
@@ -152,5 +157,5 @@ def _alpha(machine) -> float:
 
 #: ``Params`` as a numpy record type, field for field: the compiled kernel reads each design row
 #: through it in place (``kernel.params``); numba passes a record to a function as one pointer,
-#: a ``Params`` tuple as its 40 numbers.
+#: a ``Params`` tuple as its 44 numbers.
 PARAMS_DTYPE = np.dtype([(name, np.float64) for name in Params._fields])

@@ -60,6 +60,7 @@ FIELD_KINDS = {
     "depth": LENGTH, "max_footprint": LENGTH, "max_height": LENGTH, "axle_radius": LENGTH,
     "min_range": LENGTH, "trough_height": LENGTH, "target_height": LENGTH,
     "arm_mass": MASS, "counterweight_mass": MASS, "mass": MASS, "frame_mass": MASS,
+    "sling_mass": MASS, "pouch_mass": MASS,
     "arm_inertia": INERTIA, "counterweight_inertia": INERTIA,
     "release_angle": ANGLE, "starting_angle": ANGLE,
     "drag_coefficient": NUMBER, "drag_factor": NUMBER, "axle_friction": NUMBER, "hinge_friction": NUMBER, "base_friction": NUMBER,

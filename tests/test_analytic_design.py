@@ -56,6 +56,10 @@ def test_start_state_puts_tip_and_projectile_on_the_base(table3):
     ("arm_mass", -1.0, "must be positive"),
     ("sling_length", float("nan"), "must be finite"),
     ("counterweight_inertia", -0.1, "must not be negative"),
+    ("sling_mass", -0.01, "must not be negative"),
+    ("sling_mass", float("inf"), "must be finite"),
+    ("pouch_mass", float("nan"), "must be finite"),
+    ("pouch_mass", -2.0, "must not be negative"),
     ("arm_long", 0.5, "cannot reach the base"),
     ("counterweight_link", 0.4, "would strike the base"),
     ("arm_cg", 0.9, "must lie on the arm"),
@@ -274,7 +278,7 @@ def test_a_value_where_a_table_belongs_is_refused(path, value):
 
 
 @pytest.mark.parametrize("form, path", [
-    ("direct", ("colour",)), ("direct", ("machine", "sling")), ("direct", ("projectile", "colour")),
+    ("direct", ("colour",)), ("direct", ("machine", "wheels")), ("direct", ("projectile", "colour")),
     ("direct", ("environment", "humidity")), ("beam", ("machine", "arm_beam", "length")),
 ], ids=lambda v: ".".join(v) if isinstance(v, tuple) else v)
 def test_an_unknown_key_is_named_with_its_table(form, path):
@@ -444,3 +448,40 @@ def test_the_cli_refuses_track_friction_on_a_hinged_machine_with_exit_2(tmp_path
     assert main(["simulate", str(path)]) == EXIT_INVALID
     err = capsys.readouterr().err
     assert "losses.track_friction = 0.2" in err and "only a floating-arm machine" in err
+
+
+def test_sling_and_pouch_are_massless_by_default_and_left_out_of_files(table3):
+    assert (table3.machine.sling_mass, table3.machine.pouch_mass) == (0.0, 0.0)
+    written = design_to_dict(table3)["machine"]
+    assert "sling_mass" not in written and "pouch_mass" not in written   # files read as they were written
+
+
+def test_sling_and_pouch_masses_are_read_and_written_back(tmp_path):
+    data = table3_file()
+    data["machine"].update(sling_mass="2 lb", pouch_mass=0.031)
+    design = design_from_dict(data)
+    assert design.machine.sling_mass == pytest.approx(0.90718474, rel=1e-12)   # 1 lb = 0.45359237 kg exactly
+    assert design.machine.pouch_mass == 0.031
+    path = tmp_path / "d.toml"
+    save_design(design, path)
+    assert load_design(path).machine == design.machine
+
+
+@pytest.mark.parametrize("name", ["sling_mass", "pouch_mass"])
+def test_a_bad_sling_or_pouch_mass_in_a_file_is_named_as_written(name):
+    data = table3_file()
+    data["machine"][name] = "-3 lb"
+    with pytest.raises(DesignError, match=rf'^machine\.{name} = "-3 lb" \(-1\.36078 kg\): must not be negative'):
+        design_from_dict(data)
+
+
+@pytest.mark.parametrize("name", ["machine.sling_mass", "pouch_mass"])
+def test_sling_and_pouch_masses_are_fields_the_tools_vary(table3, name):
+    from analytic.fields import field
+
+    chosen = field(name)
+    assert chosen.unit == "kg"
+    assert chosen.get(table3) == 0.0
+    assert chosen.get(chosen.replace(table3, 0.25)) == 0.25
+    with pytest.raises(DesignError, match="must not be negative"):
+        chosen.replace(table3, -0.25)

@@ -30,7 +30,7 @@ def distinct_design(*, statics: bool, drag: str, kind: str, rolling: bool) -> De
     machine = Machine(pivot_height=3.7, arm_long=5.9, arm_short=1.7, arm_mass=13.1, arm_cg=1.1,
                       arm_inertia=29.3, counterweight_mass=97.0, counterweight_link=0.71 if hinged else 0.0,
                       counterweight_inertia=0.37, sling_length=4.3, release_angle=math.radians(41.0),
-                      release_rule="sling", kind=kind)
+                      release_rule="sling", kind=kind, sling_mass=0.059, pouch_mass=0.031)
     projectile = Projectile(mass=0.53, diameter=0.19, drag=drag,
                             drag_coefficient=0.47 if drag == "constant" else None, drag_factor=1.3,
                             drag_during_swing=not rolling)
@@ -70,7 +70,8 @@ def expected(design: Design) -> dict[str, float]:
         mub=losses.base_friction, mua_s=losses.static("axle"), muh_s=losses.static("hinge"),
         mub_s=losses.static("base"), kind=KINDS.index(m.kind), drag_swing=1.0 if proj.drag_during_swing else 0.0,
         mug=losses.guide_friction, mut=losses.track_friction, mug_s=losses.static("guide"),
-        mut_s=losses.static("track"), ht=design.base.trough_height, yt=env.target_height)
+        mut_s=losses.static("track"), ht=design.base.trough_height, yt=env.target_height,
+        mS=m.sling_mass, mQ=m.pouch_mass)
 
 
 def assert_fields(read, design: Design) -> None:

@@ -204,7 +204,8 @@ DIRECT_FIELDS = ("machine.pivot_height", "machine.arm_long", "machine.arm_short"
                  "projectile.mass", "projectile.diameter", "projectile.drag_coefficient", "environment.gravity",
                  "environment.air_density", "environment.air_viscosity", "environment.wind_speed",
                  "environment.target_height", "losses.axle_friction", "losses.axle_radius",
-                 "losses.hinge_friction", "losses.hinge_radius", "losses.base_friction", "base.trough_height")
+                 "losses.hinge_friction", "losses.hinge_radius", "losses.base_friction", "base.trough_height",
+                 "machine.sling_mass", "machine.pouch_mass")
 #: The floating arm's direct fields beyond those (its guide and track friction).
 FLOATING_FIELDS = ("losses.guide_friction", "losses.track_friction")
 
@@ -227,7 +228,7 @@ def jitter(base: spec.Base, fields, size: int = 40, scale: float = 0.02) -> dict
 def test_rows_of_a_direct_design_varying_every_field_at_once(tmp_path):
     data = {key: dict(value) if isinstance(value, dict) else value for key, value in TABLE3.items()}
     data["machine"] = {k: v for k, v in data["machine"].items() if k != "arm_beam"}
-    data["machine"].update(arm_mass=0.3, arm_cg=0.23, arm_inertia=0.022)
+    data["machine"].update(arm_mass=0.3, arm_cg=0.23, arm_inertia=0.022, sling_mass=0.012, pouch_mass=0.004)
     data["projectile"] = {"mass": 0.0456, "diameter": 0.04267, "drag": "constant", "drag_coefficient": 0.3}
     data["losses"] = {"axle_friction": 0.15, "axle_radius": 0.0064, "hinge_friction": 0.15, "hinge_radius": 0.005,
                       "base_friction": 0.3}

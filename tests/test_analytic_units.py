@@ -45,6 +45,8 @@ def _data(table3):
     ("machine", "release_angle", "43.4 deg", math.radians(43.4)),
     ("machine", "release_angle", "0.76 rad", 0.76),
     ("machine", "counterweight_inertia", "93 kg cm^2", 93e-4),
+    ("machine", "sling_mass", "2 lb", 2 * POUND),
+    ("machine", "pouch_mass", "30 g", 0.03),
     ("projectile", "mass", "45.6 g", 0.0456),
     ("projectile", "diameter", "42.67 mm", 0.04267),
     ("environment", "air_density", "1.2 kg/m^3", 1.2),
@@ -65,7 +67,8 @@ def test_every_numeric_design_field_accepts_units_and_round_trips(table3, tmp_pa
 
     from analytic.design import Base
     rolling = dc.replace(table3, base=Base("rolling", 20.0, trough_height=0.1),
-                         environment=dc.replace(table3.environment, target_height=3.5))   # (0, the default, is left out)
+                         environment=dc.replace(table3.environment, target_height=3.5),   # (0, the default, is left out)
+                         machine=dc.replace(table3.machine, sling_mass=0.07, pouch_mass=0.02))
     for units in ({}, {"length": "ft", "mass": "lb", "speed": "ft / s", "acceleration": "ft / s ** 2",
                        "density": "lb / ft ** 3", "moment of inertia": "lb * ft ** 2", "angle": "rad"}):
         path = tmp_path / "units.toml"

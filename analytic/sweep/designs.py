@@ -36,6 +36,7 @@ PARAM_OF_FIELD = {
     "losses.axle_friction": "mua", "losses.axle_radius": "ra", "losses.hinge_friction": "muh",
     "losses.hinge_radius": "rh", "losses.base_friction": "mub", "losses.guide_friction": "mug",
     "losses.track_friction": "mut", "base.trough_height": "ht", "environment.target_height": "yt",
+    "machine.sling_mass": "mS", "machine.pouch_mass": "mQ",
 }
 _COLUMN = {name: i for i, name in enumerate(Params._fields)}
 _PAPER_INPUTS = ("machine.arm_short", "machine.counterweight_link", "machine.clearance", "machine.starting_angle")

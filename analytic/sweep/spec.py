@@ -25,6 +25,7 @@ SWEEP_FIELDS = (
     "environment.gravity", "environment.air_density", "environment.air_viscosity", "environment.wind_speed",
     "environment.target_height", "losses.axle_friction", "losses.axle_radius", "losses.hinge_friction",
     "losses.hinge_radius", "losses.base_friction", "base.trough_height",
+    "machine.sling_mass", "machine.pouch_mass",
 )
 #: Each one's unit in files: that of the kind its key names (``analytic.units.FIELD_KINDS``).
 FIELD_UNITS = {field: kind_of(field).file_unit for field in SWEEP_FIELDS}
