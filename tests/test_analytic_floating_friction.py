@@ -41,7 +41,7 @@ def _supports(lagrangian, p, q4, qd4, acc, normal, fg, ft):
     """Newton's law for the whole machine: the guide's and the track's normal forces (G, T), N, less
     the other support's friction (the track's ft is horizontal, the guide's fg vertical)."""
     rate = lagrangian.momentum_rate(p, q4, qd4, acc)
-    weight = (p.mA + p.mW + p.mP) * p.g
+    weight = (p.mA + p.mW + p.mP + p.mS + p.mQ) * p.g   # every part, the sling and the pouch too
     return rate[0] - ft, rate[1] + weight - normal - fg
 
 
@@ -313,9 +313,11 @@ def test_a_held_machine_whose_slides_would_jam_slipping_is_held_not_failed():
 # The base's friction on a floating arm [12.13]
 # --------------------------------------------------------------------------- #
 
-#: The base's coefficients, alone and with the axle's, the guide's and the track's (``COEFFICIENTS``).
+#: The base's coefficients, alone and with the axle's, the guide's and the track's (``COEFFICIENTS``),
+#: and those with a sling and a pouch with mass (kg; the base then carries them too, derivation 14).
 BASE_COEFFICIENTS = {"base": dict(mub=0.4, mub_s=0.55),
-                     "base-and-slides": dict(COEFFICIENTS, mub=0.4, mub_s=0.55)}
+                     "base-and-slides": dict(COEFFICIENTS, mub=0.4, mub_s=0.55),
+                     "base-slides-heavy-sling": dict(COEFFICIENTS, mub=0.4, mub_s=0.55, mS=0.03, mQ=0.01)}
 
 
 def _on_base(lagrangian, p, theta, dtheta):
@@ -411,8 +413,10 @@ def test_at_rest_the_base_holds_its_static_limit_through_the_flat_sling(lagrangi
     held = friction.slide_friction(p.theta0, p.phi0, 0.0, 0.0, 0.0, 0.0, -float(np.sign(slide)), p)
     _close(base_hold, p.mub_s * held.normal * abs(slide), "mub_s N |D|", abs(base_hold))
     assert hold == held.axle_load
-    # The flat sling carries no weight: the base carries the projectile's.
-    _close(held.normal, p.mP * p.g, "N at rest", p.mP * p.g)
+    # The base carries the projectile, the pouch and, of a flat uniform sling held at both ends
+    # (the arm's tip and the projectile, both at the base's level), half (derivation 14).
+    carried = (p.mP + p.mQ + p.mS / 2) * p.g
+    _close(held.normal, carried, "N at rest", carried)
 
 
 #: Designs of the sample floating arm with the base's friction: alone, with every other friction,
