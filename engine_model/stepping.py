@@ -530,14 +530,20 @@ def _forces(before: tuple, row: tuple, geometry: tuple, on_base: bool, design: D
             dt: float, base_friction: float = 0.0,
             drag_force: tuple[float, float] = (0.0, 0.0)) -> tuple[float, float]:
     """Sling tension and base normal force over the step that produced ``row`` (``kin.contact_forces``;
-    ``base_friction``, N, the base's friction force on the projectile; ``drag_force``, N, the air's)."""
+    ``base_friction``, N, the base's friction force on the projectile; ``drag_force``, N, the air's; a
+    sling with mass, its shear, ``kin.sling_shear``)."""
     p = kin.PROJECTILE
     if before is row:  # the opening half step: the velocity before it is the mirror image
         v_before = (-row[p + kin.VX], -row[p + kin.VY])
     else:
         v_before = (before[p + kin.VX], before[p + kin.VY])
+    shear = 0.0
+    if design.machine.sling_mass > 0.0:
+        shear = float(kin.sling_shear(np.array([_mirrored(row) if before is row else before]), np.array([row]),
+                                      design, dt)[0])
     return kin.contact_forces(v_before, (row[p + kin.VX], row[p + kin.VY]), geometry[:2],
-                              (row[p + kin.X], row[p + kin.Y]), on_base, design, dt, base_friction, drag_force)
+                              (row[p + kin.X], row[p + kin.Y]), on_base, design, dt, base_friction, drag_force,
+                              shear)
 
 
 def _release(before: tuple, row: tuple, geometry: tuple, rule: int, release_angle: float) -> tuple[float, bool]:
