@@ -384,39 +384,42 @@ def contact_forces(velocity_before: tuple[float, float], velocity_after: tuple[f
     return tension, force_y - tension * unit_y
 
 
-def sling_shear(before: np.ndarray, after: np.ndarray, design: Design, dt: float) -> np.ndarray:
-    """The force a sling with mass pushes across itself on the projectile over each step, N, (n,):
-    along ``n``, a quarter turn counter-clockwise from ``u`` (the unit vector from the projectile B to
-    the long tip A); 0 for a massless sling.
+def sling_shear(before, after, design: Design, dt: float) -> float:
+    """The force a sling with mass pushes across itself on the projectile over a step, N: along ``n``,
+    a quarter turn counter-clockwise from ``u`` (the unit vector from the projectile B to the long
+    tip A); 0 for a massless sling.
 
-    ``after`` (n, 24) raw rows, ``before`` the rows of the step before each (velocities half a step
-    either side of the step, each with its own row's positions, as ``loads.accelerations`` takes
-    them: the tip's centripetal acceleration is in their change). The rod (mass ``m``, length ``L``, centre
-    ``c``, moment ``m L^2 / 12`` about it) turns at ``w = (B - A) x (v_B - v_A) / L^2``; its moments
-    about A (the pin force on it at B is ``-(T u + S n)``, ``c - A = -u L / 2``) give
-    ``L S = I w' - m (L / 2) u x (a_c + g e_y)``, with ``a_c`` the mean of its ends' accelerations
-    (``docs/guide/engine.md``, "A sling with mass, and the pouch").
+    ``after`` is the raw row the step produced (24 numbers), ``before`` the row of the step before
+    (velocities half a step either side of the step, each with its own row's positions, as
+    ``loads.accelerations`` takes them: the tip's centripetal acceleration is in their change). The
+    rod (mass ``m``, length ``L``, centre ``c``, moment ``m L^2 / 12`` about it) turns at
+    ``w = (B - A) x (v_B - v_A) / L^2``; its moments about A (the pin force on it at B is
+    ``-(T u + S n)``, ``c - A = -u L / 2``) give ``L S = I w' - m (L / 2) u x (a_c + g e_y)``, with
+    ``a_c`` the mean of its ends' accelerations (``docs/guide/engine.md``, "A sling with mass, and
+    the pouch"). Plain floats: the stepping loop calls it every step on the base.
     """
-    m, g = design.machine, design.environment.gravity
+    m = design.machine
     if not m.sling_mass > 0.0:
-        return np.zeros(len(after))
+        return 0.0
+    span_x, span_y, centre_x, centre_y, spin = _rod_motion(after, m.arm_long)
+    _, _, before_x, before_y, spin_before = _rod_motion(before, m.arm_long)
+    length = math.hypot(span_x, span_y)
+    ux, uy = -span_x / length, -span_y / length
+    ax, ay = (centre_x - before_x) / dt, (centre_y - before_y) / dt + design.environment.gravity
+    return m.sling_mass * (m.sling_length * (spin - spin_before) / dt / 12.0 - 0.5 * (ux * ay - uy * ax))
 
-    def motion(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """The rod's span B - A, the velocity of its centre and its spin in ``rows`` (each velocity
-        with the row's own positions, as ``loads.accelerations`` takes them)."""
-        tip = long_tip(rows, design)
-        v_tip, v_end = point_velocity(rows, ARM, tip), velocity(rows, PROJECTILE)
-        span, relative = position(rows, PROJECTILE) - tip, v_end - v_tip
-        spin = (span[:, 0] * relative[:, 1] - span[:, 1] * relative[:, 0]) / np.sum(span**2, axis=1)
-        return span, 0.5 * (v_tip + v_end), spin
 
-    (_, centre_before, spin_before), (span, centre_after, spin_after) = motion(before), motion(after)
-    u = -span / np.hypot(*span.T)[:, None]
-    spin_rate = (spin_after - spin_before) / dt
-    centre = (centre_after - centre_before) / dt
-    centre[:, 1] += g
-    cross = u[:, 0] * centre[:, 1] - u[:, 1] * centre[:, 0]
-    return m.sling_mass * (m.sling_length * spin_rate / 12.0 - 0.5 * cross)
+def _rod_motion(row, arm_long: float) -> tuple[float, float, float, float, float]:
+    """A sling rod's span B - A (m), its centre's velocity (m/s) and its spin (rad/s) in a row: from the
+    long tip A (the arm's point ``arm_long`` along it) to the projectile's centre B."""
+    theta, spin = row[ARM + ANGLE], row[ARM + W]
+    sin, cos = math.sin(theta), math.cos(theta)
+    tip_vx, tip_vy = row[ARM + VX] - spin * arm_long * cos, row[ARM + VY] - spin * arm_long * sin
+    span_x = row[PROJECTILE + X] - (row[ARM + X] - arm_long * sin)
+    span_y = row[PROJECTILE + Y] - (row[ARM + Y] + arm_long * cos)
+    end_vx, end_vy = row[PROJECTILE + VX], row[PROJECTILE + VY]
+    turn = (span_x * (end_vy - tip_vy) - span_y * (end_vx - tip_vx)) / (span_x * span_x + span_y * span_y)
+    return span_x, span_y, 0.5 * (tip_vx + end_vx), 0.5 * (tip_vy + end_vy), turn
 
 
 def constraint_residuals(raw: np.ndarray, design: Design, sling: str, on_base: np.ndarray,

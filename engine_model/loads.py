@@ -115,7 +115,7 @@ def sling_force(raw: np.ndarray, tension: np.ndarray, design: Design, dt: float 
     if not design.machine.sling_mass > 0.0:
         return tension[:, None] * offset / np.linalg.norm(offset, axis=1)[:, None]
     unit = offset / np.linalg.norm(offset, axis=1)[:, None]
-    shear = kin.sling_shear(_before(raw), raw, design, dt)
+    shear = np.array([kin.sling_shear(before, row, design, dt) for before, row in zip(_before(raw), raw)])
     return tension[:, None] * unit + shear[:, None] * np.column_stack([-unit[:, 1], unit[:, 0]])
 
 

@@ -538,9 +538,8 @@ def _forces(before: tuple, row: tuple, geometry: tuple, on_base: bool, design: D
     else:
         v_before = (before[p + kin.VX], before[p + kin.VY])
     shear = 0.0
-    if design.machine.sling_mass > 0.0:
-        shear = float(kin.sling_shear(np.array([_mirrored(row) if before is row else before]), np.array([row]),
-                                      design, dt)[0])
+    if on_base and design.machine.sling_mass > 0.0:   # off the base the tension is the pull along u alone
+        shear = kin.sling_shear(_mirrored(row) if before is row else before, row, design, dt)
     return kin.contact_forces(v_before, (row[p + kin.VX], row[p + kin.VY]), geometry[:2],
                               (row[p + kin.X], row[p + kin.Y]), on_base, design, dt, base_friction, drag_force,
                               shear)

@@ -17,7 +17,7 @@ from crosscheck.cases import fixed_design, floating_design
 from engine_model import kinematics as kin
 from engine_model import loads as engine_loads
 from engine_model import simulate, stepping
-from engine_model.build import build
+from engine_model.build import SLING_MASS_FRACTION, EngineError, build
 from engine_model.readout import impulse
 from engine_model.timeline import frame_state
 
@@ -81,7 +81,7 @@ def test_the_rods_push_across_itself_is_the_pin_force_pymunk_applies():
                - [0.0, impulse(rig.groove) / DT])
         tip = kin.long_tip(np.array([row]), design)[0]
         u = (tip - np.array(row[p + kin.X: p + kin.Y + 1])) / design.machine.sling_length
-        shear = kin.sling_shear(np.array([before]), np.array([row]), design, DT)[0]
+        shear = kin.sling_shear(before, row, design, DT)
         errors.append(abs(shear - pin @ [-u[1], u[0]]) / np.hypot(*pin))
     assert len(errors) > 1000, "the slide is long enough to check"
     assert max(errors) < SHEAR_TOL, f"largest miss {max(errors):.3g} of the pin force (tolerance {SHEAR_TOL:g})"
@@ -180,3 +180,11 @@ def test_a_sling_with_mass_is_a_rod_on_two_pins_and_carries_the_pouch():
 def test_a_sling_with_mass_is_rigid_only():
     with pytest.raises(ValueError, match="sling_mass"):
         build(with_sling(default_design()), sling="rope")
+
+
+def test_a_sling_too_light_for_the_solver_is_refused_by_name():
+    design = default_design()
+    light = 0.5 * SLING_MASS_FRACTION * (design.projectile.mass + POUCH_MASS)
+    with pytest.raises(EngineError, match=r"machine\.sling_mass = .* heavier"):
+        build(with_sling(design, sling_mass=light))
+    build(with_sling(design, sling_mass=2.0 * light))   # at the fraction: built
