@@ -58,8 +58,10 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
-from analytic.scope import FLOATING_ARM, ROLLING, SWING_DRAG   # what this copy handles (analytic.scope)
+from analytic.scope import FLOATING_ARM, ROLLING, SLING, SWING_DRAG   # what this copy handles (analytic.scope)
 from analytic.aero import DRAG_TABLE, drag_rate
+from analytic.floating_arm import sling_terms as floating_sling_terms
+from analytic.floating_arm import sling_weighs, sling_weights
 from analytic.floating_arm import support_forces as floating_support_forces
 from analytic.floating_arm import terms as floating_terms
 from analytic.geometry import arm_long_side
@@ -158,6 +160,9 @@ def terms(theta, phi, psi, dtheta, dphi, dpsi, p):
     s_th, c_th, s_phi, c_phi, s_psi, c_psi, s_w, _, s_b, _ = sines(theta, phi, psi)
     if FLOATING_ARM and p.kind == FLOATING:
         m11, m13, m33, f1, f3 = floating_terms(theta, psi, dtheta, dpsi, p)
+        if SLING and sling_weighs(p):
+            d11, d13, d33, d1, d3 = floating_sling_terms(theta, psi, dtheta, dpsi, p)
+            m11, m13, m33, f1, f3 = m11 + d11, m13 + d13, m33 + d33, f1 + d1, f3 + d3
         if SWING_DRAG and p.drag_swing > 0.0:
             q1, q3 = drag_generalised(theta, psi, dtheta, dpsi, p)
             f1 += q1
@@ -182,6 +187,15 @@ def terms(theta, phi, psi, dtheta, dphi, dpsi, p):
           + mP * La * Ls * s_psi * dpsi * (2.0 * dtheta + dpsi))
     f2 = -mW * Lw * (g * s_w + Lb * s_phi * dtheta * dtheta)
     f3 = mP * Ls * (g * s_b - La * s_psi * dtheta * dtheta)
+    if SLING and sling_weighs(p):
+        # The sling (a uniform rod from the tip to the projectile) and the pouch (a point at the
+        # projectile): the projectile's terms with its mass weighted n0, n1, n2 [14.3].
+        n0, n1, n2 = sling_weights(p)
+        m11 += n0 * La * La + n2 * Ls * Ls + 2.0 * n1 * La * Ls * c_psi
+        m13 += n2 * Ls * Ls + n1 * La * Ls * c_psi
+        m33 += n2 * Ls * Ls
+        f1 += g * (n0 * La * s_th + n1 * Ls * s_b) + n1 * La * Ls * s_psi * dpsi * (2.0 * dtheta + dpsi)
+        f3 += n1 * Ls * (g * s_b - La * s_psi * dtheta * dtheta)
     if SWING_DRAG and p.drag_swing > 0.0:
         q1, q3 = drag_generalised(theta, psi, dtheta, dpsi, p)
         f1 += q1
@@ -278,14 +292,21 @@ def symmetric_cofactors(a11, a12, a13, a22, a23, a33):
 # (b = dS/dq, c = q'^T (d2S/dq2) q') leaves (M - b b^T / Mt) q'' = f + b c / Mt.
 
 def total_mass(p):
-    """Frame, arm, counterweight and projectile, kg."""
+    """Frame, arm, counterweight and projectile, kg (and the sling and the pouch [14.5])."""
+    if SLING and sling_weighs(p):
+        return p.Mf + p.mA + p.mW + p.mP + p.mS + p.mQ
     return p.Mf + p.mA + p.mW + p.mP
 
 
 def horizontal_moment(theta, phi, psi, p):
-    """S = sum of m x over arm, counterweight and projectile, x from the pivot, kg m."""
-    return (-p.mA * p.d * math.sin(theta) + p.mW * (p.Lb * math.sin(theta) + p.Lw * math.sin(theta + phi))
-            - p.mP * (p.La * math.sin(theta) + p.Ls * math.sin(theta + psi)))
+    """S = sum of m x over arm, counterweight and projectile (and the sling and the pouch [14.5]), x from
+    the pivot, kg m."""
+    moment = (-p.mA * p.d * math.sin(theta) + p.mW * (p.Lb * math.sin(theta) + p.Lw * math.sin(theta + phi))
+              - p.mP * (p.La * math.sin(theta) + p.Ls * math.sin(theta + psi)))
+    if SLING and sling_weighs(p):
+        n0, n1, _ = sling_weights(p)
+        moment -= n0 * p.La * math.sin(theta) + n1 * p.Ls * math.sin(theta + psi)
+    return moment
 
 
 def frame_coupling(theta, phi, psi, dtheta, dphi, dpsi, p):
@@ -297,6 +318,11 @@ def frame_coupling(theta, phi, psi, dtheta, dphi, dpsi, p):
     dw, db = dtheta + dphi, dtheta + dpsi
     c = ((p.mA * p.d - p.mW * p.Lb + p.mP * p.La) * s_th * dtheta * dtheta
          - p.mW * p.Lw * s_w * dw * dw + p.mP * p.Ls * s_b * db * db)
+    if SLING and sling_weighs(p):   # [14.5]
+        n0, n1, _ = sling_weights(p)
+        b1 -= n0 * p.La * c_th + n1 * p.Ls * c_b
+        b3 -= n1 * p.Ls * c_b
+        c += n0 * p.La * s_th * dtheta * dtheta + n1 * p.Ls * s_b * db * db
     return b1, b2, b3, c
 
 
@@ -372,6 +398,10 @@ def ground_force(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, p):
     turn_sling = s_b * (ddtheta + ddpsi) + c_b * (dtheta + dpsi) ** 2
     lift = (-p.mA * p.d * turn_arm + p.mW * (p.Lb * turn_arm + p.Lw * turn_weight)
             - p.mP * (p.La * turn_arm + p.Ls * turn_sling))
+    if SLING and sling_weighs(p):   # [14.5]
+        n0, n1, _ = sling_weights(p)
+        lift -= n0 * p.La * turn_arm + n1 * p.Ls * turn_sling
+        return (p.mA + p.mW + p.mP + p.mS + p.mQ + (p.Mf if ROLLING and p.rolling else 0.0)) * p.g + lift
     return (p.mA + p.mW + p.mP + (p.Mf if ROLLING and p.rolling else 0.0)) * p.g + lift
 
 
@@ -468,16 +498,19 @@ def slide_state(theta, phi, dtheta, dphi, p):
 # --------------------------------------------------------------------------- #
 
 def potential_energy(theta, phi, psi, p):
-    """Potential energy ``(machine, projectile)``, J, zero at the pivot's height (eq. 2.5)."""
+    """Potential energy ``(machine, projectile)``, J, zero at the pivot's height (eq. 2.5); the machine's
+    includes the sling's and the pouch's (``sling_energy``)."""
     machine = p.g * (p.mA * p.d * math.cos(theta)
                      - p.mW * (p.Lb * math.cos(theta) + p.Lw * math.cos(theta + phi)))
     projectile = p.mP * p.g * (p.La * math.cos(theta) + p.Ls * math.cos(theta + psi))
+    if SLING and sling_weighs(p):   # the sling and the pouch stay with the machine [14.7]
+        machine += sling_energy(theta, phi, psi, 0.0, 0.0, 0.0, p)[1]
     return machine, projectile
 
 
 def kinetic_energy(theta, phi, psi, dtheta, dphi, dpsi, p):
     """Kinetic energy ``(machine, projectile)`` on the ground, J (eq. 2.4; [8] with a rolling frame,
-    whose own kinetic energy is counted with the machine's)."""
+    whose own kinetic energy is counted with the machine's, as the sling's and the pouch's are [14.7])."""
     dw = dtheta + dphi
     machine = 0.5 * ((p.IA + p.mA * p.d * p.d) * dtheta * dtheta + p.IW * dw * dw
                      + p.mW * (p.Lb * p.Lb * dtheta * dtheta + p.Lw * p.Lw * dw * dw
@@ -494,8 +527,29 @@ def kinetic_energy(theta, phi, psi, dtheta, dphi, dpsi, p):
         vx = -p.La * dtheta * math.cos(theta) - p.Ls * dbeta * math.cos(theta + psi)
         projectile += p.mP * dx * (vx + 0.5 * dx)
         carried = total_mass(p) - p.mP if ROLLING and p.rolling else p.mA + p.mW
+        if SLING and sling_weighs(p) and not (ROLLING and p.rolling):
+            carried += p.mS + p.mQ
         machine += dx * (moment_rate - p.mP * vx) + 0.5 * carried * dx * dx
+    if SLING and sling_weighs(p):   # their motion relative to the frame; the frame's share is above
+        n0, n1, n2 = sling_weights(p)
+        machine += 0.5 * (n0 * p.La * p.La * dtheta * dtheta + n2 * p.Ls * p.Ls * dbeta * dbeta
+                          + 2.0 * n1 * p.La * p.Ls * dtheta * dbeta * math.cos(psi))
     return machine, projectile
+
+
+def sling_energy(theta, phi, psi, dtheta, dphi, dpsi, p):
+    """The sling's and the pouch's ``(kinetic, potential)`` energy, J, on the ground, the potential zero
+    at the pivot's height [14.7]: the part of the machine's (``kinetic_energy``, ``potential_energy``)
+    that stays in them at release, not the projectile's."""
+    n0, n1, n2 = sling_weights(p)
+    dbeta = dtheta + dpsi
+    kinetic = 0.5 * (n0 * p.La * p.La * dtheta * dtheta + n2 * p.Ls * p.Ls * dbeta * dbeta
+                     + 2.0 * n1 * p.La * p.Ls * dtheta * dbeta * math.cos(psi))
+    if (ROLLING and p.rolling) or (FLOATING_ARM and p.kind == FLOATING):
+        dx = frame_velocity(theta, phi, psi, dtheta, dphi, dpsi, p)
+        moment_rate = -(n0 * p.La * math.cos(theta) * dtheta + n1 * p.Ls * math.cos(theta + psi) * dbeta)
+        kinetic += dx * moment_rate + 0.5 * (p.mS + p.mQ) * dx * dx
+    return kinetic, p.g * (n0 * p.La * math.cos(theta) + n1 * p.Ls * math.cos(theta + psi))
 
 
 # --------------------------------------------------------------------------- #
@@ -578,6 +632,14 @@ def joint_forces_in_gravity(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi,
     sling_y = p.mP * (gravity + p.La * arm_y + p.Ls * sling_uy) - normal
     axle_x = p.mA * (ddx + p.d * arm_x) + hinge_x + sling_x
     axle_y = p.mA * (gravity + p.d * arm_y) + hinge_y + sling_y
+    if SLING and sling_weighs(p):
+        # The pouch moves with the projectile, so the sling pulls both; the arm carries the sling's own
+        # mass too, its first moment along it half the pouch's [14.6].
+        n0, n1, _ = sling_weights(p)
+        sling_x += p.mQ * (ddx + p.La * arm_x + p.Ls * sling_ux)
+        sling_y += p.mQ * (gravity + p.La * arm_y + p.Ls * sling_uy)
+        axle_x += n0 * (ddx + p.La * arm_x) + n1 * p.Ls * sling_ux
+        axle_y += n0 * (gravity + p.La * arm_y) + n1 * p.Ls * sling_uy
     if FLOATING_ARM and p.kind == FLOATING:
         # The supports: the track's vertical push at the axle and the guide's horizontal push on the
         # counterweight (axle_x above, the whole machine's), which its mount on the arm does not carry [12].
@@ -637,6 +699,22 @@ def loads_sliding(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, no
         dx, dy = swing_drag(theta, psi, dtheta, dpsi, p)
         felt_x, felt_y = felt_x + dx, felt_y + dy
     ddx = frame_acceleration(theta, phi, psi, dtheta, dphi, dpsi, ddtheta, ddphi, ddpsi, p)
-    bending = arm_bending_moment(theta, ddtheta, ddx, 0.0, sling_x, sling_y, p)
+    carried = p.mP
+    tip_x, tip_y = sling_x, sling_y
+    if SLING and sling_weighs(p):   # the tip pulls the sling's own mass too [14.6]
+        carried = p.mP + p.mQ
+        rod_x, rod_y = sling_rod_force(theta, psi, dtheta, dpsi, ddtheta, ddpsi, ddx, p)
+        tip_x, tip_y = sling_x + rod_x, sling_y + rod_y
+    bending = arm_bending_moment(theta, ddtheta, ddx, 0.0, tip_x, tip_y, p)
     return Loads(math.sqrt(axle_x * axle_x + axle_y * axle_y), math.sqrt(hinge_x * hinge_x + hinge_y * hinge_y),
-                 tension, math.sqrt(felt_x * felt_x + felt_y * felt_y) / p.mP, abs(bending))
+                 tension, math.sqrt(felt_x * felt_x + felt_y * felt_y) / carried, abs(bending))
+
+
+def sling_rod_force(theta, psi, dtheta, dpsi, ddtheta, ddpsi, ddx, p):
+    """``mS (a_S + G)``, N: what the sling's own mass asks of its ends beyond the pull on the projectile
+    and the pouch, ``a_S`` its centre's ground acceleration (the frame's, or the axle's, ``ddx``) [14.6]."""
+    s_th, c_th = math.sin(theta), math.cos(theta)
+    s_b, c_b = math.sin(theta + psi), math.cos(theta + psi)
+    db, ddb = dtheta + dpsi, ddtheta + ddpsi
+    return (p.mS * (ddx - p.La * (c_th * ddtheta - s_th * dtheta * dtheta) - 0.5 * p.Ls * (c_b * ddb - s_b * db * db)),
+            p.mS * (p.g - p.La * (s_th * ddtheta + c_th * dtheta * dtheta) - 0.5 * p.Ls * (s_b * ddb + c_b * db * db)))

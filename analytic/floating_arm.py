@@ -15,6 +15,23 @@ from __future__ import annotations
 
 import math
 
+from analytic.scope import SLING   # what this copy handles (analytic.scope)
+
+
+def sling_weighs(p):
+    """Whether the sling or the pouch has mass (``machine.sling_mass``, ``pouch_mass``): with both 0 no
+    term of theirs is computed, so that a massless sling's arithmetic is the model's without them."""
+    return p.mS > 0.0 or p.mQ > 0.0
+
+
+def sling_weights(p):
+    """``(n0, n1, n2)``, kg: the sling's and the pouch's weights in the projectile's terms [14.2]. The
+    pouch is a point at the projectile, the sling a uniform rod from the tip to it, so together they
+    add ``n0`` to the projectile's mass where its terms hold the tip's motion alone, ``n1`` where they
+    hold the sling's first moment, ``n2`` where they hold its second: ``mQ + mS``, ``mQ + mS / 2``,
+    ``mQ + mS / 3``."""
+    return p.mQ + p.mS, p.mQ + 0.5 * p.mS, p.mQ + p.mS / 3.0
+
 
 def terms(theta, psi, dtheta, dpsi, p):
     """Entries of M and f over (theta, psi), eqs. (12.3)-(12.5): ``(m11, m13, m33, f1, f3)``."""
@@ -38,6 +55,37 @@ def terms(theta, psi, dtheta, dpsi, p):
     m33 = sling * p.Ls
     m13 = m33 + sling * coupling
     return inertia + m33 + 2.0 * sling * coupling, m13, m33, force_theta + force_beta, force_beta
+
+
+def sling_terms(theta, psi, dtheta, dpsi, p):
+    """The sling's and the pouch's part of ``terms``, ``(m11, m13, m33, f1, f3)``: the projectile's with
+    its mass weighted by ``sling_weights`` [14.4]."""
+    n0, n1, n2 = sling_weights(p)
+    s_th, c_th = math.sin(theta), math.cos(theta)
+    beta = theta + psi
+    s_b, c_b = math.sin(beta), math.cos(beta)
+    reach = p.La + p.Lb
+    inertia = n0 * (reach * reach * c_th * c_th + p.La * p.La * s_th * s_th)
+    inertia_rate = 2.0 * s_th * c_th * n0 * (p.La * p.La - reach * reach)
+    coupling = reach * c_th * c_b + p.La * s_th * s_b
+    coupling_theta = -reach * s_th * c_b + p.La * c_th * s_b
+    coupling_beta = -reach * c_th * s_b + p.La * s_th * c_b
+    dbeta = dtheta + dpsi
+    first = n1 * p.Ls
+    force_beta = -first * coupling_theta * dtheta * dtheta + p.g * first * s_b
+    force_theta = (-0.5 * inertia_rate * dtheta * dtheta - first * coupling_beta * dbeta * dbeta
+                   + p.g * s_th * n0 * p.La)
+    m33 = n2 * p.Ls * p.Ls
+    return (inertia + m33 + 2.0 * first * coupling, m33 + first * coupling, m33, force_theta + force_beta,
+            force_beta)
+
+
+def moving_mass(p):
+    """The mass the track and the guide carry, kg: arm, counterweight, projectile (and the sling and
+    the pouch [14.5])."""
+    if SLING and sling_weighs(p):
+        return p.mA + p.mW + p.mP + p.mS + p.mQ
+    return p.mA + p.mW + p.mP
 
 
 def swing_accelerations(theta, psi, dtheta, dpsi, p):
@@ -67,4 +115,8 @@ def support_forces(theta, psi, dtheta, dpsi, ddtheta, ddpsi, normal, p):
     guide_x = (-p.mA * (p.Lb + p.d) * turn_x
                - p.mP * ((p.La + p.Lb) * turn_x + p.Ls * sling_x))
     lift = -p.mA * p.d * turn_y + p.mW * p.Lb * turn_y - p.mP * (p.La * turn_y + p.Ls * sling_y)
-    return lift + (p.mA + p.mW + p.mP) * p.g - normal, guide_x
+    if SLING and sling_weighs(p):   # [14.5]
+        n0, n1, _ = sling_weights(p)
+        guide_x -= n0 * (p.La + p.Lb) * turn_x + n1 * p.Ls * sling_x
+        lift -= n0 * p.La * turn_y + n1 * p.Ls * sling_y
+    return lift + moving_mass(p) * p.g - normal, guide_x

@@ -40,7 +40,7 @@ from analytic.scope import FLOATING_ARM   # what this copy handles (analytic.sco
 from analytic.eom import (FLOATING, floating_supports_in_air, joint_forces, joint_forces_in_gravity,
                           joint_forces_sliding, machine_terms, slide_constraint, slide_system, solve_pair,
                           solve_symmetric, swing_terms, symmetric_cofactors)
-from analytic.floating_arm import support_forces
+from analytic.floating_arm import moving_mass, support_forces
 
 
 # Coulomb friction at the axle (torque ta on the arm, relative rate theta'),
@@ -563,7 +563,7 @@ def slides_friction(theta, psi, dtheta, dpsi, a1, a3, n0, ua1, ua3, uan, sa, p):
     the way Q's absence would turn the arm, at the held arm's forces; the three share the hold in
     those proportions [12.11].
     """
-    total_g = (p.mA + p.mW + p.mP) * p.g
+    total_g = moving_mass(p) * p.g
     track_u, guide_u = support_forces(theta, psi, 0.0, 0.0, ua1, ua3, uan, p)   # per unit Q: no drag
     track_u -= total_g
     if sa != 0.0:

@@ -39,8 +39,8 @@ class EnergyBudget:
     """Mechanical energy through stages 1 and 2, J; each array has shape (n,) on ``History.t``.
 
     ``projectile`` is kinetic plus potential energy of the projectile relative to
-    its start; ``machine`` likewise for arm and counterweight, and a rolling
-    frame's kinetic energy (negative as the counterweight falls); ``total =
+    its start; ``machine`` likewise for arm and counterweight (and the sling and the pouch,
+    which stay on the machine at release), and a rolling frame's kinetic energy (negative as the counterweight falls); ``total =
     projectile + machine`` is conserved by the ideal machine (drag acts only in
     flight). ``dissipated`` maps the friction losses (``outcome.friction_work_names``:
     axle, hinge, base; a floating arm's axle, guide, track) to the work each has taken so far, (n,) J, zeros
@@ -135,6 +135,10 @@ class Shot:
         and arm between firing and release.
     projectile_energy_at_release : J, the projectile's kinetic and potential energy at
         release over its energy at rest (None where not computed: the fast path's summary).
+    sling_energy_at_release : J, the sling's and the pouch's kinetic and potential energy at
+        release over their energy at rest: what the counterweight gave them, which stays on the
+        machine, not the projectile's (``analytic.eom.sling_energy``); 0 for a massless sling and
+        pouch, None where not computed, as ``projectile_energy_at_release``.
     frame_release_displacement, frame_release_velocity : the frame's X (m) and X' (m/s)
         at release: 0 for a fixed frame, None if not released. A floating arm's frame stands
         still; these hold its axle's x_A (from the guide) and x_A', as ``max_frame_speed`` its
@@ -211,6 +215,7 @@ class Shot:
     min_track_force: float | None = None
     max_track_force: float | None = None
     max_guide_force: float | None = None
+    sling_energy_at_release: float | None = None
     warnings: tuple[str, ...] = ()
     diagnostics: Any = None
 

@@ -37,6 +37,8 @@ ROLLING = True
 FLOATING_ARM = True
 #: The projectile's drag in stages 1-2 (``projectile.drag_during_swing``).
 SWING_DRAG = True
+#: The sling's and the pouch's masses (``machine.sling_mass``, ``machine.pouch_mass``).
+SLING = True
 #: The peak loads (the kernel's ``track_loads``).
 LOADS = True
 #: Recording the motion (the kernel's ``rec``, for ``analytic.fast.motion``).
@@ -52,6 +54,7 @@ class Scope(NamedTuple):
     floating_arm: bool
     swing_drag: bool
     loads: bool
+    sling: bool
     recording: bool
 
     def globals(self) -> dict[str, bool]:
@@ -64,25 +67,26 @@ class Scope(NamedTuple):
 
 
 #: Everything: any design, the peak loads, the motion recorded.
-EVERYTHING = Scope("everything", True, True, True, True, True, True)
+EVERYTHING = Scope("everything", True, True, True, True, True, True, True)
 #: The ideal machine (hinged or fixed, no friction, a fixed frame, drag in flight only) with its peak loads.
-IDEAL_LOADS = Scope("ideal_loads", False, False, False, False, True, False)
+IDEAL_LOADS = Scope("ideal_loads", False, False, False, False, True, False, False)
 #: The ideal machine without its loads: what a search or a sweep of ideal designs runs.
-IDEAL = Scope("ideal", False, False, False, False, False, False)
+IDEAL = Scope("ideal", False, False, False, False, False, False, False)
 #: The compiled scopes, smallest first: a design runs in the first that holds what it needs.
 SCOPES = (IDEAL, IDEAL_LOADS, EVERYTHING)
 
 
 
 def needs(p) -> tuple:
-    """``(friction, rolling, floating_arm, swing_drag)``: what the design ``p`` needs, as the model
-    tests it (``friction.lossy``, ``p.rolling``, ``p.kind == eom.FLOATING``, ``p.drag_swing > 0``).
+    """``(friction, rolling, floating_arm, swing_drag, sling)``: what the design ``p`` needs, as the model
+    tests it (``friction.lossy``, ``p.rolling``, ``p.kind == eom.FLOATING``, ``p.drag_swing > 0``,
+    ``eom.sling_weighs``).
 
     ``p`` is a ``Params`` of floats (each entry then a bool) or of column arrays, one entry
     per design (each entry then a bool array).
     """
     friction = (p.mua_s > 0.0) | (p.muh_s > 0.0) | (p.mub_s > 0.0) | (p.mug_s > 0.0) | (p.mut_s > 0.0)
-    return friction, p.rolling != 0.0, p.kind == _FLOATING, p.drag_swing > 0.0
+    return friction, p.rolling != 0.0, p.kind == _FLOATING, p.drag_swing > 0.0, (p.mS > 0.0) | (p.mQ > 0.0)
 
 
 def _smallest(asked: tuple) -> Scope:
@@ -91,15 +95,17 @@ def _smallest(asked: tuple) -> Scope:
 
 
 #: The smallest scope for each combination of what may be asked.
-_SMALLEST = {asked: _smallest(asked) for asked in itertools.product((False, True), repeat=6)}
+_SMALLEST = {asked: _smallest(asked) for asked in itertools.product((False, True), repeat=7)}
 
 
 def needed(p, loads: bool, recording: bool = False) -> Scope:
     """The smallest of ``SCOPES`` for one design's ``Params`` ``p`` and what is asked of it."""
-    return _SMALLEST[(*needs(p), bool(loads), bool(recording))]
+    friction, rolling, floating_arm, swing_drag, sling = needs(p)
+    return _SMALLEST[(friction, rolling, floating_arm, swing_drag, bool(loads), bool(recording), sling)]
 
 
 def needed_rows(rows: np.ndarray, loads: bool, recording: bool = False) -> Scope:
     """The smallest of ``SCOPES`` that holds every design row of ``rows`` (S, N_PARAMS)."""
     columns = Params(*np.asarray(rows).T)
-    return _SMALLEST[(*(bool(x.any()) for x in needs(columns)), bool(loads), bool(recording))]
+    friction, rolling, floating_arm, swing_drag, sling = (bool(x.any()) for x in needs(columns))
+    return _SMALLEST[(friction, rolling, floating_arm, swing_drag, bool(loads), bool(recording), sling)]

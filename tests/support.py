@@ -431,3 +431,39 @@ def compile_a_stand_in_entry_point(scope) -> None:
     shots.__qualname__ = fast.entry_point(scope).py_func.__qualname__
     with fast._compile_progress(True, scope):
         assert numba.njit(shots)(1.0) == 2.0
+
+
+# --------------------------------------------------------------------------- #
+# A sling and a pouch with mass
+# --------------------------------------------------------------------------- #
+
+#: The sling's and the pouch's masses of ``sling_designs``, kg: a 61 cm cord sling of about
+#: 12 g and a leather pouch of about 6 g, light beside the 45.6 g golf ball, as built.
+SLING_MASS, POUCH_MASS = 0.012, 0.006
+
+
+def sling_designs() -> dict[str, Design]:
+    """Table III machines whose sling and pouch have mass (``SLING_MASS``, ``POUCH_MASS``): each kind,
+    a rolling frame, friction everywhere, the drag during the swing, and a sling as heavy as the ball."""
+    table3 = load_design(DATA / "paper_table3.toml")
+    losses = Losses(axle_friction=0.15, axle_radius=0.0064, hinge_friction=0.15, hinge_radius=0.005,
+                    base_friction=0.3, base_static_friction=0.4)
+
+    def heavy(design: Design, sling: float = SLING_MASS, pouch: float = POUCH_MASS) -> Design:
+        return with_machine(design, sling_mass=sling, pouch_mass=pouch)
+
+    return {"sling-hinged": heavy(table3), "sling-fixed": heavy(bolted(table3)),
+            "sling-floating": heavy(load_design(TABLE3_FLOATING_FILE)),
+            "sling-rolling": heavy(dataclasses.replace(table3, base=Base("rolling", 5.0))),
+            "sling-lossy": heavy(dataclasses.replace(table3, losses=losses)),
+            "sling-fixed-lossy-rolling": heavy(dataclasses.replace(bolted(table3), base=Base("rolling", 5.0),
+                                                                   losses=Losses(axle_friction=0.15,
+                                                                                 axle_radius=0.0064,
+                                                                                 base_friction=0.3))),
+            "sling-floating-lossy": heavy(dataclasses.replace(load_design(TABLE3_FLOATING_FILE),
+                                                              losses=Losses(axle_friction=0.15, axle_radius=0.0064,
+                                                                            guide_friction=0.2,
+                                                                            track_friction=0.1))),
+            "sling-swing-drag": heavy(with_projectile(table3, drag_during_swing=True)),
+            "sling-pouch-only": heavy(table3, sling=0.0),
+            "sling-as-heavy-as-the-ball": heavy(table3, sling=0.0456, pouch=0.0)}

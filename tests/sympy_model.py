@@ -22,8 +22,11 @@ place (the machine's frame is not rolled: ``p.rolling`` 0). From the parts' posi
   ``P = ta (w_arm - w_frame) + th (w_link - w_arm) + F (x_P' - X')`` (``docs/derivation.md`` 10.1);
 * a force on the projectile (the air's drag during the swing) as ``Q = (d r_P / dq)^T F``;
 * the joint forces from Newton's law for each body, with the accelerations sympy differentiates:
-  the hinge's on the counterweight ``mW (a_W + g)``, the sling's on the projectile
-  ``mP (a_P + g) - (F, N)``, the axle's on the arm ``mA (a_A + g)`` plus those two.
+  the hinge's on the counterweight ``mW (a_W + g)``, the sling's on the projectile and the pouch
+  ``(mP + mQ) (a_P + g) - (F, N)``, the axle's on the arm ``mA (a_A + g)`` plus the hinge's and
+  the tip's, which is the sling's plus ``mS (a_S + g)`` for the sling's own mass (S its centre);
+* the sling (section 14): a uniform rod of mass ``mS`` from the tip to the projectile, and the pouch,
+  a point of mass ``mQ`` at the projectile.
 
 The derivation runs once per process (``machine()``, cached: about two seconds); every numerical
 function then takes a ``Params`` (only the machine's numbers and ``rolling`` are read) and a state
@@ -41,7 +44,7 @@ import sympy as sp
 from analytic.parameters import Params
 
 #: The numbers the Lagrangian reads, in ``Params``' names and the order its functions take them.
-NUMBERS = ("La", "Lb", "d", "mA", "IA", "mW", "Lw", "IW", "Ls", "mP", "h", "g", "Mf")
+NUMBERS = ("La", "Lb", "d", "mA", "IA", "mW", "Lw", "IW", "Ls", "mP", "h", "g", "Mf", "mS", "mQ")
 
 
 def numbers(p: Params) -> tuple[float, ...]:
@@ -65,7 +68,7 @@ class Symbols:
         self.prm = sp.symbols(NUMBERS, real=True)
         self.torques = sp.symbols("ta th F", real=True)   # axle, hinge, base's friction force
         self.normal = sp.Symbol("N", real=True)
-        La, Lb, d, mA, IA, mW, Lw, IW, Ls, mP, h, g, Mf = self.prm
+        La, Lb, d, mA, IA, mW, Lw, IW, Ls, mP, h, g, Mf, mS, mQ = self.prm
         theta, phi, psi, x = self.q
         qv, qdv, qddv = sp.Matrix(self.q), sp.Matrix(self.qd), sp.Matrix(self.qdd)
 
@@ -82,6 +85,9 @@ class Symbols:
             self.weight = pivot - Lb * along_arm + Lw * sp.Matrix([sp.sin(theta + phi), -sp.cos(theta + phi)])
         self.sling_unit = sp.Matrix([-sp.sin(theta + psi), sp.cos(theta + psi)])   # tip -> projectile
         self.projectile = pivot + La * along_arm + Ls * self.sling_unit
+        # The sling: a uniform rod of mass mS from the tip to the projectile, turning at theta' + psi';
+        # the pouch: a point of mass mQ at the projectile (docs/derivation.md section 14).
+        self.sling_centre = pivot + La * along_arm + Ls / 2 * self.sling_unit
 
         def velocity(r):
             return r.jacobian(qv) * qdv
@@ -99,17 +105,22 @@ class Symbols:
         self.kinetic_machine = (Mf * dx**2 / 2 + half_m_v2(mA, self.arm) + IA * w_arm**2 / 2
                                 + half_m_v2(mW, self.weight) + IW * w_link**2 / 2)
         self.kinetic_projectile = half_m_v2(mP, self.projectile)
+        w_sling = self.qd[0] + self.qd[2]
+        self.kinetic_sling = (half_m_v2(mS, self.sling_centre) + mS * Ls**2 / 12 * w_sling**2 / 2
+                              + half_m_v2(mQ, self.projectile))
         self.potential_machine = g * (mA * self.arm[1] + mW * self.weight[1])
         self.potential_projectile = g * mP * self.projectile[1]
-        kinetic = self.kinetic_machine + self.kinetic_projectile
-        potential = self.potential_machine + self.potential_projectile
+        self.potential_sling = g * (mS * self.sling_centre[1] + mQ * self.projectile[1])
+        kinetic = self.kinetic_machine + self.kinetic_projectile + self.kinetic_sling
+        potential = self.potential_machine + self.potential_projectile + self.potential_sling
 
         momentum = sp.Matrix([kinetic]).jacobian(qdv).T                 # dT/dq'
         self.mass = momentum.jacobian(qdv)
         self.forcing = (-momentum.jacobian(qv) * qdv + sp.Matrix([kinetic]).jacobian(qv).T
                         - sp.Matrix([potential]).jacobian(qv).T)
         self.horizontal_momentum = momentum[3]
-        self.horizontal_moment = mA * (self.arm[0] - x) + mW * (self.weight[0] - x) + mP * (self.projectile[0] - x)
+        self.horizontal_moment = (mA * (self.arm[0] - x) + mW * (self.weight[0] - x) + mP * (self.projectile[0] - x)
+                                  + mS * (self.sling_centre[0] - x) + mQ * (self.projectile[0] - x))
         energy = kinetic + potential
         self.power = (sp.Matrix([energy]).jacobian(qv) * qdv + sp.Matrix([energy]).jacobian(qdv) * qddv)[0]
 
@@ -123,10 +134,13 @@ class Symbols:
 
         up = sp.Matrix([0, g])
         self.hinge = mW * (acceleration(self.weight) + up)
-        self.sling = mP * (acceleration(self.projectile) + up) - sp.Matrix([fb, self.normal])
-        self.axle = mA * (acceleration(self.arm) + up) + self.hinge + self.sling
+        # The sling pulls the projectile and the pouch; the arm's tip pulls the sling, whose own mass
+        # takes mS (a_S + g) of that pull.
+        self.sling = (mP + mQ) * (acceleration(self.projectile) + up) - sp.Matrix([fb, self.normal])
+        self.tip = self.sling + mS * (acceleration(self.sling_centre) + up)
+        self.axle = mA * (acceleration(self.arm) + up) + self.hinge + self.tip
         self.momentum_rate = (mA * acceleration(self.arm) + mW * acceleration(self.weight)
-                              + mP * acceleration(self.projectile))
+                              + (mP + mQ) * acceleration(self.projectile) + mS * acceleration(self.sling_centre))
 
 
 class Machine:
@@ -148,8 +162,9 @@ class Machine:
 
         self._mass = compiled(state, s.mass)
         self._forcing = compiled(state, s.forcing)
-        self._energies = compiled(state, [s.kinetic_machine, s.kinetic_projectile,
-                                          s.potential_machine, s.potential_projectile])
+        self._energies = compiled(state, [s.kinetic_machine + s.kinetic_sling, s.kinetic_projectile,
+                                          s.potential_machine + s.potential_sling, s.potential_projectile])
+        self._sling_energies = compiled(state, [s.kinetic_sling, s.potential_sling])
         self._projectile = compiled(state, [s.projectile, s.projectile.jacobian(s.q) * sp.Matrix(s.qd)])
         self._projectile_jacobian = compiled(state, s.projectile.jacobian(s.q))
         self._momentum = compiled(state, s.horizontal_momentum)
@@ -161,6 +176,7 @@ class Machine:
         self._generalised = compiled((s.q, s.qd, s.torques, s.prm), s.generalised)
         self._slides = compiled(state, [s.weight.jacobian(s.q), s.pivot.jacobian(s.q)])
         self._forces = compiled((s.q, s.qd, s.qdd, s.torques[2], s.normal, s.prm), [s.axle, s.hinge, s.sling])
+        self._tip = compiled((s.q, s.qd, s.qdd, s.torques[2], s.normal, s.prm), s.tip)
 
     # -- the Lagrangian's terms ------------------------------------------------ #
     def mass(self, p, q, qd=(0.0, 0.0, 0.0)) -> np.ndarray:
@@ -172,8 +188,19 @@ class Machine:
         return np.asarray(self._forcing(_four(q), _four(qd), numbers(p)), dtype=float).ravel()
 
     def energies(self, p, q, qd) -> np.ndarray:
-        """(T of the machine with its frame, T of the projectile, V of the machine, V of the projectile), (4,)."""
+        """(T of the machine with its frame, T of the projectile, V of the machine, V of the projectile), (4,);
+        the machine's with the sling's and the pouch's."""
         return np.array(self._energies(_four(q), _four(qd), numbers(p)), dtype=float)
+
+    def sling_energies(self, p, q, qd) -> np.ndarray:
+        """(T, V) of the sling and the pouch, (2,)."""
+        return np.array(self._sling_energies(_four(q), _four(qd), numbers(p)), dtype=float)
+
+    def tip_force(self, p, q, qd, qdd, base_force=0.0, normal=0.0) -> np.ndarray:
+        """The arm tip's force on the sling, (2,): the sling's pull on the projectile and the pouch plus
+        what its own mass takes."""
+        return np.asarray(self._tip(_four(q), _four(qd), _four(qdd), base_force, normal, numbers(p)),
+                          dtype=float).ravel()
 
     def projectile(self, p, q, qd) -> tuple[np.ndarray, np.ndarray]:
         """The projectile's position and velocity on the ground, (2,) each."""
@@ -189,11 +216,11 @@ class Machine:
         return float(self._momentum(_four(q), _four(qd), numbers(p)))
 
     def moment(self, p, q) -> float:
-        """sum m (x - X) over the arm, the counterweight and the projectile."""
+        """sum m (x - X) over the arm, the counterweight, the projectile, the sling and the pouch."""
         return float(self._moment(_four(q), np.zeros(4), numbers(p)))
 
     def momentum_rate(self, p, q, qd, qdd) -> np.ndarray:
-        """sum m a over the arm, the counterweight and the projectile (the frame's X'' included), (2,)."""
+        """sum m a over the moving parts (the frame's X'' included), (2,)."""
         return np.asarray(self._momentum_rate(_four(q), _four(qd), _four(qdd), numbers(p)), dtype=float).ravel()
 
     def base_jacobian(self, p, q) -> np.ndarray:

@@ -581,3 +581,25 @@ def test_drag_factor_fast_and_reference_paths_agree():
     reference = simulate(design, histories=False, loads=False).range
     assert simulate_fast(design, loads=False).range == pytest.approx(reference, rel=1e-7)
     assert reference < simulate(load_design(PROTOTYPE_FILE), histories=False, loads=False).range - 0.5
+
+
+#: A sling's mass to recover, kg: about a cord sling's on the prototype (its projectile 45.6 g).
+TRUE_SLING_MASS = 0.015
+
+
+def test_the_slings_mass_is_recovered_from_noise_free_shots(tmp_path):
+    """``machine.sling_mass`` is a fittable field: from massless designs, ranges and release times
+    thrown by the truth give it back (the sling's mass starts at a fifth of the projectile's)."""
+    base = load_design(PROTOTYPE_FILE)
+    designs = [with_machine(base, release_angle=math.radians(a)) for a in SYNTHETIC_ANGLES]
+    truth = [with_machine(d, sling_mass=TRUE_SLING_MASS) for d in designs]
+    shots = synthetic_shots(tmp_path, 0, truth, designs, lambda i: [("range", RANGE_SD), ("release_time", TIME_SD)])
+    for shot, true_design in zip(shots, truth, strict=True):   # no noise: the true shots' own numbers
+        true_shot = simulate(true_design, histories=False, loads=False)
+        shot["range"], shot["release_time"] = true_shot.range, true_shot.release_time
+    spec = load_calibration(write_calibration(tmp_path / "sling.toml", ["machine.sling_mass"], shots))
+    assert spec.parameters[0].start == pytest.approx(0.2 * base.projectile.mass)
+    assert spec.parameters[0].lower == 0.0
+    result = calibrate(spec)
+    assert result.converged and not result.warnings, result.warnings
+    np.testing.assert_allclose(result.values, [TRUE_SLING_MASS], rtol=0, atol=1e-7)

@@ -38,7 +38,7 @@ from analytic.result import Status
 from analytic.scope import EVERYTHING, IDEAL, IDEAL_LOADS
 from support import (compile_a_stand_in_entry_point, examples, failure_designs, fixed_designs, fixed_failure_designs,
                      lossy_designs, paper_designs, table3_variants, table_ii_sample, with_environment, with_machine,
-                     with_projectile)
+                     sling_designs, with_projectile)
 
 #: The agreement targets between the two paths (the fast path's specification).
 RANGE_REL = 1e-7
@@ -194,6 +194,13 @@ def test_every_input_agrees(design):
 def test_every_failure_is_the_same_failure(status):
     _, got = _assert_agree(failure_designs()[status])
     assert got.status is status
+
+
+@pytest.mark.parametrize("name", sling_designs())
+def test_machines_with_a_heavy_sling_and_pouch_agree(name):
+    """Each kind, a rolling frame, friction and the swing's drag, with the sling's and the pouch's mass."""
+    reference, got = _assert_agree(sling_designs()[name])
+    assert reference.ok
 
 
 @pytest.mark.parametrize("name", fixed_designs())

@@ -67,7 +67,7 @@ def random_params(rng: np.random.Generator, rolling: bool) -> Params:
     rest.update(La=La, Lb=Lb, d=rng.uniform(-Lb, La), mA=mA, IA=mA * (La + Lb) ** 2 / 12.0 * rng.uniform(0.5, 1.5),
                 mW=mW, Lw=h * rng.uniform(0.2, 0.8), IW=mW * rng.uniform(0.0, 0.05), Ls=La * rng.uniform(0.5, 1.3),
                 mP=math.exp(rng.uniform(math.log(0.04), math.log(20.0))), h=h, g=rng.uniform(1.0, 25.0),
-                rolling=float(rolling), Mf=(mW * rng.uniform(0.5, 5.0)) if rolling else 0.0,
+                rolling=float(rolling), Mf=(mW * rng.uniform(0.5, 5.0)) if rolling else 0.0, mS=0.0, mQ=0.0,
                 # Large coefficients and pins, so that friction is O(1) of the forcing and nothing hides.
                 mua=rng.uniform(0.1, 0.8), ra=La * rng.uniform(0.01, 0.1), muh=rng.uniform(0.1, 0.8),
                 rh=La * rng.uniform(0.01, 0.1), mub=rng.uniform(0.1, 0.8))

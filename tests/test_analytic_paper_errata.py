@@ -110,7 +110,7 @@ def in_model_symbols(P: PaperParams, h: float) -> Params:
     equations of motion do not read stay NaN)."""
     rest = dict.fromkeys(Params._fields, math.nan)
     rest.update(La=P.LAl, Lb=P.LAs, d=P.LAcg, mA=P.mA, IA=P.IA3, mW=P.mW, Lw=P.LW, IW=P.IW3, Ls=P.LS,
-                mP=P.mP, h=h, g=P.Grav, rolling=0.0, Mf=0.0)
+                mP=P.mP, h=h, g=P.Grav, rolling=0.0, Mf=0.0, mS=0.0, mQ=0.0)   # the paper's sling is massless
     return Params(**rest)
 
 

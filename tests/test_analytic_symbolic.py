@@ -64,7 +64,8 @@ def random_params(rng: np.random.Generator) -> Params:
     # The equations read only the machine's numbers: the rest stay NaN, so a term
     # that wrongly reads one of them shows up as NaN.
     rest = dict.fromkeys(set(Params._fields) - set(MECHANICS), math.nan)
-    rest.update(rolling=0.0, Mf=0.0)   # a fixed frame: the switch the equations read (NaN is true)
+    rest.update(rolling=0.0, Mf=0.0,   # a fixed frame: the switch the equations read (NaN is true)
+                mS=0.0, mQ=0.0)    # a massless sling and pouch, which the equations test likewise
     return Params(La=La, Lb=Lb, d=rng.uniform(-Lb, La), mA=mA,
                   IA=mA * (La + Lb) ** 2 / 12.0 * rng.uniform(0.5, 1.5), mW=mW,
                   Lw=h * rng.uniform(0.2, 0.8), IW=mW * rng.uniform(0.0, 0.05),

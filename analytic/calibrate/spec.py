@@ -70,7 +70,11 @@ _TOP_KEYS = ("fit", "design", "shot", "given", "start", "bounds")
 DEFAULT_LOSS_START = 0.1
 #: Fields that may be zero (every other numeric field must be positive, ``analytic.design``);
 #: ``_FREE`` ones may be negative too. Release angles are bounded by their rule.
-_NON_NEGATIVE = ("machine.arm_inertia", "machine.counterweight_inertia", "environment.air_density")
+_NON_NEGATIVE = ("machine.arm_inertia", "machine.counterweight_inertia", "environment.air_density",
+                 "machine.sling_mass", "machine.pouch_mass")
+#: Where a sling's or a pouch's mass starts when every design leaves it at 0 (massless), as a
+#: fraction of the first shot's projectile: inside its bounds, and of the size a sling has.
+SLING_MASS_START = 0.2
 _FREE = ("machine.arm_cg", "environment.wind_speed")
 
 
@@ -400,6 +404,8 @@ def _parameter(name: str, spec: CalibrationSpec, start: Any, bounds: Any) -> Par
         default = values[0]
         if target.table == "losses" and default == 0.0:
             default = DEFAULT_LOSS_START
+        if target.name in ("machine.sling_mass", "machine.pouch_mass") and default == 0.0:
+            default = SLING_MASS_START * spec.design_at(spec.shots[0], []).projectile.mass
         scale = max(abs(default), 1.0 if target.kind is ANGLE else 0.0, 0.1 if target.table == "losses" else 0.0)
         scale = scale or 1.0
     lower, upper = _validity(name, target, spec)

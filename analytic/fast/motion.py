@@ -27,6 +27,7 @@ from analytic import eom, fast, stages, states
 from analytic.fast import kernel
 from analytic.outcome import dissipated
 from analytic.design import Design
+from analytic.floating_arm import sling_weighs
 from analytic.friction import lossy
 from analytic.limits import DEFAULT_ATOL, DEFAULT_RTOL
 from analytic.parameters import params
@@ -139,7 +140,12 @@ def _completed(shot: Shot, motion: Motion, samples: np.ndarray, p) -> Shot:
         machine, projectile = eom.potential_energy(*motion.q[-1], p)
         _, moving = eom.kinetic_energy(*motion.q[-1], *motion.qdot[-1], p)
         fields.update(counterweight_energy_released=machine0 - machine,
-                      projectile_energy_at_release=moving + projectile - projectile0)
+                      projectile_energy_at_release=moving + projectile - projectile0, sling_energy_at_release=0.0)
+        if sling_weighs(p):   # the machine's potential energy holds theirs: the counterweight's is the rest
+            at_rest = eom.sling_energy(*motion.q[0], *motion.qdot[0], p)
+            at_release = eom.sling_energy(*motion.q[-1], *motion.qdot[-1], p)
+            fields.update(counterweight_energy_released=machine0 - machine - (at_rest[1] - at_release[1]),
+                          sling_energy_at_release=at_release[0] + at_release[1] - at_rest[1])
         if samples["stage"][-1] == FLIGHT:   # the drag's work: the projectile's energy lost over the flight
             release = samples[samples["stage"] == FLIGHT]["state"][0, :STATE_SIZE[FLIGHT]]
             drag = float(_flight_energy(release, p) - _flight_energy(samples["state"][-1, :STATE_SIZE[FLIGHT]], p))

@@ -18,6 +18,7 @@ from analytic import eom, friction, outcome, sequence, stages, states
 from analytic.aero import DRAG_TABLE
 from analytic.design import Design
 from analytic.geometry import projectile_state
+from analytic.floating_arm import sling_weighs
 from analytic.reference.ode import Event, IntegrationError, Segment, integrate
 from analytic.limits import DEFAULT_ATOL, DEFAULT_RTOL, STAGE_STEP_LIMITS, flight_time_limit
 from analytic.outcome import Stage, Status
@@ -270,6 +271,12 @@ def _frame_after_release(p: Params, release_state: np.ndarray, release_time: flo
     opposite, ``-mP vx``, after it. A run that fails leaves the frame's landing
     unreported, with a warning.
     """
+    if sling_weighs(p):
+        # The sling and the pouch stay on the arm and swing free of it: a third coordinate, which stage 4
+        # (the arm and the counterweight alone) does not have [14.8].
+        return {"after_release_warning": after_release_warning("the sling and the pouch, which have mass, swing "
+                                                               "on the arm after release, and stage 4 does not "
+                                                               "follow them")}
     m = stages.machine_params(p)
     start = np.empty(states.state_size(states.MACHINE, m))
     try:
@@ -532,6 +539,11 @@ def _with_history(design: Design, p: Params, history, segments, status: Status, 
         released = (eom.potential_energy(*state_rows[0][:3], p)[0]
                     - eom.potential_energy(*state_rows[-1][:3], p)[0])
         fields["projectile_energy_at_release"] = float(energy.projectile[-1])
+        fields["sling_energy_at_release"] = 0.0
+        if sling_weighs(p):   # the machine's potential energy holds theirs: the counterweight's is the rest
+            at_rest, at_release = eom.sling_energy(*state_rows[0], p), eom.sling_energy(*state_rows[-1], p)
+            released -= at_rest[1] - at_release[1]
+            fields["sling_energy_at_release"] = at_release[0] + at_release[1] - at_rest[1]
     history = History(t=t, stage=stage, q=coordinates[:, :3], qdot=coordinates[:, 3:], path=path,
                       sling_tension=tension, energy=energy,
                       frame_x=frame_x if p.rolling or p.kind == eom.FLOATING else np.empty(0),
