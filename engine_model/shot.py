@@ -344,8 +344,11 @@ def _assemble(design: Design, run: stepping.Run, times: np.ndarray, sync: np.nda
         message = outcome.thrown_message(float(fields["landing_position"][0]))
     if "release_time" in fields:
         potential = kin.potential_energies(sync[[0, -1]], design)[0]
-        if kin.sling_swings(design):   # the counterweight's and the arm's alone
-            potential = potential - kin.sling_energies(sync[[0, -1]], design)[1]
+        fields["sling_energy_at_release"] = 0.0
+        if kin.sling_swings(design):   # the counterweight's and the arm's alone; the sling's named apart
+            kinetic, sling_potential = kin.sling_energies(sync[[0, -1]], design)
+            potential = potential - sling_potential
+            fields["sling_energy_at_release"] = float(kinetic[1] + sling_potential[1] - sling_potential[0])
         released = float(potential[0] - potential[1])
         fields["projectile_energy_at_release"] = float(projectile_energy[-1])
     history = History(t=times, stage=stage.astype(int), q=q, qdot=qdot, path=kin.position(sync, kin.PROJECTILE).copy(),

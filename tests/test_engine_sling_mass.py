@@ -120,6 +120,7 @@ def test_the_energy_audit_closes_with_the_slings_and_the_pouchs_energy(kind):
     if design.base.rolling:
         assert diagnostics.after_release_steps > 0
         assert diagnostics.after_release_energy_error < ENERGY_TOL
+    assert shot.sling_energy_at_release > 10.0 * ENERGY_TOL * kin.available_energy(design)
     # The audit can fail: the sling's and the pouch's kinetic energy at release dwarfs the tolerance.
     kinetic = kin.sling_energies(_release_row(shot, design), design)[0][0]
     assert kinetic > 10.0 * ENERGY_TOL * kin.available_energy(design)
@@ -188,3 +189,35 @@ def test_a_sling_too_light_for_the_solver_is_refused_by_name():
     with pytest.raises(EngineError, match=r"machine\.sling_mass = .* heavier"):
         build(with_sling(design, sling_mass=light))
     build(with_sling(design, sling_mass=2.0 * light))   # at the fraction: built
+
+
+def test_the_sling_mass_group_has_each_mass_on_each_kind_with_losses_drag_and_a_rolling_frame():
+    from crosscheck.cases import sling_mass_cases
+
+    cases = sling_mass_cases()
+    masses = {(c.design.machine.kind, c.design.machine.sling_mass > 0.0, c.design.machine.pouch_mass > 0.0)
+              for c in cases if c.design.losses.ideal}
+    for kind in ("hinged", "fixed", "floating-arm"):
+        assert {(kind, True, False), (kind, False, True), (kind, True, True)} <= masses
+        assert any(c.design.machine.kind == kind and not c.design.losses.ideal for c in cases)
+    assert any(c.design.projectile.drag_during_swing for c in cases)
+    assert any(c.design.base.rolling for c in cases)
+    assert len({c.name for c in cases}) == len(cases)
+
+
+def test_the_engine_agrees_with_the_analytic_model_on_a_sling_and_pouch():
+    from analytic.reference import simulate as reference
+    from crosscheck.cases import sling_mass_cases
+    from crosscheck.comparison import compare
+
+    case = next(c for c in sling_mass_cases() if c.name == "table3-sling-and-pouch")
+    analytic = reference(case.design)
+    comparison = compare(case, analytic_shot=analytic)
+    assert comparison.agree, [row for row in comparison.rows if not row.ok]
+    # The energy the sling and the pouch hold at release (not a cross-check row), to the engine's
+    # energy trust (``crosscheck.tolerances.ENGINE_ENERGY_TRUST``) of the available energy.
+    engine = simulate(case.design)
+    assert engine.sling_energy_at_release == pytest.approx(analytic.sling_energy_at_release,
+                                                           abs=2e-5 * kin.available_energy(case.design))
+    quantities = {row.quantity for row in comparison.rows}
+    assert {"peak_sling_tension", "peak_axle_load", "peak_arm_bending_moment", "range"} <= quantities
