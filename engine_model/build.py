@@ -302,8 +302,8 @@ def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITE
     if sling not in SLINGS:
         raise ValueError(f"sling = {sling!r}: must be one of {', '.join(SLINGS)}")
     if sling != "rigid" and design.machine.sling_mass > 0.0:
-        raise ValueError(f"sling = {sling!r}: a sling with mass (machine.sling_mass = "
-                         f"{design.machine.sling_mass:g} kg) is a rod, rigid only")
+        raise EngineError(f"sling = {sling!r}: the engine models a sling with mass (machine.sling_mass = "
+                          f"{design.machine.sling_mass:g} kg) as a rod, rigid only")
     carried = carried_mass(design)
     if 0.0 < design.machine.sling_mass < SLING_MASS_FRACTION * carried:
         raise EngineError(f"machine.sling_mass = {design.machine.sling_mass:g} kg is under "

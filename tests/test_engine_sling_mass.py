@@ -179,7 +179,7 @@ def test_a_sling_with_mass_is_a_rod_on_two_pins_and_carries_the_pouch():
 
 
 def test_a_sling_with_mass_is_rigid_only():
-    with pytest.raises(ValueError, match="sling_mass"):
+    with pytest.raises(EngineError, match="sling_mass"):
         build(with_sling(default_design()), sling="rope")
 
 
