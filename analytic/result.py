@@ -82,7 +82,8 @@ class History:
         (N, N, m/s^2, N m; the bending moment's magnitude), or
         None where they are not recorded (the engine model; ``simulate(sampled_loads=False)``).
     machine_t, machine_q, machine_frame_x : the machine without its projectile from release to
-        landing: (m,) times, s from firing; (m, 2) [theta, phi], rad; (m,) the frame's X, m.
+        landing: (m,) times, s from firing; (m, 2) [theta, phi], rad ((m, 3) [theta, phi, psi] where a
+        sling with mass or a pouch swings on with it); (m,) the frame's X, m.
         None unless asked for (the engine's ``simulate(machine_after_release=True)``, for drawing).
     """
 

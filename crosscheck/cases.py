@@ -20,7 +20,7 @@ from analytic.design_space import default_problem, sample_designs
 class Case:
     """One design to run through both models; ``group`` is paper, exercise, failure, sample, rolling,
     friction, stage-1-events, fixed, floating-arm, floating-friction, swing-drag, ideal-release, trough,
-    target, floating-base-friction or file."""
+    target, floating-base-friction, sling-mass or file."""
 
     name: str
     design: Design
@@ -483,6 +483,34 @@ def target_cases() -> list[Case]:
     return cases
 
 
+#: A sling with mass and a pouch on the paper's machine, kg: a cord sling of 10 g and a leather pouch
+#: of 10 g, a fifth and a quarter of its 45.6 g golf ball.
+SLING_MASS = 0.01
+POUCH_MASS = 0.01
+
+
+def sling_mass_cases() -> list[Case]:
+    """A sling with mass (``SLING_MASS``), a pouch (``POUCH_MASS``) and both, on the paper's machine of each
+    kind (hinged, fixed, floating arm); with both, every loss each kind has (``REALISTIC_LOSSES``,
+    ``FIXED_LOSSES``, ``FLOATING_LOSSES``), the drag during the swing, and a rolling frame."""
+    t3 = default_design()
+    kinds = {"table3": t3, "table3-fixed": fixed_design(t3, "table3-fixed"),
+             "table3-floating-arm": floating_design(t3, "table3-floating-arm")}
+    losses = [REALISTIC_LOSSES, FIXED_LOSSES, FLOATING_LOSSES]
+    weights = {"sling-mass": {"sling_mass": SLING_MASS}, "pouch": {"pouch_mass": POUCH_MASS},
+               "sling-and-pouch": {"sling_mass": SLING_MASS, "pouch_mass": POUCH_MASS}}
+    designs = [_variant(design, f"{kind}-{suffix}", machine=masses)
+               for kind, design in kinds.items() for suffix, masses in weights.items()]
+    both = weights["sling-and-pouch"]
+    designs += [dataclasses.replace(_variant(design, f"{kind}-sling-and-pouch-all-losses", machine=both),
+                                    losses=lossy) for (kind, design), lossy in zip(kinds.items(), losses, strict=True)]
+    designs.append(_variant(t3, "table3-sling-and-pouch-swing-drag", machine=both,
+                            projectile={"drag_during_swing": True}))
+    name = f"table3-sling-and-pouch-rolling-{ROLLING_SAMPLE_FRAME_MASS:g}kg"
+    designs.append(dataclasses.replace(_variant(t3, name, machine=both), base=Base("rolling", ROLLING_SAMPLE_FRAME_MASS)))
+    return [Case(design.name, design, "sling-mass") for design in designs]
+
+
 def file_cases(paths: list[str]) -> list[Case]:
     """Designs from the user's TOML files, each named by its own name, or by its file (the stem) where
     that name is the built-in default's or more than one file's: twelve files made from the default
@@ -499,7 +527,7 @@ def default_suite(sample: int = 24, seed: int = 0) -> list[Case]:
     """The suite ``python -m crosscheck`` runs with no design files."""
     return (paper_cases() + exercise_cases() + failure_cases() + sample_cases(sample, seed) + rolling_cases()
             + friction_cases() + stage1_event_cases() + fixed_cases(seed=seed) + floating_cases(seed=seed)
-            + floating_friction_cases(seed=seed) + swing_drag_cases() + ideal_release_cases()
+            + floating_friction_cases(seed=seed) + swing_drag_cases() + ideal_release_cases() + sling_mass_cases()
             + trough_cases() + target_cases() + floating_base_friction_cases(seed=seed))
 
 

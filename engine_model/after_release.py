@@ -13,6 +13,10 @@ so placing each body half a step back along its velocity and stepping half a
 step puts the positions at the release instant and the velocities half a step
 on, the leapfrog start the machine had at firing.
 
+A sling with mass and the pouch stay on the arm and swing on (``build(released=True)``):
+the rows' projectile columns then hold the sling's end (the pouch), read each step,
+in place of the projectile's state at release.
+
 The axle's and the hinge's friction act on (``engine_model.friction``), their
 limits from the loads of the steps before; the opening half step takes the
 loads at rest (the weights), the only step whose loads are not measured.
@@ -31,7 +35,7 @@ from engine_model import friction as fr
 from engine_model import kinematics as kin
 from engine_model.build import Rig, build
 from engine_model.events import interpolate
-from engine_model.readout import impulse, origin_reader, stepper
+from engine_model.readout import impulse, mounted_row, origin_reader, stepper
 
 #: The joints that remain after release (``engine_model.kinematics.joint_drift``'s keys; a fixed
 #: machine has no hinge).
@@ -46,7 +50,8 @@ class AfterRelease:
     ----------
     t : (k,) s from firing: the release instant, every step, and the landing instant last.
     states : (k, 24) synchronised rows (``engine_model.kinematics``) on ``t``;
-        the projectile's columns hold its state at release (it is not in the space).
+        the projectile's columns hold its state at release (it is not in the space), or where a
+        sling with mass or a pouch swings on (``kinematics.sling_swings``), the sling's end.
     raw : (k - 1, 24) rows as read after each step (velocities half a step on).
     steps : pymunk steps taken (the opening half step counted as one).
     dissipated : (k, 5) the work each friction (``friction.JOINTS``; the base's
@@ -105,12 +110,14 @@ def run_after_release(design: Design, release_time: float, release_state: np.nda
     AfterRelease, the landing instant interpolated (quadratic) between the
     last steps. The caller checks its drift, residual and energy.
     """
-    rig = build(design, sling="rigid", iterations=iterations, on_base=False)
+    rig = build(design, sling="rigid", iterations=iterations, on_base=False, released=True)
     rig.space.remove(rig.sling, rig.projectile)
     bodies = _bodies(rig)
     for part, body in bodies.items():
         if body is not None:
             place(body, release_state, part, 0.5 * dt if part != kin.PROJECTILE else 0.0)
+    if rig.sling_body is not None:
+        place(rig.sling_body, sling_row(release_state, design), 0, 0.5 * dt)
     friction = fr.attach(rig, design, on_base=False)
     impulses = []
     modes = []   # each step's joints' modes (``friction.steady``)
@@ -125,6 +132,8 @@ def run_after_release(design: Design, release_time: float, release_state: np.nda
     rig.space.step(0.5 * dt)
     rig.space.iterations = iterations
     read = origin_reader(*bodies.values(), rig.mount)
+    if rig.sling_body is not None:
+        read = _with_sling_end(read, rig.sling_body, _sling_end(design))
     raw = [read()]
     if friction is not None:
         impulses.append(fr.impulses(friction, False))
@@ -163,6 +172,36 @@ def run_after_release(design: Design, release_time: float, release_state: np.nda
     dissipated = np.vstack([dissipated[:-1], interpolate(dissipated[-3:], fraction)])
     return AfterRelease(np.append(times[:-1], landing_time), np.vstack([states[:-1], landing]), raw,
                         len(raw), dissipated)
+
+
+def sling_row(state: np.ndarray, design: Design) -> np.ndarray:
+    """(6,) the row (``place``) of what stays on the long tip (``build.released_sling``) at the
+    synchronised ``state``: a rod's origin at the tip, turned to the sling's direction and turning with
+    it; a pouch alone, at the sling's end (the projectile's centre) with its velocity."""
+    rows = state[None, :]
+    end, v_end = kin.position(rows, kin.PROJECTILE)[0], kin.velocity(rows, kin.PROJECTILE)[0]
+    if not design.machine.sling_mass > 0.0:
+        return np.array([end[0], end[1], 0.0, v_end[0], v_end[1], 0.0])
+    tip = kin.long_tip(rows, design)
+    v_tip = kin.point_velocity(rows, kin.ARM, tip)[0]
+    span, relative = end - tip[0], v_end - v_tip
+    spin = (span[0] * relative[1] - span[1] * relative[0]) / float(span @ span)
+    # The sling points at theta + psi from the upward vertical: (-sin, cos) of its angle.
+    return np.array([tip[0, 0], tip[0, 1], math.atan2(-span[0], span[1]), v_tip[0], v_tip[1], spin])
+
+
+def _sling_end(design: Design) -> tuple[float, float]:
+    """The sling's end in the local frame of what stays on the tip (``build.released_sling``), m."""
+    return (0.0, design.machine.sling_length) if design.machine.sling_mass > 0.0 else (0.0, 0.0)
+
+
+def _with_sling_end(read, body: pymunk.Body, end: tuple[float, float]):
+    """``read`` with the sling's ``end`` (a local point of ``body``: its position and velocity, the body's
+    angle and spin, ``readout.mounted_row``) in the projectile's columns."""
+    def with_end() -> tuple[float, ...]:
+        row = read()
+        return (*row[:kin.PROJECTILE], *mounted_row(body, end), *row[kin.PROJECTILE + 6:])
+    return with_end
 
 
 def after_release_steps(release_time: float, landing_time: float, dt: float) -> int:

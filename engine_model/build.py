@@ -15,7 +15,14 @@ Body frames (pymunk rotates each body about its centre of gravity and reports
   two together only as well as the iterative solver converges, the error
   growing with the counterweight-to-arm mass ratio. Its state (position,
   velocity, angle and spin) is that point of the arm's (``engine_model.readout``).
-* projectile: origin and centre of gravity at its centre.
+* projectile: origin and centre of gravity at its centre. It carries the
+  pouch (``machine.pouch_mass``, a point mass at its centre) while the sling
+  holds it: one body of both masses.
+* sling (``machine.sling_mass`` > 0 only): a uniform rod, origin at the long
+  tip's end, its other end (the projectile's centre) at local
+  ``(0, sling_length)``, centre of gravity halfway, moment ``m L^2 / 12``
+  about it; so ``body.angle`` is theta + psi. A massless sling is a joint
+  (``build``'s ``sling``).
 * frame (rolling only): origin at the pivot, infinite moment (it never
   turns), held on a horizontal groove along the ground through the pivot's
   rest height; so ``body.position.x`` is the frame's displacement X. A fixed
@@ -44,6 +51,7 @@ import pymunk
 from analytic.design import Design, initial_angles, largest_length
 from analytic.geometry import machine_points
 from engine_model import floating
+from engine_model.kinematics import carried_mass
 
 #: Default solver iterations per step. With ``error_bias = 0`` pymunk needs at
 #: least about 20 to stay stable on a machine with a counterweight 140 times
@@ -61,6 +69,12 @@ SLINGS = ("rigid", "rope")
 #: counterweight and the frame (a 10 g arm under 6.5 kg blows up even at 5000
 #: iterations). A lighter arm gets ballast at the pivot (see ``arm_body_properties``).
 ARM_MASS_FRACTION = 0.02
+
+#: A sling with mass is never lighter than this fraction of what it carries (the projectile and the
+#: pouch): pymunk's solver does not converge for a light rod pinned between the arm and the projectile
+#: (on the paper's design a sling of 0.22 % of the ball missed its pin's target velocity by 2.7 m/s,
+#: 6600 times ``diagnostics.RESIDUAL_LIMIT``; 0.66 % by half of it, 1.1 % by a fifth).
+SLING_MASS_FRACTION = 0.01
 
 
 class EngineError(RuntimeError):
@@ -93,7 +107,8 @@ class Rig:
     hinge : PivotJoint (counterweight with inertia) or PinJoint (a point
         counterweight, inertia 0: see ``build``), arm short tip to
         counterweight; None for a fixed machine.
-    sling : PinJoint (rigid) or SlideJoint (rope), long tip to projectile.
+    sling : PinJoint (rigid) or SlideJoint (rope), long tip to projectile; for a sling with
+        mass, the PivotJoint of the sling body's end to the projectile.
     groove : GrooveJoint holding the projectile on the base (stage 1).
     sling_kind : ``"rigid"`` or ``"rope"``.
     frame : the body carrying the pivot and the base: the space's static body
@@ -104,6 +119,11 @@ class Rig:
     supports : a floating arm's (carriage, slider) bodies and (track, guide,
         slider pivot) joints (``engine_model.floating``); ``pivot`` is then the
         arm's pivot on the carriage. Empty for the other kinds.
+    sling_body : the sling with mass as a body (a rod, ``sling_body``), or after release
+        (``build(released=True)``) what stays on the arm: the rod with the pouch at its end, or
+        the pouch alone on a massless sling; None for a massless sling (and no pouch after release).
+    sling_tip : the joint of ``sling_body`` to the long tip (PivotJoint for a rod, PinJoint for
+        the pouch alone); None without ``sling_body``.
     """
 
     space: pymunk.Space
@@ -119,11 +139,14 @@ class Rig:
     rail: pymunk.GrooveJoint | None = None
     mount: tuple[float, float] | None = None
     supports: tuple = ()
+    sling_body: pymunk.Body | None = None
+    sling_tip: pymunk.Constraint | None = None
 
     @property
     def machine_parts(self) -> tuple:
         """Bodies and joints of the arm and counterweight (removed from the space at release)."""
-        parts = (self.pivot, self.hinge, *self.supports, self.arm, self.counterweight)
+        parts = (self.pivot, self.hinge, *self.supports, self.arm, self.counterweight, self.sling_tip,
+                 self.sling_body)
         return tuple(part for part in parts if part is not None)
 
     @property
@@ -242,7 +265,7 @@ def frame_body_mass(design: Design) -> float:
 
 
 def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITERATIONS,
-          on_base: bool = True) -> Rig:
+          on_base: bool = True, released: bool = False) -> Rig:
     """The machine of ``design`` at rest, ready to fire, in a new pymunk Space.
 
     Parameters
@@ -254,6 +277,9 @@ def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITE
     iterations : solver iterations per step.
     on_base : add the groove that holds the projectile on the base, or on its
         trough (False when the sling already lifts it at rest).
+    released : the machine as it swings on after release (``engine_model.after_release``, which
+        takes the projectile and ``sling`` out): a sling with mass and the pouch stay on the arm,
+        as ``sling_body`` (``released_sling``).
 
     Notes
     -----
@@ -269,9 +295,21 @@ def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITE
     with an infinite moment on a horizontal groove (``rail``) along the ground;
     it carries the pivot and the groove that holds the projectile on the base,
     at the base's (or the trough's) height below the pivot. It has no friction and never lifts.
+
+    A sling with mass (``machine.sling_mass``) is a rod of its own (``sling_body``), pinned to the
+    long tip at one end and to the projectile's centre at the other: a rigid sling only. The pouch
+    (``machine.pouch_mass``) rides in the projectile's body until release.
     """
     if sling not in SLINGS:
         raise ValueError(f"sling = {sling!r}: must be one of {', '.join(SLINGS)}")
+    if sling != "rigid" and design.machine.sling_mass > 0.0:
+        raise EngineError(f"sling = {sling!r}: the engine models a sling with mass (machine.sling_mass = "
+                          f"{design.machine.sling_mass:g} kg) as a rod, rigid only")
+    carried = carried_mass(design)
+    if 0.0 < design.machine.sling_mass < SLING_MASS_FRACTION * carried:
+        raise EngineError(f"machine.sling_mass = {design.machine.sling_mass:g} kg is under "
+                          f"{SLING_MASS_FRACTION:.0%} of the {carried:g} kg it carries: the engine's solver "
+                          f"does not converge for so light a sling; make it massless (0) or heavier")
     if iterations < 1:
         raise ValueError(f"iterations = {iterations!r}: must be at least 1")
     m = design.machine
@@ -289,10 +327,20 @@ def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITE
     else:
         pivot = pymunk.PivotJoint(frame, arm, (0.0, 0.0), (0.0, 0.0))
     hinge = None if fixed else _hinge(design, arm, counterweight)
-    sling_joint = _sling(design, sling, arm, projectile)
+    sling_body = sling_tip = None
+    if released:
+        sling_body, sling_tip = released_sling(design, arm)
+        sling_joint = _sling(design, sling, arm, projectile)
+    elif m.sling_mass > 0.0:
+        sling_body = sling_rod(design)
+        sling_tip = pymunk.PivotJoint(arm, sling_body, (0.0, m.arm_long), (0.0, 0.0))
+        sling_joint = pymunk.PivotJoint(sling_body, projectile, (0.0, m.sling_length), (0.0, 0.0))
+    else:
+        sling_joint = _sling(design, sling, arm, projectile)
     groove = _trough(design, frame, projectile)
 
-    joints = [pivot] + ([] if hinge is None else [hinge]) + list(supports[2:]) + [sling_joint]
+    joints = [pivot] + ([] if hinge is None else [hinge]) + list(supports[2:])
+    joints += ([] if sling_tip is None else [sling_tip]) + [sling_joint]
     joints += ([groove] if on_base else []) + ([rail] if rail else [])
     for joint in joints + [groove]:
         joint.error_bias = 0.0
@@ -301,9 +349,10 @@ def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITE
     named = [("arm", arm), ("counterweight", counterweight), ("projectile", projectile)]
     named += [("frame", frame)] if rail else []
     named += list(zip(("carriage", "slider"), supports[:2]))
+    named += [] if sling_body is None else [("sling", sling_body)]
     space.add(*_checked_bodies(named), *joints)
     return Rig(space, arm, counterweight, projectile, pivot, hinge, sling_joint, groove, sling, frame, rail,
-               (0.0, -m.arm_short) if fixed else None, supports)
+               (0.0, -m.arm_short) if fixed else None, supports, sling_body, sling_tip)
 
 
 def trough_level(design: Design) -> float:
@@ -378,11 +427,52 @@ def _counterweight(design: Design, position: tuple[float, float]) -> pymunk.Body
 
 
 def _projectile(design: Design, position: tuple[float, float]) -> pymunk.Body:
-    """The projectile at ``position``: a solid sphere's moment, which nothing couples to."""
+    """The projectile at ``position``, with the pouch it sits in (``kinematics.carried_mass``): a solid
+    sphere's moment, which nothing couples to."""
     proj = design.projectile
-    projectile = pymunk.Body(proj.mass, placeholder_moment(0.4 * proj.mass, proj.diameter / 2.0))
+    projectile = pymunk.Body(carried_mass(design), placeholder_moment(0.4 * proj.mass, proj.diameter / 2.0))
     projectile.position = position
     return projectile
+
+
+def sling_rod(design: Design) -> pymunk.Body:
+    """A sling with mass at rest: a uniform rod of ``sling_mass`` from the long tip (its origin) to the
+    projectile's centre (local ``(0, sling_length)``), moment ``m L^2 / 12`` about its centre."""
+    m = design.machine
+    theta, _, psi = initial_angles(m, design.base.trough_height)
+    rod = pymunk.Body(m.sling_mass, m.sling_mass * m.sling_length**2 / 12.0)
+    rod.center_of_gravity = (0.0, 0.5 * m.sling_length)
+    rod.angle = theta + psi
+    rod.position = start_positions(design)["long_tip"]
+    return rod
+
+
+def released_sling(design: Design, arm: pymunk.Body) -> tuple[pymunk.Body | None, pymunk.Constraint | None]:
+    """What stays on the long tip after release, and its joint to it: the rod (``sling_rod``) with the
+    pouch at its end, one body (its centre of gravity and moment those of both, by parallel axes); the
+    pouch alone on a massless sling, a point body (origin at its centre, a placeholder moment) on a
+    PinJoint as long as the sling; (None, None) for a massless sling without a pouch. Placed as at rest:
+    the caller moves it to the release state (``engine_model.after_release``)."""
+    m = design.machine
+    if m.sling_mass > 0.0:
+        rod = sling_rod(design)
+        if m.pouch_mass > 0.0:
+            mass = m.sling_mass + m.pouch_mass
+            cg = (0.5 * m.sling_mass + m.pouch_mass) * m.sling_length / mass
+            moment = (m.sling_mass * m.sling_length**2 / 12.0 + m.sling_mass * (cg - 0.5 * m.sling_length) ** 2
+                      + m.pouch_mass * (m.sling_length - cg) ** 2)
+            rod.mass, rod.moment = mass, moment
+            angle, position = rod.angle, rod.position
+            rod.center_of_gravity = (0.0, cg)
+            rod.angle, rod.position = angle, position
+        return rod, pymunk.PivotJoint(arm, rod, (0.0, m.arm_long), (0.0, 0.0))
+    if m.pouch_mass > 0.0:
+        pouch = pymunk.Body(m.pouch_mass, placeholder_moment(m.pouch_mass, m.sling_length))
+        pouch.position = start_positions(design)["projectile"]
+        tip = pymunk.PinJoint(arm, pouch, (0.0, m.arm_long), (0.0, 0.0))
+        tip.distance = m.sling_length
+        return pouch, tip
+    return None, None
 
 
 def _hinge(design: Design, arm: pymunk.Body, counterweight: pymunk.Body) -> pymunk.Constraint:

@@ -145,6 +145,10 @@ def static_balance(design: Design, rest: np.ndarray) -> StaticBalance:
     counterweight_x = rest[kin.COUNTERWEIGHT + kin.X] - rest[kin.ARM + kin.X]
     torque = -g * (m.arm_mass * arm_x + m.counterweight_mass * counterweight_x)
     load = (m.arm_mass + m.counterweight_mass) * g
+    if m.sling_mass > 0.0:   # half the rod's weight on the long tip (``static_loads``)
+        tip_x = kin.long_tip(rest[None, :], design)[0, 0] - rest[kin.ARM + kin.X]
+        torque -= g * 0.5 * m.sling_mass * tip_x
+        load += 0.5 * m.sling_mass * g
     losses = design.losses
     return StaticBalance(float(torque), float(load), losses.static("axle") * losses.axle_radius * load)
 
@@ -222,12 +226,17 @@ def _slides(rig: Rig, design: Design, reach: float) -> tuple[pymunk.GrooveJoint 
 
 def static_loads(design: Design) -> tuple[float, float, float, float, float]:
     """The joints' loads at rest, N (``JOINTS``): the weights the axle, the hinge, the base and a floating
-    arm's track carry; the guide none (it pushes sideways only to turn the arm or to balance the track's
+    arm's track carry (a sling with mass taken as half on the long tip, half on the base, where the
+    pouch lies with the projectile: the first step's loads, measured, replace these); the guide none (it pushes sideways only to turn the arm or to balance the track's
     friction, which the weights alone do not ask of it)."""
     m, g = design.machine, design.environment.gravity
     weight = (m.arm_mass + m.counterweight_mass) * g
+    base = design.projectile.mass * g
+    if m.sling_mass > 0.0 or m.pouch_mass > 0.0:   # the rod's weight shared by its ends, the pouch's on the base
+        weight = (m.arm_mass + m.counterweight_mass + 0.5 * m.sling_mass) * g
+        base = (kin.carried_mass(design) + 0.5 * m.sling_mass) * g
     track = weight if m.kind == "floating-arm" else 0.0
-    return weight, m.counterweight_mass * g, design.projectile.mass * g, 0.0, track
+    return weight, m.counterweight_mass * g, base, 0.0, track
 
 
 #: Steps, the coming one included, through which a joint must keep its mode (``limits``' ``slips``)
@@ -512,18 +521,30 @@ def axle_load_from_momentum(before: tuple, row: tuple, design: Design, base_forc
     real axle does not; the design's own bodies do not include it. Outside
     forces on them: gravity, the axle, and on the base the base's push and
     friction ``base_force`` (N, signed). After release (``projectile`` False)
-    the projectile is no part of the machine.
+    the projectile is no part of the machine; a sling with mass and the pouch
+    are, before release and after it (the row's projectile columns then hold
+    the sling's end, ``engine_model.after_release``).
     """
     m, g = design.machine, design.environment.gravity
     masses = (m.arm_mass, m.counterweight_mass, design.projectile.mass if projectile else 0.0)
+    if m.sling_mass > 0.0 or m.pouch_mass > 0.0:
+        # The rod's centre moves at the mean of its ends' velocities; the pouch, at its end, is the
+        # projectile's columns' (until release the projectile's, then the end's as it swings on).
+        masses = (*masses[:2], masses[2] + m.pouch_mass, m.sling_mass)
     momentum = [0.0, 0.0]
     for state, sign in ((row, 1.0), (before, -1.0)):
         theta, spin = state[kin.ARM + kin.ANGLE], state[kin.ARM + kin.W]
         arm_vx = state[kin.ARM + kin.VX] - spin * m.arm_cg * math.cos(theta)
         arm_vy = state[kin.ARM + kin.VY] - spin * m.arm_cg * math.sin(theta)
-        for mass, vx, vy in ((masses[0], arm_vx, arm_vy),
-                             (masses[1], state[kin.COUNTERWEIGHT + kin.VX], state[kin.COUNTERWEIGHT + kin.VY]),
-                             (masses[2], state[kin.PROJECTILE + kin.VX], state[kin.PROJECTILE + kin.VY])):
+        parts = [(masses[0], arm_vx, arm_vy),
+                 (masses[1], state[kin.COUNTERWEIGHT + kin.VX], state[kin.COUNTERWEIGHT + kin.VY]),
+                 (masses[2], state[kin.PROJECTILE + kin.VX], state[kin.PROJECTILE + kin.VY])]
+        if len(masses) > 3:
+            tip_vx = state[kin.ARM + kin.VX] - spin * m.arm_long * math.cos(theta)
+            tip_vy = state[kin.ARM + kin.VY] - spin * m.arm_long * math.sin(theta)
+            parts.append((masses[3], 0.5 * (tip_vx + state[kin.PROJECTILE + kin.VX]),
+                          0.5 * (tip_vy + state[kin.PROJECTILE + kin.VY])))
+        for mass, vx, vy in parts:
             momentum[0] += sign * mass * vx
             momentum[1] += sign * mass * vy
     force_x = momentum[0] / step - base_force[0]

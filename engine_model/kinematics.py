@@ -231,8 +231,39 @@ def origin_carried(design: Design) -> bool:
     return design.base.rolling or design.machine.kind == "floating-arm"
 
 
+def carried_mass(design: Design) -> float:
+    """The mass at the sling's end until release, kg: the projectile's, and the pouch's with it
+    (one pymunk body, ``engine_model.build``)."""
+    pouch = design.machine.pouch_mass
+    return design.projectile.mass + pouch if pouch > 0.0 else design.projectile.mass
+
+
+def sling_swings(design: Design) -> bool:
+    """The sling has mass or a pouch: something stays on the long tip and swings on after release."""
+    return design.machine.sling_mass > 0.0 or design.machine.pouch_mass > 0.0
+
+
+def sling_energies(states: np.ndarray, design: Design) -> tuple[np.ndarray, np.ndarray]:
+    """Kinetic and potential energy of the sling (a uniform rod) and the pouch (a point mass at its
+    end), J, each (n,): the rod from the long tip A to its end B, the projectile's columns (the
+    projectile's centre until release; the end as it swings on after it, ``engine_model.after_release``).
+
+    A rigid rod's points move with velocities linear along it, so its kinetic energy is
+    ``m (v_A^2 + v_A . v_B + v_B^2) / 6`` and its potential ``m g (y_A + y_B) / 2``.
+    """
+    m, g = design.machine, design.environment.gravity
+    tip, end = long_tip(states, design), position(states, PROJECTILE)
+    v_tip, v_end = point_velocity(states, ARM, tip), velocity(states, PROJECTILE)
+    end_squared = np.sum(v_end**2, axis=1)
+    kinetic = (m.sling_mass / 6.0 * (np.sum(v_tip**2, axis=1) + np.sum(v_tip * v_end, axis=1) + end_squared)
+               + 0.5 * m.pouch_mass * end_squared)
+    potential = g * (0.5 * m.sling_mass * (tip[:, 1] + end[:, 1]) + m.pouch_mass * end[:, 1])
+    return kinetic, potential
+
+
 def potential_energies(states: np.ndarray, design: Design) -> tuple[np.ndarray, np.ndarray]:
-    """Gravitational potential energy (machine: arm + counterweight; projectile), J, each (n,).
+    """Gravitational potential energy (machine: arm + counterweight, with the sling and the pouch,
+    ``sling_energies``; projectile), J, each (n,).
 
     Measured from the pivot's height; only differences matter.
     """
@@ -240,12 +271,15 @@ def potential_energies(states: np.ndarray, design: Design) -> tuple[np.ndarray, 
     m = design.machine
     machine = g * (m.arm_mass * arm_centre(states, design)[:, 1]
                    + m.counterweight_mass * column(states, COUNTERWEIGHT, Y))
+    if sling_swings(design):
+        machine = machine + sling_energies(states, design)[1]
     projectile = g * design.projectile.mass * column(states, PROJECTILE, Y)
     return machine, projectile
 
 
 def kinetic_energies(states: np.ndarray, design: Design) -> tuple[np.ndarray, np.ndarray]:
-    """Kinetic energy (machine: arm + counterweight, and a rolling frame; projectile), J, each (n,).
+    """Kinetic energy (machine: arm + counterweight, a rolling frame, the sling and the pouch; projectile),
+    J, each (n,).
 
     Uses the design's masses and inertias, not the pymunk bodies' (which may
     carry ballast at the pivot or, for a point counterweight, a placeholder
@@ -262,11 +296,13 @@ def kinetic_energies(states: np.ndarray, design: Design) -> tuple[np.ndarray, np
                + 0.5 * m.counterweight_inertia * column(states, COUNTERWEIGHT, W)**2)
     if design.base.rolling:
         machine = machine + translation(velocity(states, FRAME), design.base.mass)
+    if sling_swings(design):
+        machine = machine + sling_energies(states, design)[0]
     return machine, translation(velocity(states, PROJECTILE), design.projectile.mass)
 
 
 def horizontal_momentum(states: np.ndarray, design: Design) -> np.ndarray:
-    """Horizontal momentum of frame, arm, counterweight and projectile, kg m/s, shape (n,).
+    """Horizontal momentum of frame, arm, counterweight, sling, pouch and projectile, kg m/s, shape (n,).
 
     No horizontal force acts on a rolling machine as a whole (the rail only
     pushes up), so this is conserved through stages 1 and 2. Design masses, as
@@ -279,6 +315,10 @@ def horizontal_momentum(states: np.ndarray, design: Design) -> np.ndarray:
                 + design.projectile.mass * column(states, PROJECTILE, VX))
     if design.base.rolling:
         momentum = momentum + design.base.mass * column(states, FRAME, VX)
+    if sling_swings(design):   # the rod's centre moves at the mean of its ends; the pouch with the end
+        end = column(states, PROJECTILE, VX)
+        tip = point_velocity(states, ARM, long_tip(states, design))[:, 0]
+        momentum = momentum + 0.5 * m.sling_mass * (tip + end) + m.pouch_mass * end
     return momentum
 
 
@@ -302,8 +342,8 @@ def available_energy(design: Design) -> float:
 def contact_forces(velocity_before: tuple[float, float], velocity_after: tuple[float, float],
                    tip: tuple[float, float], centre: tuple[float, float], on_base: bool,
                    design: Design, dt: float, base_friction: float = 0.0,
-                   drag_force: tuple[float, float] = (0.0, 0.0)) -> tuple[float, float]:
-    """Sling tension and base normal force on the projectile over one step, N.
+                   drag_force: tuple[float, float] = (0.0, 0.0), shear: float = 0.0) -> tuple[float, float]:
+    """Sling tension and base normal force on the projectile (with the pouch it sits in) over one step, N.
 
     pymunk reports only the size of a joint's impulse; the signs follow from
     the projectile's momentum: over the step at t_k the constraints gave it the
@@ -311,7 +351,10 @@ def contact_forces(velocity_before: tuple[float, float], velocity_after: tuple[f
     along the unit vector from the projectile to the tip plus, on the base,
     the groove's push along +y and the base's friction along x (``base_friction``,
     which pymunk's friction constraint reports, ``engine_model.friction``), less the air's
-    drag in the step (``drag_force``, N, with ``projectile.drag_during_swing``).
+    drag in the step (``drag_force``, N, with ``projectile.drag_during_swing``). The mass is the
+    projectile's and the pouch's (``carried_mass``). A sling with mass also pushes across itself,
+    ``shear`` (N, along the unit vector ``n`` a quarter turn counter-clockwise from ``u``, the sling's
+    direction from the projectile to the tip; ``sling_shear``).
 
     Parameters
     ----------
@@ -325,7 +368,7 @@ def contact_forces(velocity_before: tuple[float, float], velocity_after: tuple[f
     (tension, normal) : positive when the sling pulls and when the base pushes
     up; ``normal`` is 0 off the base.
     """
-    mass = design.projectile.mass
+    mass = carried_mass(design)
     force_x = mass * (velocity_after[0] - velocity_before[0]) / dt - drag_force[0]
     force_y = mass * (velocity_after[1] - velocity_before[1]) / dt + mass * design.environment.gravity - drag_force[1]
     offset_x, offset_y = tip[0] - centre[0], tip[1] - centre[1]
@@ -335,8 +378,49 @@ def contact_forces(velocity_before: tuple[float, float], velocity_after: tuple[f
         return force_x * unit_x + force_y * unit_y, 0.0
     # Only the sling and the base's friction pull sideways; near a vertical sling
     # this is ill-conditioned, but stage 1 ends (never_lifts_off) well before that.
+    if shear:   # the shear pushes along n = (-u_y, u_x)
+        tension = (force_x - base_friction + shear * unit_y) / unit_x
+        return tension, force_y - tension * unit_y - shear * unit_x
     tension = (force_x - base_friction) / unit_x
     return tension, force_y - tension * unit_y
+
+
+def sling_shear(before, after, design: Design, dt: float) -> float:
+    """The force a sling with mass pushes across itself on the projectile over a step, N: along ``n``,
+    a quarter turn counter-clockwise from ``u`` (the unit vector from the projectile B to the long
+    tip A); 0 for a massless sling.
+
+    ``after`` is the raw row the step produced (24 numbers), ``before`` the row of the step before
+    (velocities half a step either side of the step, each with its own row's positions, as
+    ``loads.accelerations`` takes them: the tip's centripetal acceleration is in their change). The
+    rod (mass ``m``, length ``L``, centre ``c``, moment ``m L^2 / 12`` about it) turns at
+    ``w = (B - A) x (v_B - v_A) / L^2``; its moments about A (the pin force on it at B is
+    ``-(T u + S n)``, ``c - A = -u L / 2``) give ``L S = I w' - m (L / 2) u x (a_c + g e_y)``, with
+    ``a_c`` the mean of its ends' accelerations (``docs/guide/engine.md``, "A sling with mass, and
+    the pouch"). Plain floats: the stepping loop calls it every step on the base.
+    """
+    m = design.machine
+    if not m.sling_mass > 0.0:
+        return 0.0
+    span_x, span_y, centre_x, centre_y, spin = _rod_motion(after, m.arm_long)
+    _, _, before_x, before_y, spin_before = _rod_motion(before, m.arm_long)
+    length = math.hypot(span_x, span_y)
+    ux, uy = -span_x / length, -span_y / length
+    ax, ay = (centre_x - before_x) / dt, (centre_y - before_y) / dt + design.environment.gravity
+    return m.sling_mass * (m.sling_length * (spin - spin_before) / dt / 12.0 - 0.5 * (ux * ay - uy * ax))
+
+
+def _rod_motion(row, arm_long: float) -> tuple[float, float, float, float, float]:
+    """A sling rod's span B - A (m), its centre's velocity (m/s) and its spin (rad/s) in a row: from the
+    long tip A (the arm's point ``arm_long`` along it) to the projectile's centre B."""
+    theta, spin = row[ARM + ANGLE], row[ARM + W]
+    sin, cos = math.sin(theta), math.cos(theta)
+    tip_vx, tip_vy = row[ARM + VX] - spin * arm_long * cos, row[ARM + VY] - spin * arm_long * sin
+    span_x = row[PROJECTILE + X] - (row[ARM + X] - arm_long * sin)
+    span_y = row[PROJECTILE + Y] - (row[ARM + Y] + arm_long * cos)
+    end_vx, end_vy = row[PROJECTILE + VX], row[PROJECTILE + VY]
+    turn = (span_x * (end_vy - tip_vy) - span_y * (end_vx - tip_vx)) / (span_x * span_x + span_y * span_y)
+    return span_x, span_y, 0.5 * (tip_vx + end_vx), 0.5 * (tip_vy + end_vy), turn
 
 
 def constraint_residuals(raw: np.ndarray, design: Design, sling: str, on_base: np.ndarray,

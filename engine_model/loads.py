@@ -22,6 +22,12 @@ t_k - dt/2 to t_k + dt/2 (raw rows, ``engine_model.kinematics``), and
   projectile (``T`` the tension the shot measured, ``u`` the unit vector from
   the projectile to the long tip); ``a_A`` is the acceleration of the arm's
   centre of mass, the design's, without ballast;
+* a sling with mass (a uniform rod, ``machine.sling_mass``) and the pouch: the
+  projectile's body carries the pouch until release, so ``S`` is the sling's force on
+  both, ``T u + S_n n`` with the rod's push across itself ``S_n``
+  (``kinematics.sling_shear``; 0 for a massless sling), and the long tip pulls on the
+  rod with ``S_A = S + m_s (a_c + g e_y)``, ``a_c`` the rod centre's acceleration (the
+  mean of its ends'): ``S_A`` takes the place of ``S`` on the arm below;
 * bending moment at the axle: the long side (axle to long tip, a uniform
   rod of mass ``m_L``, ``analytic.geometry.arm_long_side``) as a body of its
   own, Newton-Euler about its centre C:
@@ -65,7 +71,7 @@ def load_histories(raw: np.ndarray, tension: np.ndarray, design: Design, dt: flo
     up = np.array([0.0, design.environment.gravity])
     hinge = design.machine.counterweight_mass * (accelerations(raw, kin.velocity(raw, kin.COUNTERWEIGHT), dt) + up)
     felt = accelerations(raw, kin.velocity(raw, kin.PROJECTILE), dt) + up
-    sling = sling_force(raw, tension, design)
+    sling = tip_force(raw, sling_force(raw, tension, design, dt), design, dt)
     axle = support_force(raw, sling, design, dt)
     bending = bending_moment(raw, sling, design, dt)
     if design.machine.kind == "floating-arm":
@@ -101,17 +107,43 @@ def _cross(r: np.ndarray, f: np.ndarray) -> np.ndarray:
     return r[:, 0] * f[:, 1] - r[:, 1] * f[:, 0]
 
 
-def sling_force(raw: np.ndarray, tension: np.ndarray, design: Design) -> np.ndarray:
-    """(n, 2) the sling's force on the projectile over each raw row's step, N: its ``tension``
-    along the sling, towards the long arm's tip."""
+def sling_force(raw: np.ndarray, tension: np.ndarray, design: Design, dt: float | None = None) -> np.ndarray:
+    """(n, 2) the sling's force on the projectile (and the pouch) over each raw row's step, N: its
+    ``tension`` along the sling, towards the long arm's tip; a sling with mass also pushes across
+    itself (``kinematics.sling_shear``, from the rows' steps of ``dt``)."""
     offset = kin.long_tip(raw, design) - kin.position(raw, kin.PROJECTILE)
-    return tension[:, None] * offset / np.linalg.norm(offset, axis=1)[:, None]
+    if not design.machine.sling_mass > 0.0:
+        return tension[:, None] * offset / np.linalg.norm(offset, axis=1)[:, None]
+    unit = offset / np.linalg.norm(offset, axis=1)[:, None]
+    shear = np.array([kin.sling_shear(before, row, design, dt) for before, row in zip(_before(raw), raw)])
+    return tension[:, None] * unit + shear[:, None] * np.column_stack([-unit[:, 1], unit[:, 0]])
+
+
+def tip_force(raw: np.ndarray, sling: np.ndarray, design: Design, dt: float) -> np.ndarray:
+    """(n, 2) the long tip's pull on the sling over each raw row's step, N: ``sling`` (its force on the
+    projectile, ``sling_force``) for a massless sling; with mass, that and the rod's own momentum
+    change and weight, ``m_s (a_c + g e_y)``."""
+    m = design.machine
+    if not m.sling_mass > 0.0:
+        return sling
+    tip = kin.long_tip(raw, design)
+    centre = 0.5 * (kin.point_velocity(raw, kin.ARM, tip) + kin.velocity(raw, kin.PROJECTILE))
+    return sling + m.sling_mass * (accelerations(raw, centre, dt) + np.array([0.0, design.environment.gravity]))
+
+
+def _before(raw: np.ndarray) -> np.ndarray:
+    """Each raw row's row before (the opening half step's: its mirror image, velocities reversed;
+    ``accelerations``)."""
+    mirrored = raw[:1].copy()
+    velocity_columns = [body + q for body in kin.BODIES for q in (kin.VX, kin.VY, kin.W)]
+    mirrored[:, velocity_columns] *= -1.0
+    return np.vstack([mirrored, raw[:-1]])
 
 
 def support_force(raw: np.ndarray, sling: np.ndarray, design: Design, dt: float) -> np.ndarray:
     """(n, 2) force of the supports on the arm and its counterweight over each raw row's step, N:
-    ``m_A (a_A + g e_y) + m_W (a_W + g e_y) + S`` (the module's notes; ``sling`` from
-    ``sling_force``). For a hinged or fixed machine the axle's force; for a floating arm the
+    ``m_A (a_A + g e_y) + m_W (a_W + g e_y) + S_A`` (the module's notes; ``sling`` from
+    ``tip_force``). For a hinged or fixed machine the axle's force; for a floating arm the
     guide's push (x) and the track's (y) together, the only supports of the arm and counterweight
     besides the sling."""
     m = design.machine

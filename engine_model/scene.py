@@ -3,7 +3,8 @@
 ``_Machine`` draws the machine on one axes: its base (legs, a floating arm's
 track and guide, or a rolling frame on two wheels whose spokes turn as they
 roll), the arm, the counterweight (hung on its link, or a box bolted across a
-fixed machine's short arm), the sling, the projectile and its trace.
+fixed machine's short arm), the sling (thicker where it has mass, with the pouch at its end
+where it has one, swinging on after release), the projectile and its trace.
 ``Drawing`` is one figure: the whole scene with a ground scale in metres (or
 feet), the machine close up in an inset, the time and playback speed, the
 landing mark and the summary box, redrawn each frame over a still background.
@@ -39,6 +40,10 @@ COUNTERWEIGHT_DRAW_DENSITY = 7200.0
 BOX_ASPECT = 2.0
 BOX_MIN_DEPTH = 0.35
 BOLTS = (-0.25, 0.25)
+#: Line width of a sling with mass, points (a massless one's is 1).
+SLING_WITH_MASS_WIDTH = 2.5
+#: The pouch's square, as a multiple of the projectile's marker.
+POUCH_SIZE = 1.6
 #: Most trace points drawn (the trace is thinned evenly beyond this).
 TRACE_POINTS = 1500
 #: Where the summary box may go, its centre in fractions of the frame, tried in order: the
@@ -70,7 +75,12 @@ class _Machine:
             ax.plot([-foot, 0.0, foot], [-h, 0.0, -h], color="#7a6a5a", linewidth=2.5, solid_joinstyle="miter")
         self.trough = _trough(ax, design)
         self.trace, = ax.plot([], [], color="#f0a030", linewidth=1.0, linestyle=(0, (2, 2)))
-        self.sling, = ax.plot([], [], color="#404040", linewidth=1.0)
+        # A sling with mass is drawn thicker; the pouch, a small square cup at its end, around the
+        # projectile until release.
+        self.sling, = ax.plot([], [], color="#404040", linewidth=SLING_WITH_MASS_WIDTH if m.sling_mass > 0.0 else 1.0)
+        self.pouch, = ax.plot([], [], marker="s", linestyle="none", markerfacecolor="none", markeredgecolor="#5a3a1a",
+                              markeredgewidth=1.5, markersize=POUCH_SIZE * marker_px * 72.0 / FRAME_DPI, zorder=6)
+        self.has_pouch = m.pouch_mass > 0.0
         self.link, = ax.plot([], [], color="#404040", linewidth=1.5)
         self.arm, = ax.plot([], [], color="#8b5a2b", linewidth=4.0, solid_capstyle="round")
         self.bolted = m.kind != "hinged"   # fixed and floating arm: the counterweight bolted to the arm
@@ -87,7 +97,7 @@ class _Machine:
         #: What moves from frame to frame (``Drawing`` redraws only these over a still background;
         #: the base follows the view, with which the background is drawn again).
         self.moving = [self.trace, self.sling, self.link, self.arm, self.counterweight, self.pivot,
-                       self.projectile] + ([self.bolts] if self.bolted else [])
+                       self.projectile] + ([self.bolts] if self.bolted else []) + ([self.pouch] if self.has_pouch else [])
         if self.wheels:
             self.moving += [self.frame_lines] + [artist for rim, spokes, *_ in self.wheels for artist in (rim, spokes)]
             if self.trough is not None:   # on the frame: it rolls with it
@@ -156,8 +166,13 @@ class _Machine:
             self.counterweight.center = (float(state.counterweight[0]), float(state.counterweight[1]))
         if state.sling_attached:
             self.sling.set_data([state.long_tip[0], state.projectile[0]], [state.long_tip[1], state.projectile[1]])
+        elif state.sling_end is not None:   # a sling with mass or a pouch swings on after release
+            self.sling.set_data([state.long_tip[0], state.sling_end[0]], [state.long_tip[1], state.sling_end[1]])
         else:
             self.sling.set_data([], [])
+        if self.has_pouch:
+            end = state.projectile if state.sling_attached else state.sling_end
+            self.pouch.set_data(*(([end[0]], [end[1]]) if end is not None else ([], [])))
         trace = state.trace[:: max(1, len(state.trace) // TRACE_POINTS)]
         self.trace.set_data(trace[:, 0], trace[:, 1])
         self.projectile.set_data([state.projectile[0]], [state.projectile[1]])

@@ -191,7 +191,8 @@ def _records(design: Design, run: stepping.Run, raw: np.ndarray, steps: np.ndarr
     slide_friction = fr.slide_forces(np.array(run.friction_impulse).reshape(-1, len(fr.JOINTS)), raw, design, steps)
     loads = engine_loads.load_histories(raw, tension, design, dt, slide_friction)
     # A floating arm's guide's and track's push: the supports' force less their friction.
-    supports = (engine_loads.support_force(raw, engine_loads.sling_force(raw, tension, design), design, dt)
+    pull = engine_loads.tip_force(raw, engine_loads.sling_force(raw, tension, design, dt), design, dt)
+    supports = (engine_loads.support_force(raw, pull, design, dt)
                 - slide_friction)
     swing_drag = np.array(run.drag_work) if len(run.drag_work) == len(raw) else np.zeros(len(raw))
     return _Records(dt * np.arange(len(raw)), sync, tension, loads, supports, _friction_work(run, sync, design),
@@ -304,7 +305,9 @@ def _roll_on(design: Design, shot: Shot, diagnostics: EngineDiagnostics, release
 def _with_machine_after_release(shot: Shot, after, design: Design) -> Shot:
     """``shot`` with the machine's motion after release (``AfterRelease``) in its history."""
     q = kin.coordinates(after.states, design, shot.history.q[-1])[0]
-    history = dataclasses.replace(shot.history, machine_t=after.t, machine_q=q[:, :2],
+    # A sling with mass or a pouch swings on with the machine: its angle psi too.
+    history = dataclasses.replace(shot.history, machine_t=after.t,
+                                  machine_q=q if kin.sling_swings(design) else q[:, :2],
                                   machine_frame_x=kin.column(after.states, kin.FRAME, kin.X).copy())
     return dataclasses.replace(shot, history=history)
 
@@ -361,6 +364,11 @@ def _assemble(design: Design, run: stepping.Run, times: np.ndarray, sync: np.nda
         message = outcome.thrown_message(float(fields["landing_position"][0]))
     if "release_time" in fields:
         potential = kin.potential_energies(sync[[0, -1]], design)[0]
+        fields["sling_energy_at_release"] = 0.0
+        if kin.sling_swings(design):   # the counterweight's and the arm's alone; the sling's named apart
+            kinetic, sling_potential = kin.sling_energies(sync[[0, -1]], design)
+            potential = potential - sling_potential
+            fields["sling_energy_at_release"] = float(kinetic[1] + sling_potential[1] - sling_potential[0])
         released = float(potential[0] - potential[1])
         fields["projectile_energy_at_release"] = float(projectile_energy[-1])
     history = History(t=times, stage=stage.astype(int), q=q, qdot=qdot, path=kin.position(sync, kin.PROJECTILE).copy(),

@@ -530,14 +530,19 @@ def _forces(before: tuple, row: tuple, geometry: tuple, on_base: bool, design: D
             dt: float, base_friction: float = 0.0,
             drag_force: tuple[float, float] = (0.0, 0.0)) -> tuple[float, float]:
     """Sling tension and base normal force over the step that produced ``row`` (``kin.contact_forces``;
-    ``base_friction``, N, the base's friction force on the projectile; ``drag_force``, N, the air's)."""
+    ``base_friction``, N, the base's friction force on the projectile; ``drag_force``, N, the air's; a
+    sling with mass, its shear, ``kin.sling_shear``)."""
     p = kin.PROJECTILE
     if before is row:  # the opening half step: the velocity before it is the mirror image
         v_before = (-row[p + kin.VX], -row[p + kin.VY])
     else:
         v_before = (before[p + kin.VX], before[p + kin.VY])
+    shear = 0.0
+    if on_base and design.machine.sling_mass > 0.0:   # off the base the tension is the pull along u alone
+        shear = kin.sling_shear(_mirrored(row) if before is row else before, row, design, dt)
     return kin.contact_forces(v_before, (row[p + kin.VX], row[p + kin.VY]), geometry[:2],
-                              (row[p + kin.X], row[p + kin.Y]), on_base, design, dt, base_friction, drag_force)
+                              (row[p + kin.X], row[p + kin.Y]), on_base, design, dt, base_friction, drag_force,
+                              shear)
 
 
 def _rule(machine: Machine) -> tuple[int, float]:

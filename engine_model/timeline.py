@@ -42,6 +42,8 @@ class FrameState:
         positions already include it.
     axle_x : a floating arm's axle on its track, m from the origin (0 for the other kinds); the
         part positions already include it.
+    sling_end : after release, where the end of a sling with mass or a pouch is as it swings on
+        (``analytic.design.Machine.sling_mass``, ``pouch_mass``); None otherwise.
     """
 
     time: float
@@ -54,6 +56,7 @@ class FrameState:
     trace: np.ndarray
     frame_x: float = 0.0
     axle_x: float = 0.0
+    sling_end: np.ndarray | None = None
 
 
 def end_time(shot: Shot) -> float:
@@ -100,7 +103,9 @@ def frame_state(shot: Shot, time: float) -> FrameState:
     q = np.array([np.interp(swing_time, history.t, history.q[:, i]) for i in range(3)])
     frame_x = float(np.interp(swing_time, history.t, history.frame_x)) if len(history.frame_x) else 0.0
     if in_flight and history.machine_t is not None:   # the machine swinging on without its projectile
-        q[:2] = [np.interp(time, history.machine_t, history.machine_q[:, i]) for i in range(2)]
+        # With its sling's angle where a sling with mass or a pouch swings on too.
+        swinging = history.machine_q.shape[1]
+        q[:swinging] = [np.interp(time, history.machine_t, history.machine_q[:, i]) for i in range(swinging)]
         frame_x = float(np.interp(time, history.machine_t, history.machine_frame_x))
     if not shot.design.base.rolling:
         frame_x = 0.0
@@ -125,5 +130,7 @@ def frame_state(shot: Shot, time: float) -> FrameState:
     elif not shot.ok and time >= float(history.t[-1]):
         label = f"{label} - {shot.status.value}"
     trace.append(projectile[None, :])
+    machine = shot.design.machine
+    sling_end = points["projectile"] if in_flight and (machine.sling_mass > 0.0 or machine.pouch_mass > 0.0) else None
     return FrameState(time, label, points["long_tip"], points["short_tip"], points["counterweight"],
-                      projectile, not in_flight, np.vstack(trace), frame_x, axle_x)
+                      projectile, not in_flight, np.vstack(trace), frame_x, axle_x, sling_end)

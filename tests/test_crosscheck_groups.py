@@ -17,6 +17,7 @@ COMPARED_IN = {"paper": "test_crosscheck.py", "exercise": "test_crosscheck.py", 
                "fixed": "test_crosscheck_fixed.py", "floating-friction": "test_crosscheck_floating_friction.py",
                "swing-drag": "test_crosscheck_swing_drag.py", "trough": "test_crosscheck_trough.py",
                "ideal-release": "test_crosscheck_ideal_release.py", "target": "test_crosscheck_target.py",
+               "sling-mass": "test_crosscheck_sling_mass.py",
                "floating-base-friction": "test_crosscheck_floating_base_friction.py",
                "sample": "test_crosscheck_groups.py", "rolling": "test_crosscheck_groups.py",
                "floating-arm": "test_crosscheck_groups.py"}

@@ -31,7 +31,7 @@ def test_the_group_has_each_kind_with_friction_and_rolling_and_is_in_the_default
     for kind in kinds:
         designs = [case.design for case in cases if case.design.machine.kind == kind]
         assert any(d.losses.axle_friction > 0.0 for d in designs)
-        if kind != "floating-arm":   # (the base's friction and a rolling frame are refused on a floating arm)
+        if kind != "floating-arm":   # (a rolling frame is refused on a floating arm; its base friction: its own group)
             assert any(d.losses.base_friction > 0.0 for d in designs)
             assert any(d.base.rolling and d.losses.base_friction > 0.0 for d in designs)
     assert {case.name for case in cases} <= {case.name for case in default_suite(sample=0)}
