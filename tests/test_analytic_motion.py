@@ -21,7 +21,7 @@ from analytic.fast.motion import simulate_motion
 from analytic.reference import simulate
 from analytic.result import Status
 from benchmarks.designs import ROLLING_FRAME, TYPICAL_LOSSES
-from support import assert_records_equal, failure_designs, table3_variants, table_ii_sample
+from support import assert_records_equal, failure_designs, sling_designs, table3_variants, table_ii_sample
 
 #: Each design's pair of paths is shot once for the two tests that read it (``_both_paths``): under
 #: pytest-xdist (``make test``: ``--dist loadgroup``) the module runs whole on one worker.
@@ -49,6 +49,10 @@ def _designs():
                 dataclasses.replace(t3["table3"], name="lossy-rolling", losses=TYPICAL_LOSSES, base=ROLLING_FRAME)]
     designs += table_ii_sample(4, 3)
     designs += list(failure_designs().values())
+    # a sling and a pouch with mass: the machine's energy holds theirs, potential as well as kinetic
+    slings = sling_designs()
+    designs += [dataclasses.replace(slings[name], name=name)
+                for name in ("sling-hinged", "sling-rolling", "sling-floating")]
     return designs
 
 

@@ -313,14 +313,20 @@ def test_what_if_hover_previews_and_click_adopts(page, server):
     assert page.evaluate("window.workbench.state.shot.history.flight_path.length") > 1
 
 
-#: Pixels of the stage in the engine's colour (stage.js ``COLORS.engine``, #117a65), within
-#: antialiasing's blend of a few units per channel.
-ENGINE_PIXELS = """(() => {
+def colour_pixels(rgb: tuple[int, int, int]) -> str:
+    """A script counting the stage's pixels of colour ``rgb``, within antialiasing's blend of a few
+    units per channel."""
+    r, g, b = rgb
+    return f"""(() => {{
   const c = document.getElementById("stage"), d = c.getContext("2d").getImageData(0, 0, c.width, c.height).data;
   let n = 0;
-  for (let i = 0; i < d.length; i += 4) if (Math.abs(d[i] - 17) < 10 && Math.abs(d[i + 1] - 122) < 10 && Math.abs(d[i + 2] - 101) < 10) n++;
+  for (let i = 0; i < d.length; i += 4) if (Math.abs(d[i] - {r}) < 10 && Math.abs(d[i + 1] - {g}) < 10 && Math.abs(d[i + 2] - {b}) < 10) n++;
   return n;
-})()"""
+}})()"""
+
+
+#: Pixels of the stage in the engine's colour (stage.js ``COLORS.engine``, #117a65).
+ENGINE_PIXELS = colour_pixels((0x11, 0x7a, 0x65))
 
 
 def pixels_in_engine_colour(page, t: float, twin: bool) -> int:
@@ -594,3 +600,86 @@ def test_leaving_the_ideal_rule_without_a_release_angle_pins_the_launch_angle(pa
     assert float(number.input_value()) == pytest.approx(launch, abs=5e-4)   # six figures
     # The pin at the launch angle throws as far (tests/test_analytic_ideal_release.py), to the readout's cm.
     assert range_shown(page)[0] == pytest.approx(ideal_range, abs=0.01)
+
+
+def test_a_sling_and_a_pouch_with_mass_shoot_as_the_command_line_in_either_units(page, server, tmp_path):
+    """The form's sling and pouch masses (kg, lb on the imperial page) reach the shot: its range is
+    ``python -m analytic simulate --json``'s for the page's design, and the energy they keep is shown
+    in the readouts and as its own share of the energy bar."""
+    open_page(page, server)
+    massless, _ = range_shown(page)
+    for name, kilograms in (("machine.sling_mass", "0.03"), ("machine.pouch_mass", "0.012")):
+        count = shots(page)
+        page.fill(f'[name="{name}"]', kilograms)
+        wait_for_next_shot(page, count)
+    wait_until_current(page)
+    design = page.evaluate("window.workbench.state.design")
+    assert (design["machine"]["sling_mass"], design["machine"]["pouch_mass"]) == (0.03, 0.012)
+    assert page.get_by_test_id("status").inner_text() == "ok"
+    shown, unit = range_shown(page)
+    assert unit == "m" and shown < massless   # what the sling keeps the projectile does not get
+    assert shown == pytest.approx(cli_range(design, tmp_path), abs=DISPLAY_ROUNDING)
+    sling = page.evaluate("window.workbench.state.shot.history.energy.sling")
+    kept = ("[...document.querySelectorAll('#numbers dt')].find((dt) => dt.textContent === "
+            "'kept by sling and pouch').nextElementSibling.textContent")
+    assert sling > 0.0 and page.evaluate(kept) == f"{sling:.1f} J"
+    share = page.locator('#energy span[title^="sling and pouch:"]')
+    assert share.count() == 1 and share.get_attribute("title").startswith(f"sling and pouch: {sling:.1f} J")
+    # The imperial page: pounds (1 lb = 0.45359237 kg exactly) and foot-pounds (1.3558179483314004 J).
+    page.get_by_test_id("units").select_option("imperial")
+    pounds = float(page.locator('[name="machine.sling_mass"]').input_value())
+    assert pounds == pytest.approx(0.03 / 0.45359237, rel=1e-5)   # six figures
+    assert page.evaluate(kept) == f"{sling / 1.3558179483314004:.1f} ft lbf"
+    page.get_by_test_id("units").select_option("metric")
+
+
+#: The stage's sling (stage.js ``COLORS.sling``, #b08d57) and pouch (``COLORS.pouch``, #4a2c17).
+SLING_PIXELS, POUCH_PIXELS = colour_pixels((0xb0, 0x8d, 0x57)), colour_pixels((0x4a, 0x2c, 0x17))
+
+
+def pixels_drawn(page, t: float, pixels: str, machine: dict | None = None) -> int:
+    """The stage's pixels counted by ``pixels`` drawn at ``t``, the design's machine fields changed by
+    ``machine`` for this drawing only (the shot stays the one drawn)."""
+    return page.evaluate(f"""(() => {{ const s = window.workbench.state, kept = s.design;
+      s.design = structuredClone(kept); Object.assign(s.design.machine, {json.dumps(machine or {})});
+      s.t = {t}; window.workbench.draw(); const n = {pixels}; s.design = kept; return n; }})()""")
+
+
+def test_a_heavy_sling_is_drawn_thicker_and_its_pouch_stays_on_it_after_release(browser, server, tmp_path):
+    """Table III with a sling as heavy as its ball and a pouch of a third of it: mid-swing the sling
+    is drawn thicker than a massless one and the pouch rings the ball; after release both stay on the
+    arm where the ball left them (screenshots ``heavy-sling-*-stage.png``)."""
+    data = __import__("tomllib").loads((ROOT / "analytic" / "data" / "paper_table3.toml").read_text())
+    data["machine"].update(sling_mass=0.0456, pouch_mass=0.0152)
+    path = tmp_path / "heavy-sling.toml"
+    path.write_text(tomli_w.dumps(data))
+    context = browser.new_context(viewport={"width": 1400, "height": 900})   # the desktop's stage
+    page = context.new_page()
+    open_page(page, server)
+    count = shots(page)
+    page.get_by_test_id("upload").set_input_files(str(path))
+    wait_for_next_shot(page, count)
+    assert page.get_by_test_id("status").inner_text() == "ok"
+    release = page.evaluate("window.workbench.state.shot.release_time")
+    page.get_by_test_id("camera").select_option("follow")
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    # Mid-swing: a massless sling's line is 1.5 px, this one's 6 (stage.js SLING_WIDTH), a few times
+    # the pixels; the pouch's ring round the ball, tens of pixels (without it: a few of the arm's
+    # antialiased edge have its colour).
+    swing = 0.8 * release   # in the air, the sling trailing the arm
+    heavy = pixels_drawn(page, swing, SLING_PIXELS)
+    assert heavy > 2 * pixels_drawn(page, swing, SLING_PIXELS, {"sling_mass": 0, "pouch_mass": 0})
+    assert pixels_drawn(page, swing, POUCH_PIXELS) > pixels_drawn(page, swing, POUCH_PIXELS, {"pouch_mass": 0}) + 20
+    page.evaluate(f"window.workbench.state.t = {swing}; window.workbench.draw()")
+    page.get_by_test_id("stage").screenshot(path=SHOTS / "heavy-sling-mid-swing-stage.png")
+    # After release the ball flies on; the sling and the pouch stay on the arm, which a massless
+    # sling's drawing does not show.
+    flown = release + 0.04
+    assert pixels_drawn(page, flown, POUCH_PIXELS) > pixels_drawn(page, flown, POUCH_PIXELS, {"pouch_mass": 0}) + 20
+    assert pixels_drawn(page, flown, SLING_PIXELS) > pixels_drawn(page, flown, SLING_PIXELS,
+                                                                  {"sling_mass": 0, "pouch_mass": 0}) + 20
+    page.evaluate(f"window.workbench.state.t = {flown}; window.workbench.draw()")
+    page.get_by_test_id("stage").screenshot(path=SHOTS / "heavy-sling-after-release-stage.png")
+    page.get_by_test_id("camera").select_option("field")
+    page.get_by_test_id("stage").screenshot(path=SHOTS / "heavy-sling-after-release-field-stage.png")
+    context.close()

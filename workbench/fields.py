@@ -25,6 +25,10 @@ GROUPS = (
         ("counterweight_link", "Hinge to the counterweight's centre (how far it hangs; hinged machines only)."),
         ("counterweight_inertia", "The counterweight's moment of inertia about its own centre."),
         ("sling_length", "Arm tip to the projectile's centre, along the sling."),
+        ("sling_mass", "Mass of the sling's cords, as a uniform rod from the arm tip to the projectile; it stays "
+                       "on the arm at release and keeps its energy (empty: 0, a massless sling)."),
+        ("pouch_mass", "Mass of the pouch, a small mass at the projectile's centre until release; then it stays "
+                       "on the sling's end, with its energy (empty: 0, no pouch to carry)."),
         ("release_angle", "When the sling lets go: the projectile's flight direction above horizontal "
                           "(rule velocity), or the sling-to-arm angle (rule sling). The pin's setting. "
                           "Not used by rule ideal."),

@@ -25,7 +25,7 @@ DRAWN_PARTS = ("long_tip", "short_tip", "counterweight", "projectile")
 #: ``flight_sample_step``). The page draws at the screen's rate and interpolates linearly between
 #: samples: 2 ms through the swing is a sample about every frame at 1/10 speed. Drawn so, every
 #: preset's arm tips, counterweight and projectile stay within 0.4 mm of the reference path's own
-#: 0.5 ms samples through the swing and 1 mm of its 5 ms ones in flight: under half a pixel of the
+#: 0.5 ms samples through the swing and 1.3 mm of its 5 ms ones in flight: under half a pixel of the
 #: following camera on a 900-pixel stage (``tests/test_workbench_api.py`` checks it), at a
 #: quarter of the samples.
 PAGE_SAMPLE_STEP = 2e-3
@@ -77,8 +77,10 @@ def history_json(shot: Shot, sample_step: float | None = None, flight_sample_ste
     ``t`` (n,) and, on it, ``stage``, ``frame_x`` (n,) (zeros for a fixed frame) and each
     part of ``DRAWN_PARTS`` (n, 2) relative to the pivot; ``flight_t`` (k,) and
     ``flight_path`` (k, 2); ``energy`` (J): ``released``, the potential energy counterweight and
-    arm gave up by release, and of it ``projectile`` (the projectile's energy at release) and
-    ``kept`` (the arm's and counterweight's motion then); None where the shot did not release.
+    arm gave up by release, and of it ``projectile`` (the projectile's energy at release),
+    ``sling`` (the sling's and the pouch's, ``Shot.sling_energy_at_release``: 0 for a massless
+    sling) and ``kept`` (the arm's and counterweight's motion then); None where the shot did not
+    release.
     The samples are ``motion``'s if given, else ``shot.history``'s.
     """
     history = shot.history if motion is None else motion
@@ -88,6 +90,7 @@ def history_json(shot: Shot, sample_step: float | None = None, flight_sample_ste
     points = machine_points(history.q[keep], shot.design.machine)
     frame_x = history.frame_x if len(history.frame_x) == len(history.t) else np.zeros(len(history.t))
     released = shot.release_time is not None and shot.counterweight_energy_released is not None
+    sling = shot.sling_energy_at_release or 0.0
     return {
         "t": _rounded(history.t[keep], TIME_DECIMALS),
         "stage": [int(s) for s in history.stage[keep]],
@@ -98,8 +101,10 @@ def history_json(shot: Shot, sample_step: float | None = None, flight_sample_ste
         "energy": {
             "released": shot.counterweight_energy_released,
             "projectile": shot.projectile_energy_at_release if released else None,
-            # the machine's energy counts from the start: its motion at release less the energy given up.
-            "kept": float(_machine_energy(history) + shot.counterweight_energy_released) if released else None,
+            "sling": sling if released else None,
+            # the machine's energy counts from the start: its motion at release less the energy given up;
+            # it holds the sling's and the pouch's, shown apart.
+            "kept": float(_machine_energy(history) + shot.counterweight_energy_released - sling) if released else None,
         },
     }
 

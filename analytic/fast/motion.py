@@ -55,9 +55,9 @@ class Motion:
     frame_x : (n,) the frame's X, m (zeros for a fixed frame).
     flight_t : (k,) flight sample times, s from firing; (0,) if the projectile never flew.
     flight_path : (k, 2) projectile centre in flight, m.
-    machine_energy_at_release : J, the arm's, counterweight's (and a rolling frame's) kinetic
-        and potential energy at release over their energy at rest (``History.energy.machine``'s
-        last sample); None if not released.
+    machine_energy_at_release : J, the arm's, counterweight's (and a rolling frame's, the sling's and
+        the pouch's) kinetic and potential energy at release over their energy at rest
+        (``History.energy.machine``'s last sample); None if not released.
     """
 
     t: np.ndarray
@@ -105,7 +105,12 @@ def simulate_motion(design: Design, *, sample_step: float | None = None, flight_
     shot = _completed(shot, motion, samples[:rows], p)
     if shot.release_time is not None:
         moving, _ = eom.kinetic_energy(*motion.q[-1], *motion.qdot[-1], p)
-        motion = dataclasses.replace(motion, machine_energy_at_release=moving - shot.counterweight_energy_released)
+        machine = moving - shot.counterweight_energy_released
+        if sling_weighs(p):   # the machine's potential energy holds the sling's and the pouch's rise too
+            _, risen = eom.sling_energy(*motion.q[-1], 0.0, 0.0, 0.0, p)
+            _, at_rest = eom.sling_energy(*motion.q[0], 0.0, 0.0, 0.0, p)
+            machine += risen - at_rest
+        motion = dataclasses.replace(motion, machine_energy_at_release=machine)
     return shot, motion
 
 

@@ -90,6 +90,8 @@ function readouts(s) {
     ["apex", show(s.apex_height, "length")],
     ["flight time", s.flight_time === null ? "–" : `${s.flight_time.toFixed(3)} s`],
     ["energy efficiency", percent(s.energy_efficiency)],
+    // What the counterweight gave the sling and the pouch: it stays on the machine, not the projectile's.
+    ...(weighs(state.design) ? [["kept by sling and pouch", show(s.history?.energy?.sling ?? null, "energy", 1)]] : []),
     ["range efficiency", percent(s.range_efficiency)],
     ["peak sling tension", show(s.peak_sling_tension, "force", 1)],
     ["peak axle load", show(s.peak_axle_load, "force", 1)],
@@ -106,6 +108,14 @@ function readouts(s) {
   energyBar(s);
 }
 
+// Whether the design's sling or pouch has mass.
+function weighs(design) {
+  return design.machine.sling_mass > 0 || design.machine.pouch_mass > 0;
+}
+
+// Where the energy the counterweight and arm released went by release: the projectile (less what
+// the air took in flight), the sling and the pouch, the arm's and counterweight's motion, and
+// each loss of ``analytic.outcome.LOSS_NAMES`` (the frictions, the drag during the swing).
 function energyBar(s) {
   const e = s.history?.energy;
   const bar = $("energy");
@@ -114,8 +124,10 @@ function energyBar(s) {
   const lost = s.energy_dissipated || {};
   const drag = lost.drag ?? 0;
   const parts = [["projectile", e.projectile - drag, "#c0392b"], ["drag", drag, "#e59866"],
-    ["arm and counterweight", e.kept, "#6b4226"], ["axle friction", lost.axle ?? 0, "#7f8c8d"],
-    ["hinge friction", lost.hinge ?? 0, "#95a5a6"], ["base friction", lost.base ?? 0, "#bdc3c7"]];
+    ["sling and pouch", e.sling ?? 0, "#b08d57"], ["arm and counterweight", e.kept, "#6b4226"],
+    ["axle friction", lost.axle ?? 0, "#7f8c8d"], ["hinge friction", lost.hinge ?? 0, "#95a5a6"],
+    ["base friction", lost.base ?? 0, "#bdc3c7"], ["guide friction", lost.guide ?? 0, "#839192"],
+    ["track friction", lost.track ?? 0, "#a6acaf"], ["drag in the swing", lost.swing_drag ?? 0, "#f0b27a"]];
   for (const [name, joules, color] of parts) {
     if (!(joules > 0)) continue;
     const share = 100 * joules / e.released;

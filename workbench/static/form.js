@@ -29,6 +29,10 @@ export function unitLabel(units, kind, system) {
 function span(name, value, design) {
   if (FIXED_SPANS[name]) return FIXED_SPANS[name];
   if (name === "machine.arm_cg") return [-design.machine.arm_short, design.machine.arm_long];
+  // No sling or pouch mass yet: up to the projectile's (a sling as heavy as what it throws).
+  if ((name === "machine.sling_mass" || name === "machine.pouch_mass") && !(value > 0)) {
+    return [0, design.projectile.mass];
+  }
   if (value > 0) return [value / SPREAD, value * SPREAD];
   if (name.endsWith("_radius")) return [0, 0.1];
   return [0, 1];

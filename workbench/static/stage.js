@@ -1,7 +1,12 @@
 // The stage: the machine and its shot drawn to scale on a canvas from the shot's history (m, s).
 
-const COLORS = {arm: "#6b4226", frame: "#8a8a8a", weight: "#333", sling: "#b08d57", ball: "#c0392b",
-  path: "#c0392b", ghost: "#5d6d7e", engine: "#117a65", dimension: "#1f618d", ground: "#c9b98f", target: "#7d6608"};
+const COLORS = {arm: "#6b4226", frame: "#8a8a8a", weight: "#333", sling: "#b08d57", pouch: "#4a2c17",
+  ball: "#c0392b", path: "#c0392b", ghost: "#5d6d7e", engine: "#117a65", dimension: "#1f618d", ground: "#c9b98f",
+  target: "#7d6608"};
+// The sling's line, px: a massless sling's, and a sling's as heavy as the projectile or heavier.
+const SLING_WIDTH = [1.5, 6];
+// The pouch's ring round the projectile, px: the width of a light pouch's, and of one as heavy as the projectile.
+const POUCH_WIDTH = [1.5, 4.5];
 
 // The target's level, m from the pivot: ``environment.target_height`` above the base (below it: a pit).
 function targetLevel(design) {
@@ -124,6 +129,27 @@ function drawTrough(ctx, T, m, trough, px) {
   for (const x of [start, end]) line(ctx, T, [x, base], [x, top], COLORS.frame, 2);
 }
 
+// How heavy a part of the sling looks, 0 to 1: the square root of its mass over the projectile's (a
+// light cord already shows), 1 from the projectile's mass up.
+function heft(mass, design) {
+  return Math.min(1, Math.sqrt(Math.max(0, mass ?? 0) / design.projectile.mass));
+}
+
+function between([low, high], fraction) { return low + (high - low) * fraction; }
+
+// The sling from the arm's tip to ``end``, drawn thicker as its mass grows, and the pouch, if it has
+// mass: a leather ring round the projectile's place (the ball drawn over it fills it while it holds it).
+function drawSling(ctx, T, tip, end, design) {
+  const m = design.machine;
+  line(ctx, T, tip, end, COLORS.sling, between(SLING_WIDTH, heft(m.sling_mass, design)));
+  if (!(m.pouch_mass > 0)) return;
+  const width = between(POUCH_WIDTH, heft(m.pouch_mass, design));
+  ctx.strokeStyle = COLORS.pouch; ctx.lineWidth = width;
+  ctx.beginPath();
+  ctx.arc(T.X(end[0]), T.Y(end[1]), Math.max(3, design.projectile.diameter / 2 * T.s) + width / 2, 0, 2 * Math.PI);
+  ctx.stroke();
+}
+
 function drawMachine(ctx, T, parts, design) {
   const m = design.machine;
   const base = -m.pivot_height;
@@ -151,7 +177,10 @@ function drawMachine(ctx, T, parts, design) {
   ctx.fillStyle = COLORS.weight;
   const [cx, cy] = parts.counterweight;
   ctx.fillRect(T.X(cx) - weightSize * T.s, T.Y(cy) - weightSize * T.s, 2 * weightSize * T.s, 2 * weightSize * T.s);
-  if (!parts.flying) line(ctx, T, tip, parts.ball, COLORS.sling, 1.5);
+  // After release the machine stands where it let go (the history ends there); a sling or a pouch with
+  // mass stays on it (docs/derivation.md, 14.8), its end where the projectile left it.
+  const weighs = m.sling_mass > 0 || m.pouch_mass > 0;
+  if (!parts.flying || weighs) drawSling(ctx, T, tip, parts.projectile, design);
   disc(ctx, T, parts.pivot, 0.02 * m.arm_long, "#000");
 }
 
