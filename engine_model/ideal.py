@@ -6,9 +6,10 @@ event (``analytic.geometry.ideal_release``): its search pass steps the swing
 from lift-off to the arm's stop (the machine's ``release_angle`` None), every
 step after lift-off is a candidate, and each candidate's range is the
 engine's own flight (``engine_model.flight.fly``) from that step's state.
-``CANDIDATES`` steps evenly spaced are flown first, then every step between
-the best one's neighbours; a parabola through the best step's range and its
-neighbours' gives the arm angle between steps. ``engine_model.shot`` then
+The steps where the arm passes ``CANDIDATES`` arm angles evenly spaced over the
+window are flown first (the analytic model's candidates), then a golden-section
+search over the steps between the best one's neighbours; a parabola through the
+best step's range and its neighbours' gives the arm angle between steps. ``engine_model.shot`` then
 steps the machine again, with that arm angle as its release angle: the same
 steps up to there (the rule's value changes nothing of the motion), released
 where the arm passes it.
@@ -27,10 +28,12 @@ from engine_model.budget import flight_step_base
 from engine_model.flight import fly
 from engine_model.stepping import Run
 
-#: Steps flown first, evenly spaced over the window: half ``analytic.ideal.CANDIDATES``, as each is
-#: a flight stepped in pymunk (about a tenth of a second with drag), and a whirl of the sling is
-#: still several of them.
-CANDIDATES = 32
+#: Arm angles flown first, evenly spaced over the window: as many as ``analytic.ideal.CANDIDATES``, at
+#: the steps where the arm passes them. Evenly in angle, not in time: the arm turns fastest at the end
+#: of its swing, where a short sling whips round and its best throw can lie between two candidates
+#: evenly spaced in time (32 steps of 14 ms each bracketed two maxima 10 ms apart on a light arm
+#: whose sling whips, and the golden-section search found the lower one).
+CANDIDATES = 64
 #: The golden ratio: the bracket of steps narrows by it with each flight (``_golden_steps``).
 _GOLDEN = 0.5 * (1.0 + math.sqrt(5.0))
 
@@ -69,8 +72,7 @@ def best_arm_angle(design: Design, run: Run, dt: float, budget: bool) -> float |
             ranges[k] = flight.landing_position[0] if flight.landed else -math.inf
         return ranges[k]
 
-    stride = max(1, len(free) // CANDIDATES)
-    best = _golden_steps(flown, *_bracket(max(free[::stride], key=flown), stride, free))
+    best = _golden_steps(flown, *_bracket(flown, _candidate_steps(arm, free), free))
     if not math.isfinite(flown(best)):
         return None
     if best - 1 not in free or best + 1 not in free:
@@ -84,9 +86,24 @@ def best_arm_angle(design: Design, run: Run, dt: float, budget: bool) -> float |
     return float(arm[best] + abs(offset) * (arm[neighbour] - arm[best]))
 
 
-def _bracket(best: int, stride: int, free: np.ndarray) -> tuple[int, int]:
-    """The steps either side of the best of the evenly spaced ones, within the window ``free``."""
-    return max(int(best) - stride, int(free[0])), min(int(best) + stride, int(free[-1]))
+def _candidate_steps(arm: np.ndarray, free: np.ndarray) -> np.ndarray:
+    """The steps of the window ``free`` (ascending) where the arm, turning forward (its angle ``arm``
+    falling), first reaches each of ``CANDIDATES`` angles evenly spaced from its angle at the window's
+    first step (excluded, as the analytic model's lift-off) to its last (included); ascending, each once."""
+    start, end = arm[free[0]], arm[free[-1]]
+    angles = start + (end - start) * np.arange(1, CANDIDATES + 1) / CANDIDATES
+    # The arm's angle over the window, made monotonic (a step's own jitter cannot pass an angle twice).
+    passed = np.minimum.accumulate(arm[free])
+    index = np.minimum(np.searchsorted(-passed, -angles, side="left"), len(free) - 1)
+    return np.unique(free[index])
+
+
+def _bracket(flown, steps: np.ndarray, free: np.ndarray) -> tuple[int, int]:
+    """The candidates either side of the one of ``steps`` that throws farthest (the first of equals),
+    or the window ``free``'s end beyond the first and the last."""
+    i = max(range(len(steps)), key=lambda j: flown(int(steps[j])))
+    return (int(steps[i - 1]) if i > 0 else int(free[0]),
+            int(steps[i + 1]) if i + 1 < len(steps) else int(free[-1]))
 
 
 def _golden_steps(flown, low: int, high: int) -> int:
