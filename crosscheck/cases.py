@@ -585,7 +585,7 @@ def as_built_cases(count: int, seed: int) -> list[Case]:
         above = u[8] >= 1.0 - AS_BUILT_ABOVE_CHANCE
         fraction = (1.0 + u[9] * AS_BUILT_ABOVE if above
                     else part(u[8], AS_BUILT_PIT + u[9] * (AS_BUILT_NEAR_APEX - AS_BUILT_PIT)))
-        design = _variant(design, name, environment={"target_height": fraction * scale})
+        design = _variant(design, name, environment={"target_height": float(fraction * scale)})
         expected = "short_of_target" if above and shot.ok and not ideal_rule else None
         cases.append(Case(name, design, "as-built", expected))
     return cases

@@ -58,7 +58,10 @@ def best_arm_angle(design: Design, run: Run, dt: float, budget: bool) -> float |
     times = dt * np.arange(len(sync))
     arm = kin.column(sync, kin.ARM, kin.ANGLE)
     spin = kin.column(sync, kin.ARM, kin.W)
-    free = np.flatnonzero((times > run.liftoff_time) & (spin < 0.0))   # lift-off to the arm's stop
+    # Lift-off to the arm's stop: the steps off the base (not the lift-off's own, still on it, where the
+    # release pass cannot release: its rule's crossing is looked for only after it).
+    off_base = ~np.asarray(run.on_base, dtype=bool)
+    free = np.flatnonzero(off_base & (spin < 0.0))
     if len(free) == 0:
         return None
     ranges = np.full(len(sync), np.nan)

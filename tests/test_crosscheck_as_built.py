@@ -1,6 +1,7 @@
 """The cross-check's machines as built, drawn at random (``python -m crosscheck --as-built N``): seeded,
-leaving the sample's draws alone, spanning every new part on every kind; and a design the draw found,
-an ideal release whose sling whips, on which the engine's search missed its own longest throw."""
+leaving the sample's draws alone, spanning every new part on every kind; and two ideal releases the draw
+found that the engine got wrong: a sling that whips, whose longest throw its search missed, and a
+machine whose best release is at lift-off, which it never released."""
 
 from __future__ import annotations
 
@@ -11,10 +12,11 @@ import numpy as np
 import pytest
 
 import crosscheck.cli
+import engine_model
 from analytic.design import Base, Design, Environment, Machine
 from analytic.design_file import default_design
-from crosscheck.cases import (AS_BUILT_MASS_FRACTION, AS_BUILT_TROUGH_FRACTION, Case, as_built_cases,
-                              sample_cases)
+from crosscheck.cases import (AS_BUILT_MASS_FRACTION, AS_BUILT_TROUGH_FRACTION, REALISTIC_LOSSES, Case,
+                              as_built_cases, sample_cases)
 from crosscheck.comparison import compare
 from engine_model import ideal
 from engine_model.build import SLING_MASS_FRACTION
@@ -117,3 +119,34 @@ def test_the_engine_finds_the_longest_throw_of_a_whipping_sling():
     assert rows["range"].analytic == pytest.approx(34.28, abs=0.01)   # the higher maximum (above)
     assert math.degrees(rows["launch_angle"].analytic) == pytest.approx(38.5, abs=0.1)
     assert result.agree, [(r.quantity, r.analytic, r.engine, r.tolerance) for r in result.rows if not r.ok]
+
+
+#: An ideal release found by the as-built draw (``python -m crosscheck --as-built 40 --seed 105``, design
+#: 33): a light arm (5.8 g) with every loss, on a trough 26 cm up, whose every release throws the ball
+#: behind the pivot, least far (2.26 m, onto a target 15 cm up) when it lets go as it lifts off the trough
+#: (the reference path: 7e-8 s after). The engine's best candidate was its lift-off step, still on the
+#: trough, where the release pass looks for no release: it never released, and ran out of steps.
+RELEASED_AT_LIFT_OFF = Design(
+    machine=Machine(pivot_height=0.8767044879472972, arm_long=2.285673868746497, arm_short=0.039511852376604414,
+                    arm_mass=0.005812964302807754, arm_cg=1.1230810081849463, arm_inertia=0.0026189892315565985,
+                    counterweight_mass=6.5, counterweight_link=0.410485413647652,
+                    counterweight_inertia=0.009346195228721923, sling_length=0.08532030736103852,
+                    release_angle=None, release_rule="ideal", sling_mass=0.008487041187012873,
+                    pouch_mass=0.0031561155461545297),
+    projectile=default_design().projectile,
+    environment=Environment(target_height=0.15199312085996242),
+    base=Base(trough_height=0.2609381413823875), losses=REALISTIC_LOSSES, name="ideal-released-at-lift-off")
+
+
+def test_the_engine_releases_at_lift_off_where_that_throws_best():
+    shot = engine_model.simulate(RELEASED_AT_LIFT_OFF)
+    assert shot.status.value == "ok", shot.message
+    step = shot.diagnostics.dt
+    assert shot.liftoff_time < shot.release_time <= shot.liftoff_time + 2.0 * step
+    assert shot.range == pytest.approx(-2.256, abs=0.01)   # the reference path's -2.2559 m (above)
+
+
+@pytest.mark.slow
+def test_the_models_agree_on_a_release_at_lift_off():
+    result = compare(Case(RELEASED_AT_LIFT_OFF.name, RELEASED_AT_LIFT_OFF, "as-built"))
+    assert result.agree, (result.engine_status, [(r.quantity, r.analytic, r.engine) for r in result.rows if not r.ok])
