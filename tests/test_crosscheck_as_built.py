@@ -13,7 +13,7 @@ import pytest
 
 import crosscheck.cli
 import engine_model
-from analytic.design import Base, Design, Environment, Machine
+from analytic.design import Base, Design, Environment, Losses, Machine
 from analytic.design_file import default_design
 from crosscheck.cases import (AS_BUILT_MASS_FRACTION, AS_BUILT_TROUGH_FRACTION, REALISTIC_LOSSES, Case,
                               as_built_cases, sample_cases)
@@ -93,22 +93,27 @@ def test_the_engines_candidates_are_evenly_spaced_in_the_arm_angle():
     assert np.median(np.diff(steps[-16:])) < np.median(np.diff(steps[:16])) / 2
 
 
+def _drawn_ideal(name: str, *, trough: float, target: float, losses: Losses = Losses(), **machine) -> Design:
+    """A drawn design released by the ideal rule: the sample's counterweight (6.5 kg, its sphere's inertia) and
+    golf ball, the ``machine``'s other numbers, on a ``trough`` (m) throwing at a ``target`` (m)."""
+    return Design(Machine(**machine, counterweight_mass=6.5, counterweight_inertia=0.009346195228721923,
+                          release_angle=None, release_rule="ideal"),
+                  default_design().projectile, Environment(target_height=target), name=name,
+                  base=Base(trough_height=trough), losses=losses)
+
+
 #: An ideal release found by the as-built draw (``python -m crosscheck --as-built 40 --seed 101``,
 #: design 29, before the sling's lightest mass was the engine's): the light arm (3.6 g) whips its 10 cm
 #: sling round at the end of the swing, and the range over the arm angle has two maxima 10 ms apart,
 #: 33.56 m at 25.9 deg and 34.28 m at 18.75 deg (the reference path's shots released at each, and the
 #: engine's flights from its own steps there, 33.56 and 34.27 m). The engine's 32 candidates evenly
 #: spaced in time, 14 ms apart, bracketed both and its golden-section search found the lower one.
-WHIPPING_SLING = Design(
-    machine=Machine(pivot_height=0.6968659097979087, arm_long=1.1866711341534923, arm_short=0.245496331213659,
-                    arm_mass=0.003580418663417878, arm_cg=0.4705874014699167, arm_inertia=0.0006119916079529773,
-                    counterweight_mass=6.5, counterweight_link=0.26580513695759234,
-                    counterweight_inertia=0.009346195228721923, sling_length=0.10222769750628974,
-                    release_angle=None, release_rule="ideal", sling_mass=0.0006413067597118299,
-                    pouch_mass=0.010798156961147819),
-    projectile=default_design().projectile,
-    environment=Environment(target_height=3.185812086729674),
-    base=Base(trough_height=0.38057687515777394), name="ideal-whipping-sling")
+WHIPPING_SLING = _drawn_ideal(
+    "ideal-whipping-sling", trough=0.38057687515777394, target=3.185812086729674,
+    pivot_height=0.6968659097979087, arm_long=1.1866711341534923, arm_short=0.245496331213659,
+    arm_mass=0.003580418663417878, arm_cg=0.4705874014699167, arm_inertia=0.0006119916079529773,
+    counterweight_link=0.26580513695759234, sling_length=0.10222769750628974, sling_mass=0.0006413067597118299,
+    pouch_mass=0.010798156961147819)
 
 
 @pytest.mark.slow
@@ -126,16 +131,12 @@ def test_the_engine_finds_the_longest_throw_of_a_whipping_sling():
 #: behind the pivot, least far (2.26 m, onto a target 15 cm up) when it lets go as it lifts off the trough
 #: (the reference path: 7e-8 s after). The engine's best candidate was its lift-off step, still on the
 #: trough, where the release pass looks for no release: it never released, and ran out of steps.
-RELEASED_AT_LIFT_OFF = Design(
-    machine=Machine(pivot_height=0.8767044879472972, arm_long=2.285673868746497, arm_short=0.039511852376604414,
-                    arm_mass=0.005812964302807754, arm_cg=1.1230810081849463, arm_inertia=0.0026189892315565985,
-                    counterweight_mass=6.5, counterweight_link=0.410485413647652,
-                    counterweight_inertia=0.009346195228721923, sling_length=0.08532030736103852,
-                    release_angle=None, release_rule="ideal", sling_mass=0.008487041187012873,
-                    pouch_mass=0.0031561155461545297),
-    projectile=default_design().projectile,
-    environment=Environment(target_height=0.15199312085996242),
-    base=Base(trough_height=0.2609381413823875), losses=REALISTIC_LOSSES, name="ideal-released-at-lift-off")
+RELEASED_AT_LIFT_OFF = _drawn_ideal(
+    "ideal-released-at-lift-off", trough=0.2609381413823875, target=0.15199312085996242, losses=REALISTIC_LOSSES,
+    pivot_height=0.8767044879472972, arm_long=2.285673868746497, arm_short=0.039511852376604414,
+    arm_mass=0.005812964302807754, arm_cg=1.1230810081849463, arm_inertia=0.0026189892315565985,
+    counterweight_link=0.410485413647652, sling_length=0.08532030736103852, sling_mass=0.008487041187012873,
+    pouch_mass=0.0031561155461545297)
 
 
 def test_the_engine_releases_at_lift_off_where_that_throws_best():
