@@ -25,6 +25,7 @@ import numpy as np
 from analytic.design import Design
 from engine_model import kinematics as kin
 from engine_model.budget import flight_step_base
+from engine_model.events import interpolate
 from engine_model.flight import fly
 from engine_model.stepping import Run
 
@@ -78,6 +79,9 @@ def best_arm_angle(design: Design, run: Run, dt: float, budget: bool) -> float |
     best = _golden_steps(flown, *_bracket(flown, _candidate_steps(arm, free), free))
     if not math.isfinite(flown(best)):
         return None
+    edge = _edge(design, sync, times, dt, budget, flown, best, free)
+    if edge is not None:
+        return edge
     if best - 1 not in free or best + 1 not in free:
         return float(arm[best])
     below, at, above = flown(best - 1), flown(best), flown(best + 1)
@@ -87,6 +91,52 @@ def best_arm_angle(design: Design, run: Run, dt: float, budget: bool) -> float |
     offset = 0.5 * (below - above) / curvature   # the parabola's vertex, in steps from the best, within +-1/2
     neighbour = best + 1 if offset > 0.0 else best - 1
     return float(arm[best] + abs(offset) * (arm[neighbour] - arm[best]))
+
+
+#: The edge's bisection (``_edge``) stops when its bracket is this fraction of a step: a throw whose apex
+#: just reaches the target lands where the range's slope in the release is infinite (it falls as the
+#: square root of the apex's excess), and a step's millionth leaves a range within a few parts in 1e5.
+EDGE_TOLERANCE = 1e-6
+
+
+def _edge(design: Design, sync: np.ndarray, times: np.ndarray, dt: float, budget: bool, flown, best: int,
+          free: np.ndarray) -> float | None:
+    """The arm angle of the longest throw where it lies at the edge of the releases that land, between
+    the best step and a neighbour that does not land (a throw landing behind the pivot, least far
+    when its apex just reaches a raised target), rad; None where it does not (the best step's
+    neighbours land, or the edge throws no farther than the best step).
+
+    The releases between the two steps are flown from the state the release pass would release at
+    (``events.interpolate``: the parabola through three rows, as ``shot._cut_at_release``), the edge
+    bracketed by bisection to ``EDGE_TOLERANCE`` of a step, and the release put one bracket's width
+    inside it, on the side that lands.
+    """
+    for neighbour in (best + 1, best - 1):
+        if neighbour not in free or math.isfinite(flown(neighbour)):
+            continue
+        k = max(best, neighbour)   # the interval from step k - 1 to k, through rows k - 2 .. k
+        if k < 2:
+            continue
+
+        def flown_at(fraction: float) -> float:
+            state = interpolate(sync[k - 2:k + 1], fraction)
+            position = kin.position(state[None, :], kin.PROJECTILE)[0]
+            velocity = kin.velocity(state[None, :], kin.PROJECTILE)[0]
+            flight = fly(design, float(times[k - 1] + fraction * dt), position, velocity,
+                         flight_step_base(design, position, velocity) if budget else dt)
+            return flight.landing_position[0] if flight.landed else -math.inf
+
+        lands, short = (1.0, 0.0) if neighbour < best else (0.0, 1.0)
+        while abs(short - lands) > EDGE_TOLERANCE:
+            middle = 0.5 * (lands + short)
+            if math.isfinite(flown_at(middle)):
+                lands = middle
+            else:
+                short = middle
+        fraction = min(max(lands + (lands - short), 0.0), 1.0)   # a bracket's width inside the edge
+        if flown_at(fraction) > flown(best):
+            return float(interpolate(kin.column(sync[k - 2:k + 1], kin.ARM, kin.ANGLE), fraction))
+    return None
 
 
 def _candidate_steps(arm: np.ndarray, free: np.ndarray) -> np.ndarray:
