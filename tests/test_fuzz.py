@@ -330,6 +330,25 @@ def _check_engine(design) -> None:
     _check_shot(shot)
 
 
+#: A design the test below drew under the thorough profile (2026-11-29): a link of 1.1e-9 m on a
+#: machine 1.5e11 m across, whose direction the engine's float positions cannot resolve (its angle's
+#: rate came out 0/0, a NaN with numpy's warning, where the design is valid).
+_UNRESOLVED_LINK = Design(
+    machine=Machine(pivot_height=146105105438.30902, arm_long=146105273357.28842, arm_short=146105105434.3467,
+                    arm_mass=7.103542823313798e-05, arm_cg=146105273330.1658, arm_inertia=0.0,
+                    counterweight_mass=2.996162799767079, counterweight_link=1.0790956301414151e-09,
+                    counterweight_inertia=1.0, sling_length=146105273357.28842, release_angle=-2.5406458143929807,
+                    release_rule="sling"),
+    projectile=Projectile(mass=0.0042122974740022405, diameter=23802231328.29468, drag="none"),
+    environment=Environment(gravity=0.0006284389916746591, air_density=1.0, air_viscosity=22.05283629530754),
+    name="extreme")
+
+
+def test_the_engine_refuses_a_link_its_positions_cannot_resolve():
+    with pytest.raises(EngineError, match=r"^machine\.counterweight_link = 1\.0791e-09 m is under"):
+        engine_simulate(_UNRESOLVED_LINK)
+
+
 @pytest.mark.slow
 @fuzz(5)
 @given(extreme_designs())
