@@ -44,6 +44,8 @@ FRAME_MASS = "frame_mass"
 _TABLES = ("name", "machine", "variables", "constraints", "counterweight", "arm_beam", "projectile",
            "environment", "release", "base", "loads", "losses")
 _CONSTRAINT_KEYS = ("max_footprint", "max_height", "axle_radius")
+#: The ``[machine]`` table's fixed parts of every design, kg (besides its ``kind``).
+_MACHINE_PARTS = ("sling_mass", "pouch_mass")
 #: The loads a problem may limit or minimise (``[loads]``): the name in the file -> the
 #: ``Shot`` peak it bounds (N, N, N, m/s^2, N m).
 LOADS = {"axle_load": "peak_axle_load", "hinge_load": "peak_hinge_load",
@@ -87,12 +89,16 @@ class Problem:
     counterweight_mass : kg.
     counterweight_density : kg/m^3; the counterweight is a solid sphere of it.
     arm : the beam the arm is cut from.
-    projectile, environment : as in a design.
+    projectile, environment : as in a design; the environment's ``target_height`` is the level every
+        design's range is measured at (``short_of_target`` below it scores as a failure).
     release_rule : ``"velocity"``, ``"sling"`` (``analytic.geometry.release_value``) or ``"ideal"``
         (``analytic.ideal``: each design releases at its longest throw, so the release angle is no
         variable: ``release_angle`` is fixed, its value ignored, and designs have none).
     base : the frame every design stands on (``analytic.design.Base``); with a
-        ``frame_mass`` variable, its mass is the variable's.
+        ``frame_mass`` variable, its mass is the variable's. Its ``trough_height`` raises every
+        design's trough; the variables still give the arm's length (``paper_geometry``: the length
+        that reaches the base at ``starting_angle``), and the arm rests on the trough, shallower
+        (``analytic.optimise.constraints.rest_points``).
     losses : the friction every design has (``analytic.design.Losses``, ``[losses]`` as in
         design files); the ideal machine by default.
     load_limits : ``(load, limit)`` pairs, a load of ``LOADS`` whose peak through
@@ -104,6 +110,8 @@ class Problem:
     kind : the machine every design is (``analytic.design.KINDS``): ``"hinged"`` (the
         paper's), or ``"fixed"`` or ``"floating-arm"``, whose counterweight is rigid on the
         arm: their ``counterweight_link`` variable is fixed at 0 (a file may leave it out).
+    sling_mass, pouch_mass : kg, the sling's and the pouch's mass of every design (``[machine]``,
+        as ``machine.sling_mass`` and ``pouch_mass`` of a design file; 0, massless, by default).
     """
 
     name: str
@@ -123,9 +131,13 @@ class Problem:
     minimise: str | None = None
     min_range: float | None = None
     kind: str = "hinged"
+    sling_mass: float = 0.0
+    pouch_mass: float = 0.0
 
     def __post_init__(self) -> None:
         require_kind("machine.kind", self.kind)
+        for name in ("sling_mass", "pouch_mass"):
+            require_non_negative(f"machine.{name}", getattr(self, name))
         for load, limit in self.load_limits:
             require_choice("loads", load, tuple(LOADS))
             require_positive(f"loads.max_{load}", limit)
@@ -273,7 +285,8 @@ def design_at(problem: Problem, values: np.ndarray, name: str = "optimum") -> De
                       counterweight_inertia=problem.counterweight_inertia, sling_length=sling,
                       # the ideal rule finds its own release: the angle is no variable, and a design has none
                       release_angle=None if problem.release_rule == "ideal" else release_angle,
-                      release_rule=problem.release_rule, kind=problem.kind)
+                      release_rule=problem.release_rule, kind=problem.kind,
+                      sling_mass=problem.sling_mass, pouch_mass=problem.pouch_mass)
     return Design(machine, problem.projectile, problem.environment, name=name, base=base, losses=problem.losses)
 
 
@@ -332,7 +345,9 @@ def problem_from_dict(data: dict[str, Any], name: str = "problem") -> Problem:
 
     Each ``[variables]`` entry is ``{ lower = .., upper = .. }`` or ``{ value = .. }``
     (fixed); lengths in m, angles in degrees. ``[projectile]``, ``[environment]``
-    (optional) and ``[arm_beam]`` are read as in design files. Under ``[release]
+    (optional) and ``[arm_beam]`` are read as in design files, ``[machine]``'s ``kind``,
+    ``sling_mass`` and ``pouch_mass`` (kg) as there, ``[base]`` as there (its ``trough_height``
+    too) or with the frame's mass between bounds. Under ``[release]
     rule = "ideal"`` the release angle is no variable: leave it out (a fixed value is ignored).
 
     Raises
@@ -343,7 +358,7 @@ def problem_from_dict(data: dict[str, Any], name: str = "problem") -> Problem:
     """
     reject_unknown_keys("", require_table("problem", data), _TABLES)
     machine = read_values("machine", require_table("machine", data.get("machine"), optional=True),
-                          numbers=(), texts=("kind",))
+                          numbers=_MACHINE_PARTS, texts=("kind",))
     kind = require_kind("machine.kind", machine.get("kind", "hinged"))
     variables = require_table("variables", data.get("variables"))
     reject_unknown_keys("variables", variables, VARIABLE_NAMES)
@@ -384,6 +399,7 @@ def problem_from_dict(data: dict[str, Any], name: str = "problem") -> Problem:
         minimise=minimise,
         min_range=loads.get("min_range"),
         kind=kind,
+        **{part: machine[part] for part in _MACHINE_PARTS if part in machine},
     )
 
 

@@ -9,18 +9,21 @@ from collections import Counter
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
 
 import analytic
 from analytic.design import Base, BeamArm, Design, Losses
 from analytic.design_file import default_design, load_design
 from analytic.design_space import default_problem, sample_designs
+from analytic.reference import simulate
+from engine_model.build import SLING_MASS_FRACTION
 
 
 @dataclass(frozen=True)
 class Case:
     """One design to run through both models; ``group`` is paper, exercise, failure, sample, rolling,
     friction, stage-1-events, fixed, floating-arm, floating-friction, swing-drag, ideal-release, trough,
-    target, floating-base-friction, sling-mass or file."""
+    target, floating-base-friction, sling-mass, as-built or file."""
 
     name: str
     design: Design
@@ -509,6 +512,83 @@ def sling_mass_cases() -> list[Case]:
     name = f"table3-sling-and-pouch-rolling-{ROLLING_SAMPLE_FRAME_MASS:g}kg"
     designs.append(dataclasses.replace(_variant(t3, name, machine=both), base=Base("rolling", ROLLING_SAMPLE_FRAME_MASS)))
     return [Case(design.name, design, "sling-mass") for design in designs]
+
+
+#: The as-built draw (``as_built_cases``): the sling's and the pouch's mass each up to this fraction
+#: of the projectile's (a sling with mass at least the engine's ``SLING_MASS_FRACTION`` of what it
+#: carries, below which its solver does not converge), a trough up to this fraction of the pivot's height.
+AS_BUILT_MASS_FRACTION = 0.3
+AS_BUILT_TROUGH_FRACTION = 0.6
+#: How often a part of the as-built draw is left off (a massless sling, no pouch, no trough, the target at
+#: the base's level), how often the design is released by the ideal rule, and how often it has every loss
+#: its kind has (``REALISTIC_LOSSES``, ``FIXED_LOSSES``, ``FLOATING_BASE_LOSSES``: the floating arm's base
+#: friction among them).
+AS_BUILT_NONE_CHANCE = 0.25
+AS_BUILT_IDEAL_CHANCE = 0.25
+AS_BUILT_LOSSES_CHANCE = 0.5
+#: The target's level, as a fraction of the apex of the design's shot at the base's level: from a pit
+#: this deep to near the apex; ``AS_BUILT_ABOVE_CHANCE`` of the targets lie above the apex instead, by
+#: up to ``AS_BUILT_ABOVE`` of it (those not under the ideal rule, whose release does not depend on the
+#: target, are ``short_of_target``).
+AS_BUILT_PIT, AS_BUILT_NEAR_APEX = -0.5, 0.95
+AS_BUILT_ABOVE_CHANCE, AS_BUILT_ABOVE = 0.15, 0.5
+#: The stream the as-built parts are drawn from, beside ``sample_cases``' (whose draws it leaves alone).
+AS_BUILT_STREAM = 1
+#: The kinds in turn: the wooden-armed designs of the sample are each kind, the light-armed ones hinged
+#: or fixed (a floating arm's carriage of a gram or two leaves the engine unconverged:
+#: ``FLOATING_SAMPLE``).
+AS_BUILT_KINDS = {"wooden": ("hinged", "fixed", "floating-arm"), "light": ("hinged", "fixed")}
+_AS_BUILT_LOSSES = {"hinged": REALISTIC_LOSSES, "fixed": FIXED_LOSSES, "floating-arm": FLOATING_BASE_LOSSES}
+
+
+def as_built_cases(count: int, seed: int) -> list[Case]:
+    """``count`` machines as built, drawn at random: the designs of ``sample_cases(count, seed)`` (the same
+    geometry and arm), each of a kind in turn (``AS_BUILT_KINDS``), with a sling and a pouch of mass, a
+    raised trough and a target's level drawn from their own stream (``AS_BUILT_*``), sometimes released by
+    the ideal rule and sometimes with every loss of their kind.
+
+    The target's level is a fraction of the apex of the design's shot at the base's level, released at the
+    sample's angle even where the ideal rule releases it (the reference path's summary: the ideal rule's
+    search costs seconds there; of the pivot's height where it does not throw). Seeded like the sample: the
+    first k of any count are the same, and the sample's own draws are unchanged.
+    """
+    rng = np.random.default_rng([seed, AS_BUILT_STREAM])
+    draws = rng.uniform(0.0, 1.0, size=(count, 10)).tolist()   # floats, not numpy's
+    cases, kinds = [], {arm: 0 for arm in AS_BUILT_KINDS}
+    for case, u in zip(sample_cases(count, seed), draws, strict=True):
+        arm = case.name.rsplit("-", 1)[1]
+        kind = AS_BUILT_KINDS[arm][kinds[arm] % len(AS_BUILT_KINDS[arm])]
+        kinds[arm] += 1
+        design = {"hinged": case.design, "fixed": fixed_design(case.design, ""),
+                  "floating-arm": floating_design(case.design, "")}[kind]
+
+        def part(none: float, value: float) -> float:
+            return 0.0 if none < AS_BUILT_NONE_CHANCE else value
+
+        m, most = design.machine, AS_BUILT_MASS_FRACTION * design.projectile.mass
+        pouch = part(u[2], u[3] * most)
+        lightest = SLING_MASS_FRACTION * (design.projectile.mass + pouch)   # the engine's lightest sling
+        masses = {"sling_mass": part(u[0], lightest + u[1] * (most - lightest)), "pouch_mass": pouch}
+        ideal_rule = u[6] < AS_BUILT_IDEAL_CHANCE
+        lossy = u[7] < AS_BUILT_LOSSES_CHANCE
+        name = (case.name.replace("sample-", "as-built-", 1) + f"-{kind}" + ("-ideal" if ideal_rule else "")
+                + ("-all-losses" if lossy else ""))
+        design = dataclasses.replace(
+            _variant(design, name, machine=masses),
+            base=dataclasses.replace(design.base, trough_height=part(u[4], u[5] * AS_BUILT_TROUGH_FRACTION
+                                                                    * m.pivot_height)),
+            losses=_AS_BUILT_LOSSES[kind] if lossy else design.losses)
+        shot = simulate(design, histories=False, loads=False)
+        if ideal_rule:
+            design = ideal(design, name)
+        scale = shot.apex_height if shot.ok else m.pivot_height
+        above = u[8] >= 1.0 - AS_BUILT_ABOVE_CHANCE
+        fraction = (1.0 + u[9] * AS_BUILT_ABOVE if above
+                    else part(u[8], AS_BUILT_PIT + u[9] * (AS_BUILT_NEAR_APEX - AS_BUILT_PIT)))
+        design = _variant(design, name, environment={"target_height": float(fraction * scale)})
+        expected = "short_of_target" if above and shot.ok and not ideal_rule else None
+        cases.append(Case(name, design, "as-built", expected))
+    return cases
 
 
 def file_cases(paths: list[str]) -> list[Case]:

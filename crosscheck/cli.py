@@ -11,7 +11,7 @@ from analytic.cli_shared import (EXIT_FAILED, EXIT_INVALID, EXIT_OK, OutputPathE
                                  positive_float, positive_int, read_command_line)
 from analytic.design import DesignError
 from analytic.limits import PATHS
-from crosscheck.cases import QUICK_CASES, default_suite, file_cases, quick_suite, sample_cases
+from crosscheck.cases import QUICK_CASES, as_built_cases, default_suite, file_cases, quick_suite, sample_cases
 from crosscheck.comparison import DEFAULT_DT, step_study
 from crosscheck.report import format_plain, format_summary, format_table, write_report
 from crosscheck.runner import run
@@ -30,6 +30,10 @@ def build_parser() -> argparse.ArgumentParser:
                              "(as published, at 61 deg, with losses) and one failure: seconds, not a minute")
     parser.add_argument("--sample", type=int, default=None, metavar="N",
                         help="designs drawn over the paper's Table II bounds (default suite: 24)")
+    parser.add_argument("--as-built", type=positive_int, default=0, metavar="N",
+                        help="also N machines as built, drawn at random (the sample's designs of each kind, with a "
+                             "sling and a pouch of mass, a trough, a target's level, sometimes the ideal release "
+                             "and every loss; seeded by --seed)")
     parser.add_argument("--seed", type=int, default=0, help="seed of the sample (default 0)")
     parser.add_argument("--dt", type=positive_float, default=DEFAULT_DT, help=f"engine step, s (default {DEFAULT_DT})")
     parser.add_argument("--report", metavar="DIR", help="write crosscheck.json and plots here")
@@ -61,6 +65,7 @@ def main(argv: list[str] | None = None) -> int:
             cases = quick_suite() + sample_cases(args.sample or 0, args.seed)
         else:
             cases = default_suite(24 if args.sample is None else args.sample, args.seed)
+        cases += as_built_cases(args.as_built, args.seed)
     except DesignError as error:
         print(f"invalid design: {error}", file=sys.stderr)
         return EXIT_INVALID

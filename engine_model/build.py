@@ -76,6 +76,12 @@ ARM_MASS_FRACTION = 0.02
 #: 6600 times ``diagnostics.RESIDUAL_LIMIT``; 0.66 % by half of it, 1.1 % by a fifth).
 SLING_MASS_FRACTION = 0.01
 
+#: A hinged counterweight's link is never shorter than this fraction of the machine's size (pivot
+#: height, long arm and sling): pymunk holds positions as floats, each rounded to about 1e-16 of the
+#: size, and the link's direction is the difference of two of them (a link of 1e-9 m on a machine
+#: of 1.5e11 m came out 0/0). At this fraction its direction is good to about 1e-7 rad.
+LINK_FRACTION = 1e-9
+
 
 class EngineError(RuntimeError):
     """The engine cannot model the design or its run cannot be trusted; the message says why."""
@@ -305,6 +311,12 @@ def build(design: Design, *, sling: str = "rigid", iterations: int = DEFAULT_ITE
     if sling != "rigid" and design.machine.sling_mass > 0.0:
         raise EngineError(f"sling = {sling!r}: the engine models a sling with mass (machine.sling_mass = "
                           f"{design.machine.sling_mass:g} kg) as a rod, rigid only")
+    m = design.machine
+    size = m.pivot_height + m.arm_long + m.sling_length
+    if m.kind == "hinged" and m.counterweight_link < LINK_FRACTION * size:
+        raise EngineError(f"machine.counterweight_link = {m.counterweight_link:g} m is under {LINK_FRACTION:g} of "
+                          f"the machine's size ({size:g} m): the engine's positions, floats, cannot resolve "
+                          f"its direction; make it longer")
     carried = carried_mass(design)
     if 0.0 < design.machine.sling_mass < SLING_MASS_FRACTION * carried:
         raise EngineError(f"machine.sling_mass = {design.machine.sling_mass:g} kg is under "

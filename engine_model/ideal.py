@@ -6,9 +6,10 @@ event (``analytic.geometry.ideal_release``): its search pass steps the swing
 from lift-off to the arm's stop (the machine's ``release_angle`` None), every
 step after lift-off is a candidate, and each candidate's range is the
 engine's own flight (``engine_model.flight.fly``) from that step's state.
-``CANDIDATES`` steps evenly spaced are flown first, then every step between
-the best one's neighbours; a parabola through the best step's range and its
-neighbours' gives the arm angle between steps. ``engine_model.shot`` then
+The steps where the arm passes ``CANDIDATES`` arm angles evenly spaced over the
+window are flown first (the analytic model's candidates), then a golden-section
+search over the steps between the best one's neighbours; a parabola through the
+best step's range and its neighbours' gives the arm angle between steps. ``engine_model.shot`` then
 steps the machine again, with that arm angle as its release angle: the same
 steps up to there (the rule's value changes nothing of the motion), released
 where the arm passes it.
@@ -24,13 +25,16 @@ import numpy as np
 from analytic.design import Design
 from engine_model import kinematics as kin
 from engine_model.budget import flight_step_base
+from engine_model.events import interpolate
 from engine_model.flight import fly
 from engine_model.stepping import Run
 
-#: Steps flown first, evenly spaced over the window: half ``analytic.ideal.CANDIDATES``, as each is
-#: a flight stepped in pymunk (about a tenth of a second with drag), and a whirl of the sling is
-#: still several of them.
-CANDIDATES = 32
+#: Arm angles flown first, evenly spaced over the window: as many as ``analytic.ideal.CANDIDATES``, at
+#: the steps where the arm passes them. Evenly in angle, not in time: the arm turns fastest at the end
+#: of its swing, where a short sling whips round and its best throw can lie between two candidates
+#: evenly spaced in time (32 steps of 14 ms each bracketed two maxima 10 ms apart on a light arm
+#: whose sling whips, and the golden-section search found the lower one).
+CANDIDATES = 64
 #: The golden ratio: the bracket of steps narrows by it with each flight (``_golden_steps``).
 _GOLDEN = 0.5 * (1.0 + math.sqrt(5.0))
 
@@ -55,7 +59,10 @@ def best_arm_angle(design: Design, run: Run, dt: float, budget: bool) -> float |
     times = dt * np.arange(len(sync))
     arm = kin.column(sync, kin.ARM, kin.ANGLE)
     spin = kin.column(sync, kin.ARM, kin.W)
-    free = np.flatnonzero((times > run.liftoff_time) & (spin < 0.0))   # lift-off to the arm's stop
+    # Lift-off to the arm's stop: the steps off the base (not the lift-off's own, still on it, where the
+    # release pass cannot release: its rule's crossing is looked for only after it).
+    off_base = ~np.asarray(run.on_base, dtype=bool)
+    free = np.flatnonzero(off_base & (spin < 0.0))
     if len(free) == 0:
         return None
     ranges = np.full(len(sync), np.nan)
@@ -69,10 +76,12 @@ def best_arm_angle(design: Design, run: Run, dt: float, budget: bool) -> float |
             ranges[k] = flight.landing_position[0] if flight.landed else -math.inf
         return ranges[k]
 
-    stride = max(1, len(free) // CANDIDATES)
-    best = _golden_steps(flown, *_bracket(max(free[::stride], key=flown), stride, free))
+    best = _golden_steps(flown, *_bracket(flown, _candidate_steps(arm, free), free))
     if not math.isfinite(flown(best)):
         return None
+    edge = _edge(design, sync, times, dt, budget, flown, best, free)
+    if edge is not None:
+        return edge
     if best - 1 not in free or best + 1 not in free:
         return float(arm[best])
     below, at, above = flown(best - 1), flown(best), flown(best + 1)
@@ -84,9 +93,70 @@ def best_arm_angle(design: Design, run: Run, dt: float, budget: bool) -> float |
     return float(arm[best] + abs(offset) * (arm[neighbour] - arm[best]))
 
 
-def _bracket(best: int, stride: int, free: np.ndarray) -> tuple[int, int]:
-    """The steps either side of the best of the evenly spaced ones, within the window ``free``."""
-    return max(int(best) - stride, int(free[0])), min(int(best) + stride, int(free[-1]))
+#: The edge's bisection (``_edge``) stops when its bracket is this fraction of a step: a throw whose apex
+#: just reaches the target lands where the range's slope in the release is infinite (it falls as the
+#: square root of the apex's excess), and a step's millionth leaves a range within a few parts in 1e5.
+EDGE_TOLERANCE = 1e-6
+
+
+def _edge(design: Design, sync: np.ndarray, times: np.ndarray, dt: float, budget: bool, flown, best: int,
+          free: np.ndarray) -> float | None:
+    """The arm angle of the longest throw where it lies at the edge of the releases that land, between
+    the best step and a neighbour that does not land (a throw landing behind the pivot, least far
+    when its apex just reaches a raised target), rad; None where it does not (the best step's
+    neighbours land, or the edge throws no farther than the best step).
+
+    The releases between the two steps are flown from the state the release pass would release at
+    (``events.interpolate``: the parabola through three rows, as ``shot._cut_at_release``), the edge
+    bracketed by bisection to ``EDGE_TOLERANCE`` of a step, and the release put one bracket's width
+    inside it, on the side that lands.
+    """
+    for neighbour in (best + 1, best - 1):
+        if neighbour not in free or math.isfinite(flown(neighbour)):
+            continue
+        k = max(best, neighbour)   # the interval from step k - 1 to k, through rows k - 2 .. k
+        if k < 2:
+            continue
+
+        def flown_at(fraction: float) -> float:
+            state = interpolate(sync[k - 2:k + 1], fraction)
+            position = kin.position(state[None, :], kin.PROJECTILE)[0]
+            velocity = kin.velocity(state[None, :], kin.PROJECTILE)[0]
+            flight = fly(design, float(times[k - 1] + fraction * dt), position, velocity,
+                         flight_step_base(design, position, velocity) if budget else dt)
+            return flight.landing_position[0] if flight.landed else -math.inf
+
+        lands, short = (1.0, 0.0) if neighbour < best else (0.0, 1.0)
+        while abs(short - lands) > EDGE_TOLERANCE:
+            middle = 0.5 * (lands + short)
+            if math.isfinite(flown_at(middle)):
+                lands = middle
+            else:
+                short = middle
+        fraction = min(max(lands + (lands - short), 0.0), 1.0)   # a bracket's width inside the edge
+        if flown_at(fraction) > flown(best):
+            return float(interpolate(kin.column(sync[k - 2:k + 1], kin.ARM, kin.ANGLE), fraction))
+    return None
+
+
+def _candidate_steps(arm: np.ndarray, free: np.ndarray) -> np.ndarray:
+    """The steps of the window ``free`` (ascending) where the arm, turning forward (its angle ``arm``
+    falling), first reaches each of ``CANDIDATES`` angles evenly spaced from its angle at the window's
+    first step (excluded, as the analytic model's lift-off) to its last (included); ascending, each once."""
+    start, end = arm[free[0]], arm[free[-1]]
+    angles = start + (end - start) * np.arange(1, CANDIDATES + 1) / CANDIDATES
+    # The arm's angle over the window, made monotonic (a step's own jitter cannot pass an angle twice).
+    passed = np.minimum.accumulate(arm[free])
+    index = np.minimum(np.searchsorted(-passed, -angles, side="left"), len(free) - 1)
+    return np.unique(free[index])
+
+
+def _bracket(flown, steps: np.ndarray, free: np.ndarray) -> tuple[int, int]:
+    """The candidates either side of the one of ``steps`` that throws farthest (the first of equals),
+    or the window ``free``'s end beyond the first and the last."""
+    i = max(range(len(steps)), key=lambda j: flown(int(steps[j])))
+    return (int(steps[i - 1]) if i > 0 else int(free[0]),
+            int(steps[i + 1]) if i + 1 < len(steps) else int(free[-1]))
 
 
 def _golden_steps(flown, low: int, high: int) -> int:

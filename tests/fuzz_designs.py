@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 
 from analytic.aero import DRAG_MODELS
 from analytic.design import (MAX_MAGNITUDE, MAX_SLING_RELEASE_ANGLE, MAX_VELOCITY_RELEASE_ANGLE,
-                             MIN_SLING_FRACTION, Design, DesignError, Environment, Machine, Projectile)
+                             MIN_SLING_FRACTION, Base, Design, DesignError, Environment, Machine, Projectile)
 from analytic.design_file import design_to_dict, default_design
 from analytic.geometry import RELEASE_RULES
 
@@ -151,17 +151,43 @@ def extreme_environments(draw) -> Environment:
                        air_viscosity=draw(positive(VISCOSITY_LOW)), wind_speed=draw(signed(WIND_LOW)))
 
 
+#: The sling's and the pouch's mass as a fraction of the projectile's: none, or log-uniform from a
+#: tiny fraction to a million times the projectile's (a chain flail throwing a pebble).
+PART_MASS_RATIOS = (1e-12, 1e6)
+
+
+@functools.cache
+def part_mass_ratio() -> st.SearchStrategy[float]:
+    """A sling's or a pouch's mass over the projectile's: 0, or ``PART_MASS_RATIOS``' range or ends."""
+    low, high = PART_MASS_RATIOS
+    return st.one_of(st.just(0.0), sometimes((low, high), log_uniform(low, high)))
+
+
+@st.composite
+def as_built_parts(draw, machine: Machine, projectile: Projectile) -> tuple[Machine, Base, float]:
+    """The machine with a sling and a pouch of mass (``part_mass_ratio`` of the projectile's), a base
+    with a trough (none, or any fraction of the pivot's height: near the base or just under the
+    pivot), and a target's level (``signed``: far below the base to far above any apex, or the base's)."""
+    masses = {name: min(LARGEST, projectile.mass * draw(part_mass_ratio())) for name in ("sling_mass", "pouch_mass")}
+    trough = draw(st.one_of(st.just(0.0), fraction().map(lambda f: machine.pivot_height * f)))
+    return dataclasses.replace(machine, **masses), Base(trough_height=trough), draw(signed(LENGTH_LOW))
+
+
 @st.composite
 def wholly_extreme_designs(draw) -> Design | None:
-    """Every number of the design drawn across its valid range (None: the draw is no valid design)."""
+    """Every number of the design drawn across its valid range, the machine as built
+    (``as_built_parts``) (None: the draw is no valid design)."""
     machine = draw(extreme_machines())
     if machine is None:
         return None
     try:
-        return Design(machine, draw(extreme_projectiles(machine.counterweight_mass)), draw(extreme_environments()),
-                      name="extreme")
+        projectile = draw(extreme_projectiles(machine.counterweight_mass))
+        machine, base, target = draw(as_built_parts(machine, projectile))
+        environment = dataclasses.replace(draw(extreme_environments()), target_height=target)
+        return Design(machine, projectile, environment, name="extreme", base=base)
     except DesignError:
-        # Numbers each within range whose products are not (``analytic.design.computable_scales``).
+        # Numbers each within range whose products are not (``analytic.design.computable_scales``), a
+        # part's mass rounded to a subnormal, a trough rounded onto the pivot.
         return None
 
 
@@ -171,9 +197,10 @@ def wholly_extreme_designs(draw) -> Design | None:
 PARTS = {
     "machine": (("pivot_height", "arm_long", "arm_short", "arm_cg", "counterweight_link", "sling_length"),
                 ("arm_mass",), ("arm_inertia",), ("counterweight_mass",), ("counterweight_inertia",),
-                ("release_angle", "release_rule")),
+                ("release_angle", "release_rule"), ("sling_mass",), ("pouch_mass",)),
     "projectile": (("mass",), ("diameter",), ("drag", "drag_coefficient")),
-    "environment": (("gravity",), ("air_density",), ("air_viscosity",), ("wind_speed",)),
+    "environment": (("gravity",), ("air_density",), ("air_viscosity",), ("wind_speed",), ("target_height",)),
+    "base": (("trough_height",),),
 }
 
 
@@ -192,17 +219,20 @@ def partly_extreme_designs(draw) -> Design | None:
     for table, fields in chosen:
         for name in fields:
             tables[table][name] = getattr(getattr(extreme, table), name)
+    if ("base", ("trough_height",)) in chosen:   # the same fraction of the pivot's height, so that it is one
+        tables["base"]["trough_height"] *= tables["machine"]["pivot_height"] / extreme.machine.pivot_height
     try:
         return Design(Machine(**tables["machine"]), Projectile(**tables["projectile"]),
-                      Environment(**tables["environment"]), name="partly-extreme")
+                      Environment(**tables["environment"]), name="partly-extreme", base=Base(**tables["base"]))
     except DesignError:
         # The default's arm on extreme lengths (its centre of mass off the arm) and the like.
         return None
 
 
 def extreme_designs() -> st.SearchStrategy[Design]:
-    """Valid designs with numbers anywhere in their valid range: both release rules, every drag
-    model, wind either way; wholly extreme, or the default with a few extreme parts."""
+    """Valid designs with numbers anywhere in their valid range: every release rule, every drag
+    model, wind either way, a sling and a pouch of any mass, a trough, a target at any level;
+    wholly extreme, or the default with a few extreme parts."""
     return st.one_of(wholly_extreme_designs(), partly_extreme_designs()).filter(lambda d: d is not None)
 
 
@@ -221,7 +251,8 @@ def extreme_batches(size: int) -> st.SearchStrategy[list[Design]]:
 
 def file_forms() -> dict[str, dict]:
     """The default design as each file form holds it: direct, the paper's variables, an arm cut
-    from a beam, and both alternatives together. A fresh copy each call, for a draw to mutate."""
+    from a beam, both alternatives together, and as built (a sling and a pouch of 10 g, a trough
+    0.2 m up, a target 3 m up). A fresh copy each call, for a draw to mutate."""
     return copy.deepcopy(_file_forms())
 
 
@@ -243,8 +274,12 @@ def _file_forms() -> dict[str, dict]:
             data["machine"]["arm_beam"] = dict(beam)
         return data
 
+    as_built = form(False, False)
+    as_built["machine"].update(sling_mass=0.01, pouch_mass=0.01)
+    as_built["base"] = {"trough_height": 0.2}
+    as_built["environment"]["target_height"] = 3.0
     return {"direct": form(False, False), "paper": form(True, False), "beam": form(False, True),
-            "paper-beam": form(True, True)}
+            "paper-beam": form(True, True), "as-built": as_built}
 
 
 #: Text without the surrogates a UTF-8 file cannot hold.

@@ -49,19 +49,22 @@ FEASIBILITY_TOLERANCE = 1e-9
 
 
 def feasible(problem: Problem, machine: Machine) -> bool:
-    """Whether ``machine`` meets every constraint of ``problem`` (to ``FEASIBILITY_TOLERANCE``)."""
+    """Whether ``machine`` meets every constraint of ``problem`` (to ``FEASIBILITY_TOLERANCE``), on the
+    problem's base (its trough)."""
     return bool(np.all(constraint_values(problem, machine) >= -FEASIBILITY_TOLERANCE))
 
 
-def rest_points(machine: Machine) -> dict[str, np.ndarray]:
+def rest_points(machine: Machine, trough_height: float = 0.0) -> dict[str, np.ndarray]:
     """Points of the machine at rest before firing, each shape (2,), m from the pivot (x forward, y up).
 
-    The long-arm tip rests on the base behind the pivot, the sling lies forward
-    along the base, the short arm points up and forward at the starting angle
-    and the counterweight hangs plumb from its tip.
+    The long-arm tip rests behind the pivot on the trough ``trough_height`` (m) above the base (0:
+    on the base), the sling lies forward along it, the short arm points up and forward at the arm's
+    angle at rest (the starting angle on the base, ``asin((h - trough_height) / arm_long)`` on a
+    trough) and the counterweight hangs plumb from its tip.
     """
-    theta0 = machine.starting_angle
-    tip = np.array([-machine.arm_long * math.cos(theta0), -machine.pivot_height])
+    theta0 = (machine.starting_angle if trough_height == 0.0
+              else math.asin((machine.pivot_height - trough_height) / machine.arm_long))
+    tip = np.array([-machine.arm_long * math.cos(theta0), -(machine.pivot_height - trough_height)])
     short_tip = machine.arm_short * np.array([math.cos(theta0), math.sin(theta0)])
     return {"pivot": np.zeros(2),
             "long_tip": tip,
@@ -70,15 +73,15 @@ def rest_points(machine: Machine) -> dict[str, np.ndarray]:
             "counterweight": short_tip - np.array([0.0, machine.counterweight_link])}
 
 
-def footprint(machine: Machine) -> float:
+def footprint(machine: Machine, trough_height: float = 0.0) -> float:
     """Horizontal span of ``rest_points``, m."""
-    xs = [point[0] for point in rest_points(machine).values()]
+    xs = [point[0] for point in rest_points(machine, trough_height).values()]
     return max(xs) - min(xs)
 
 
-def axle_distance(machine: Machine) -> float:
+def axle_distance(machine: Machine, trough_height: float = 0.0) -> float:
     """Closest approach of the counterweight's hanging link (short-arm tip to weight centre) to the pivot, m."""
-    points = rest_points(machine)
+    points = rest_points(machine, trough_height)
     offset = points["short_tip"][0]
     above = max(points["counterweight"][1], 0.0)  # the link always starts above the axle
     return math.hypot(offset, above)
@@ -89,13 +92,15 @@ def constraint_values(problem: Problem, machine: Machine) -> np.ndarray:
 
     Order as ``CONSTRAINT_NAMES``: the limit minus each point's distance ahead of
     the long-arm tip (three components), the height limit minus the pivot height,
-    and the axle distance minus ``counterweight radius + axle radius``.
+    and the axle distance minus ``counterweight radius + axle radius``; at rest on the problem's
+    trough (``problem.base.trough_height``).
     """
-    points = rest_points(machine)
+    trough = problem.base.trough_height
+    points = rest_points(machine, trough)
     rear = points["long_tip"][0]
     spans = [points[name][0] - rear for name in ("projectile", "pivot", "short_tip")]
     return np.array([problem.max_footprint - spans[0],
                      problem.max_footprint - spans[1],
                      problem.max_footprint - spans[2],
                      problem.max_height - machine.pivot_height,
-                     axle_distance(machine) - problem.counterweight_radius - problem.axle_radius])
+                     axle_distance(machine, trough) - problem.counterweight_radius - problem.axle_radius])

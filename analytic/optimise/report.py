@@ -95,6 +95,21 @@ def ratios(problem: Problem, values: np.ndarray) -> tuple[float, float, float]:
             machine.counterweight_mass / problem.projectile.mass)
 
 
+def as_built(problem: Problem, scales: Scales) -> str:
+    """The problem's fixed parts of the machine as built, in ``scales``' units: the sling's and the pouch's
+    mass, the trough's height, the target's level (where the range is measured); "" for none."""
+    (mass, per_kg), (short, per_m_short), (distance, per_m) = scales.mass, scales.short, scales.distance
+    parts = [f"{label} {value * per_kg:.3g} {mass}" for label, value in (("sling", problem.sling_mass),
+                                                                           ("pouch", problem.pouch_mass)) if value]
+    if problem.base.trough_height:
+        parts.append(f"trough {problem.base.trough_height * per_m_short:.3g} {short} up")
+    target = problem.environment.target_height
+    if target:
+        parts.append(f"target {abs(target) * per_m:.3g} {distance} {'above' if target > 0.0 else 'below'} the base "
+                     "(the range measured there)")
+    return "as built: " + ", ".join(parts) if parts else ""
+
+
 def format_tables(problem: Problem, columns: list[tuple[str, np.ndarray, float]], system: str = "metric") -> str:
     """Tables III and IV side by side for several designs.
 
@@ -118,6 +133,9 @@ def format_tables(problem: Problem, columns: list[tuple[str, np.ndarray, float]]
                         + "".join(f", {slide} {getattr(losses, f'{slide}_friction'):g}" for slide in SLIDES
                                   if losses.static(slide) > 0.0)
                         + (f"; static: {', '.join(static)}" if static else ""))
+    built = as_built(problem, scales)
+    if built:
+        lines.insert(1, built)
     dims = [dimensions(problem, values) for _, values, _ in columns]
     for label, key, unit in _DIMENSIONS:
         if key == "release_angle" and problem.release_rule == "ideal":   # the published optimum's is its own
@@ -149,11 +167,11 @@ def format_constraints(problem: Problem, columns: list[tuple[str, np.ndarray, fl
              f"{'':<34}{'limit':>10}" + "".join(f"{c[0]:>{width}}" for c in columns)]
     machines = [design_at(problem, values).machine for _, values, _ in columns]
     lines.append(f"{'footprint (horizontal span)':<34}{'<= ' + format(per_m * problem.max_footprint, '.2f'):>10}"
-                 + "".join(f"{per_m * footprint(m):>{width}.2f}" for m in machines))
+                 + "".join(f"{per_m * footprint(m, problem.base.trough_height):>{width}.2f}" for m in machines))
     lines.append(f"{'height (pivot)':<34}{'<= ' + format(per_m * problem.max_height, '.2f'):>10}"
                  + "".join(f"{per_m * m.pivot_height:>{width}.2f}" for m in machines))
     lines.append(f"{'counterweight link to axle':<34}{'>= ' + format(clearance_needed, '.2f'):>10}"
-                 + "".join(f"{per_m * axle_distance(m):>{width}.2f}" for m in machines))
+                 + "".join(f"{per_m * axle_distance(m, problem.base.trough_height):>{width}.2f}" for m in machines))
     margins = [constraint_values(problem, m) for m in machines]
     for j, name in enumerate(CONSTRAINT_NAMES):
         lines.append(f"{'  margin: ' + name:<44}" + "".join(f"{per_m * g[j]:>{width}.3f}" for g in margins))

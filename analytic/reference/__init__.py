@@ -581,13 +581,16 @@ def _with_history(design: Design, p: Params, history, segments, status: Status, 
     state_rows = coordinates.tolist()   # Python floats for the model (see stage_rhs)
     energy, path = _energy_budget(state_rows, work, p)
     frame_x = np.array([eom.frame_displacement(*state[:3], p) for state in state_rows])
-    ground = np.array([eom.ground_force(*state, *stages.accelerations(int(k), y, p), p)
+    # A sample where the equations cannot be evaluated (a machine whose numbers over- or underflow them
+    # even at rest: ``_unfired``) has no push nor loads: NaN there, and no smallest push.
+    ground = np.array([quietly(_ground_force, int(k), state, y, p, otherwise=math.nan)
                        for k, state, y in zip(stage.tolist(), state_rows, raw, strict=True)])
-    fields["min_ground_force"] = float(ground.min())
+    fields["min_ground_force"] = float(ground.min()) if np.isfinite(ground).all() else None
     if p.kind == eom.FLOATING:
         fields.update(_support_extremes(stage, raw, p))
-    loads = (np.array([stages.loads_at(k, y, p) for k, y in zip(stage.tolist(), raw, strict=True)])   # (n, N_LOADS)
-             if sampled_loads else None)
+    unknown = (math.nan,) * len(stages.LOAD_NAMES)
+    loads = (np.array([quietly(stages.loads_at, k, y, p, otherwise=unknown)   # (n, N_LOADS)
+                       for k, y in zip(stage.tolist(), raw, strict=True)]) if sampled_loads else None)
     if p.rolling and ground.min() < 0.0:
         warnings = (jump_warning(float(ground.min()), float(t[int(np.argmin(ground))]), p.g), *warnings)
     fields["warnings"] = warnings
@@ -616,6 +619,11 @@ def _with_history(design: Design, p: Params, history, segments, status: Status, 
                 # its projectile statically: no tension is defined.
                 min_sling_tension=None if not segments else smallest_tension(t, stage, tension, segments, p),
                 counterweight_energy_released=released, **fields)
+
+
+def _ground_force(stage: int, state: list, y, p: Params) -> float:
+    """The ground's vertical push on the frame at a sample (``eom.ground_force``), N."""
+    return eom.ground_force(*state, *stages.accelerations(stage, y, p), p)
 
 
 def _sampled(history, p: Params):
