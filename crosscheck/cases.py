@@ -77,7 +77,8 @@ def exercise_cases() -> list[Case]:
 #: runs them. Each is a design file, ``fails-<status>.toml``, whose header says
 #: how it was found; the tests read the same files.
 FAILURE_DESIGN_DIR = Path(analytic.__file__).with_name("data") / "designs"
-FAILURE_STATUSES = ("never_fires", "no_landing", "never_lifts_off", "hits_base_before_release", "never_releases")
+FAILURE_STATUSES = ("never_fires", "no_landing", "never_lifts_off", "hits_base_before_release", "never_releases",
+                    "short_of_target")
 
 
 def failure_cases() -> list[Case]:

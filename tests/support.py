@@ -124,7 +124,7 @@ def failure_designs() -> dict[Status, Design]:
 PHRASES = {Status.NEVER_FIRES: "cannot lift the arm", Status.NEVER_LIFTS_OFF: "never lifts off",
            Status.HITS_BASE_BEFORE_RELEASE: "came back down to the base",
            Status.NEVER_RELEASES: "never reached the release angle",
-           Status.NO_LANDING: "did not come down"}
+           Status.NO_LANDING: "did not come down", Status.SHORT_OF_TARGET: "never reaches the target"}
 
 
 # --------------------------------------------------------------------------- #

@@ -295,7 +295,7 @@ def test_a_name_that_is_not_text_is_refused(value):
 @pytest.mark.parametrize("build, message", [
     (lambda d: with_machine(d, arm_short=-0.24), "machine.arm_short = -0.24: must be positive"),
     (lambda d: with_machine(d, release_angle="43.4 deg"), "machine.release_angle = '43.4 deg': must be a number"),
-    (lambda d: with_machine(d, release_rule=None), "machine.release_rule = None: must be one of velocity, sling"),
+    (lambda d: with_machine(d, release_rule=None), "machine.release_rule = None: must be one of velocity, sling, ideal"),
     (lambda d: with_projectile(d, mass=0), "projectile.mass = 0: must be positive"),
     (lambda d: with_projectile(d, drag="constant"),
      'projectile.drag_coefficient: required with drag = "constant"'),

@@ -24,7 +24,7 @@ def test_failure_is_named(expected):
     assert PHRASES[expected] in shot.message
     assert shot.range is None and shot.to_json()["range"] is None and shot.landing_time is None
     # Released only if the failure came after release.
-    assert (shot.release_time is not None) == (expected is Status.NO_LANDING)
+    assert (shot.release_time is not None) == (expected in (Status.NO_LANDING, Status.SHORT_OF_TARGET))
     assert np.all(np.isfinite(shot.history.q)) and len(shot.history.t) >= 1
 
 
