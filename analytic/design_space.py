@@ -87,8 +87,10 @@ class Problem:
     max_height : m, limit on the pivot height.
     axle_radius : m, radius of the axle the counterweight must clear at rest.
     counterweight_mass : kg.
-    counterweight_density : kg/m^3; the counterweight is a solid sphere of it.
-    arm : the beam the arm is cut from.
+    counterweight_density : kg/m^3; the counterweight is a solid sphere of it. None with
+        ``counterweight_own_inertia``.
+    arm : the beam the arm is cut from (``BeamArm``), or any arm whose ``properties(arm_long,
+        arm_short)`` give its mass, centre and inertia (``analytic.optimise.around.ScaledArm``).
     projectile, environment : as in a design; the environment's ``target_height`` is the level every
         design's range is measured at (``short_of_target`` below it scores as a failure).
     release_rule : ``"velocity"``, ``"sling"`` (``analytic.geometry.release_value``) or ``"ideal"``
@@ -112,6 +114,10 @@ class Problem:
         arm: their ``counterweight_link`` variable is fixed at 0 (a file may leave it out).
     sling_mass, pouch_mass : kg, the sling's and the pouch's mass of every design (``[machine]``,
         as ``machine.sling_mass`` and ``pouch_mass`` of a design file; 0, massless, by default).
+    counterweight_own_inertia : kg m^2, the counterweight's inertia about its centre as a design gives
+        it (a problem around a design, ``analytic.optimise.around``), instead of a sphere of
+        ``counterweight_density``'s; its radius for the axle clearance is then the solid sphere's of
+        that inertia, ``sqrt(5 I / (2 m))``. None (the default): the sphere of the density.
     """
 
     name: str
@@ -120,7 +126,7 @@ class Problem:
     max_height: float
     axle_radius: float
     counterweight_mass: float
-    counterweight_density: float
+    counterweight_density: float | None
     arm: BeamArm
     projectile: Projectile
     environment: Environment
@@ -133,9 +139,14 @@ class Problem:
     kind: str = "hinged"
     sling_mass: float = 0.0
     pouch_mass: float = 0.0
+    counterweight_own_inertia: float | None = None
 
     def __post_init__(self) -> None:
         require_kind("machine.kind", self.kind)
+        if self.counterweight_own_inertia is not None:
+            require_non_negative("machine.counterweight_inertia", self.counterweight_own_inertia)
+        elif self.counterweight_density is None:
+            raise DesignError("counterweight.density", None, "required value is missing")
         for name in ("sling_mass", "pouch_mass"):
             require_non_negative(f"machine.{name}", getattr(self, name))
         for load, limit in self.load_limits:
@@ -162,7 +173,8 @@ class Problem:
                           ("max_height", "constraints.max_height"),
                           ("counterweight_mass", "counterweight.mass"),
                           ("counterweight_density", "counterweight.density")):
-            require_positive(key, getattr(self, name))
+            if getattr(self, name) is not None or name != "counterweight_density":
+                require_positive(key, getattr(self, name))
         require_non_negative("constraints.axle_radius", self.axle_radius)
         require_choice("release.rule", self.release_rule, RELEASE_RULES)
         limits = {"arm_short": (0.0, math.inf), "counterweight_link": (0.0, math.inf),
@@ -225,12 +237,18 @@ class Problem:
 
     @property
     def counterweight_radius(self) -> float:
-        """Radius of the solid-sphere counterweight, m: ``(3 m / (4 pi rho))^(1/3)``."""
+        """Radius of the solid-sphere counterweight, m: ``(3 m / (4 pi rho))^(1/3)``, or with
+        ``counterweight_own_inertia`` the solid sphere's of that inertia, ``sqrt(5 I / (2 m))``."""
+        if self.counterweight_own_inertia is not None:
+            return math.sqrt(2.5 * self.counterweight_own_inertia / self.counterweight_mass)
         return (3.0 * self.counterweight_mass / (4.0 * math.pi * self.counterweight_density)) ** (1 / 3)
 
     @property
     def counterweight_inertia(self) -> float:
-        """Moment of inertia of the solid sphere about its centre, kg m^2: ``2/5 m r^2``."""
+        """Moment of inertia of the solid sphere about its centre, kg m^2: ``2/5 m r^2``
+        (``counterweight_own_inertia`` when given)."""
+        if self.counterweight_own_inertia is not None:
+            return self.counterweight_own_inertia
         return 0.4 * self.counterweight_mass * self.counterweight_radius**2
 
 

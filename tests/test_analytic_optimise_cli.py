@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import pytest
 import tomli_w
@@ -69,4 +70,37 @@ def test_reference_path_writes_the_same_optimum(run, tmp_path):
                          ids=["missing-file", "negative-sigma", "nan-sigma"])
 def test_invalid_input_exits_2(tmp_path, argv, capsys):
     assert cli.main(argv + ["--out", str(tmp_path)]) == cli.EXIT_INVALID
+    assert "invalid" in capsys.readouterr().err
+
+
+ROOT_FOLDER = Path(__file__).resolve().parents[1]
+WARWOLF = ROOT_FOLDER / "workbench" / "presets" / "warwolf.toml"
+
+
+def test_around_a_design_writes_that_design_improved_in_its_optimised_fields_only(tmp_path, capsys):
+    from analytic.fast import simulate_fast
+    from analytic.optimise.around import OPTIMISED_FIELDS
+
+    argv = ["--around", str(WARWOLF), "--generations", "1", "--quiet", "--units", "imperial",
+            "--max-axle-load", "200000 lbf", "--bound", "sling_length", "25", "40", "--out", str(tmp_path)]
+    assert cli.main(argv) == cli.EXIT_OK
+    report = capsys.readouterr().out
+    assert "around-warwolf-scale" in report and "peak loads at most axle load 200000 lbf" in report
+    start, found = load_design(WARWOLF), load_design(tmp_path / "optimum.toml")
+    for name, value in vars(start.machine).items():
+        if name not in OPTIMISED_FIELDS:
+            assert getattr(found.machine, name) == value, name
+    assert (found.projectile, found.losses, found.base) == (start.projectile, start.losses, start.base)
+    # --bound in the --units: 25 to 40 ft (7.62 to 12.192 m)
+    assert 7.62 <= found.machine.sling_length <= 12.192
+    shot = simulate_fast(found, loads=True)
+    # the axle-load limit is met to SLSQP's relative margin on outcome limits (search.OUTCOME_FEASIBILITY)
+    assert shot.peak_axle_load <= 200000 * 4.4482216152605 * (1 + 1e-4)   # the pound-force: 4.4482216152605 N, exact
+
+
+@pytest.mark.parametrize("argv", [["--bound", "arm", "1", "2"], ["--bound", "sling_length", "2", "1"],
+                                  ["--factor", "0.5"], ["--kind", "fixed"], ["--max-height", "tall"]],
+                         ids=["unknown-variable", "reversed-bounds", "factor-below-one", "other-kind", "no-number"])
+def test_invalid_around_options_exit_2(tmp_path, argv, capsys):
+    assert cli.main(["--around", str(WARWOLF), *argv, "--out", str(tmp_path), "--quiet"]) == cli.EXIT_INVALID
     assert "invalid" in capsys.readouterr().err

@@ -398,3 +398,60 @@ def test_every_trebuchator_preset_is_on_the_page_under_its_files_title(client):
         preset = offered[f"trebuchator-{name}"]
         assert preset["title"] == f"Trebuchator: {title}"
         assert preset["design"] == json.loads(json.dumps(design_to_dict(load_design(_TREBUCHATOR / f"{name}.toml"))))
+
+
+#: The workbench's own presets (``workbench/presets/*.toml``), by their names on the page.
+OWN_PRESETS = ("backyard", "pumpkin-hurler", "virtual-trebuchet", "warwolf-scale")
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", OWN_PRESETS)
+def test_the_front_around_each_preset_is_of_its_machine_and_never_worse_than_it(client, name):
+    from analytic.design_file import design_from_dict
+    from analytic.fast import simulate_fast
+    from analytic.optimise.search import Settings
+
+    design = PRESETS[name][1]()
+    body = {"tool": "optimise", "design": design_to_dict(design), "client": f"front-{name}",
+            "inputs": {"front": True, "generations": 1}}
+    job = wait(client, client.post("/api/jobs", json=body).json())
+    assert job["state"] == "done", job["error"]
+    start, points = job["result"]["start"], job["result"]["points"]
+    assert start["violates"] == []
+    # The search scores its start at its own integrator tolerance; the answer at the final one.
+    assert points[0]["range"] >= start["range"] * (1 - 10 * Settings().search_tolerance)
+    for point in points:
+        # not dominated by the design on screen: it neither throws as far on less load nor farther on as much
+        dominated = (start["range"] >= point["range"] and start["peak_axle_load"] <= point["peak_axle_load"]
+                     and (start["range"], start["peak_axle_load"]) != (point["range"], point["peak_axle_load"]))
+        assert not dominated, (start, point["range"], point["peak_axle_load"])
+        tables = design_to_dict(design)
+        for field, value in point["changes"].items():
+            table, key = field.split(".")
+            tables[table][key] = value
+        adopted = design_from_dict(tables)
+        kept = {k: v for k, v in tables["machine"].items() if "machine." + k not in point["changes"]}
+        assert kept == {k: v for k, v in design_to_dict(design)["machine"].items() if "machine." + k not in point["changes"]}
+        assert adopted.machine.kind == design.machine.kind
+        assert simulate_fast(adopted).range == pytest.approx(point["range"], rel=1e-7)
+
+
+def test_optimise_inputs_are_checked_naming_the_field(client):
+    for inputs, field in (({"problem": "mine"}, "problem"), ({"generations": 0}, "generations"),
+                          ({"bounds": {"arm": [1, 2]}}, "bounds"), ({"limits": {"max_height": "tall"}}, "limits.max_height"),
+                          ({"bounds": {"sling_length": [2, 1]}}, "variables.sling_length")):
+        job = wait(client, client.post("/api/jobs", json={"tool": "optimise", "design": tables(), "inputs": inputs,
+                                                          "client": "checks"}).json())
+        assert job["state"] == "error" and job["error"]["field"] == field, (inputs, job["error"])
+
+
+def test_the_bounds_centre_on_the_design_on_screen(client):
+    design = PRESETS["warwolf-scale"][1]()
+    job = wait(client, client.post("/api/jobs", json={"tool": "around_bounds", "design": design_to_dict(design),
+                                                      "client": "bounds"}).json())
+    rows = {row["name"]: row for row in job["result"]["variables"]}
+    # warwolf.toml: a 3 m short arm, a 10 m sling released at 45 deg, 9 m pivot, 10 m footprint (its sling)
+    assert (rows["arm_short"]["lower"], rows["arm_short"]["upper"]) == (1.5, 6.0)
+    assert (rows["release_angle"]["lower"], rows["release_angle"]["upper"]) == pytest.approx((25.0, 65.0))
+    assert job["result"]["limits"]["max_height"] == 9.0
+    assert job["result"]["limits"]["max_footprint"] == pytest.approx(10.0)

@@ -1,4 +1,5 @@
-"""The page's tools, each a function of (design, inputs, job) over the library: best pin, aim, what-if, cross-check, optimise."""
+"""The page's tools, each a function of (design, inputs, job) over the library: best pin, aim, what-if, cross-check,
+optimise (``workbench.optimising``)."""
 
 from __future__ import annotations
 
@@ -14,6 +15,7 @@ from analytic.fields import Field, field
 from analytic.result import PEAK_NAMES
 
 from workbench.jobs import Job
+from workbench.optimising import around_bounds, optimise_design
 from workbench.shot import PAGE_FLIGHT_SAMPLE_STEP, PAGE_SAMPLE_STEP, history_json
 
 #: Release angles the best-pin scan shoots over the rule's span (then refined between the best's neighbours).
@@ -146,43 +148,6 @@ def cross_check(design: Design, inputs: dict[str, Any], job: Job) -> dict[str, A
     return {**comparison.to_json(), "engine": drawn}
 
 
-#: The axle-load caps of the range-against-axle-load front, as fractions of the peak axle load
-#: of the unconstrained optimum (1: that optimum itself).
-FRONT_FRACTIONS = (1.0, 0.85, 0.7, 0.55, 0.4)
-
-
-def optimise_paper(design: Design, inputs: dict[str, Any], job: Job) -> dict[str, Any]:
-    """``analytic.optimise.optimise`` on the paper's problem; with ``"front": true`` also the
-    longest range under each of ``FRONT_FRACTIONS`` of the optimum's peak axle load (range
-    against peak axle load). Each point carries its design to adopt."""
-    import dataclasses
-
-    from analytic.design_file import design_to_dict
-    from analytic.design_space import default_problem, design_at
-    from analytic.optimise import optimise
-
-    problem = default_problem()
-    caps = [None] + (list(FRONT_FRACTIONS[1:]) if inputs.get("front") else [])
-    points, full_load = [], None
-    for index, fraction in enumerate(caps):
-        job.check()
-        limited = problem if fraction is None else dataclasses.replace(
-            problem, load_limits=(("axle_load", fraction * full_load),))
-        result = optimise(limited, workers=1)
-        label = "optimum"
-        peaks = result.peaks[label]
-        if fraction is None:
-            full_load = peaks["peak_axle_load"]
-        points.append({"axle_limit": None if fraction is None else fraction * full_load,
-                       "range": result.ranges[label], "peak_axle_load": peaks.get("peak_axle_load"),
-                       "design": design_to_dict(design_at(limited, result.optimum.values,
-                                                          name="optimum" if fraction is None
-                                                          else f"optimum-axle-{fraction:g}"))})
-        job.progress = (index + 1) / len(caps)
-    return {"points": points}
-
-
-
 #: The tools by the name the page asks for.
 TOOLS = {"best_pin": best_pin, "aim": aim_at, "what_if": what_if, "crosscheck": cross_check,
-         "optimise": optimise_paper}
+         "optimise": optimise_design, "around_bounds": around_bounds}

@@ -21,7 +21,7 @@ import numpy as np
 from analytic.design_file import default_design
 from analytic.optimise.evaluate import FAILURE_RANGE, FAST, Evaluator
 from analytic.design_space import Problem, bolted, default_problem, load_problem, variables_of
-from analytic.optimise.report import PAPER_LABEL
+from analytic.optimise.report import PAPER_LABEL, START_LABEL
 from analytic.optimise.robust import DEFAULT_NODES, Scatter, release_scatter
 from analytic.optimise.search import Optimum, Settings, maximise
 from analytic.optimise.sensitivity import Sensitivity, scan
@@ -29,7 +29,7 @@ from analytic.optimise.sensitivity import Sensitivity, scan
 #: Why a problem under the ideal release rule has no robust variant.
 IDEAL_NO_SCATTER = "release.rule 'ideal' finds each design's release itself: there is no set release angle to scatter"
 
-__all__ = ["Optimisation", "Problem", "default_problem", "load_problem", "optimise"]
+__all__ = ["Optimisation", "Problem", "Settings", "default_problem", "load_problem", "optimise"]
 
 
 @dataclass(frozen=True)
@@ -52,6 +52,9 @@ class Optimisation:
     sensitivity : the range along each free variable through the optimum.
     path : ``"fast"`` or ``"reference"``, how the shots were simulated.
     seconds : wall time.
+    compared : the label of ``paper`` in ``ranges`` and ``peaks``: ``PAPER_LABEL``, or
+        ``START_LABEL`` when the search started from a design (``optimise(start=...)``), which
+        ``paper`` then holds.
     """
 
     problem: Problem
@@ -64,6 +67,7 @@ class Optimisation:
     sensitivity: Sensitivity
     path: str
     seconds: float
+    compared: str = PAPER_LABEL
 
     @property
     def optimum(self) -> Optimum:
@@ -73,7 +77,8 @@ class Optimisation:
 
 def optimise(problem: Problem, *, seed: int = 0, robust_sigma: float | None = None,
              nodes: int = DEFAULT_NODES, path: str = FAST, workers: int | None = None,
-             progress: bool = False) -> Optimisation:
+             progress: bool = False, start: np.ndarray | None = None,
+             settings: Settings | None = None) -> Optimisation:
     """Maximise the range over the problem's free variables, and everything the report shows.
 
     The global stage (differential evolution) warm-starts the local one
@@ -102,6 +107,13 @@ def optimise(problem: Problem, *, seed: int = 0, robust_sigma: float | None = No
         Threads (fast path) or processes (reference path) shooting at once.
     progress : bool
         Show progress bars (tqdm, on stderr).
+    start : (6,) or (n,), optional
+        A design the search starts from (in the global stage's first population; m and rad), shot
+        beside the optimum instead of the paper's design, under ``START_LABEL``: a problem around a
+        design (``analytic.optimise.around``) starts from that design, and ends on one at least as
+        good when it meets the problem's limits.
+    settings : Settings, optional
+        The search's budget (``search.Settings``); default ``Settings(seed=seed)``.
 
     Returns
     -------
@@ -122,17 +134,21 @@ def optimise(problem: Problem, *, seed: int = 0, robust_sigma: float | None = No
     if robust_sigma is not None and problem.release_rule == "ideal":
         raise ValueError(f"robust_sigma: {IDEAL_NO_SCATTER}")
     began = time.perf_counter()
-    settings = Settings(seed=seed)
+    settings = Settings(seed=seed) if settings is None else settings
     scatter = None if robust_sigma is None else release_scatter(robust_sigma, nodes)
-    paper = problem.complete(variables_of(default_design().machine))
-    if problem.kind != "hinged":   # the paper's frame and arms, its counterweight bolted on
-        paper = bolted(paper)
+    compared = PAPER_LABEL if start is None else START_LABEL
+    if start is not None:
+        paper = problem.complete(np.asarray(start, dtype=float))
+    else:
+        paper = problem.complete(variables_of(default_design().machine))
+        if problem.kind != "hinged":   # the paper's frame and arms, its counterweight bolted on
+            paper = bolted(paper)
     with Evaluator(problem, path=path, workers=workers) as evaluator:
-        optima = {"optimum": maximise(problem, evaluator, settings, progress=progress)}
+        optima = {"optimum": maximise(problem, evaluator, settings, progress=progress, include=start)}
         if scatter is not None:
             optima["robust optimum"] = maximise(problem, evaluator, settings, scatter=scatter,
                                                 start=optima["optimum"].values, progress=progress)
-        designs = {PAPER_LABEL: paper} | {label: o.values for label, o in optima.items()}
+        designs = {compared: paper} | {label: o.values for label, o in optima.items()}
         throws = evaluator.throws(np.array(list(designs.values())), settings.final_tolerance, loads=True)
         ranges = {label: (FAILURE_RANGE if t.range is None else t.range) for label, t in zip(designs, throws, strict=True)}
         peaks = {label: t.loads for label, t in zip(designs, throws, strict=True)}
@@ -142,4 +158,4 @@ def optimise(problem: Problem, *, seed: int = 0, robust_sigma: float | None = No
                            settings.search_tolerance)
     return Optimisation(problem=problem, optima=optima, paper=paper, ranges=ranges, scatter=scatter,
                         node_ranges=node_ranges, peaks=peaks, sensitivity=sensitivity, path=evaluator.path,
-                        seconds=time.perf_counter() - began)
+                        seconds=time.perf_counter() - began, compared=compared)

@@ -25,6 +25,8 @@ PAPER_RANGE = 35.9
 PAPER_LABEL = "paper, ours"
 #: Column of the paper's published Table III optimum (its numbers, not ours).
 PUBLISHED_LABEL = "paper"
+#: Column of the design a problem around it started from (``analytic.optimise.around``).
+START_LABEL = "start"
 #: L_Al:L_As, L_S:L_Al, m_W:m_P "purported optimal" (the paper's Table I).
 PURPORTED_RATIOS = (3.75, 1.0, 133.0)
 #: The same ratios of the paper's optimum as published (the paper's Table IV).
@@ -278,7 +280,10 @@ def format_report(result: Optimisation, system: str = "metric") -> str:
     """The whole report: the problem, Tables III and IV, the limits, each search and its first-order
     check, the release-angle scatter (if any) and the wall time; in ``system``'s units (``Scales.of``)."""
     problem, optima, ranges, scatter = result.problem, result.optima, result.ranges, result.scatter
-    if problem.kind == "hinged":
+    if result.compared != PAPER_LABEL:   # the design the search started from
+        paper_heading = result.compared
+        columns = [(paper_heading, result.paper, ranges[paper_heading])]
+    elif problem.kind == "hinged":
         paper_heading = PAPER_LABEL
         columns = [(PUBLISHED_LABEL, result.paper, PAPER_RANGE), (PAPER_LABEL, result.paper, ranges[PAPER_LABEL])]
     else:   # the paper's machine, its counterweight bolted to the arm (``design_space.bolted``)
@@ -295,7 +300,9 @@ def format_report(result: Optimisation, system: str = "metric") -> str:
                 + ("" if scatter is None else f"; robust variant: maximise the expected range when the "
                    f"release angle scatters, sigma {math.degrees(scatter.sigma):g} deg (local stage "
                    f"from the optimum)"),
-                ("Columns: the paper's published Table III optimum; the same design under this problem "
+                (f"Machine: {problem.kind}. Columns: the design the search started from; "
+                 if result.compared != PAPER_LABEL else
+                 "Columns: the paper's published Table III optimum; the same design under this problem "
                  "and our model; " if problem.kind == "hinged" else
                  f"Machine: {problem.kind}. Columns: the paper's Table III machine with its counterweight "
                  f"bolted to the arm's end (the link's length added to the clearance), under this problem "
@@ -303,7 +310,7 @@ def format_report(result: Optimisation, system: str = "metric") -> str:
                 *([IDEAL_NOTE] if problem.release_rule == "ideal" else []),
                 format_tables(problem, columns, system), format_constraints(problem, columns, system),
                 format_peaks(problem, {heading: result.peaks[label] for heading, label in
-                                       [(paper_heading, PAPER_LABEL), *((label, label) for label in optima)]},
+                                       [(paper_heading, result.compared), *((label, label) for label in optima)]},
                              system)]
     for label, optimum in optima.items():
         sections += [format_search(label, optimum, system), format_first_order(optimum, system)]

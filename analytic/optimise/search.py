@@ -127,7 +127,7 @@ class Optimum:
 
 def maximise(problem: Problem, evaluator: Evaluator, settings: Settings = Settings(), *,
              scatter: Scatter = NO_SCATTER, start: np.ndarray | None = None,
-             progress: bool = False) -> Optimum:
+             progress: bool = False, include: np.ndarray | None = None) -> Optimum:
     """Maximise the range (or the expected range under ``scatter``) over the problem's free variables.
 
     Parameters
@@ -138,6 +138,9 @@ def maximise(problem: Problem, evaluator: Evaluator, settings: Settings = Settin
         scatter of sigma differs from the range by ``sigma^2 / 2 * d2R/dtheta^2 +
         O(sigma^4)``, a smooth perturbation that moves the optimum within its basin.
     progress : show progress bars (tqdm, on stderr).
+    include : (6,) a design the global stage's first population holds (cut into the bounds): the
+        search then ends on a design at least as good, to the local stage's tolerance, when it is
+        feasible (a design optimised around itself, ``analytic.optimise.around``).
     """
     from analytic.cli_shared import progress_bar
 
@@ -152,7 +155,8 @@ def maximise(problem: Problem, evaluator: Evaluator, settings: Settings = Settin
     if start is None:
         unit, global_score = _global_stage(problem, evaluator, settings, scatter, record,
                                            progress_bar(total=settings.maxiter, desc="global (DE)",
-                                                unit="gen", disable=not progress, leave=False))
+                                                unit="gen", disable=not progress, leave=False),
+                                           None if include is None else np.clip(to_unit(problem, problem.complete(include)), 0.0, 1.0))
     else:
         unit, global_score = to_unit(problem, start), math.nan
     global_values = from_unit(problem, unit)
@@ -171,8 +175,9 @@ def maximise(problem: Problem, evaluator: Evaluator, settings: Settings = Settin
                    seconds=time.perf_counter() - began)
 
 
-def _global_stage(problem, evaluator, settings, scatter, record, bar):
-    """Differential evolution over the unit box; returns its best point and score."""
+def _global_stage(problem, evaluator, settings, scatter, record, bar, x0=None):
+    """Differential evolution over the unit box (``x0``, if given, in its first population); returns its
+    best point and score."""
     n = len(problem.free)
 
     def objective(units: np.ndarray) -> np.ndarray:  # (n, S) -> (S,)
@@ -198,7 +203,7 @@ def _global_stage(problem, evaluator, settings, scatter, record, bar):
             objective, [(0.0, 1.0)] * n, popsize=settings.popsize, maxiter=settings.maxiter,
             tol=settings.convergence, rng=np.random.default_rng(settings.seed),
             constraints=NonlinearConstraint(constraints, 0.0, np.inf), vectorized=True, updating="deferred",
-            polish=False, callback=callback)
+            polish=False, callback=callback, x0=x0)
     return result.x, -result.fun
 
 

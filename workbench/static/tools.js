@@ -1,5 +1,6 @@
 // The tools panel: best pin, aim, what-if, ghosts and the cross-check, run as server jobs with progress and cancel.
 import {fileValue, getValue, setValue, shownValue, unitLabel} from "./form.js";
+import {followDesign, setupOptimise} from "./optimise.js";
 
 const $ = (id) => document.getElementById(id);
 const CLIENT = Math.random().toString(36).slice(2);
@@ -118,14 +119,7 @@ export function setupTools(state, api) {
     api.draw();
   });
 
-  for (const [button, front] of [["optimise", false], ["front", true]]) {
-    $(button).addEventListener("click", async () => {
-      const result = await runJob(state, "optimise", {front}, api);
-      if (!result) return;
-      optimiseTable(state, api, result.points);
-      if (front) frontPlot(state, api, result.points);
-    });
-  }
+  setupOptimise(state, api, runJob);
 
   $("crosscheck").addEventListener("click", async () => {
     const result = await runJob(state, "crosscheck", {}, api);
@@ -154,6 +148,7 @@ export function setupTools(state, api) {
 // is not offered (an aim or sweep over it would change nothing); a choice of it moves to the
 // counterweight's mass.
 export function followRule(design) {
+  followDesign();
   const ideal = design.machine.release_rule === "ideal";
   for (const select of [$("aim-field"), $("whatif-field")]) {
     const option = select.querySelector('option[value="machine.release_angle"]');
@@ -162,85 +157,6 @@ export function followRule(design) {
     option.title = ideal ? "the ideal rule finds the release itself" : "";
     if (ideal && select.value === option.value) select.value = "machine.counterweight_mass";
   }
-}
-
-// Each optimum: its axle-load cap, range and peak axle load, and a button that adopts its design.
-function optimiseTable(state, api, points) {
-  const table = $("optimise-table");
-  table.innerHTML = "<tr><th>axle load cap</th><th>range</th><th>peak axle load</th><th></th></tr>";
-  points.forEach((point, i) => {
-    const row = document.createElement("tr");
-    row.innerHTML = `<td>${point.axle_limit === null ? "none" : api.show(point.axle_limit, "force", 0)}</td>`
-      + `<td>${api.show(point.range, "length")}</td><td>${api.show(point.peak_axle_load, "force", 0)}</td>`
-      + `<td><button type="button" data-testid="adopt-${i}">Adopt</button></td>`;
-    row.querySelector("button").addEventListener("click", () => api.loadDesign(point.design));
-    table.append(row);
-  });
-  table.hidden = false;
-}
-
-// The front of range against peak axle load: a point per optimum, nearest point to a click
-// (or a second tap: the first picks it) adopted. Each point's place, in the canvas's CSS pixels,
-// is in its ``data-points`` (what a click must hit).
-const PICK_RADIUS = 24;   // canvas pixels: a fingertip
-function frontPlot(state, api, points) {
-  const canvas = $("front-plot");
-  canvas.hidden = false;
-  const ctx = canvas.getContext("2d");
-  const m = 36, W = canvas.width, H = canvas.height;
-  const shown = points.filter((p) => p.range !== null && p.peak_axle_load !== null);
-  const loads = shown.map((p) => p.peak_axle_load), ranges = shown.map((p) => p.range);
-  const span = (a) => { const lo = Math.min(...a), hi = Math.max(...a); const pad = 0.08 * (hi - lo || hi || 1); return [lo - pad, hi + pad]; };
-  const [x0, x1] = span(loads), [y0, y1] = span(ranges);
-  const X = (v) => m + (W - 2 * m) * (v - x0) / (x1 - x0);
-  const Y = (v) => H - m - (H - 2 * m) * (v - y0) / (y1 - y0);
-  const at = shown.map((p) => [X(p.peak_axle_load), Y(p.range)]);
-  const describe = (p) => `range ${api.show(p.range, "length")} at peak axle load ${api.show(p.peak_axle_load, "force", 0)}`
-    + (p.axle_limit === null ? " (no cap)" : ` (cap ${api.show(p.axle_limit, "force", 0)})`);
-  const redraw = (picked) => {
-    ctx.clearRect(0, 0, W, H);
-    ctx.strokeStyle = "#999"; ctx.lineWidth = 1;
-    ctx.beginPath(); ctx.moveTo(m, m / 2); ctx.lineTo(m, H - m); ctx.lineTo(W - m / 2, H - m); ctx.stroke();
-    ctx.fillStyle = "#333"; ctx.font = "11px sans-serif"; ctx.textAlign = "left";
-    ctx.fillText(`range ${api.show(y0, "length", 1)} .. ${api.show(y1, "length", 1)}`, m + 4, 12);
-    ctx.textAlign = "center";
-    ctx.fillText(`peak axle load ${api.show(x0, "force", 0)} .. ${api.show(x1, "force", 0)}`, W / 2, H - 10);
-    const order = at.map((_, i) => i).sort((a, b) => loads[a] - loads[b]);
-    ctx.strokeStyle = "#c0392b"; ctx.lineWidth = 1.5; ctx.beginPath();
-    order.forEach((i, k) => (k ? ctx.lineTo(...at[i]) : ctx.moveTo(...at[i])));
-    ctx.stroke();
-    at.forEach(([x, y], i) => {
-      ctx.fillStyle = i === picked ? "#7d3c98" : "#c0392b";
-      ctx.beginPath(); ctx.arc(x, y, i === picked ? 8 : 6, 0, 2 * Math.PI); ctx.fill();
-    });
-  };
-  redraw(-1);
-  const scale = () => canvas.clientWidth / canvas.width;
-  canvas.dataset.points = JSON.stringify(at.map(([x, y]) => [x * scale(), y * scale()]));
-  const nearest = (event) => {
-    const x = event.offsetX / scale(), y = event.offsetY / scale();
-    let best = -1, distance = PICK_RADIUS;
-    at.forEach(([px, py], i) => { const d = Math.hypot(px - x, py - y); if (d <= distance) { best = i; distance = d; } });
-    return best;
-  };
-  const pick = (i) => {
-    redraw(i);
-    $("front-pick").hidden = i < 0;
-    if (i >= 0) $("front-pick").textContent = `${describe(shown[i])}: click to adopt`;
-  };
-  let touch = false, picked = -1;
-  canvas.onpointerdown = (event) => { touch = event.pointerType !== "mouse"; };
-  canvas.onpointermove = (event) => { if (event.pointerType === "mouse") { picked = nearest(event); pick(picked); } };
-  canvas.onclick = (event) => {
-    const i = nearest(event);
-    if (i < 0) return;
-    if (touch && i !== picked) { picked = i; pick(i); return; }   // a finger's first tap picks
-    picked = -1;
-    redraw(i);
-    $("front-pick").hidden = false;
-    $("front-pick").textContent = `adopted: ${describe(shown[i])}`;
-    api.loadDesign(shown[i].design);
-  };
 }
 
 function fmt(value) {
