@@ -18,6 +18,8 @@ SHOTS = Path(__file__).resolve().parents[1] / "out" / "workbench"
 NEWTONS_PER_LBF = 4.4482216152605
 #: The bar's shares, %, add up to 100 within the audit's closure (``tests/test_workbench_rules.py``' BAR_TOL).
 BAR_TOL_PERCENT = 100 * 3e-7
+#: The browser keeps six significant digits of a CSS width: a share under 100 % is off by at most 5e-5 %.
+CSS_ROUNDING_PERCENT = 5e-5
 
 pytestmark = pytest.mark.skipif(not Path(CHROMIUM).exists(), reason="needs Debian's chromium (make test installs it)")
 
@@ -51,7 +53,7 @@ def test_the_energy_bar_adds_up_on_a_floating_arm_with_guide_and_track_friction(
                           "[s.dataset.part, parseFloat(s.style.width), s.title])")
     names = [name for name, _, _ in parts]
     assert {"guide", "track", "axle", "projectile", "kept"} <= set(names), parts
-    assert abs(sum(width for _, width, _ in parts) - 100.0) <= BAR_TOL_PERCENT, parts
+    assert abs(sum(width for _, width, _ in parts) - 100.0) <= BAR_TOL_PERCENT + len(parts) * CSS_ROUNDING_PERCENT, parts
     assert any(title.startswith("guide friction: ") for _, _, title in parts)
     page.get_by_test_id("energy").screenshot(path=str(SHOTS / "energy-floating-lossy.png"))
     page.screenshot(path=str(SHOTS / "readouts-floating-lossy.png"), full_page=True)
