@@ -20,14 +20,13 @@ import numpy as np
 from analytic.design import Design, DesignError
 from analytic.fields import Field, field
 from analytic.result import hinge_load_label
+from analytic.summary import PEAK_UNITS, in_g
 from analytic.units import display
 
 #: The loads a chart shows, in the order of its columns, with their units and labels.
-LOAD_COLUMNS = (("peak_sling_tension", "N", "peak sling tension"),
-                ("peak_axle_load", "N", "peak axle load"),
-                ("peak_hinge_load", "N", "peak hinge load"),
-                ("peak_projectile_acceleration", "m/s^2", "peak projectile acceleration"),
-                ("peak_arm_bending_moment", "N m", "peak arm bending moment"))
+LOAD_COLUMNS = tuple((name, PEAK_UNITS[name], name.replace("_", " "))
+                     for name in ("peak_sling_tension", "peak_axle_load", "peak_hinge_load",
+                                  "peak_projectile_acceleration", "peak_arm_bending_moment"))
 #: Status of a grid point whose design cannot be built (its field values break a design rule).
 DESIGN_ERROR = "design_error"
 MAX_FIELDS = 2
@@ -229,14 +228,13 @@ def _weight(result: Chart) -> float:
 def _acceleration_scale(ax, result: Chart) -> None:
     """The projectile's peak acceleration (g) as the right-hand scale of a sling-tension axis where the
     two are proportional (``_proportional``); its own dashed curve on a twin axis where not."""
-    g = result.design.environment.gravity
     if _proportional(result):
         weight = _weight(result)
         scale = ax.secondary_yaxis("right", functions=(lambda n: n / weight, lambda a: a * weight))
         scale.set_ylabel("peak projectile acceleration (g)")
         return
     twin = ax.twinx()
-    twin.plot(result.settings[:, 0], result.loads["peak_projectile_acceleration"] / g, "--", color="tab:orange",
+    twin.plot(result.settings[:, 0], in_g(result.loads["peak_projectile_acceleration"], result.design), "--", color="tab:orange",
               label="peak projectile acceleration (g)")
     twin.set(ylabel="projectile acceleration (g)")
     twin.legend(fontsize=8, loc="lower right")
@@ -262,10 +260,9 @@ def _map_figure(result: Chart, fig, units: str = "metric"):
                                                      wspace=0.45, hspace=0.35)).ravel()
     fig.suptitle(f"{result.design.name}: range and peak loads over {vy.field.name} and {vx.field.name}"
                  + (" (grey: no throw)" if _failures(result) else ", every setting throws"))
-    g = result.design.environment.gravity
     for ax, (name, title, cmap) in zip(axes, panels, strict=False):
-        values = result.range if name == "range" else result.loads[name] / (g if name == _ACCELERATION_PANEL[0]
-                                                                             else 1.0)
+        values = (result.range if name == "range" else in_g(result.loads[name], result.design)
+                  if name == _ACCELERATION_PANEL[0] else result.loads[name])
         if name == "peak_hinge_load":
             title = title.replace("peak hinge load", hinge_load_label(result.design))
         unit = title[title.rindex("(") + 1:-1]

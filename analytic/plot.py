@@ -16,6 +16,7 @@ from matplotlib.patches import Circle
 
 from analytic.geometry import machine_points
 from analytic.outcome import LOSS_NAMES, Stage
+from analytic.summary import in_g
 
 
 def draw_machine(ax, shot, index: int, alpha: float = 1.0) -> None:
@@ -196,8 +197,7 @@ def draw_sling(ax, shot) -> None:
     felt = ax.secondary_yaxis("right", functions=(lambda n: n / weight, lambda a: a * weight))
     felt.set_ylabel("projectile acceleration after lift-off (g)")
     if shot.peak_projectile_acceleration is not None:
-        g = shot.design.environment.gravity
-        ax.annotate(f"peak {shot.peak_projectile_acceleration / g:.0f} g", (shot.peak_projectile_acceleration_time,
+        ax.annotate(f"peak {in_g(shot.peak_projectile_acceleration, shot.design):.0f} g", (shot.peak_projectile_acceleration_time,
                     shot.peak_projectile_acceleration * shot.design.projectile.mass), textcoords="offset points",
                     xytext=(-6, 4), ha="right", fontsize=8, color="tab:purple")
 

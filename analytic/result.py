@@ -11,9 +11,10 @@ import numpy as np
 from analytic.design import Design
 from analytic.outcome import LOSS_NAMES, Stage, Status
 from analytic.plausibility import plausibility_warnings
+from analytic.summary import hinge_load_label, origin_label, row_text, summary_rows
 
 __all__ = ["EnergyBudget", "History", "JSON_KEYS", "LOSS_NAMES", "PEAK_NAMES", "SHOT_COLUMNS", "Shot", "Shots",
-           "Stage", "Status", "arrow_table", "ideal_range"]
+           "Stage", "Status", "arrow_table", "hinge_load_label", "ideal_range", "origin_label"]
 
 
 #: The peak loads over stages 1-2, each a ``Shot`` field (and ``<name>_time``), in the order of
@@ -259,28 +260,12 @@ class Shot:
         return self.status is Status.OK
 
     def _repr_html_(self) -> str:
-        """A summary table for Jupyter: outcome, release, range and peak loads, any warnings."""
+        """A summary table for Jupyter: the outcome, the rows of ``analytic.summary.summary_rows``
+        (metric), any warnings."""
         import html
 
-        g = self.design.environment.gravity
         rows = [("status", f"{self.status.value}: {self.message}")]
-
-        def add(label: str, value, fmt: str, unit: str, when: float | None = None) -> None:
-            if value is not None:
-                rows.append((label, f"{value:{fmt}} {unit}" + ("" if when is None else f" at {when:.4f} s")))
-
-        add("range", self.range, ".3f", "m")
-        add("release speed", self.release_speed, ".3f", "m/s")
-        add("launch angle", None if self.launch_angle is None else math.degrees(self.launch_angle), ".2f", "deg")
-        add("release time", self.release_time, ".4f", "s")
-        add("apex height", self.apex_height, ".3f", "m above the base")
-        add("peak sling tension", self.peak_sling_tension, ".2f", "N", self.peak_sling_tension_time)
-        add("peak axle load", self.peak_axle_load, ".2f", "N", self.peak_axle_load_time)
-        add(hinge_load_label(self.design), self.peak_hinge_load, ".2f", "N", self.peak_hinge_load_time)
-        add("peak projectile acceleration",
-            None if self.peak_projectile_acceleration is None else self.peak_projectile_acceleration / g,
-            ".1f", "g", self.peak_projectile_acceleration_time)
-        add("peak arm bending moment", self.peak_arm_bending_moment, ".2f", "N m", self.peak_arm_bending_moment_time)
+        rows += [(row.label, " ".join(row_text(row))) for row in summary_rows(self)]
         rows += [("warning", warning) for warning in self.warnings]
         body = "".join(f"<tr><th style='text-align:left'>{html.escape(label)}</th>"
                        f"<td style='text-align:left'>{html.escape(value)}</td></tr>" for label, value in rows)
@@ -392,18 +377,6 @@ class Shot:
 #: Each ``Shot`` field after ``message``, with its default (``Shot.__init__``): all plain values, no
 #: factories, so one dict serves every shot.
 _SHOT_DEFAULTS = {f.name: f.default for f in fields(Shot)[3:]}
-
-
-def origin_label(design: Design) -> str:
-    """Where a shot's positions are measured from: the pivot, or a floating arm's guide (where it meets
-    the track)."""
-    return "guide" if design.machine.kind == "floating-arm" else "pivot"
-
-
-def hinge_load_label(design: Design) -> str:
-    """What a table calls ``peak_hinge_load``: a fixed machine has no hinge, and the force is its
-    counterweight's mount's."""
-    return "peak hinge load" if design.machine.kind == "hinged" else "peak mount load"
 
 
 def ideal_range(design: Design) -> float:

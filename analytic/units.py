@@ -282,3 +282,9 @@ class Written(str):
 
     def __repr__(self) -> str:
         return str(self)
+
+
+#: The kind (``workbench``'s unit tables' names) of each unit a summary row is in
+#: (``analytic.summary.Row.unit``): the SI ones a system converts, and those no system changes.
+SHOWN_KINDS = {"m": LENGTH.name, "kg": MASS.name, "m/s": SPEED.name, "N": FORCE.name, "m/s^2": ACCELERATION.name,
+               "J": "energy", "N m": MOMENT.name, "s": "time", "deg": ANGLE.name, "%": "percent", "g": "g"}

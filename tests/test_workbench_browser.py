@@ -567,7 +567,7 @@ def test_the_ideal_rule_disables_the_release_angle_shoots_and_gives_the_pin(page
     # The ideal shot's own range, as python -m analytic simulate --json gives it for the page's design.
     assert shown == pytest.approx(cli_range(design, tmp_path), abs=DISPLAY_ROUNDING)
     launch = page.evaluate("window.workbench.state.shot.launch_angle")
-    assert f"set the pin to {launch:.1f} deg" in page.locator("#numbers").inner_text()
+    assert f"{launch:.1f} deg (set the pin to this for rule velocity)" in page.locator("#numbers").inner_text()
     # The aim cannot pick the ignored angle; best pin says it is not needed and gives the pin.
     assert page.locator('#aim-field option[value="machine.release_angle"]').is_disabled()
     assert page.get_by_test_id("aim-field").input_value() != "machine.release_angle"

@@ -8,6 +8,7 @@ from typing import Any
 
 from starlette.applications import Starlette
 from starlette.concurrency import run_in_threadpool
+from starlette.middleware import Middleware
 from starlette.requests import Request
 from starlette.responses import FileResponse, JSONResponse, Response
 from starlette.routing import Mount, Route
@@ -17,6 +18,7 @@ from analytic.design import DesignError
 from analytic.design_file import design_from_dict, design_to_dict, dumps_design
 
 from workbench.fields import fields_table, units_table
+from workbench.guard import Guard
 from workbench.jobs import Jobs, TooMany
 from workbench.presets import presets_json
 from workbench.shot import PAGE_FLIGHT_SAMPLE_STEP, PAGE_SAMPLE_STEP, SAMPLE_STEP_BOUNDS, shot_json, summary_json
@@ -79,9 +81,8 @@ async def shot(request: Request) -> Response:
     """``POST /api/shot``: ``simulate --json``'s keys and ``history``; the body may set the
     history's spacings, s (``"sample_step"``, ``"flight_sample_step"``, in ``SAMPLE_STEP_BOUNDS``)."""
     data = await read_json(request)
-    design = design_of(data)
     steps = {name: sample_step(name, data[name]) for name in SAMPLE_STEP_BOUNDS if name in data}
-    return JSONResponse(await run_in_threadpool(shot_json, design, **steps))
+    return JSONResponse(await run_in_threadpool(lambda: shot_json(design_of(data), **steps)))
 
 
 def sample_step(name: str, value: Any) -> float:
@@ -94,15 +95,20 @@ def sample_step(name: str, value: Any) -> float:
 
 async def summary(request: Request) -> Response:
     """``POST /api/summary``: the fast path's summary of the design (``simulate --json``'s keys)."""
-    design = design_of(await read_json(request))
-    return JSONResponse(summary_json(design))
+    data = await read_json(request)
+    return JSONResponse(await run_in_threadpool(lambda: summary_json(design_of(data))))
 
 
 async def design_toml(request: Request) -> Response:
     """``POST /api/toml``: the design as a TOML file that ``python -m analytic simulate`` reads."""
-    design = design_of(await read_json(request))
-    return Response(dumps_design(design), media_type="application/toml",
+    data = await read_json(request)
+    design, text = await run_in_threadpool(lambda: _with_text(design_of(data)))
+    return Response(text, media_type="application/toml",
                     headers={"content-disposition": f'attachment; filename="{_file_name(design.name)}.toml"'})
+
+
+def _with_text(design):
+    return design, dumps_design(design)
 
 
 def _file_name(name: str) -> str:
@@ -110,21 +116,32 @@ def _file_name(name: str) -> str:
 
 
 async def read_toml(request: Request) -> Response:
-    """``POST /api/read``: an uploaded design file's text -> its tables (file units), checked."""
+    """``POST /api/read``: ``{"toml": an uploaded design file's text}`` -> its tables (file units), checked."""
+    text = (await read_json(request)).get("toml")
+    if not isinstance(text, str):
+        raise BadRequest('missing "toml": the design file\'s text', "toml")
+    return JSONResponse(await run_in_threadpool(_read_design, text))
+
+
+def _read_design(text: str) -> dict[str, Any]:
     import tomllib
 
     try:
-        tables = tomllib.loads((await read_body(request)).decode("utf-8"))
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as error:
+        tables = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as error:
         raise DesignError("file", "upload", f"not valid TOML: {error}") from None
     design = design_from_dict(tables, name=str(tables.get("name", "uploaded")))
-    return JSONResponse({"design": design_to_dict(design)})
+    return {"design": design_to_dict(design)}
 
 
 async def meta(request: Request) -> Response:
     """``GET /api/meta``: the design fields, the units, and the history spacings the stage asks for."""
-    return JSONResponse({"groups": fields_table(), "units": units_table(),
-                         "sampling": {"sample_step": PAGE_SAMPLE_STEP, "flight_sample_step": PAGE_FLIGHT_SAMPLE_STEP}})
+    return JSONResponse(await run_in_threadpool(meta_json))
+
+
+def meta_json() -> dict[str, Any]:
+    return {"groups": fields_table(), "units": units_table(),
+            "sampling": {"sample_step": PAGE_SAMPLE_STEP, "flight_sample_step": PAGE_FLIGHT_SAMPLE_STEP}}
 
 
 async def presets(request: Request) -> Response:
@@ -137,7 +154,7 @@ async def start_job(request: Request) -> Response:
     tool = TOOLS.get(data.get("tool"))
     if tool is None:
         raise BadRequest(f"unknown tool {data.get('tool')!r}; expected one of {', '.join(TOOLS)}", "tool")
-    design = design_of(data)
+    design = await run_in_threadpool(design_of, data)
     inputs = data.get("inputs", {})
     if not isinstance(inputs, dict):
         raise BadRequest('"inputs" must be an object', "inputs")
@@ -180,8 +197,10 @@ async def on_error(request: Request, error: Exception) -> Response:
     return error_response(f"the server could not answer: {type(error).__name__}", "", 500)
 
 
-def build_app() -> Starlette:
-    """The workbench app: the page at ``/``, its files under ``/static``, the API under ``/api``."""
+def build_app(hosts: tuple[str, ...] = ()) -> Starlette:
+    """The workbench app: the page at ``/``, its files under ``/static``, the API under ``/api``;
+    answering only requests addressed to it (``workbench.guard``: ``localhost``, the address it was
+    reached at, or one of ``hosts``)."""
     app = Starlette(routes=[
         Route("/", index),
         Route("/api/meta", meta),
@@ -194,6 +213,7 @@ def build_app() -> Starlette:
         Route("/api/jobs/{id}", job_state),
         Route("/api/jobs/{id}/cancel", cancel_job, methods=["POST"]),
         Mount("/static", StaticFiles(directory=STATIC), name="static"),
-    ], exception_handlers={DesignError: on_design_error, BadRequest: on_bad_request, Exception: on_error})
+    ], exception_handlers={DesignError: on_design_error, BadRequest: on_bad_request, Exception: on_error},
+        middleware=[Middleware(Guard, hosts=hosts)])
     app.state.jobs = Jobs()
     return app

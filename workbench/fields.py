@@ -98,6 +98,8 @@ def units_table() -> dict[str, Any]:
     """For each kind: the label in each system and the factor from the file unit to it."""
     kinds = {kind.name: kind.file_unit for kind in FIELD_KINDS.values()}
     kinds.update({"energy": "J"})
+    # a summary row's units that no system changes (``analytic.units.SHOWN_KINDS``)
+    kinds.update({"time": "s", "percent": "%", "g": "g"})
     table = {}
     for name, si in kinds.items():
         metric = METRIC_LABELS.get(name, si)
@@ -120,6 +122,22 @@ def fields_table() -> list[dict[str, Any]]:
                 row["choices"] = list(CHOICES[name])
             else:
                 row["kind"] = FIELD_KINDS[key].name
+            if name in SPANS:
+                row["span"] = list(SPANS[name])
             rows.append(row)
         groups.append({"title": title, "table": table, "fields": rows})
     return groups
+
+
+#: Slider spans, file units, of the fields whose span does not follow from their value (the page
+#: spans any other around its value): angles, wind and target heights that may be negative, and
+#: the coefficients and factors, which are pure numbers of their own scale.
+SPANS = {
+    "machine.release_angle": (-89, 89), "environment.wind_speed": (-20, 20), "environment.target_height": (-10, 20),
+    **{f"losses.{name}": (0, 1) for name in (
+        "axle_friction", "hinge_friction", "base_friction", "axle_static_friction", "hinge_static_friction",
+        "base_static_friction", "guide_friction", "track_friction", "guide_static_friction",
+        "track_static_friction")},
+    "projectile.drag_factor": (0, 3),
+}
+

@@ -36,6 +36,8 @@ class Job:
     result: Any = None
     error: dict[str, str] | None = None
     cancel: threading.Event = field(default_factory=threading.Event)
+    #: Set when the job's thread has returned: until then it counts against the limits, cancelled or not.
+    ended: threading.Event = field(default_factory=threading.Event)
 
     def check(self) -> None:
         """Raise ``Cancelled`` if the job was cancelled or is over its time."""
@@ -46,7 +48,7 @@ class Job:
 
     def to_json(self) -> dict[str, Any]:
         return {"id": self.id, "tool": self.tool, "state": self.state, "progress": self.progress,
-                "result": self.result, "error": self.error}
+                "result": self.result, "error": self.error, "ended": self.ended.is_set()}
 
 
 class TooMany(Exception):
@@ -64,15 +66,18 @@ class Jobs:
     def start(self, client: str, tool: str, work: Callable[[Job], Any]) -> Job:
         """Run ``work(job)`` in a thread; ``TooMany`` when the limits are reached."""
         with self._lock:
-            running = [job for job in self._jobs.values() if job.state == "running"]
-            if sum(job.client == client for job in running) >= JOBS_PER_CLIENT:
-                raise TooMany(f"a tool is already running for this page (at most {JOBS_PER_CLIENT}); "
-                              f"cancel it or wait")
-            if len(running) >= JOBS_IN_ALL:
+            # A cancelled job whose thread still works (a tool checks between its steps) still counts.
+            working = [job for job in self._jobs.values() if not job.ended.is_set()]
+            mine = [job for job in working if job.client == client]
+            if len(mine) >= JOBS_PER_CLIENT:
+                raise TooMany(f"a tool is already running for this page (at most {JOBS_PER_CLIENT}); cancel it "
+                              f"or wait" if any(job.state == "running" for job in mine) else
+                              "the cancelled tool is still stopping (at its next step); try again shortly")
+            if len(working) >= JOBS_IN_ALL:
                 raise TooMany(f"{JOBS_IN_ALL} tools are running on this server; try again shortly")
             job = Job(str(next(self._ids)), client, tool)
             self._jobs[job.id] = job
-            for old in [j for j in self._jobs.values() if j.state != "running"][:-KEPT]:
+            for old in [j for j in self._jobs.values() if j.ended.is_set()][:-KEPT]:
                 del self._jobs[old.id]
         threading.Thread(target=self._run, args=(job, work), daemon=True).start()
         return job
@@ -89,13 +94,16 @@ class Jobs:
             job.state, job.error = "error", {"error": str(error), "field": error.field}
         except Exception as error:   # a tool's failure is reported on the page, never a dead thread
             job.state, job.error = "error", {"error": f"{type(error).__name__}: {error}", "field": ""}
+        finally:
+            job.ended.set()
 
     def get(self, job_id: str) -> Job | None:
         return self._jobs.get(job_id)
 
     def cancel(self, job_id: str) -> Job | None:
-        """Stop a job: at once for its client (a work that does not ``check`` runs on to its end
-        in its thread, its result dropped)."""
+        """Stop a job: at once for its client; its thread stops at its work's next ``check`` (a
+        work that does not check runs on to its end, its result dropped), and counts against the
+        limits until then."""
         job = self._jobs.get(job_id)
         if job is not None and job.state == "running":
             job.cancel.set()

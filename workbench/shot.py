@@ -12,6 +12,7 @@ from analytic.geometry import machine_points
 from analytic.fast.motion import Motion, simulate_motion
 from analytic.reference import FLIGHT_OUTPUT_STEP, SWING_OUTPUT_STEP
 from analytic.result import History, Shot
+from analytic.summary import FLIGHT_LOSSES, LOSS_LABELS, present_losses, summary_rows
 
 #: Decimals kept of a position (m) and a time (s) in ``history``: 10 um and 1 us, far below a
 #: pixel of the stage at any preset's scale, and a third of the digits of a full float.
@@ -37,22 +38,29 @@ SAMPLE_STEP_BOUNDS = {"sample_step": (SWING_OUTPUT_STEP, 0.02), "flight_sample_s
 
 def shot_json(design: Design, sample_step: float | None = None,
               flight_sample_step: float | None = None) -> dict[str, Any]:
-    """The answer of ``POST /api/shot``: the keys of ``python -m analytic simulate --json``
-    and ``history`` (``history_json``), its samples ``sample_step`` and ``flight_sample_step``
-    apart (None: the reference path's own).
+    """The answer of ``POST /api/shot``: the keys of ``python -m analytic simulate --json``,
+    ``summary`` (``summary_json_rows``) and ``history`` (``history_json``), its samples
+    ``sample_step`` and ``flight_sample_step`` apart (None: the reference path's own).
 
     From the compiled path with its motion recorded (``analytic.fast.motion.simulate_motion``): the
     same numbers and samples as the reference shot to round-off, but for ``min_sling_tension``,
     ``min_ground_force``, ``max_frame_speed`` and a rolling frame's place at landing, which it
     does not sample (null), without the reference path's integration in Python."""
     shot, motion = simulate_motion(design, sample_step=sample_step, flight_sample_step=flight_sample_step)
-    return {**shot.to_json(), "history": history_json(shot, motion=motion)}
+    return {**shot.to_json(), "summary": summary_json_rows(shot), "history": history_json(shot, motion=motion)}
+
+
+def summary_json_rows(shot: Shot) -> list[dict[str, Any]]:
+    """The shot's summary rows (``analytic.summary.summary_rows``, what ``simulate`` prints), each
+    ``Row.to_json``: the page shows them converting each value by its ``kind``."""
+    return [row.to_json() for row in summary_rows(shot)]
 
 
 def summary_json(design: Design) -> dict[str, Any]:
     """The answer of ``POST /api/summary``: the same keys from the compiled fast path (no
-    histories, so no efficiencies nor energies), for the readouts while a slider moves."""
-    return simulate_fast(design).to_json()
+    histories, so no efficiencies nor energies), and its ``summary`` rows."""
+    shot = simulate_fast(design)
+    return {**shot.to_json(), "summary": summary_json_rows(shot)}
 
 
 def _rounded(values: np.ndarray, decimals: int) -> list:
@@ -80,7 +88,7 @@ def history_json(shot: Shot, sample_step: float | None = None, flight_sample_ste
     arm gave up by release, and of it ``projectile`` (the projectile's energy at release),
     ``sling`` (the sling's and the pouch's, ``Shot.sling_energy_at_release``: 0 for a massless
     sling) and ``kept`` (the arm's and counterweight's motion then); None where the shot did not
-    release.
+    release; and ``parts`` (``energy_parts``), what the energy bar draws.
     The samples are ``motion``'s if given, else ``shot.history``'s.
     """
     history = shot.history if motion is None else motion
@@ -91,6 +99,12 @@ def history_json(shot: Shot, sample_step: float | None = None, flight_sample_ste
     frame_x = history.frame_x if len(history.frame_x) == len(history.t) else np.zeros(len(history.t))
     released = shot.release_time is not None and shot.counterweight_energy_released is not None
     sling = shot.sling_energy_at_release or 0.0
+    # the machine's energy counts from the start: its motion at release less the energy given up;
+    # it holds the sling's and the pouch's, shown apart.
+    kept = float(_machine_energy(history) + shot.counterweight_energy_released - sling) if released else None
+    energy = {"released": shot.counterweight_energy_released,
+              "projectile": shot.projectile_energy_at_release if released else None,
+              "sling": sling if released else None, "kept": kept}
     return {
         "t": _rounded(history.t[keep], TIME_DECIMALS),
         "stage": [int(s) for s in history.stage[keep]],
@@ -98,15 +112,25 @@ def history_json(shot: Shot, sample_step: float | None = None, flight_sample_ste
         "parts": {name: _rounded(points[name], POSITION_DECIMALS) for name in DRAWN_PARTS},
         "flight_t": _rounded(history.flight_t[flown], TIME_DECIMALS),
         "flight_path": _rounded(history.flight_path[flown], POSITION_DECIMALS),
-        "energy": {
-            "released": shot.counterweight_energy_released,
-            "projectile": shot.projectile_energy_at_release if released else None,
-            "sling": sling if released else None,
-            # the machine's energy counts from the start: its motion at release less the energy given up;
-            # it holds the sling's and the pouch's, shown apart.
-            "kept": float(_machine_energy(history) + shot.counterweight_energy_released - sling) if released else None,
-        },
+        "energy": {**energy, "parts": energy_parts(shot, energy)},
     }
+
+
+def energy_parts(shot: Shot, energy: dict[str, float | None]) -> list[dict[str, Any]]:
+    """Where the energy the counterweight and arm released went, as the page's bar draws it, each
+    ``{"name", "label", "joules"}``: the projectile (what it still has on landing), what the air took
+    of it in flight, the sling and the pouch, the arm's and counterweight's motion, then each other
+    loss the design has (``analytic.summary.present_losses``: the frictions, the drag before
+    release). They share out ``energy["released"]``; [] for a shot that did not release."""
+    if energy["projectile"] is None or not energy["released"] or shot.energy_dissipated is None:
+        return []
+    lost = shot.energy_dissipated
+    flight = sum(lost[name] for name in FLIGHT_LOSSES)
+    parts = [("projectile", "projectile", energy["projectile"] - flight),
+             *((name, LOSS_LABELS[name], lost[name]) for name in FLIGHT_LOSSES),
+             ("sling", "sling and pouch", energy["sling"]), ("kept", "arm and counterweight", energy["kept"]),
+             *((name, LOSS_LABELS[name], lost[name]) for name in present_losses(shot) if name not in FLIGHT_LOSSES)]
+    return [{"name": name, "label": label, "joules": float(joules)} for name, label, joules in parts]
 
 
 def _machine_energy(history: History | Motion) -> float:

@@ -74,67 +74,57 @@ function adopt(shot) {
 }
 
 // ---- readouts ----------------------------------------------------------------------------------
+// Decimals shown by the kind of a row's unit (two for the rest): what a builder reads at a glance.
+const DIGITS = {force: 1, moment: 1, energy: 1, angle: 1, time: 3, percent: 1, g: 1};
+
+// A summary row's value in the page's units, with its note. The rows (names, values, units, order)
+// are the server's, as ``python -m analytic simulate`` prints them (``analytic.summary``).
+function rowText(row) {
+  const digits = DIGITS[row.kind] ?? 2;
+  if (!Array.isArray(row.value)) return `${show(row.value, row.kind, digits)}${row.note}`;
+  const [x, y] = row.value.map((v) => shownValue(state.meta.units, row.kind, state.system, v).toFixed(digits));
+  return `(${x}, ${y}) ${unitLabel(state.meta.units, row.kind, state.system)}${row.note}`;
+}
+
+function rowsHtml(rows) {
+  const escape = (text) => text.replace(/[&<>"]/g, (c) => `&#${c.charCodeAt(0)};`);
+  return rows.map((row) => `<dt class="level-${row.level}" data-key="${row.key}">${escape(row.label)}</dt>`
+    + `<dd>${escape(rowText(row))}</dd>`).join("");
+}
+
 function readouts(s) {
   $("range").textContent = s.range === null ? "–" : show(s.range, "length");
   $("status").textContent = s.status;
   $("status").className = s.status === "ok" ? "ok" : "failed";
   $("message").textContent = s.message;
-  const g = state.design.environment?.gravity ?? 9.81;
-  const percent = (value) => (value === null ? "–" : `${(100 * value).toFixed(1)} %`);
-  const rows = [
-    ["release speed", show(s.release_speed, "speed")],
-    ["launch angle", s.launch_angle === null ? "–" : `${s.launch_angle.toFixed(1)} deg`],
-    // The ideal rule's launch angle is the velocity rule's pin that throws as far.
-    ...(state.design.machine.release_rule === "ideal" && s.launch_angle !== null
-      ? [["release pin", `set the pin to ${s.launch_angle.toFixed(1)} deg (rule velocity)`]] : []),
-    ["apex", show(s.apex_height, "length")],
-    ["flight time", s.flight_time === null ? "–" : `${s.flight_time.toFixed(3)} s`],
-    ["energy efficiency", percent(s.energy_efficiency)],
-    // What the counterweight gave the sling and the pouch: it stays on the machine, not the projectile's.
-    ...(weighs(state.design) ? [["kept by sling and pouch", show(s.history?.energy?.sling ?? null, "energy", 1)]] : []),
-    ["range efficiency", percent(s.range_efficiency)],
-    ["peak sling tension", show(s.peak_sling_tension, "force", 1)],
-    ["peak axle load", show(s.peak_axle_load, "force", 1)],
-    // A fixed machine has no hinge: the force is its counterweight's mount's.
-    [(state.design.machine.kind ?? "hinged") === "hinged" ? "peak hinge load" : "peak mount load",
-      show(s.peak_hinge_load, "force", 1)],
-    ["peak arm bending moment", show(s.peak_arm_bending_moment, "moment", 1)],
-    ["peak projectile accel.", s.peak_projectile_acceleration === null ? "–"
-      : `${(s.peak_projectile_acceleration / g).toFixed(1)} g`],
-  ];
-  $("numbers").innerHTML = rows.map(([k, v]) => `<dt>${k}</dt><dd>${v}</dd>`).join("");
+  // At a glance the brief rows; every row under "all numbers" (the range and status are above).
+  $("numbers").innerHTML = rowsHtml(s.summary.filter((row) => row.brief));
+  $("all-numbers").innerHTML = rowsHtml(s.summary);
   $("warnings").innerHTML = "";
   for (const w of s.warnings) { const li = document.createElement("li"); li.textContent = w; $("warnings").append(li); }
   energyBar(s);
 }
 
-// Whether the design's sling or pouch has mass.
-function weighs(design) {
-  return design.machine.sling_mass > 0 || design.machine.pouch_mass > 0;
-}
+// The energy bar's colours, by part (``workbench.shot.energy_parts``' names).
+const ENERGY_COLORS = {projectile: "#c0392b", drag: "#e59866", sling: "#b08d57", kept: "#6b4226",
+  axle: "#7f8c8d", hinge: "#95a5a6", base: "#bdc3c7", guide: "#839192", track: "#a6acaf", swing_drag: "#f0b27a"};
 
-// Where the energy the counterweight and arm released went by release: the projectile (less what
-// the air took in flight), the sling and the pouch, the arm's and counterweight's motion, and
-// each loss of ``analytic.outcome.LOSS_NAMES`` (the frictions, the drag during the swing).
+// Where the energy the counterweight and arm released went: the parts the server lists (the
+// projectile, the air in flight, the sling and the pouch, the arm's and counterweight's motion, and
+// every loss the design has), each as its share.
 function energyBar(s) {
   const e = s.history?.energy;
   const bar = $("energy");
   bar.innerHTML = "";
-  if (!e || !e.released || e.projectile === null) return;
-  const lost = s.energy_dissipated || {};
-  const drag = lost.drag ?? 0;
-  const parts = [["projectile", e.projectile - drag, "#c0392b"], ["drag", drag, "#e59866"],
-    ["sling and pouch", e.sling ?? 0, "#b08d57"], ["arm and counterweight", e.kept, "#6b4226"],
-    ["axle friction", lost.axle ?? 0, "#7f8c8d"], ["hinge friction", lost.hinge ?? 0, "#95a5a6"],
-    ["base friction", lost.base ?? 0, "#bdc3c7"], ["guide friction", lost.guide ?? 0, "#839192"],
-    ["track friction", lost.track ?? 0, "#a6acaf"], ["drag in the swing", lost.swing_drag ?? 0, "#f0b27a"]];
-  for (const [name, joules, color] of parts) {
+  if (!e || !e.released) return;
+  for (const {name, label, joules} of e.parts) {
     if (!(joules > 0)) continue;
     const share = 100 * joules / e.released;
     const piece = document.createElement("span");
-    piece.style.width = `${share}%`; piece.style.background = color;
-    piece.title = `${name}: ${show(joules, "energy", 1)} (${share.toFixed(1)} %)`;
-    piece.textContent = share > 12 ? name : "";
+    piece.dataset.part = name;
+    piece.style.width = `${share}%`; piece.style.background = ENERGY_COLORS[name] ?? "#aab7b8";
+    piece.title = `${label}: ${show(joules, "energy", 1)} (${share.toFixed(1)} %)`;
+    piece.textContent = share > 12 ? label : "";
     bar.append(piece);
   }
 }
@@ -236,7 +226,8 @@ async function download() {
 }
 
 async function upload(file) {
-  const response = await fetch("/api/read", {method: "POST", body: await file.text()});
+  const response = await fetch("/api/read", {method: "POST", headers: {"content-type": "application/json"},
+    body: JSON.stringify({toml: await file.text()})});
   const data = await response.json();
   if (!response.ok) return fieldError(data);
   loadDesign(data.design);

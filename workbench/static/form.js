@@ -1,13 +1,8 @@
 // The design form: one row per field (slider and number box in the shown units), grouped as the server lists them.
 
-// Slider spans, in file units, for fields whose span does not follow from their value.
-const FIXED_SPANS = {
-  "machine.release_angle": [-89, 89], "environment.wind_speed": [-20, 20], "environment.target_height": [-10, 20],
-  "losses.axle_friction": [0, 1], "losses.hinge_friction": [0, 1], "losses.base_friction": [0, 1],
-  "losses.axle_static_friction": [0, 1], "losses.hinge_static_friction": [0, 1],
-  "losses.base_static_friction": [0, 1], "losses.guide_friction": [0, 1], "losses.track_friction": [0, 1],
-  "losses.guide_static_friction": [0, 1], "losses.track_static_friction": [0, 1], "projectile.drag_factor": [0, 3],
-};
+// Slider spans, in file units, for fields whose span does not follow from their value (the server's
+// ``span`` of each such field, ``workbench.fields.SPANS``; filled by ``buildForm``).
+const FIXED_SPANS = {};
 // Why the release angle's row is disabled under the ideal rule (the value is kept for another rule).
 export const IDEAL_NOTE = "the ideal rule finds the release itself";
 // A positive value's slider spans value / SPREAD to value * SPREAD.
@@ -57,7 +52,10 @@ export function buildForm(form, groups, onChange) {
     const box = document.createElement("details");
     box.open = group.table === "machine" || group.table === "projectile";
     box.innerHTML = `<summary>${group.title}</summary>`;
-    for (const field of group.fields) box.append(fieldRow(field, onChange));
+    for (const field of group.fields) {
+      if (field.span) FIXED_SPANS[field.name] = field.span;
+      box.append(fieldRow(field, onChange));
+    }
     form.append(box);
   }
 }

@@ -56,7 +56,8 @@ export function setupTools(state, api) {
   $("aim-field").value = "machine.release_angle";
   $("whatif-field").innerHTML = options;
   $("whatif-field").value = "machine.sling_length";
-  $("cancel").addEventListener("click", () => current && fetch(`/api/jobs/${current}/cancel`, {method: "POST"}));
+  $("cancel").addEventListener("click", () => current && fetch(`/api/jobs/${current}/cancel`,
+    {method: "POST", headers: {"content-type": "application/json"}, body: "{}"}));
 
   $("best-pin").addEventListener("click", async () => {
     const result = await runJob(state, "best_pin", {}, api);
@@ -192,10 +193,9 @@ function plotSweep(state, api, result, kind) {
     ctx.fillStyle = "#333"; ctx.font = "11px sans-serif";
     const units = state.meta.units;
     ctx.fillText(`range to ${api.show(r1, "length", 1)}`, m, 12);
-    const load = result.load === "peak_projectile_acceleration"
-      ? `${(l1 / (state.design.environment?.gravity ?? 9.81)).toFixed(1)} g`
-      : api.show(l1, result.load === "peak_arm_bending_moment" ? "moment" : "force", 0);
-    ctx.fillText(`${result.load.replace("peak_", "peak ").replaceAll("_", " ")} to ${load}`, W / 2, 12);
+    // the load's top, in its kind's unit (the server gives the projectile's acceleration in g)
+    const top = Math.max(...finite(result.loads_shown), 0);
+    ctx.fillText(`${result.load_label} to ${api.show(top, result.load_kind, result.load_kind === "g" ? 1 : 0)}`, W / 2, 12);
     const shown = (v) => shownValue(units, kind, state.system, v).toPrecision(4);
     ctx.fillText(`${result.field}: ${shown(xs[0])} .. ${shown(xs[xs.length - 1])} ${unitLabel(units, kind, state.system)}`, m, H - 8);
     curve(result.ranges, r0, r1, "#c0392b");
