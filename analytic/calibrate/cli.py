@@ -10,7 +10,8 @@ design, every parameter, ``--out``); a bad input is exit 2 with one line
 naming the field, its value and the reason, and nothing is written. A shot
 that does not throw at the starting parameters is exit 3 (nothing written).
 With ``--out``: ``report.txt``, ``calibration.json``, ``calibration.png``
-and ``fitted/<setting>.toml`` (each shot's design at the fitted parameters, named after its setting).
+and ``fitted/<setting>.toml`` (each shot's design at the fitted parameters, named after its setting),
+and ``tracks.png`` where a shot measured a track.
 """
 
 from __future__ import annotations
@@ -29,8 +30,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The ``calibrate`` subcommand's arguments."""
     parser.add_argument("shots", metavar="SHOTS.toml", help="calibration file: fit = [...] and [[shot]] tables")
     parser.add_argument("--json", action="store_true", help="print one JSON object instead of the report")
-    parser.add_argument("--out", metavar="DIR", help="write report.txt, calibration.json, calibration.png and "
-                                                     "fitted/*.toml here (created if missing)")
+    parser.add_argument("--out", metavar="DIR", help="write report.txt, calibration.json, calibration.png, "
+                                                     "fitted/*.toml (and tracks.png with a track) here (created "
+                                                     "if missing)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     units_argument(parser, "the printed report, report.txt and calibration.png (calibration.json stays SI)",
                    default="the units the calibration file is mostly written in, else metric")

@@ -28,6 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from analytic.calibrate.spec import QUANTITIES, CalibrationSpec, ShotSpec
+from analytic.calibrate.track import TrackPrediction
 from analytic.design import DesignError
 
 #: Finite-difference step, as a fraction of each parameter's scale. Measured on the
@@ -80,11 +81,14 @@ class Prediction:
         cannot be built there.
     message : the shot's message (or the design's error).
     values : quantity -> predicted value, file units (None where the shot did not reach it).
+    track : the model against the shot's track (``analytic.calibrate.track``), None without one
+        or where the shot has no motion to follow.
     """
 
     status: str
     message: str
     values: dict[str, float | None]
+    track: TrackPrediction | None = None
 
     @property
     def ok(self) -> bool:
@@ -92,29 +96,45 @@ class Prediction:
 
 
 def predict(spec: CalibrationSpec, shot: ShotSpec, values) -> Prediction:
-    """Shoot ``shot``'s design with the parameters at ``values`` (fast path, no peak loads)."""
+    """Shoot ``shot``'s design with the parameters at ``values`` (fast path, no peak loads); with a
+    track, its sampled motion too (the same shot's numbers) against the track."""
     from analytic.fast import simulate_fast
 
     try:
         design = spec.design_at(shot, values)
     except DesignError as error:
         return Prediction("design_error", str(error), dict.fromkeys(QUANTITIES))
-    result = simulate_fast(design, loads=False)
+    path = None
+    if shot.track is None:
+        result = simulate_fast(design, loads=False)
+    else:
+        from analytic.calibrate.track import model_path
+
+        result, path = model_path(design, shot.track.point)
     angle = result.launch_angle
     predicted = {"range": result.range, "release_time": result.release_time,
                  "liftoff_time": result.liftoff_time,
                  "release_angle": None if angle is None else math.degrees(angle)}
-    return Prediction(result.status.value, result.message, predicted)
+    if path is None:
+        return Prediction(result.status.value, result.message, predicted)
+    from analytic.calibrate.track import predict_track
+
+    return Prediction(result.status.value, result.message, predicted, predict_track(shot.track, design, path))
 
 
 def weighted_residuals(shot: ShotSpec, prediction: Prediction) -> np.ndarray:
-    """(len(shot.measurements),) ``(predicted - measured) / uncertainty``, ``FAILURE_RESIDUAL``
-    where the shot did not reach a quantity."""
+    """(len(shot.measurements) + 2 n,) ``(predicted - measured) / uncertainty``, ``FAILURE_RESIDUAL``
+    where the shot did not reach a quantity: each quantity, then x and y of each of the track's
+    n points in turn."""
     out = []
     for m in shot.measurements:
         value = prediction.values[m.quantity] if prediction.ok else None
         out.append(FAILURE_RESIDUAL if value is None else (value - m.value) / m.uncertainty)
-    return np.array(out)
+    if shot.track is None:
+        return np.array(out)
+    if prediction.ok and prediction.track is not None:
+        return np.concatenate([out, prediction.track.residuals(shot.track)])
+    return np.concatenate([out, np.full(2 * shot.track.points, FAILURE_RESIDUAL)])
 
 
 @dataclass(frozen=True)
@@ -138,6 +158,10 @@ class Calibration:
     evaluations : residual evaluations (each shoots every shot); shots : shots simulated;
         failed_shots : those of them that did not throw (or could not be built) on the way.
     message : ``least_squares``' own; converged : its success flag; seconds : wall time.
+    time_origin_sd : one standard deviation of each shot's fitted time origin, s (None for a
+        shot without a track, NaN where a parameter the data cannot fix leaves it undefined):
+        the spread at fixed parameters and the parameters' own carried through, as if the
+        origin were fitted beside them.
     """
 
     spec: CalibrationSpec
@@ -159,6 +183,7 @@ class Calibration:
     message: str
     converged: bool
     seconds: float
+    time_origin_sd: tuple[float | None, ...] = ()
 
     @property
     def reduced_chi_square(self) -> float | None:
@@ -201,6 +226,11 @@ class _Model:
         #: parameter index -> the measurements (indices into the residuals) that jumped between
         #: its probes at the last Jacobian.
         self.jumps: dict[int, np.ndarray] = {}
+        #: which residuals are measured quantities (True) rather than a track's points: a point that
+        #: barely moves with a parameter has one-sided slopes of the integrator's noise, no jump.
+        self.quantity_rows = np.concatenate([[True] * len(shot.measurements)
+                                             + [False] * (2 * shot.track.points if shot.track else 0)
+                                             for shot in spec.shots]).astype(bool)
 
     def evaluate(self, x: np.ndarray) -> tuple[np.ndarray, tuple[Prediction, ...]]:
         key = np.asarray(x, dtype=float).tobytes()
@@ -245,6 +275,7 @@ class _Model:
                 # measurement's differ by ~STEP: take the one on x's own side of the jump (the
                 # smaller) and remember it.
                 jumps = np.abs(forward - backward) > JUMP_RATIO * np.maximum(np.abs(forward), np.abs(backward))
+                jumps &= self.quantity_rows
                 if jumps.any():
                     column = np.where(jumps, np.where(np.abs(forward) < np.abs(backward), forward, backward),
                                       column)
@@ -306,13 +337,14 @@ def calibrate(spec: CalibrationSpec, *, progress: bool = False) -> Calibration:
         values = np.asarray(result.x, dtype=float)
         residuals, fitted = model.evaluate(values)
         jacobian = model.jacobian(values)
+        covariance, singular = _covariance(jacobian, scales)
+        origin_sd = _time_origin_sd(model, values, fitted, covariance)
     finally:
         model.bar.close()
-    covariance, singular = _covariance(jacobian, scales)
     at_bound = np.array([result.active_mask[j] != 0 or min(values[j] - p.lower, p.upper - values[j])
                          <= AT_BOUND * p.scale for j, p in enumerate(params)])
     chi_square = float(residuals @ residuals)
-    dof = spec.measurements - len(params)
+    dof = spec.measurements - len(params) - spec.time_origins
     warnings = _warnings(spec, values, at_bound, singular, fitted, result)
     for j, rows in sorted(model.jumps.items()):
         labels = _measurement_labels(spec)
@@ -325,7 +357,40 @@ def calibrate(spec: CalibrationSpec, *, progress: bool = False) -> Calibration:
     warnings += _plausibility_warnings(spec, values, covariance)
     return Calibration(spec, values, uncertainties, covariance, start, fitted, initial, residuals, chi_square, dof,
                        at_bound, singular, tuple(warnings), len(model.cache), model.shots, model.failed_shots, result.message,
-                       bool(result.success), time.perf_counter() - began)
+                       bool(result.success), time.perf_counter() - began, origin_sd)
+
+
+def _time_origin_sd(model: _Model, values: np.ndarray, fitted, covariance: np.ndarray) -> tuple[float | None, ...]:
+    """``Calibration.time_origin_sd``: each track's time origin is refitted at every set of parameters
+    (``analytic.calibrate.track.align``), so its variance is its own at fixed parameters,
+    ``1 / sum((v / sd)^2)`` over the points (v the model's velocity there), plus ``g^T C g``, g its
+    change with the parameters (central differences at the fit's steps, one-sided at a bound)."""
+    spec = model.spec
+    out: list[float | None] = []
+    for k, (shot, prediction) in enumerate(zip(spec.shots, fitted, strict=True)):
+        if shot.track is None or prediction.track is None:
+            out.append(None)
+            continue
+        slope = prediction.track.velocity.ravel() / shot.track.sd
+        own = 1.0 / float(slope @ slope) if slope @ slope > 0.0 else math.inf
+        gradient = []
+        for j, h in enumerate(model.steps):
+            sides = []
+            for sign in (+1.0, -1.0):
+                probe = values.copy()
+                probe[j] += sign * h
+                moved = (model.evaluate(probe)[1][k].track if model.lower[j] <= probe[j] <= model.upper[j]
+                         else None)
+                sides.append(None if moved is None else moved.time_origin)
+            centre = prediction.track.time_origin
+            up, down = sides
+            gradient.append((up - down) / (2.0 * h) if up is not None and down is not None
+                            else (up - centre) / h if up is not None
+                            else (centre - down) / h if down is not None else math.nan)
+        g = np.array(gradient)
+        variance = own + float(g @ covariance @ g)
+        out.append(math.sqrt(variance) if math.isfinite(variance) and variance >= 0.0 else math.nan)
+    return tuple(out)
 
 
 def _plausibility_warnings(spec: CalibrationSpec, values: np.ndarray, covariance: np.ndarray) -> list[str]:
@@ -351,8 +416,12 @@ def _plausibility_warnings(spec: CalibrationSpec, values: np.ndarray, covariance
 
 
 def _measurement_labels(spec: CalibrationSpec) -> list[str]:
-    """``shot[i] quantity`` for every measurement, in the residuals' order."""
-    return [f"{shot.label} {m.quantity}" for shot in spec.shots for m in shot.measurements]
+    """``shot[i] quantity`` for every measurement (``shot[i] track line N x``: a track's point), in the
+    residuals' order."""
+    return [label for shot in spec.shots for label in
+            [f"{shot.label} {m.quantity}" for m in shot.measurements]
+            + ([f"{shot.label} track line {line} {axis}" for line in shot.track.lines for axis in "xy"]
+               if shot.track else [])]
 
 
 def _covariance(jacobian: np.ndarray, scales: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -392,10 +461,30 @@ def _warnings(spec, values, at_bound, singular, fitted, result) -> list[str]:
             lines.append(f"{shot.label} ({shot.design_file}) does not throw at the fitted parameters: "
                          f"{prediction.status}: {prediction.message}")
             continue
-        for m, r in zip(shot.measurements, weighted_residuals(shot, prediction), strict=True):
+        weighted = weighted_residuals(shot, prediction)
+        for m, r in zip(shot.measurements, weighted[:len(shot.measurements)], strict=True):
             if abs(r) > MISFIT:
                 lines.append(f"{shot.label} {m.quantity}: predicted {prediction.values[m.quantity]:.4g} {m.unit} "
                              f"against {m.value:.4g} measured, {r:+.1f} standard deviations at the fit")
+        if shot.track is not None and prediction.track is not None:
+            lines += _track_warnings(shot, prediction.track, weighted[len(shot.measurements):])
     if not result.success or result.status == 0:
         lines.append(f"the fit did not converge: {result.message}")
+    return lines
+
+
+def _track_warnings(shot: ShotSpec, track: TrackPrediction, weighted: np.ndarray) -> list[str]:
+    """A track the model misses by more than ``MISFIT`` standard deviations (root mean square), and
+    points past the model's last instant."""
+    lines = []
+    rms = float(np.sqrt(np.mean(weighted ** 2)))
+    if rms > MISFIT:
+        lines.append(f"{shot.label} track {shot.track.file}: the model misses its points by {rms:.1f} standard "
+                     f"deviations (root mean square) at the fit: track_uncertainty stated too small, a scale or "
+                     f"an origin off, or motion the model lacks")
+    if track.outside.any():
+        last = "landing" if shot.track.point == "projectile" else "release (the arm is not followed past it)"
+        first = int(shot.track.lines[np.argmax(track.outside)])
+        lines.append(f"{shot.label} track {shot.track.file}: {int(track.outside.sum())} point(s) from line {first} "
+                     f"on lie past the model's {last}, compared with its last position: trim them from the track")
     return lines

@@ -103,7 +103,7 @@ def _at_setting(spec: CalibrationSpec, target: Field, value: float) -> ShotSpec:
     from dataclasses import replace
 
     base = spec.shots[0]
-    return replace(base, design=with_fields(base.design, {target.name: value}), measurements=())
+    return replace(base, design=with_fields(base.design, {target.name: value}), measurements=(), track=None)
 
 
 def range_with_sd(result: Calibration, target: Field, value: float) -> RangePrediction:

@@ -11,9 +11,10 @@ JSON (``calibrate --json``, and ``calibration.json`` beside the report)::
      "evaluations", "shots_simulated", "shots_failed", "seconds",
      "predictions": [{"field", "value", "range", "range_sd"}]}
 
-Every shot measures its range, so a shot's ``measured``, ``predicted`` and
-``residual`` (predicted - measured, m) are its range's; every measured
-quantity, range included, is in its ``quantities`` with its own. Values are
+A shot's ``measured``, ``predicted`` and ``residual`` (predicted - measured,
+m) are its range's (``null`` for a shot that measures a track instead); every
+measured quantity, range included, is in its ``quantities`` with its own. A
+shot with a track has its ``"track"`` (``analytic.calibrate.track_report``). Values are
 in file units (m, s, deg); a quantity a shot did not reach is ``null``, as is
 the uncertainty of a parameter the data cannot fix. ``predictions`` (``--predict``,
 ``analytic.calibrate.predict``) are SI: the setting in the field's SI unit (radians
@@ -36,6 +37,7 @@ import numpy as np
 
 from analytic.calibrate.fit import Calibration, Prediction
 from analytic.calibrate.spec import QUANTITIES
+from analytic.calibrate.track_report import TRACK_PLOT_FILE, track_bars, track_json, track_lines, tracks_figure
 from analytic.fields import axis_label, field
 
 #: What the uncertainties are, in the JSON and the report.
@@ -66,13 +68,16 @@ def to_json(result: Calibration, predictions=()) -> dict:
                            "at_bound": bool(result.at_bound[j])}
                   for j, p in enumerate(spec.parameters)}
     shots = []
-    for shot, prediction in zip(spec.shots, result.fitted, strict=True):
+    for k, (shot, prediction) in enumerate(zip(spec.shots, result.fitted, strict=True)):
         quantities = {m.quantity: _quantity(m, prediction) for m in shot.measurements}
-        of_range = quantities["range"]
+        of_range = quantities.get("range", dict.fromkeys(("measured", "predicted", "residual", "uncertainty",
+                                                          "weighted_residual")))
         shots.append({"design": shot.design_file, "measured": of_range["measured"],
                       "predicted": of_range["predicted"], "residual": of_range["residual"],
                       "uncertainty": of_range["uncertainty"], "weighted_residual": of_range["weighted_residual"],
                       "status": prediction.status, "quantities": quantities})
+        if shot.track is not None:
+            shots[-1]["track"] = track_json(result, k)
     correlation = [[_number(c) for c in row] for row in result.correlation.tolist()]
     return {"parameters": parameters, "shots": shots, "chi_square": result.chi_square,
             "degrees_of_freedom": result.degrees_of_freedom, "reduced_chi_square": result.reduced_chi_square,
@@ -118,8 +123,9 @@ def format_report(result: Calibration, system: str = "metric", predictions=()) -
               (f"{result.evaluations} evaluations, {result.shots} shots (fast path; {result.failed_shots} "
                f"did not throw) in {result.seconds:.1f} s; {result.message}"),
               "", "shots (residual = predicted - measured):"]
-    for shot, start, fitted in zip(spec.shots, result.initial, result.fitted, strict=True):
+    for k, (shot, start, fitted) in enumerate(zip(spec.shots, result.initial, result.fitted, strict=True)):
         lines.append(f"  {shot.label} {shot.design_file}: {fitted.status}")
+        lines += track_lines(result, k, system)
         for m in shot.measurements:
             q = _quantity(m, fitted)
             before = start.values[m.quantity] if start.ok else None
@@ -159,6 +165,8 @@ def calibration_figure(result: Calibration, predictions=(), system: str = "metri
     spec = result.spec
     target = field(predictions[0].field) if predictions else varied_field(spec)
     measured = [q for q in QUANTITIES if any(m.quantity == q for s in spec.shots for m in s.measurements)]
+    if target is not None and "range" not in measured:   # tracks alone: the predicted range's panel first
+        measured = ["range"] + measured
     fig = Figure(figsize=(min(4.8 * (len(measured) + 1), 14.0), 4.8), layout="constrained")
     axes = fig.subplots(1, len(measured) + 1, squeeze=False)[0]
     fitted_at = ", ".join(f"{p.name} = {v:.4g} {p.unit}".rstrip()
@@ -194,11 +202,7 @@ def calibration_figure(result: Calibration, predictions=(), system: str = "metri
         ax.legend(fontsize=8)
         ax.grid(alpha=0.3)
     ax = axes[-1]
-    labels, weighted = [], []
-    for shot in spec.shots:
-        for m in shot.measurements:
-            labels.append(f"{shot.number}:{m.quantity.replace('_time', ' t').replace('release_angle', 'angle')}")
-    weighted = np.where(np.abs(result.residuals) >= 1e6, np.nan, result.residuals)
+    labels, weighted = track_bars(result)
     positions = np.arange(len(labels))
     ax.axhspan(-1, 1, color="tab:green", alpha=0.12, label="within one sd")
     ax.bar(positions, weighted, color="tab:blue")
@@ -258,6 +262,9 @@ def write(result: Calibration, out: str | Path, predictions=(), system: str = "m
     written[0].write_text(format_report(result, system, predictions) + "\n")
     written[1].write_text(json.dumps(to_json(result, predictions), indent=2) + "\n")
     save_figure(calibration_figure(result, predictions, system), written[2])
+    if any(shot.track is not None for shot in result.spec.shots):
+        written.append(out / TRACK_PLOT_FILE)
+        save_figure(tracks_figure(result, system), written[-1])
     folder = out / FITTED_FOLDER
     folder.mkdir(exist_ok=True)
     names: dict[str, tuple] = {}   # file name -> the design file and settings it was written for

@@ -9,6 +9,8 @@ range = 26.8                            # m
 range_uncertainty = 0.5                 # m, one standard deviation
 "machine.counterweight_mass" = "6 kg"   # optional: this shot's setting of any design field
 # release_time, liftoff_time (s), release_angle (deg): optional, each with its _uncertainty
+# track = "shot1.csv" with track_point, track_length_unit, ...: a measured track, beside or
+# instead of the range (analytic.calibrate.track)
 [given]                                 # optional: fields set on every shot's design, not fitted
 "losses.axle_radius" = 0.0064
 [start]                                 # optional: where the fit starts (default: the first design's value)
@@ -33,6 +35,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from analytic.calibrate.track import TRACK_KEYS, Track, track_spec
 from analytic.design import (
     FRICTION_JOINTS,
     MAX_MAGNITUDE,
@@ -128,6 +131,7 @@ class ShotSpec:
     measurements: tuple[Measurement, ...]
     settings: dict[str, float] = dataclasses.field(default_factory=dict)
     written: dict[str, Any] = dataclasses.field(default_factory=dict)
+    track: Track | None = None
 
     @property
     def label(self) -> str:
@@ -153,7 +157,13 @@ class CalibrationSpec:
 
     @property
     def measurements(self) -> int:
-        return sum(len(shot.measurements) for shot in self.shots)
+        """Measured numbers: each quantity, and each coordinate of each track's point."""
+        return sum(len(shot.measurements) + (2 * shot.track.points if shot.track else 0) for shot in self.shots)
+
+    @property
+    def time_origins(self) -> int:
+        """Tracks, each with its time origin fitted beside the parameters."""
+        return sum(shot.track is not None for shot in self.shots)
 
     def design_at(self, shot: ShotSpec, values) -> Design:
         """``shot``'s design with ``given`` and the parameters at ``values`` (file units, in order).
@@ -240,7 +250,7 @@ def load_calibration(path: str | Path) -> CalibrationSpec:
         _build(spec, shot, (), f"{shot.label}.design")
     parameters = tuple(_parameter(name, spec, starts.get(name), bounds.get(name)) for name in names)
     spec = dataclasses.replace(spec, parameters=parameters)
-    if spec.measurements < len(parameters):
+    if spec.measurements - spec.time_origins < len(parameters):
         raise DesignError("fit", names, f"{len(parameters)} parameters but only {spec.measurements} "
                                         f"measurement{'s' if spec.measurements != 1 else ''}: "
                                         f"a fit needs at least as many measurements as parameters")
@@ -304,7 +314,7 @@ def _value(name: str, value: Any, kind: Kind) -> Any:
 
 def _shot(number: int, raw: dict, folder: Path, shared: str | None, fitted: set[str]) -> ShotSpec:
     label = f"shot[{number}]"
-    allowed = ("design",) + tuple(k for q in QUANTITIES for k in (q, f"{q}_uncertainty"))
+    allowed = ("design",) + tuple(k for q in QUANTITIES for k in (q, f"{q}_uncertainty")) + TRACK_KEYS
     written = {name: value for name, value in dotted_table(label, {k: v for k, v in raw.items() if k not in allowed
                                                               and ("." in k or isinstance(v, dict))}).items()}
     reject_unknown_keys(label, {k: v for k, v in raw.items() if "." not in k and not isinstance(v, dict)}, allowed)
@@ -355,9 +365,11 @@ def _shot(number: int, raw: dict, folder: Path, shared: str | None, fitted: set[
         if kind is TIME and not value > 0.0:
             raise DesignError(f"{label}.{key}", raw[key], "must be positive (s from the firing instant)")
         measurements.append(Measurement(quantity, float(value), float(sd)))
-    if "range" not in raw:
-        raise DesignError(f"{label}.range", None, "required: the measured range (m) with range_uncertainty")
-    return ShotSpec(number, design_file, design, tuple(measurements), settings, written)
+    track = track_spec(label, raw, folder)
+    if "range" not in raw and track is None:
+        raise DesignError(f"{label}.range", None, "required: the measured range (m) with range_uncertainty, "
+                                                  "or a measured track (track = \"FILE.csv\")")
+    return ShotSpec(number, design_file, design, tuple(measurements), settings, written, track)
 
 
 def _build(spec: CalibrationSpec, shot: ShotSpec, values, where: str) -> Design:
