@@ -131,17 +131,18 @@ def card_figure(table: FiringTable, system: str = "metric", date: datetime.date 
             half = 0.5 * (band[0][1] - band[0][0])
             spread, _ = _shown(half, "m", system)
             fig.text(x, y + row_height * 0.16, text, ha="center", va="center", fontsize=size)
-            fig.text(x, y - row_height * 0.24, f"± {spread:.2g} {length}", ha="center", va="center",
-                     fontsize=size * 0.6, color="0.3")
+            fig.text(x, y - row_height * 0.24, f"± {spread:.{1 if spread >= 1.0 else 2}f} {length}", ha="center",
+                     va="center", fontsize=size * 0.6, color="0.3")
     notes = ["two settings in a cell: a low and a high throw (either lands there)"
              if any(len(e.settings) > 1 for e in table.entries) else "",
              "reference path, within 1 mm of the target"]
     if table.fitted is not None:
-        notes.insert(0, f"calibrated on {table.fitted.shots} measured shot{'s' if table.fitted.shots != 1 else ''} "
-                        f"({table.fitted.spec.path.name}); ± one standard deviation of where a shot lands "
-                        f"(68 %; twice it, 95 %)")
-    fig.text(0.5, 0.075, "\n".join(n for n in notes if n), ha="center", va="top", fontsize=10, color="0.25",
-             wrap=True)
+        notes[:0] = [f"calibrated on {table.fitted.shots} measured shot{'s' if table.fitted.shots != 1 else ''} "
+                     f"({table.fitted.spec.path.name})",
+                     "± one standard deviation of where a shot lands (68 %; twice it: 95 %)"]
+    below = top - head - rows * row_height - 0.03
+    fig.text(0.5, below, "\n".join(n for n in notes if n), ha="center", va="top", fontsize=12, color="0.25",
+             linespacing=1.6)
     return fig
 
 
