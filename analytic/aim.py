@@ -138,7 +138,8 @@ def check_inputs(target: float, bounds: tuple[float, float], within: float | Non
 
 
 def aim(design: Design, field_name: str, target: float, *, bounds: tuple[float, float] | None = None,
-        within: float | None = None, points: int = SCAN_POINTS) -> Aim:
+        within: float | None = None, points: int = SCAN_POINTS,
+        scanned: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None) -> Aim:
     """The settings of ``field_name`` that land ``design``'s projectile ``target`` metres from the pivot.
 
     Parameters
@@ -150,6 +151,9 @@ def aim(design: Design, field_name: str, target: float, *, bounds: tuple[float, 
     bounds : (low, high) settings to search, file units (SI, degrees); default ``default_bounds``.
     within : m; also report the band of settings landing within this of the target.
     points : settings scanned, >= 3.
+    scanned : ``(values, ranges, status)`` of an earlier ``scan`` of this design and field over
+        ``np.linspace(*bounds, points)``, reused instead of shooting the scan again (a firing
+        table aims at many targets from one scan).
 
     Returns
     -------
@@ -173,7 +177,12 @@ def aim(design: Design, field_name: str, target: float, *, bounds: tuple[float, 
         raise ValueError(f"points = {points!r}: need at least 3")
 
     values = np.linspace(bounds[0], bounds[1], points)
-    ranges, status = scan(design, target_field, values)
+    if scanned is None:
+        ranges, status = scan(design, target_field, values)
+    else:
+        if not np.array_equal(scanned[0], values):
+            raise ValueError("scanned: its settings are not np.linspace(*bounds, points)")
+        ranges, status = scanned[1], scanned[2]
     ok = np.isfinite(ranges)
 
     def fast_range(value: float) -> float:

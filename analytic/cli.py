@@ -1,4 +1,4 @@
-"""Command line: ``python -m analytic simulate|aim|chart|calibrate|optimise|sweep|bench|compile`` (a thin layer over the library)."""
+"""Command line: ``python -m analytic simulate|aim|chart|calibrate|optimise|sweep|firing-table|bench|compile`` (a thin layer over the library)."""
 
 from __future__ import annotations
 
@@ -226,6 +226,12 @@ def build_parser() -> argparse.ArgumentParser:
                                             "on Dask), or report on a finished sweep")
     sweep_cli.add_arguments(swp)
     swp.set_defaults(func=sweep_cli.run)
+    from analytic.firing import cli as firing_cli
+
+    fir = commands.add_parser("firing-table", help="the settings of one field that land on each target, at each "
+                                                   "projectile mass (CSV, JSON and a printable card)")
+    firing_cli.add_arguments(fir)
+    fir.set_defaults(func=firing_cli.run)
     return parser
 
 

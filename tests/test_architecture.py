@@ -49,9 +49,10 @@ ANALYTIC_LAYERS = {
               # the public names, loaded on first use from the model and the paths
               "analytic"},
     "tools": {"analytic.aim", "analytic.chart", "analytic.plot", "analytic.plot_units", "analytic.report", "analytic.calibrate*",
-              "analytic.optimise*", "analytic.sweep*"},
+              "analytic.optimise*", "analytic.sweep*",
+              "analytic.firing*"},
     "command lines": {"analytic.cli", "analytic.__main__", "analytic.calibrate.cli", "analytic.optimise.cli",
-                      "analytic.sweep.cli"},
+                      "analytic.sweep.cli", "analytic.firing.cli"},
 }
 #: Import edges known to break the rules, each with what removes it (remove the entry with it).
 KNOWN = {

@@ -165,3 +165,41 @@ def cross_check(design: Design, inputs: dict[str, Any], job: Job) -> dict[str, A
 #: The tools by the name the page asks for.
 TOOLS = {"best_pin": best_pin, "aim": aim_at, "what_if": what_if, "crosscheck": cross_check,
          "optimise": optimise_design, "around_bounds": around_bounds}
+
+
+#: Most targets and projectile masses a firing table on the page may ask for.
+MAX_FIRING_TARGETS, MAX_FIRING_MASSES = 25, 5
+
+
+def firing(design: Design, inputs: dict[str, Any], job: Job) -> dict[str, Any]:
+    """``analytic.firing.firing_table``: ``targets`` (m) and ``masses`` (kg, or none: the design's own)
+    as ``[from, to, steps]``; each row's settings in file units (``values``), a mass at a time."""
+    from analytic.firing.table import steps_of
+
+    target_field = field(inputs.get("field", "machine.release_angle"))
+    target_field.check(design)
+    ranges = {}
+    for name, most in (("targets", MAX_FIRING_TARGETS), ("masses", MAX_FIRING_MASSES)):
+        given = inputs.get(name)
+        if given is None and name == "masses":
+            continue
+        if not (isinstance(given, list) and len(given) == 3):
+            raise DesignError(name, given, "must be [from, to, steps]")
+        steps = given[2]
+        if isinstance(steps, bool) or not isinstance(steps, int) or not 1 <= steps <= most:
+            raise DesignError(name, given, f"steps must be a whole number from 1 to {most}")
+        ranges[name] = steps_of(name, _number(name, given[0]), _number(name, given[1]), steps)
+    from analytic.firing import firing_table
+
+    masses = ranges.get("masses")
+    rows = []
+    for index, mass in enumerate([None] if masses is None else masses):
+        job.check()
+        table = firing_table(design, target_field.name, ranges["targets"], None if mass is None else [mass])
+        rows += [{"target": e.target, "projectile_mass": e.projectile_mass, "values": list(e.settings),
+                  "status": e.status} for e in table.entries]
+        job.progress = (index + 1) / (1 if masses is None else len(masses))
+    return {"field": target_field.name, "unit": target_field.unit, "rows": rows}
+
+
+TOOLS["firing_table"] = firing

@@ -2,6 +2,7 @@
 import {buildForm, fillForm, round, setValue, showError, shownValue, unitLabel} from "./form.js";
 import {drawStage, duration} from "./stage.js";
 import {followRule, setupTools} from "./tools.js";
+import {setupFiring} from "./firing.js";
 
 const $ = (id) => document.getElementById(id);
 export const state = {meta: null, presets: [], design: null, system: "metric", shot: null, ghosts: [],
@@ -278,6 +279,7 @@ async function start() {
   $("share").addEventListener("click", shareLink);
   setSystem(localStorage.getItem("workbench.units") === "imperial" ? "imperial" : "metric");
   setupTools(state, {loadDesign, requestShot, draw, show, fieldError, round});
+  setupFiring(state, {loadDesign, show});
   loadDesign(designFromLink() ?? presets[0].design);
   requestAnimationFrame(frame);
   document.body.dataset.ready = "true";

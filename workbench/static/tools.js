@@ -15,7 +15,7 @@ const VERDICT_CAPTIONS = {
   engine_untrusted: "The engine could not reach the accuracy this design needs",
 };
 
-async function runJob(state, tool, inputs, api) {
+export async function runJob(state, tool, inputs, api) {
   if (current) return null;
   $("tool-error").hidden = true;
   const response = await fetch("/api/jobs", {method: "POST", headers: {"content-type": "application/json"},
