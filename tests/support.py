@@ -467,3 +467,17 @@ def sling_designs() -> dict[str, Design]:
             "sling-swing-drag": heavy(with_projectile(table3, drag_during_swing=True)),
             "sling-pouch-only": heavy(table3, sling=0.0),
             "sling-as-heavy-as-the-ball": heavy(table3, sling=0.0456, pouch=0.0)}
+
+
+#: Where the page's test clients say they reached the server: ``workbench.guard`` answers only
+#: requests addressed to the loopback address and port they arrived at.
+PAGE_URL = "http://127.0.0.1:8765"
+
+
+def page_client():
+    """A Starlette test client of the page's app, addressed as a browser on this machine would."""
+    from starlette.testclient import TestClient
+
+    from workbench.app import build_app
+
+    return TestClient(build_app(), base_url=PAGE_URL, raise_server_exceptions=False)

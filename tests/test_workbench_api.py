@@ -11,26 +11,23 @@ import time
 
 import numpy as np
 import pytest
-from starlette.testclient import TestClient
 
 from analytic.design_file import default_design, design_to_dict
 from analytic.reference import simulate
 from analytic.result import JSON_KEYS
 from workbench import jobs
-from workbench.app import MAX_BODY, build_app
+from workbench.app import MAX_BODY
+from support import page_client
 from workbench.presets import PRESETS
 
 
-#: Where the test client says it reached the server (``workbench.guard`` answers only requests
-#: addressed to the address and port a request arrived at).
-BASE_URL = "http://127.0.0.1:8765"
 #: What the page sends with every POST.
 JSON = {"content-type": "application/json"}
 
 
 @pytest.fixture(scope="module")
 def client():
-    return TestClient(build_app(), base_url=BASE_URL, raise_server_exceptions=False)
+    return page_client()
 
 
 #: ``simulate --json`` keys the page's compiled shot leaves null (``workbench.shot.shot_json``).

@@ -6,18 +6,17 @@ import json
 import time
 
 import pytest
-from starlette.testclient import TestClient
 
 from analytic.aim import AIM_TOLERANCE
 from analytic.design_file import default_design, design_to_dict
 from analytic.fields import field
 from analytic.reference import simulate
-from workbench.app import build_app
+from support import page_client
 
 
 @pytest.fixture(scope="module")
 def client():
-    return TestClient(build_app(), raise_server_exceptions=False)
+    return page_client()
 
 
 def _run(client, inputs):

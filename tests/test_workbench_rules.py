@@ -6,14 +6,12 @@ import json
 import math
 
 import pytest
-from starlette.testclient import TestClient
 
 from analytic.design_file import default_design, design_to_dict
 from analytic.reference import simulate
 from analytic.report import format_shot
 from analytic.summary import LOSS_LABELS
-from support import bolted, sling_designs
-from workbench.app import build_app
+from support import bolted, page_client, sling_designs
 
 #: The bar's parts share out the energy released to the audit's closure: as
 #: ``tests/test_workbench_api.py``'s ``BAR_TOL`` (ten times the drag before release's 2.9e-8).
@@ -24,7 +22,7 @@ PATHS_TOL = 1e-6
 
 @pytest.fixture(scope="module")
 def client():
-    return TestClient(build_app(), base_url="http://127.0.0.1:8765", raise_server_exceptions=False)
+    return page_client()
 
 
 def tables(design) -> dict:
