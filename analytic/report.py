@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 from analytic.result import LOSS_NAMES, Shot, hinge_load_label, origin_label
+from analytic.strength import MATERIALS, STANDARD_GRAVITY
 from analytic.units import display
 
 
@@ -62,6 +63,7 @@ def format_shot(shot: Shot, units: str = "metric") -> str:
         rows.append(("peak projectile accel.", f"{shot.peak_projectile_acceleration / shot.design.environment.gravity:.2f}",
                      f"g{at('peak_projectile_acceleration')}"))
     row("peak arm bending moment", shot.peak_arm_bending_moment, "N m", ".3f", at("peak_arm_bending_moment"))
+    _breaking_rows(shot, rows)
     width = max((len(r[0]) for r in rows), default=0)
     lines += [f"  {label:<{width}}  {value:>20}  {unit}" for label, value, unit in rows]
     lines += [f"warning  {warning}" for warning in shot.warnings]
@@ -90,3 +92,23 @@ def _energy_rows(shot: Shot, row) -> None:
             continue   # a loss the design does not have: no row of zeros
         taken = shot.energy_dissipated[name]
         row(f"  {LOSS_LABELS[name]}", taken, "J", ".4f", f" ({100 * taken / released:.2f} % of it)")
+
+
+def _breaking_rows(shot: Shot, rows: list) -> None:
+    """Will it break: the arm's peak stress and safety factor, and whether the projectile survives."""
+    stress, factor = shot.peak_arm_stress, shot.arm_safety_factor
+    if stress is not None:
+        rows.append(("peak arm stress", f"{stress / 1e6:.3f}", "MPa (at the axle's section)"))
+    if factor is not None:
+        verdict = "holds" if factor > 1.0 else ("yields" if _metal(shot) else "breaks")
+        rows.append(("arm safety factor", f"{factor:.2f}", f"(the arm {verdict}; against its strength)"))
+    survives, limit = shot.projectile_survives, shot.design.projectile.acceleration_limit
+    if survives is not None:
+        rows.append(("projectile", "survives" if survives else "breaks",
+                     f"(its limit {limit / STANDARD_GRAVITY:g} g)"))
+
+
+def _metal(shot: Shot) -> bool:
+    """Whether the arm's strength is a yield strength (a metal's: past it the arm bends for good)."""
+    material = shot.design.machine.arm_section.material
+    return material is not None and MATERIALS[material].strength_kind == "yield strength"

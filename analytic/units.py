@@ -47,6 +47,9 @@ SPEED = Kind("speed", "[length] / [time]", "m / s", '"3 m/s" or "10 ft/s"')
 FORCE = Kind("force", "[length] * [mass] / [time] ** 2", "N", '"200 N" or "45 lbf"')
 MOMENT = Kind("moment", "[length] ** 2 * [mass] / [time] ** 2", "N * m", '"40 N m" or "30 ft lbf"')
 NUMBER = Kind("pure number", "", "", "0.47")
+#: An acceleration written in g (standard gravity, pint's ``g0``): a projectile's limit.
+ACCELERATION_G = Kind("acceleration", "[length] / [time] ** 2", "g0", '"150 g0" or "1470 m/s^2"')
+STRESS = Kind("stress", "[mass] / [length] / [time] ** 2", "Pa", '"59 MPa" or "8600 psi"')
 
 #: Units a builder writes, offered for a mistyped one ("6 ftt": did you mean 'ft'?).
 COMMON_UNITS = ("m", "cm", "mm", "km", "in", "inch", "ft", "foot", "feet", "yd", "mi", "kg", "g", "lb", "oz",
@@ -74,6 +77,7 @@ FIELD_KINDS = {
     "wind_speed": SPEED,
     "max_sling_tension": FORCE, "max_axle_load": FORCE, "max_hinge_load": FORCE,
     "max_arm_bending_moment": MOMENT,
+    "max_acceleration": ACCELERATION_G, "strength": STRESS, "min_arm_safety_factor": NUMBER,
 }
 _BOUND_KEYS = ("lower", "upper", "value")
 
