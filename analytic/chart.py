@@ -20,7 +20,7 @@ import numpy as np
 from analytic.design import Design, DesignError
 from analytic.fields import Field, field
 from analytic.result import hinge_load_label
-from analytic.strength import bending_stress
+from analytic.data.strength import bending_stress
 from analytic.units import display
 
 #: The loads a chart shows, in the order of its columns, with their units and labels.

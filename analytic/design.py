@@ -34,7 +34,7 @@ import numpy as np
 
 from analytic.aero import DRAG_MODELS
 from analytic.geometry import RELEASE_RULES
-from analytic.strength import MATERIALS, PROJECTILE_KINDS, STANDARD_GRAVITY
+from analytic.data.strength import MATERIALS, PROJECTILE_KINDS, STANDARD_GRAVITY
 
 
 #: The machine kinds (``Machine.kind``): the counterweight hinged, bolted to the arm, or on a floating arm.
@@ -225,7 +225,7 @@ class Projectile:
         release; False by default, the paper's model (drag in flight only).
     max_acceleration : m/s^2, the largest acceleration the projectile survives (in g in
         files), or None: no limit given (unless its ``kind`` has one).
-    kind : what the projectile is (``analytic.strength.PROJECTILE_KINDS``: ``"egg"``, ...), whose
+    kind : what the projectile is (``analytic.data.strength.PROJECTILE_KINDS``: ``"egg"``, ...), whose
         documented limit applies; None by default. Give ``kind`` or ``max_acceleration``, not both.
     """
 
@@ -635,7 +635,7 @@ class ArmSection:
     ----------
     width : m, across the swing plane.
     depth : m, in the swing plane (the bending's).
-    material : a name of ``analytic.strength.MATERIALS`` (its strength is the table's), or None.
+    material : a name of ``analytic.data.strength.MATERIALS`` (its strength is the table's), or None.
     strength : Pa, the material's strength given directly, or None. Give ``material`` or
         ``strength``, not both; neither: the stress is known, the safety factor not.
     """
@@ -659,7 +659,7 @@ class ArmSection:
 
     @property
     def bending_strength(self) -> float | None:
-        """Pa: ``strength``, or the material's (``analytic.strength.MATERIALS``), or None."""
+        """Pa: ``strength``, or the material's (``analytic.data.strength.MATERIALS``), or None."""
         if self.strength is not None:
             return self.strength
         return None if self.material is None else MATERIALS[self.material].strength

@@ -12,7 +12,7 @@ from typing import Any
 
 from analytic.design import (ArmSection, Base, BeamArm, Design, DesignError, Environment, Losses, Machine,
                              MissingValueError, Projectile, paper_geometry, require_number, require_positive)
-from analytic.strength import STANDARD_GRAVITY
+from analytic.data.strength import STANDARD_GRAVITY
 from analytic.suggest import did_you_mean
 from analytic.units import (ANGLE, FIELD_KINDS, SYSTEM_KINDS, Written, from_file, kind_of, to_file_text,
                             written_system)

@@ -24,7 +24,7 @@ _TABLES = {"machine": Machine, "projectile": Projectile, "environment": Environm
            "losses": Losses}
 #: Fields of those dataclasses that are not numbers (choices), refused as fields to vary.
 _CHOICES = {"release_rule", "kind", "drag", "mobility", "drag_during_swing"}
-#: Fields that do not change the shot (what it is judged by: ``analytic.strength``), not offered to vary.
+#: Fields that do not change the shot (what it is judged by: ``analytic.data.strength``), not offered to vary.
 _NOT_VARIED = {"arm_section", "max_acceleration"}
 #: Why a tool refuses to vary ``machine.release_angle`` under the ideal rule.
 IDEAL_IGNORES_RELEASE_ANGLE = ("release_rule 'ideal' finds the release itself and ignores the release angle, so "

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 
 from analytic.result import LOSS_NAMES, Shot, hinge_load_label, origin_label
-from analytic.strength import MATERIALS, STANDARD_GRAVITY
+from analytic.data.strength import MATERIALS, STANDARD_GRAVITY
 from analytic.units import display
 
 

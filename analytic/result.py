@@ -11,7 +11,7 @@ import numpy as np
 from analytic.design import Design
 from analytic.outcome import LOSS_NAMES, Stage, Status
 from analytic.plausibility import plausibility_warnings
-from analytic.strength import bending_stress, safety_factor
+from analytic.data.strength import bending_stress, safety_factor
 
 __all__ = ["EnergyBudget", "History", "JSON_KEYS", "LOSS_NAMES", "PEAK_NAMES", "SHOT_COLUMNS", "Shot", "Shots",
            "Stage", "Status", "arrow_table", "ideal_range"]
@@ -263,7 +263,7 @@ class Shot:
     @property
     def peak_arm_stress(self) -> float | None:
         """The peak bending stress in the arm, Pa, at the section of its peak bending moment (the axle's):
-        ``6 M / (width depth^2)`` of the design's ``arm_section`` (``analytic.strength.bending_stress``);
+        ``6 M / (width depth^2)`` of the design's ``arm_section`` (``analytic.data.strength.bending_stress``);
         None without a section or a peak moment."""
         section, moment = self.design.machine.arm_section, self.peak_arm_bending_moment
         if section is None or moment is None or not math.isfinite(moment):

@@ -10,8 +10,8 @@ and the release rule), ``analytic.cli_shared`` (the command lines' exit codes an
 of output paths and options, and their progress bars), ``analytic.plausibility`` (warnings on
 implausible inputs, which every shot carries), ``analytic.suggest`` (the "did you mean" of the
 file reader's messages), ``analytic.plot_units`` (a drawing's ticks in the chosen units) and
-``analytic.strength`` (the materials' and projectiles' limits, and the beam's stress from a peak
-moment, which the design and the shot's readouts use). None of them holds any dynamics: no equations of
+``analytic.data.strength`` (the materials' and projectiles' limits, and the beam's stress from a peak
+moment, which the design and the shot's readouts use; with ``analytic.data``, its package of data files). None of them holds any dynamics: no equations of
 motion, no integrator, no event loop. Everything else of ``analytic``
 (equations, simulators, integrators) is what the engine is checked against,
 and must not leak in.
@@ -29,7 +29,8 @@ import pytest
 
 ALLOWED = {"analytic", "analytic.design", "analytic.design_file", "analytic.units", "analytic.aero",
            "analytic.result", "analytic.outcome", "analytic.limits", "analytic.geometry", "analytic.cli_shared",
-           "analytic.plausibility", "analytic.suggest", "analytic.plot_units", "analytic.strength"}
+           "analytic.plausibility", "analytic.suggest", "analytic.plot_units", "analytic.data",
+           "analytic.data.strength"}
 PACKAGE = Path(__file__).resolve().parents[1] / "engine_model"
 MODULES = sorted(p.stem for p in PACKAGE.glob("*.py") if p.stem != "__main__")
 

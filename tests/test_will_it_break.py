@@ -18,7 +18,7 @@ from analytic.design_space import default_problem, design_at, problem_from_dict
 from analytic.optimise.evaluate import Evaluator
 from analytic.optimise.search import OUTCOME_FEASIBILITY, Settings, maximise
 from analytic.result import JSON_KEYS, Shot, Status
-from analytic.strength import MATERIALS, PROJECTILE_KINDS, STANDARD_GRAVITY, bending_stress
+from analytic.data.strength import MATERIALS, PROJECTILE_KINDS, STANDARD_GRAVITY, bending_stress
 from engine_model import cli as engine_cli
 from support import problem_dict, table3_file
 

@@ -29,7 +29,7 @@ from analytic.design_space import LOADS, Problem, design_at
 from analytic.limits import FAST, PATHS, REFERENCE   # the two ways of shooting candidates (module docstring)
 from analytic.optimise.robust import Scatter, expected, release_scatter
 from analytic.result import PEAK_NAMES, Status
-from analytic.strength import bending_stress
+from analytic.data.strength import bending_stress
 from analytic.reference import simulate
 
 #: Score of a candidate that does not throw, m. Any throw does better: with the

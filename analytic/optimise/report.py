@@ -14,7 +14,7 @@ from analytic.optimise.constraints import (CONSTRAINT_NAMES, axle_distance, cons
 from analytic.design_space import ANGLE_VARIABLES, FRAME_MASS, LOADS, Problem, design_at
 from analytic.optimise.robust import Scatter, expected, spread
 from analytic.optimise.search import Optimum
-from analytic.strength import bending_stress, safety_factor
+from analytic.data.strength import bending_stress, safety_factor
 from analytic.units import display as shown_as
 
 if TYPE_CHECKING:
@@ -267,7 +267,7 @@ def format_peaks(problem: Problem, peaks: dict[str, dict[str, float]], system: s
 
 def _breaking_rows(problem: Problem, peaks: dict[str, dict[str, float]], width: int) -> list[str]:
     """Each design's arm safety factor (with a rated arm) and whether its projectile survives (with a
-    limit), from its peak loads (``analytic.strength``)."""
+    limit), from its peak loads (``analytic.data.strength``)."""
     arm, limit = problem.arm, problem.projectile.acceleration_limit
     lines = []
     if arm.rated:

@@ -12,7 +12,7 @@ import numpy as np
 from analytic.design import Design
 from analytic.design_file import design_from_dict
 from analytic.result import SHOT_COLUMNS, Status
-from analytic.strength import bending_stress
+from analytic.data.strength import bending_stress
 from analytic.sweep.designs import kernel_rows
 from analytic.sweep.expand import chunk_inputs
 from analytic.sweep.spec import Sweep, design_data
