@@ -20,6 +20,7 @@ import numpy as np
 from analytic.design import Design, DesignError
 from analytic.fields import Field, field
 from analytic.result import hinge_load_label
+from analytic.data.strength import bending_stress
 from analytic.summary import PEAK_UNITS, in_g
 from analytic.units import display
 
@@ -27,6 +28,11 @@ from analytic.units import display
 LOAD_COLUMNS = tuple((name, PEAK_UNITS[name], name.replace("_", " "))
                      for name in ("peak_sling_tension", "peak_axle_load", "peak_hinge_load",
                                   "peak_projectile_acceleration", "peak_arm_bending_moment"))
+#: Will it break: the margins a chart shows for a design that has them (``breaking_columns``), each
+#: above 1 where it holds: the arm's safety factor (its strength over its peak stress) and the
+#: projectile's margin (its limit over its peak acceleration), with units and labels.
+BREAKING_COLUMNS = (("arm_safety_factor", "", "arm safety factor (strength / peak stress)"),
+                    ("projectile_margin", "", "projectile margin (limit / peak acceleration)"))
 #: Status of a grid point whose design cannot be built (its field values break a design rule).
 DESIGN_ERROR = "design_error"
 MAX_FIELDS = 2
@@ -71,7 +77,8 @@ class Chart:
     settings : (S, F) each grid point's settings, file units (F = len(varies)).
     status : (S,) each point's status (``Status`` value, or ``design_error``).
     range : (S,) m, NaN where the shot did not throw.
-    loads : name (``LOAD_COLUMNS``) -> (S,) peak load, N, m/s^2 or N m, NaN where not reached.
+    loads : name (``LOAD_COLUMNS``) -> (S,) peak load, N, m/s^2 or N m, NaN where not reached; and the
+        margins of ``BREAKING_COLUMNS`` the design has (``breaking_columns``).
     seconds : wall time of building and shooting the grid.
     launch_angle : (S,) deg, NaN where the shot did not release, for a design whose
         ``release_rule`` is ``ideal`` (each setting's pin to set); None for the other rules.
@@ -138,16 +145,44 @@ def chart(design: Design, varies: list[Vary]) -> Chart:
             loads[name][built] = getattr(shots, name)
         if ideal:
             launch[built] = np.degrees(shots.columns(("launch_angle",))["launch_angle"])
+    loads.update(breaking_margins(design, loads))
     return Chart(design, tuple(varies), settings, status.astype(str), ranges, loads, time.perf_counter() - began,
                  launch)
 
 
+def breaking_columns(design: Design) -> tuple[tuple[str, str, str], ...]:
+    """The ``BREAKING_COLUMNS`` that ``design`` has: the arm's with a strength, the projectile's with a limit."""
+    section = design.machine.arm_section
+    has = {"arm_safety_factor": section is not None and section.bending_strength is not None,
+           "projectile_margin": design.projectile.acceleration_limit is not None}
+    return tuple(column for column in BREAKING_COLUMNS if has[column[0]])
+
+
+def breaking_margins(design: Design, loads: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """The margins of ``breaking_columns(design)`` from the peak loads (each (S,), NaN where not reached).
+
+    The varied fields keep the arm's section and the projectile's limit (``fields`` does not vary
+    them), so the base design's serve every point.
+    """
+    margins = {}
+    for name, _, _ in breaking_columns(design):
+        if name == "arm_safety_factor":
+            section = design.machine.arm_section
+            stress = bending_stress(loads["peak_arm_bending_moment"], section.width, section.depth)
+            margins[name] = section.bending_strength / stress
+        else:
+            margins[name] = design.projectile.acceleration_limit / loads["peak_projectile_acceleration"]
+    return margins
+
+
 def write_csv(result: Chart, path: str | Path) -> None:
     """One row a design: the varied fields (file units), status, range (m), under the ideal rule
-    the launch angle (deg: the pin to set), the peak loads."""
+    the launch angle (deg: the pin to set), the peak loads, and the margins the design has
+    (``breaking_columns``)."""
     launch = [] if result.launch_angle is None else ["launch_angle [deg]"]
+    columns = LOAD_COLUMNS + breaking_columns(result.design)
     header = ([f"{v.field.name} [{v.field.unit}]" for v in result.varies] + ["status", "range [m]"] + launch
-              + [f"{name} [{unit}]" for name, unit, _ in LOAD_COLUMNS])
+              + [f"{name} [{unit}]" if unit else name for name, unit, _ in columns])
 
     def cell(value: float) -> str:
         return "" if not math.isfinite(value) else repr(float(value))
@@ -158,7 +193,7 @@ def write_csv(result: Chart, path: str | Path) -> None:
         for i, row in enumerate(result.settings):
             launch = [] if result.launch_angle is None else [cell(result.launch_angle[i])]
             writer.writerow([repr(float(v)) for v in row] + [result.status[i], cell(result.range[i])] + launch
-                            + [cell(result.loads[name][i]) for name, _, _ in LOAD_COLUMNS])
+                            + [cell(result.loads[name][i]) for name, _, _ in columns])
 
 
 def chart_figure(result: Chart, units: str = "metric"):
@@ -188,7 +223,8 @@ _MARKERS = "xv^sDP*"
 def _line_figure(result: Chart, fig):
     (v,) = result.varies
     x = result.settings[:, 0]
-    ax_range, ax_joints, ax_sling = fig.subplots(3, 1, sharex=True)
+    breaking = breaking_columns(result.design)
+    ax_range, ax_joints, ax_sling, *ax_breaking = fig.subplots(3 + bool(breaking), 1, sharex=True)
     fig.suptitle(f"{result.design.name}: range and peak loads against {v.field.name}")
     ax_range.plot(x, result.range, "o-", ms=3, color="tab:red", label="range")
     ax_range.set(ylabel="range (m)")
@@ -205,9 +241,23 @@ def _line_figure(result: Chart, fig):
     ax_sling.set(xlabel=v.field.label, ylabel="peak sling tension (N)")
     _acceleration_scale(ax_sling, result)
     ax_sling.legend(fontsize=8)
-    for ax in (ax_range, ax_joints, ax_sling):
+    if breaking:
+        _breaking_panel(ax_breaking[0], result, breaking)
+        ax_sling.set(xlabel="")
+    for ax in (ax_range, ax_joints, ax_sling, *ax_breaking):
         ax.grid(alpha=0.3)
     return fig
+
+
+def _breaking_panel(ax, result: Chart, columns) -> None:
+    """The margins against the varied field, with the line at 1 below which the part breaks."""
+    x = result.settings[:, 0]
+    for (name, _, label), colour in zip(columns, ("tab:brown", "tab:orange"), strict=False):
+        ax.plot(x, result.loads[name], "-", color=colour, label=label)
+    ax.axhline(1.0, color="tab:red", ls="--", lw=1.0, label="1: breaks below")
+    ax.set(xlabel=result.varies[0].field.label, ylabel="margin (above 1 holds)")
+    ax.set_ylim(bottom=0.0)
+    ax.legend(fontsize=8)
 
 
 #: Fields whose change breaks the proportion between sling tension and the projectile's felt acceleration.
@@ -249,11 +299,14 @@ _ACCELERATION_PANEL = ("peak_projectile_acceleration", "peak projectile accelera
 
 
 def _map_figure(result: Chart, fig, units: str = "metric"):
+    from matplotlib.colors import TwoSlopeNorm
+
     vx, vy = result.varies[1], result.varies[0]     # the last varies fastest: along x
     shape = result.shape
     grid_x, grid_y = vx.values, vy.values
     failures = _failures(result)
     panels = _MAP_PANELS if _proportional(result) else _MAP_PANELS + (_ACCELERATION_PANEL,)
+    panels += tuple((name, label, "RdYlGn") for name, _, label in breaking_columns(result.design))
     columns = -(-(len(panels) + bool(failures)) // 2)     # two rows; the outcome panel last, if any
     fig.set_size_inches(14.0 * columns / 3, 8.5)
     axes = fig.subplots(2, columns, gridspec_kw=dict(left=0.06, right=0.97, bottom=0.07, top=0.91,
@@ -270,7 +323,9 @@ def _map_figure(result: Chart, fig, units: str = "metric"):
         title = title.replace(f"({unit})", f"({shown})")
         z = np.ma.masked_invalid(factor * values.reshape(shape))
         ax.set_facecolor("0.85")
-        mesh = ax.pcolormesh(grid_x, grid_y, z, shading="nearest", cmap=cmap)
+        margin = cmap == "RdYlGn" and z.count() > 0 and z.min() < 1.0 < z.max()   # red below 1, green above
+        mesh = ax.pcolormesh(grid_x, grid_y, z, shading="nearest", cmap=cmap,
+                             norm=TwoSlopeNorm(1.0) if margin else None)
         bar = fig.colorbar(mesh, ax=ax, shrink=0.9)
         if name == "peak_sling_tension" and _proportional(result):   # its ticks in N and in g
             weight = factor * _weight(result)
@@ -281,6 +336,8 @@ def _map_figure(result: Chart, fig, units: str = "metric"):
         if z.count() > 3 and np.ptp(z.compressed()) > 0:
             lines = ax.contour(grid_x, grid_y, z, levels=8, colors="w", linewidths=0.6)
             ax.clabel(lines, fontsize=7, fmt="%.4g")
+        if margin and z.count() > 3:   # where it breaks
+            ax.contour(grid_x, grid_y, z, levels=[1.0], colors="k", linewidths=1.5)
         ax.set(title=title, xlabel=vx.field.label, ylabel=vy.field.label)
     if failures:   # the settings that do not throw; with none, nothing to show
         ax_status = axes[len(panels)]
@@ -312,5 +369,5 @@ def save_chart(result: Chart, out: str | Path, units: str = "metric") -> tuple[P
     return csv_path, png_path
 
 
-__all__ = ["Chart", "LOAD_COLUMNS", "Vary", "chart", "chart_figure", "save_chart", "vary",
-           "write_csv"]
+__all__ = ["BREAKING_COLUMNS", "Chart", "LOAD_COLUMNS", "Vary", "breaking_columns", "chart", "chart_figure",
+           "save_chart", "vary", "write_csv"]

@@ -34,6 +34,7 @@ import numpy as np
 
 from analytic.aero import DRAG_MODELS
 from analytic.geometry import RELEASE_RULES
+from analytic.data.strength import MATERIALS, PROJECTILE_KINDS, STANDARD_GRAVITY
 
 
 #: The machine kinds (``Machine.kind``): the counterweight hinged, bolted to the arm, or on a floating arm.
@@ -129,6 +130,8 @@ class Machine:
         the long-arm tip to the projectile's centre; it stays on the arm at release.
     pouch_mass : mass of the pouch, kg (0 by default): a point at the projectile's centre
         while it holds the projectile; it stays with the sling at release.
+    arm_section : the arm's cross-section and strength (``ArmSection``), for the stress a shot
+        puts in it; None (the default) where the design gives no beam. The dynamics never read it.
     """
 
     pivot_height: float
@@ -146,9 +149,12 @@ class Machine:
     kind: str = "hinged"
     sling_mass: float = 0.0
     pouch_mass: float = 0.0
+    arm_section: ArmSection | None = None
 
     def __post_init__(self) -> None:
         require_kind("machine.kind", self.kind)
+        if self.arm_section is not None and not isinstance(self.arm_section, ArmSection):
+            raise DesignError("machine.arm_beam", self.arm_section, "must be an ArmSection")
         for name in ("pivot_height", "arm_long", "arm_short", "arm_mass",
                      "counterweight_mass", "sling_length"):
             require_positive(f"machine.{name}", getattr(self, name))
@@ -217,6 +223,10 @@ class Projectile:
         than its model (``analytic.calibrate``). The Reynolds number is unchanged.
     drag_during_swing : whether the drag (with the wind) also acts in stages 1-2, before
         release; False by default, the paper's model (drag in flight only).
+    max_acceleration : m/s^2, the largest acceleration the projectile survives (in g in
+        files), or None: no limit given (unless its ``kind`` has one).
+    kind : what the projectile is (``analytic.data.strength.PROJECTILE_KINDS``: ``"egg"``, ...), whose
+        documented limit applies; None by default. Give ``kind`` or ``max_acceleration``, not both.
     """
 
     mass: float
@@ -225,6 +235,8 @@ class Projectile:
     drag_coefficient: float | None = None
     drag_factor: float = 1.0
     drag_during_swing: bool = False
+    max_acceleration: float | None = None
+    kind: str | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.drag_during_swing, bool):
@@ -240,6 +252,22 @@ class Projectile:
         elif self.drag_coefficient is not None:
             raise DesignError("projectile.drag_coefficient", self.drag_coefficient,
                               f'only used with drag = "constant", not {self.drag!r}; remove it')
+        if self.kind is not None:
+            require_choice("projectile.kind", self.kind, tuple(PROJECTILE_KINDS))
+            if self.max_acceleration is not None:
+                raise DesignError("projectile.max_acceleration", f"{self.max_acceleration / STANDARD_GRAVITY:g} g",
+                                  f"give either max_acceleration or kind ({self.kind!r} has its own limit, "
+                                  f"{PROJECTILE_KINDS[self.kind].max_acceleration_g:g} g), not both")
+        if self.max_acceleration is not None:
+            require_positive("projectile.max_acceleration", self.max_acceleration)
+
+    @property
+    def acceleration_limit(self) -> float | None:
+        """The largest acceleration the projectile survives, m/s^2: ``max_acceleration``, or its
+        ``kind``'s documented limit, or None (no limit given)."""
+        if self.max_acceleration is not None:
+            return self.max_acceleration
+        return None if self.kind is None else PROJECTILE_KINDS[self.kind].max_acceleration_g * STANDARD_GRAVITY
 
     @property
     def frontal_area(self) -> float:
@@ -600,16 +628,68 @@ def paper_geometry(arm_short: float, counterweight_link: float, clearance: float
 
 
 @dataclass(frozen=True)
+class ArmSection:
+    """The arm's rectangular cross-section and what it is made of: what the stress needs.
+
+    Attributes
+    ----------
+    width : m, across the swing plane.
+    depth : m, in the swing plane (the bending's).
+    material : a name of ``analytic.data.strength.MATERIALS`` (its strength is the table's), or None.
+    strength : Pa, the material's strength given directly, or None. Give ``material`` or
+        ``strength``, not both; neither: the stress is known, the safety factor not.
+    """
+
+    width: float
+    depth: float
+    material: str | None = None
+    strength: float | None = None
+
+    def __post_init__(self) -> None:
+        for name in ("width", "depth"):
+            require_positive(f"machine.arm_beam.{name}", getattr(self, name))
+        if self.material is not None:
+            require_choice("machine.arm_beam.material", self.material, tuple(MATERIALS))
+            if self.strength is not None:
+                raise DesignError("machine.arm_beam.strength", self.strength,
+                                  f"give either material or strength, not both (material {self.material!r} "
+                                  f"has its own, {MATERIALS[self.material].strength:g} Pa)")
+        if self.strength is not None:
+            require_positive("machine.arm_beam.strength", self.strength)
+
+    @property
+    def bending_strength(self) -> float | None:
+        """Pa: ``strength``, or the material's (``analytic.data.strength.MATERIALS``), or None."""
+        if self.strength is not None:
+            return self.strength
+        return None if self.material is None else MATERIALS[self.material].strength
+
+
+@dataclass(frozen=True)
 class BeamArm:
-    """An arm cut from a uniform rectangular beam (depth measured in the swing plane)."""
+    """An arm cut from a uniform rectangular beam (depth measured in the swing plane), of a ``material``
+    or a ``strength`` (Pa) if given (``ArmSection``)."""
 
     width: float
     depth: float
     density: float
+    material: str | None = None
+    strength: float | None = None
 
     def __post_init__(self) -> None:
         for name in ("width", "depth", "density"):
             require_positive(f"machine.arm_beam.{name}", getattr(self, name))
+        ArmSection(self.width, self.depth, self.material, self.strength)   # checks the material and strength
+
+    @property
+    def rated(self) -> bool:
+        """Whether the beam names a material or a strength (then a design keeps its ``section``)."""
+        return self.material is not None or self.strength is not None
+
+    @property
+    def section(self) -> ArmSection:
+        """The beam's section and strength, which the design keeps for the stress."""
+        return ArmSection(self.width, self.depth, self.material, self.strength)
 
     def properties(self, arm_long: float, arm_short: float) -> tuple[float, float, float]:
         """Mass (kg), centre-of-mass distance toward the long end (m), inertia about it (kg m^2).

@@ -10,17 +10,19 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
-from analytic.design import (Base, BeamArm, Design, DesignError, Environment, Losses, Machine, MissingValueError,
-                             Projectile, paper_geometry, require_number)
+from analytic.design import (ArmSection, Base, BeamArm, Design, DesignError, Environment, Losses, Machine,
+                             MissingValueError, Projectile, paper_geometry, require_number, require_positive)
+from analytic.data.strength import STANDARD_GRAVITY
 from analytic.suggest import did_you_mean
 from analytic.units import (ANGLE, FIELD_KINDS, SYSTEM_KINDS, Written, from_file, kind_of, to_file_text,
                             written_system)
 
-_MACHINE_NUMBERS = tuple(f.name for f in dataclasses.fields(Machine) if f.name not in ("release_rule", "kind"))
+_MACHINE_NUMBERS = tuple(f.name for f in dataclasses.fields(Machine)
+                         if f.name not in ("release_rule", "kind", "arm_section"))
 #: The machine's numbers a file may leave out (0 by default: massless sling and pouch).
 _MACHINE_OPTIONAL = ("sling_mass", "pouch_mass")
 _ENVIRONMENT_KEYS = tuple(f.name for f in dataclasses.fields(Environment))
-_BEAM_KEYS = tuple(f.name for f in dataclasses.fields(BeamArm))
+_BEAM_KEYS = ("width", "depth", "density")
 _ANGLE_KEYS = ("release_angle", "starting_angle")  # degrees in files
 _ARM_KEYS = ("arm_mass", "arm_cg", "arm_inertia")
 _PAPER_KEYS = ("clearance", "starting_angle")
@@ -38,7 +40,10 @@ def design_from_dict(data: dict[str, Any], name: str = "design") -> Design:
     * the paper's: ``clearance`` and ``starting_angle`` (deg) instead of
       ``pivot_height`` and ``arm_long`` (see ``paper_geometry``);
     * ``[machine.arm_beam]`` with ``width``, ``depth``, ``density`` instead of
-      ``arm_mass``, ``arm_cg``, ``arm_inertia`` (see ``BeamArm``).
+      ``arm_mass``, ``arm_cg``, ``arm_inertia`` (see ``BeamArm``). Without ``density``
+      it gives only the arm's section, beside those three. Either way it may name a
+      ``material`` or give a ``strength`` (Pa); the design keeps the section (``ArmSection``),
+      for the stress a shot puts in the arm, when it does or when the table gives the section alone.
 
     Every value is checked (its table, presence and type) before any
     arithmetic uses it.
@@ -139,7 +144,9 @@ def machine_from_dict(data: Any) -> Machine:
             values["arm_short"], values["counterweight_link"],
             values.pop("clearance"), values.pop("starting_angle"))
 
-    if beam_data is not None:
+    if beam_data is not None and "density" not in require_table(f"{table}.arm_beam", beam_data):
+        values["arm_section"] = arm_section_from_dict(beam_data, values)
+    elif beam_data is not None:
         for key in _ARM_KEYS:
             if key in values:
                 raise DesignError(f"{table}.{key}", values[key],
@@ -149,6 +156,8 @@ def machine_from_dict(data: Any) -> Machine:
         require_keys(table, values, ("pivot_height", "arm_long", "arm_short"))
         values["arm_mass"], values["arm_cg"], values["arm_inertia"] = beam.properties(
             values["arm_long"], values["arm_short"])
+        if beam.rated:   # kept only with a strength, so that other designs read as they always have
+            values["arm_section"] = beam.section
 
     if values.get("release_rule") == "ideal":   # the ideal rule needs no release angle (and ignores one)
         values.setdefault("release_angle", None)
@@ -157,11 +166,15 @@ def machine_from_dict(data: Any) -> Machine:
 
 
 def projectile_from_dict(data: Any) -> Projectile:
-    """The ``[projectile]`` table of a design (or problem) file; ``mass``, ``diameter`` and ``drag`` required."""
+    """The ``[projectile]`` table of a design (or problem) file; ``mass``, ``diameter`` and ``drag`` required
+    (``max_acceleration`` in g)."""
     values = read_values("projectile", require_table("projectile", data),
-                         numbers=("mass", "diameter", "drag_coefficient", "drag_factor"),
-                         texts=("drag", "drag_during_swing"),
+                         numbers=("mass", "diameter", "drag_coefficient", "drag_factor", "max_acceleration"),
+                         texts=("drag", "drag_during_swing", "kind"),
                          required=("mass", "diameter", "drag"))
+    if "max_acceleration" in values:   # in g in files, checked there so that errors show it so
+        values["max_acceleration"] = STANDARD_GRAVITY * require_positive("projectile.max_acceleration",
+                                                                         values["max_acceleration"])
     return Projectile(**values)
 
 
@@ -197,7 +210,8 @@ def beam_arm_from_dict(data: Any, table: str = BEAM_TABLE) -> BeamArm:
 
     ``[machine.arm_beam]`` in design files, ``[arm_beam]`` in problem files.
     """
-    values = read_values(table, require_table(table, data), numbers=_BEAM_KEYS, required=_BEAM_KEYS)
+    values = read_values(table, require_table(table, data), numbers=_BEAM_KEYS + ("strength",),
+                         texts=("material",), required=_BEAM_KEYS)
     try:
         return BeamArm(**values)
     except DesignError as error:
@@ -205,6 +219,31 @@ def beam_arm_from_dict(data: Any, table: str = BEAM_TABLE) -> BeamArm:
             raise
         # A problem file keeps its beam elsewhere: name the field where this file has it.
         raise DesignError(table + error.field.removeprefix(BEAM_TABLE), error.value, error.reason) from None
+
+
+def arm_section_from_dict(data: Any, machine: dict[str, Any]) -> ArmSection:
+    """A ``[machine.arm_beam]`` table without ``density``: the section of an arm whose ``arm_mass``,
+    ``arm_cg`` and ``arm_inertia`` the ``[machine]`` table (its read ``machine``) gives itself."""
+    if not any(key in machine for key in _ARM_KEYS):
+        raise MissingValueError(f"{BEAM_TABLE}.density")   # or arm_mass, arm_cg and arm_inertia beside it
+    values = read_values(BEAM_TABLE, data, numbers=("width", "depth", "strength"), texts=("material",),
+                         required=("width", "depth"))
+    return ArmSection(**values)
+
+
+def _arm_section_to_dict(section: ArmSection) -> dict[str, Any]:
+    """An ``ArmSection`` as its ``[machine.arm_beam]`` table (without density: beside the arm's numbers)."""
+    return {key: value for key, value in dataclasses.asdict(section).items() if value is not None}
+
+
+def _in_g(acceleration: float) -> float:
+    """``acceleration`` (m/s^2) in g, the float that the file reader turns back into it to the bit
+    where one of its neighbours does so."""
+    written = acceleration / STANDARD_GRAVITY
+    for candidate in (written, math.nextafter(written, math.inf), math.nextafter(written, -math.inf)):
+        if candidate * STANDARD_GRAVITY == acceleration:
+            return candidate
+    return written
 
 
 def design_to_dict(design: Design, units: dict[str, str] | None = None) -> dict[str, Any]:
@@ -229,7 +268,10 @@ def design_to_dict(design: Design, units: dict[str, str] | None = None) -> dict[
     for key in _MACHINE_OPTIONAL:   # massless by default: left out, so files read as they were written
         if machine[key] == 0.0:
             del machine[key]
+    del machine["arm_section"]
     projectile = {k: v for k, v in dataclasses.asdict(design.projectile).items() if v is not None}
+    if "max_acceleration" in projectile:   # in g in files
+        projectile["max_acceleration"] = _in_g(projectile["max_acceleration"])
     if projectile["drag_factor"] == 1.0:   # the default: left out, so files read as they were written
         del projectile["drag_factor"]
     if not projectile["drag_during_swing"]:   # the default, the paper's model: left out
@@ -250,6 +292,8 @@ def design_to_dict(design: Design, units: dict[str, str] | None = None) -> dict[
                     kind = FIELD_KINDS.get(key)
                     if kind is not None and kind.file_unit and isinstance(value, float):
                         table[key] = to_file_text(value, kind, units.get(kind.name))
+    if design.machine.arm_section is not None:   # after the units: a nested table, written in SI
+        machine["arm_beam"] = _arm_section_to_dict(design.machine.arm_section)
     return layout
 
 

@@ -44,6 +44,9 @@ FRAME_MASS = "frame_mass"
 _TABLES = ("name", "machine", "variables", "constraints", "counterweight", "arm_beam", "projectile",
            "environment", "release", "base", "loads", "losses")
 _CONSTRAINT_KEYS = ("max_footprint", "max_height", "axle_radius")
+#: What ``[constraints]`` may also limit: the arm's least safety factor (``Problem.min_arm_safety_factor``)
+#: and the projectile's peak acceleration (m/s^2, as ``[loads] max_projectile_acceleration``: one or the other).
+_BREAKING_KEYS = ("min_arm_safety_factor", "max_projectile_acceleration")
 #: The ``[machine]`` table's fixed parts of every design, kg (besides its ``kind``).
 _MACHINE_PARTS = ("sling_mass", "pouch_mass")
 #: The loads a problem may limit or minimise (``[loads]``): the name in the file -> the
@@ -118,6 +121,9 @@ class Problem:
         it (a problem around a design, ``analytic.optimise.around``), instead of a sphere of
         ``counterweight_density``'s; its radius for the axle clearance is then the solid sphere's of
         that inertia, ``sqrt(5 I / (2 m))``. None (the default): the sphere of the density.
+    min_arm_safety_factor : the least safety factor every design's arm must keep against its
+        strength (``analytic.result.Shot.arm_safety_factor``; the arm needs a material or a
+        strength), or None: no such limit.
     """
 
     name: str
@@ -140,6 +146,7 @@ class Problem:
     sling_mass: float = 0.0
     pouch_mass: float = 0.0
     counterweight_own_inertia: float | None = None
+    min_arm_safety_factor: float | None = None
 
     def __post_init__(self) -> None:
         require_kind("machine.kind", self.kind)
@@ -147,6 +154,11 @@ class Problem:
             require_non_negative("machine.counterweight_inertia", self.counterweight_own_inertia)
         elif self.counterweight_density is None:
             raise DesignError("counterweight.density", None, "required value is missing")
+        if self.min_arm_safety_factor is not None:
+            require_positive("constraints.min_arm_safety_factor", self.min_arm_safety_factor)
+            if not self.arm.rated:
+                raise DesignError("constraints.min_arm_safety_factor", self.min_arm_safety_factor,
+                                  "needs the arm's strength: give [arm_beam] a material or a strength (Pa)")
         for name in ("sling_mass", "pouch_mass"):
             require_non_negative(f"machine.{name}", getattr(self, name))
         for load, limit in self.load_limits:
@@ -205,6 +217,8 @@ class Problem:
         """Names of the constraints on what a shot does (its loads, its range), in the order of
         ``analytic.optimise.evaluate.Evaluator.outcomes``; empty for the paper's problem."""
         names = tuple(f"peak {load.replace('_', ' ')} <= {limit:g}" for load, limit in self.load_limits)
+        if self.min_arm_safety_factor is not None:
+            names += (f"arm safety factor >= {self.min_arm_safety_factor:g}",)
         return names + ((f"range >= {self.min_range:g} m",) if self.minimise is not None else ())
 
     @property
@@ -304,7 +318,8 @@ def design_at(problem: Problem, values: np.ndarray, name: str = "optimum") -> De
                       # the ideal rule finds its own release: the angle is no variable, and a design has none
                       release_angle=None if problem.release_rule == "ideal" else release_angle,
                       release_rule=problem.release_rule, kind=problem.kind,
-                      sling_mass=problem.sling_mass, pouch_mass=problem.pouch_mass)
+                      sling_mass=problem.sling_mass, pouch_mass=problem.pouch_mass,
+                      arm_section=problem.arm.section if problem.arm.rated else None)
     return Design(machine, problem.projectile, problem.environment, name=name, base=base, losses=problem.losses)
 
 
@@ -391,7 +406,7 @@ def problem_from_dict(data: dict[str, Any], name: str = "problem") -> Problem:
         elif isinstance(entry, dict) and "value" not in entry and entry.get("lower") != entry.get("upper"):
             raise DesignError("variables.release_angle", entry, IDEAL_RELEASE_NOT_A_VARIABLE)   # as written
     constraints = read_values("constraints", require_table("constraints", data.get("constraints")),
-                              numbers=_CONSTRAINT_KEYS, required=_CONSTRAINT_KEYS)
+                              numbers=_CONSTRAINT_KEYS + _BREAKING_KEYS, required=_CONSTRAINT_KEYS)
     counterweight = read_values("counterweight", require_table("counterweight", data.get("counterweight")),
                                 numbers=("mass", "density"), required=("mass", "density"))
     base, frame_mass = _base(data.get("base"))
@@ -399,6 +414,11 @@ def problem_from_dict(data: dict[str, Any], name: str = "problem") -> Problem:
     reject_unknown_keys("loads", loads, _LOAD_KEYS + ("minimise",))
     minimise = loads.get("minimise")
     loads = read_values("loads", {k: v for k, v in loads.items() if k != "minimise"}, numbers=_LOAD_KEYS)
+    if "max_projectile_acceleration" in constraints:
+        if "max_projectile_acceleration" in loads:
+            raise DesignError("constraints.max_projectile_acceleration", constraints["max_projectile_acceleration"],
+                              "the same limit as [loads] max_projectile_acceleration: give it once")
+        loads["max_projectile_acceleration"] = constraints["max_projectile_acceleration"]
     return Problem(
         name=data.get("name", name),
         variables=tuple(_variable(key, variables.get(key)) for key in VARIABLE_NAMES) + frame_mass,
@@ -418,6 +438,7 @@ def problem_from_dict(data: dict[str, Any], name: str = "problem") -> Problem:
         min_range=loads.get("min_range"),
         kind=kind,
         **{part: machine[part] for part in _MACHINE_PARTS if part in machine},
+        min_arm_safety_factor=constraints.get("min_arm_safety_factor"),
     )
 
 

@@ -24,6 +24,8 @@ _TABLES = {"machine": Machine, "projectile": Projectile, "environment": Environm
            "losses": Losses}
 #: Fields of those dataclasses that are not numbers (choices), refused as fields to vary.
 _CHOICES = {"release_rule", "kind", "drag", "mobility", "drag_during_swing"}
+#: Fields that do not change the shot (what it is judged by: ``analytic.data.strength``), not offered to vary.
+_NOT_VARIED = {"arm_section", "max_acceleration"}
 #: Why a tool refuses to vary ``machine.release_angle`` under the ideal rule.
 IDEAL_IGNORES_RELEASE_ANGLE = ("release_rule 'ideal' finds the release itself and ignores the release angle, so "
                                "varying it changes nothing; vary another field, or set release_rule to "
@@ -107,8 +109,8 @@ def field(name: str) -> Field:
     dotted = f"{table}.{key}"
     if key in _CHOICES and key in keys:
         raise DesignError("field", dotted, "is a choice, not a number; only numeric fields can be adjusted")
-    if key not in keys or key not in FIELD_KINDS:
-        numeric = [k for k in keys if k not in _CHOICES]
+    if key not in keys or key not in FIELD_KINDS or key in _NOT_VARIED:
+        numeric = [k for k in keys if k not in _CHOICES and k not in _NOT_VARIED]
         raise DesignError("field", dotted, f"no such field in [{table}]; {did_you_mean(key, numeric)}"
                                            f"expected one of {', '.join(numeric)}")
     return Field(table, key)

@@ -11,6 +11,7 @@ import numpy as np
 from analytic.design import Design
 from analytic.outcome import LOSS_NAMES, Stage, Status
 from analytic.plausibility import plausibility_warnings
+from analytic.data.strength import bending_stress, safety_factor
 from analytic.summary import hinge_load_label, origin_label, row_text, summary_rows
 
 __all__ = ["EnergyBudget", "History", "JSON_KEYS", "LOSS_NAMES", "PEAK_NAMES", "SHOT_COLUMNS", "Shot", "Shots",
@@ -30,6 +31,7 @@ JSON_KEYS = (
     "frame_release_displacement", "frame_release_velocity", "frame_landing_displacement",
     *(f"{name}{suffix}" for name in PEAK_NAMES for suffix in ("", "_time")),
     "energy_dissipated", "warnings",
+    "peak_arm_stress", "arm_safety_factor", "projectile_survives",
 )
 #: Keys a floating-arm machine's ``--json`` object has besides ``JSON_KEYS`` (absent for other kinds).
 FLOATING_JSON_KEYS = ("min_track_force", "max_track_force", "max_guide_force", "axle_displacement_at_release")
@@ -259,6 +261,33 @@ class Shot:
     def ok(self) -> bool:
         return self.status is Status.OK
 
+    @property
+    def peak_arm_stress(self) -> float | None:
+        """The peak bending stress in the arm, Pa, at the section of its peak bending moment (the axle's):
+        ``6 M / (width depth^2)`` of the design's ``arm_section`` (``analytic.data.strength.bending_stress``);
+        None without a section or a peak moment."""
+        section, moment = self.design.machine.arm_section, self.peak_arm_bending_moment
+        if section is None or moment is None or not math.isfinite(moment):
+            return None
+        return bending_stress(moment, section.width, section.depth)
+
+    @property
+    def arm_safety_factor(self) -> float | None:
+        """The arm's strength (its material's, or as given) over ``peak_arm_stress``: above 1 it holds;
+        None without a strength or a stress."""
+        stress = self.peak_arm_stress
+        strength = None if stress is None else self.design.machine.arm_section.bending_strength
+        return None if strength is None else safety_factor(stress, strength)
+
+    @property
+    def projectile_survives(self) -> bool | None:
+        """Whether the projectile's peak acceleration stays within its limit
+        (``Projectile.acceleration_limit``); None without a limit or a peak acceleration."""
+        limit, peak = self.design.projectile.acceleration_limit, self.peak_projectile_acceleration
+        if limit is None or peak is None or not math.isfinite(peak):
+            return None
+        return bool(peak <= limit)
+
     def _repr_html_(self) -> str:
         """A summary table for Jupyter: the outcome, the rows of ``analytic.summary.summary_rows``
         (metric), any warnings."""
@@ -369,6 +398,9 @@ class Shot:
             "energy_dissipated": (None if self.energy_dissipated is None
                                   else {name: float(self.energy_dissipated[name]) for name in LOSS_NAMES}),
             "warnings": list(self.warnings),
+            "peak_arm_stress": number(self.peak_arm_stress),
+            "arm_safety_factor": number(self.arm_safety_factor),
+            "projectile_survives": self.projectile_survives,
             **({name: number(getattr(self, name)) for name in FLOATING_JSON_KEYS}
                if self.design.machine.kind == "floating-arm" else {}),
         }

@@ -9,7 +9,8 @@ hinge; a floating arm's positions count from its guide), the acceleration
 in g and each load's unit are written here once.
 
 Values are SI, but for the units no unit system changes: angles in degrees,
-shares in %, the projectile's acceleration in g (of the design's gravity).
+shares in %, the projectile's acceleration in g (of the design's gravity); and
+stresses in MPa (a builder's unit; psi in imperial).
 This module reads a shot's attributes and imports nothing of
 ``analytic.result``, which uses it.
 """
@@ -37,6 +38,8 @@ LOSS_LABELS = {"axle": "axle friction", "hinge": "hinge friction", "base": "base
 FLIGHT_LOSSES = ("drag",)
 #: The unit an acceleration in g is shown in.
 G = "g"
+#: The unit a stress is shown in (``analytic.units.display`` turns it to psi in imperial).
+MPA = "MPa"
 
 
 def origin_label(design: Design) -> str:
@@ -80,6 +83,7 @@ class Row:
     time : when a peak occurred, s from firing (None: not a peak).
     level : 1 for a share of the row before (the counterweight's energy's parts).
     brief : one of the few a glance needs (the page shows them; the rest under "all numbers").
+    verdict : for a margin, whether it holds (the page shows it green or red); None for the rest.
     """
 
     key: str
@@ -91,6 +95,7 @@ class Row:
     time: float | None = None
     level: int = 0
     brief: bool = False
+    verdict: bool | None = None
 
     def to_json(self) -> dict[str, Any]:
         from analytic.units import SHOWN_KINDS
@@ -98,7 +103,7 @@ class Row:
         value = list(map(float, self.value)) if isinstance(self.value, (tuple, list)) else float(self.value)
         return {"key": self.key, "label": self.label, "value": value, "unit": self.unit,
                 "kind": SHOWN_KINDS[self.unit], "note": self.note, "time": self.time, "level": self.level,
-                "brief": self.brief}
+                "brief": self.brief, "verdict": self.verdict}
 
 
 def summary_rows(shot: Shot) -> list[Row]:
@@ -152,6 +157,33 @@ def summary_rows(shot: Shot) -> list[Row]:
         None if acceleration is None else in_g(acceleration, design), G, 2, brief=True)
     row("peak_arm_bending_moment", peak_label("peak_arm_bending_moment", design), shot.peak_arm_bending_moment,
         PEAK_UNITS["peak_arm_bending_moment"], 3, brief=True)
+    rows += breaking_rows(shot)
+    return rows
+
+
+def breaking_rows(shot: Shot) -> list[Row]:
+    """Will it break: the arm's peak stress (at the axle's section) and its safety factor against its
+    strength, and the projectile's margin (its limit over its peak acceleration); each margin with its
+    verdict. A design without a strength or a limit has no such row."""
+    from analytic.data.strength import MATERIALS, STANDARD_GRAVITY
+
+    rows = []
+    stress, factor = shot.peak_arm_stress, shot.arm_safety_factor
+    if stress is not None:
+        rows.append(Row("peak_arm_stress", "peak arm stress", stress / 1e6, MPA, 3, " at the axle's section",
+                        brief=factor is not None))
+    if factor is not None:
+        material = shot.design.machine.arm_section.material
+        metal = material is not None and MATERIALS[material].strength_kind == "yield strength"
+        verdict = "holds" if factor > 1.0 else ("yields" if metal else "breaks")
+        rows.append(Row("arm_safety_factor", "arm safety factor", factor, "", 2,
+                        f" (the arm {verdict}: strength / peak stress)", brief=True, verdict=factor > 1.0))
+    survives = shot.projectile_survives
+    if survives is not None:
+        limit = shot.design.projectile.acceleration_limit
+        rows.append(Row("projectile_margin", "projectile margin", limit / shot.peak_projectile_acceleration, "", 2,
+                        f" (it {'survives' if survives else 'breaks'}: limit {limit / STANDARD_GRAVITY:g} g "
+                        f"/ peak acceleration)", brief=True, verdict=survives))
     return rows
 
 

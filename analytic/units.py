@@ -47,6 +47,9 @@ SPEED = Kind("speed", "[length] / [time]", "m / s", '"3 m/s" or "10 ft/s"')
 FORCE = Kind("force", "[length] * [mass] / [time] ** 2", "N", '"200 N" or "45 lbf"')
 MOMENT = Kind("moment", "[length] ** 2 * [mass] / [time] ** 2", "N * m", '"40 N m" or "30 ft lbf"')
 NUMBER = Kind("pure number", "", "", "0.47")
+#: An acceleration written in g (standard gravity, pint's ``g0``): a projectile's limit.
+ACCELERATION_G = Kind("acceleration", "[length] / [time] ** 2", "g0", '"150 g0" or "1470 m/s^2"')
+STRESS = Kind("stress", "[mass] / [length] / [time] ** 2", "Pa", '"59 MPa" or "8600 psi"')
 
 #: Units a builder writes, offered for a mistyped one ("6 ftt": did you mean 'ft'?).
 COMMON_UNITS = ("m", "cm", "mm", "km", "in", "inch", "ft", "foot", "feet", "yd", "mi", "kg", "g", "lb", "oz",
@@ -74,6 +77,7 @@ FIELD_KINDS = {
     "wind_speed": SPEED,
     "max_sling_tension": FORCE, "max_axle_load": FORCE, "max_hinge_load": FORCE,
     "max_arm_bending_moment": MOMENT,
+    "max_acceleration": ACCELERATION_G, "strength": STRESS, "min_arm_safety_factor": NUMBER,
 }
 _BOUND_KEYS = ("lower", "upper", "value")
 
@@ -193,9 +197,10 @@ def to_file_text(value: float, kind: Kind, unit: str | None = None) -> str:
 SYSTEMS = {
     "metric": {},
     "imperial": {"m": ("ft", "ft"), "kg": ("lb", "lb"), "m/s": ("ft/s", "ft / s"), "N": ("lbf", "lbf"),
-                 "m/s^2": ("ft/s^2", "ft / s ** 2"), "J": ("ft lbf", "ft * lbf"), "N m": ("ft lbf", "ft * lbf")},
+                 "m/s^2": ("ft/s^2", "ft / s ** 2"), "J": ("ft lbf", "ft * lbf"), "N m": ("ft lbf", "ft * lbf"),
+                 "MPa": ("psi", "psi")},
 }
-_PINT_SI = {"m": "m", "kg": "kg", "m/s": "m / s", "N": "N", "m/s^2": "m / s ** 2", "J": "J", "N m": "N * m"}
+_PINT_SI = {"m": "m", "kg": "kg", "m/s": "m / s", "N": "N", "m/s^2": "m / s ** 2", "J": "J", "N m": "N * m", "MPa": "MPa"}
 
 
 def display(value: float, unit: str, system: str = "metric") -> tuple[float, str]:
@@ -287,4 +292,5 @@ class Written(str):
 #: The kind (``workbench``'s unit tables' names) of each unit a summary row is in
 #: (``analytic.summary.Row.unit``): the SI ones a system converts, and those no system changes.
 SHOWN_KINDS = {"m": LENGTH.name, "kg": MASS.name, "m/s": SPEED.name, "N": FORCE.name, "m/s^2": ACCELERATION.name,
-               "J": "energy", "N m": MOMENT.name, "s": "time", "deg": ANGLE.name, "%": "percent", "g": "g"}
+               "J": "energy", "N m": MOMENT.name, "s": "time", "deg": ANGLE.name, "%": "percent", "g": "g",
+               "MPa": "stress (MPa)", "": NUMBER.name}

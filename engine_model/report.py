@@ -21,6 +21,9 @@ _FIELDS = (
     ("energy_efficiency", "energy efficiency", "", "{:.2%}"),
     ("range_efficiency", "range efficiency", "", "{:.2%}"),
     ("min_sling_tension", "min sling tension", "N", "{:.4f}"),
+    ("peak_arm_stress", "peak arm stress", "Pa", "{:.4g}"),
+    ("arm_safety_factor", "arm safety factor", "", "{:.3f}"),
+    ("projectile_survives", "projectile survives", "", "{}"),
 )
 #: (Shot attribute, label, unit, format): a rolling frame's motion, printed for rolling frames only.
 _FRAME_FIELDS = (

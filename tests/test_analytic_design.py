@@ -279,7 +279,7 @@ def test_a_value_where_a_table_belongs_is_refused(path, value):
 
 @pytest.mark.parametrize("form, path", [
     ("direct", ("colour",)), ("direct", ("machine", "wheels")), ("direct", ("projectile", "colour")),
-    ("direct", ("environment", "humidity")), ("beam", ("machine", "arm_beam", "length")),
+    ("direct", ("environment", "humidity")), ("beam", ("machine", "arm_beam", "colour")),
 ], ids=lambda v: ".".join(v) if isinstance(v, tuple) else v)
 def test_an_unknown_key_is_named_with_its_table(form, path):
     with pytest.raises(DesignError, match=rf"^{re.escape('.'.join(path))} = 1\.0: unknown key; expected one of"):

@@ -38,7 +38,7 @@ ANALYTIC_LAYERS = {
               "analytic.fields", "analytic.aero", "analytic.eom", "analytic.friction", "analytic.geometry",
               "analytic.limits", "analytic.outcome", "analytic.parameters", "analytic.peaks",
               "analytic.plausibility", "analytic.states", "analytic.stages", "analytic.sequence", "analytic.result", "analytic.data",
-              "analytic.suggest", "analytic.floating_arm", "analytic.scope", "analytic.ideal",
+              "analytic.suggest", "analytic.floating_arm", "analytic.scope", "analytic.ideal", "analytic.data.strength",
               # the summary rows of a shot every table shows
               "analytic.summary",
               # the exit codes and checks every command line shares: it imports nothing

@@ -9,7 +9,10 @@ stage or a shot), ``analytic.geometry`` (part positions from coordinates
 and the release rule), ``analytic.cli_shared`` (the command lines' exit codes and checks
 of output paths and options, and their progress bars), ``analytic.plausibility`` (warnings on
 implausible inputs, which every shot carries), ``analytic.suggest`` (the "did you mean" of the
-file reader's messages) and ``analytic.plot_units`` (a drawing's ticks in the chosen units). None of them holds any dynamics: no equations of
+file reader's messages), ``analytic.plot_units`` (a drawing's ticks in the chosen units) and
+``analytic.data.strength`` (the materials' and projectiles' limits, and the beam's stress from a peak
+moment, which the design and the shot's readouts use; with ``analytic.data``, its package of data files) and
+``analytic.summary`` (the rows a shot's summary reads in, which the shared result type uses). None of them holds any dynamics: no equations of
 motion, no integrator, no event loop. Everything else of ``analytic``
 (equations, simulators, integrators) is what the engine is checked against,
 and must not leak in.
@@ -27,7 +30,8 @@ import pytest
 
 ALLOWED = {"analytic", "analytic.design", "analytic.design_file", "analytic.units", "analytic.aero",
            "analytic.result", "analytic.outcome", "analytic.limits", "analytic.geometry", "analytic.cli_shared",
-           "analytic.plausibility", "analytic.suggest", "analytic.plot_units"}
+           "analytic.plausibility", "analytic.suggest", "analytic.plot_units", "analytic.data",
+           "analytic.data.strength", "analytic.summary"}
 PACKAGE = Path(__file__).resolve().parents[1] / "engine_model"
 MODULES = sorted(p.stem for p in PACKAGE.glob("*.py") if p.stem != "__main__")
 

@@ -24,7 +24,7 @@ from typing import Mapping
 
 import numpy as np
 
-from analytic.design import Design, DesignError, Machine, require_number
+from analytic.design import ArmSection, Design, DesignError, Machine, require_number
 from analytic.design_space import ANGLE_VARIABLES, VARIABLE_NAMES, Problem, Variable, design_at
 from analytic.optimise.constraints import footprint
 
@@ -53,18 +53,27 @@ class ScaledArm:
     length : m, the design's arm end to end (``arm_long + arm_short``).
     mass : kg. centre_offset : m, the centre of mass ahead of the arm's middle.
     inertia : kg m^2, about the centre of mass.
+    section : the design's ``ArmSection`` (its width, depth and strength stay as the length
+        changes), or None.
     """
 
     length: float
     mass: float
     centre_offset: float
     inertia: float
+    section: ArmSection | None = None
+
+    @property
+    def rated(self) -> bool:
+        """Whether the design keeps the arm's section (for the stress a shot reports)."""
+        return self.section is not None
 
     @classmethod
     def of(cls, machine: Machine) -> ScaledArm:
         """The arm of ``machine``."""
         return cls(machine.arm_long + machine.arm_short, machine.arm_mass,
-                   machine.arm_cg - (machine.arm_long - machine.arm_short) / 2.0, machine.arm_inertia)
+                   machine.arm_cg - (machine.arm_long - machine.arm_short) / 2.0, machine.arm_inertia,
+                   machine.arm_section)
 
     def properties(self, arm_long: float, arm_short: float) -> tuple[float, float, float]:
         """Mass (kg), centre-of-mass distance toward the long end (m), inertia about it (kg m^2)."""

@@ -29,6 +29,7 @@ from analytic.design_space import LOADS, Problem, design_at
 from analytic.limits import FAST, PATHS, REFERENCE   # the two ways of shooting candidates (module docstring)
 from analytic.optimise.robust import Scatter, expected, release_scatter
 from analytic.result import PEAK_NAMES, Status
+from analytic.data.strength import bending_stress
 from analytic.reference import simulate
 
 #: Score of a candidate that does not throw, m. Any throw does better: with the
@@ -237,7 +238,8 @@ class Evaluator:
         """Score and the constraints on what each shot does, from one shot a design (nominal).
 
         The score is as ``scores``. The constraints (``problem.outcome_constraints``) are
-        relative margins, feasible when >= 0: ``1 - peak / limit`` for each load limit and
+        relative margins, feasible when >= 0: ``1 - peak / limit`` for each load limit,
+        ``1 - least / actual`` arm safety factor with a least one, and
         ``range / min_range - 1`` when a load is minimised; -1 each for a failed shot. Shots
         are remembered by design and tolerance: the global stage asks for a generation's
         constraints and then its scores.
@@ -263,6 +265,10 @@ class Evaluator:
             failed = FAILURE_RANGE if problem.minimise is None else FAILURE_LOAD_SCORE
             return failed, -np.ones(count)
         margins = [1.0 - result.loads[LOADS[load]] / limit for load, limit in problem.load_limits]
+        if problem.min_arm_safety_factor is not None:   # 1 - least / actual safety factor: a load's margin
+            arm = problem.arm
+            stress = bending_stress(result.loads["peak_arm_bending_moment"], arm.width, arm.depth)
+            margins.append(1.0 - problem.min_arm_safety_factor * stress / arm.section.bending_strength)
         if problem.minimise is not None:
             margins.append(result.range / problem.min_range - 1.0)
             return -result.loads[LOADS[problem.minimise]], np.array(margins)

@@ -14,6 +14,7 @@ from analytic.optimise.constraints import (CONSTRAINT_NAMES, axle_distance, cons
 from analytic.design_space import ANGLE_VARIABLES, FRAME_MASS, LOADS, Problem, design_at
 from analytic.optimise.robust import Scatter, expected, spread
 from analytic.optimise.search import Optimum
+from analytic.data.strength import bending_stress, safety_factor
 from analytic.units import display as shown_as
 
 if TYPE_CHECKING:
@@ -262,7 +263,26 @@ def format_peaks(problem: Problem, peaks: dict[str, dict[str, float]], system: s
                       for label in labels)
         said = "mount load" if load == "hinge_load" and problem.kind != "hinged" else load.replace("_", " ")
         lines.append(f"{'  ' + said + ' (' + unit + ')':<34}{row}")
+    lines += _breaking_rows(problem, peaks, width)
     return "\n".join(lines)
+
+
+def _breaking_rows(problem: Problem, peaks: dict[str, dict[str, float]], width: int) -> list[str]:
+    """Each design's arm safety factor (with a rated arm) and whether its projectile survives (with a
+    limit), from its peak loads (``analytic.data.strength``)."""
+    arm, limit = problem.arm, problem.projectile.acceleration_limit
+    lines = []
+    if arm.rated:
+        factors = {label: safety_factor(bending_stress(loads["peak_arm_bending_moment"], arm.width, arm.depth),
+                                        arm.section.bending_strength)
+                   for label, loads in peaks.items() if "peak_arm_bending_moment" in loads}
+        lines.append(f"{'  arm safety factor':<34}" + "".join(
+            f"{factors[label]:>{width}.2f}" if label in factors else f"{'-':>{width}}" for label in peaks))
+    if limit is not None:
+        verdicts = {label: "survives" if loads["peak_projectile_acceleration"] <= limit else "breaks"
+                    for label, loads in peaks.items() if "peak_projectile_acceleration" in loads}
+        lines.append(f"{'  projectile':<34}" + "".join(f"{verdicts.get(label, '-'):>{width}}" for label in peaks))
+    return lines
 
 
 def _load_scale(load: str, scales: Scales) -> tuple[str, float]:
@@ -296,6 +316,8 @@ def format_report(result: Optimisation, system: str = "metric") -> str:
     if problem.load_limits:
         goal += "; peak loads at most " + ", ".join(f"{load.replace('_', ' ')} {_limit(load, limit, Scales.of(system))}"
                                                     for load, limit in problem.load_limits)
+    if problem.min_arm_safety_factor is not None:
+        goal += f"; arm safety factor at least {problem.min_arm_safety_factor:g}"
     sections = [f"Problem {problem.name!r}: {goal}"
                 + ("" if scatter is None else f"; robust variant: maximise the expected range when the "
                    f"release angle scatters, sigma {math.degrees(scatter.sigma):g} deg (local stage "

@@ -145,7 +145,7 @@ def _base(data: dict, directory: Path | None) -> Base:
     problem = load_problem(path)
     machine = {"counterweight_mass": problem.counterweight_mass,
                "counterweight_inertia": problem.counterweight_inertia, "release_rule": problem.release_rule,
-               "arm_beam": dataclasses.asdict(problem.arm)}
+               "arm_beam": {k: v for k, v in dataclasses.asdict(problem.arm).items() if v is not None}}
     if problem.kind != "hinged":
         machine["kind"] = problem.kind
     bounds = {}

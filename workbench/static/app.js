@@ -87,10 +87,13 @@ function rowText(row) {
   return `(${x}, ${y}) ${unitLabel(state.meta.units, row.kind, state.system)}${row.note}`;
 }
 
+// A margin's verdict (``analytic.summary.Row.verdict``): green where it holds, red where it breaks.
+const VERDICT = {true: ' class="holds"', false: ' class="breaks"'};
+
 function rowsHtml(rows) {
   const escape = (text) => text.replace(/[&<>"]/g, (c) => `&#${c.charCodeAt(0)};`);
   return rows.map((row) => `<dt class="level-${row.level}" data-key="${row.key}">${escape(row.label)}</dt>`
-    + `<dd>${escape(rowText(row))}</dd>`).join("");
+    + `<dd${VERDICT[row.verdict] ?? ""}>${escape(rowText(row))}</dd>`).join("");
 }
 
 function readouts(s) {
