@@ -331,12 +331,20 @@ function drawScene(ctx, T, shot, design, t, {ghosts, label, preview, twin}, labe
   ctx.restore();
 }
 
-// The inset's box in a top corner of the stage: the field's at the left (the sky the machine swings
-// the projectile through is ahead of it, to the right), the machine's at the right (the flight rises
+// The inset's box in a top corner of the stage: of the two, the one the swing's parts pass through
+// least in the main view ``T`` (the machine's inset, over the field: the right, as the flight rises
 // from the left).
-function insetBox(canvas, shows) {
+function insetBox(canvas, shows, shot, T) {
   const width = Math.max(INSET.least, INSET.share * canvas.width), height = width * ASPECT;
-  return {x: shows === "field" ? INSET.gap : canvas.width - width - INSET.gap, y: INSET.gap, width, height};
+  const boxes = [{x: INSET.gap, y: INSET.gap, width, height},
+    {x: canvas.width - width - INSET.gap, y: INSET.gap, width, height}];
+  if (shows !== "field") return boxes[1];
+  const h = shot.history;
+  const covered = (box) => h.t.reduce((n, _, i) => n + Object.values(h.parts).filter((points) => {
+    const px = T.X(points[i][0] + h.frame_x[i]), py = T.Y(points[i][1]);
+    return px >= box.x && px <= box.x + box.width && py >= box.y && py <= box.y + box.height;
+  }).length, 0);
+  return covered(boxes[1]) < covered(boxes[0]) ? boxes[1] : boxes[0];
 }
 
 function frameInset(ctx, box) {
@@ -370,7 +378,7 @@ export function drawStage(canvas, shot, design, t, {ghosts = [], camera = "auto"
   canvas.dataset.view = JSON.stringify({scale: T.s, x0: T.ox, y0: T.oy});
   canvas.dataset.inset = "";
   if (!view.inset) return;
-  const box = insetBox(canvas, view.inset);
+  const box = insetBox(canvas, view.inset, shot, T);
   const seen = view.inset === "field" ? fieldWindow(shot, design, ghosts) : machineWindow(shot, design);
   frameInset(ctx, box);
   drawScene(ctx, transform(box, seen, 10), shot, design, t, {...options, preview: null}, false);
