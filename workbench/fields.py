@@ -83,7 +83,8 @@ CHOICES = {"machine.kind": BUILT_KINDS, "machine.release_rule": RELEASE_RULES, "
 IMPERIAL = {"length": ("ft", "ft"), "mass": ("lb", "lb"), "moment of inertia": ("lb ft²", "lb * ft ** 2"),
             "density": ("lb/ft³", "lb / ft ** 3"), "acceleration": ("ft/s²", "ft / s ** 2"),
             "speed": ("ft/s", "ft / s"), "force": ("lbf", "lbf"), "energy": ("ft lbf", "ft * lbf"),
-            "moment": ("ft lbf", "ft * lbf"), "stress (MPa)": ("psi", "psi")}
+            "moment": ("ft lbf", "ft * lbf"), "stress (MPa)": ("psi", "psi"),
+            "viscosity": ("lb/(ft s)", "lb / ft / s")}
 #: The units each field is shown in, metric, by kind (file units but friendlier labels).
 METRIC_LABELS = {"moment": "N m", "moment of inertia": "kg m²", "density": "kg/m³", "acceleration": "m/s²", "speed": "m/s",
                  "viscosity": "Pa s", "angle": "deg"}

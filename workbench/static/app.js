@@ -1,12 +1,15 @@
 // The workbench page: the design form, live shots (latest wins), the stage's playback, readouts, files and links.
+import {followChoices, settle} from "./applies.js";
 import {buildForm, fillForm, round, setValue, showError, shownValue, unitLabel} from "./form.js";
 import {drawStage, duration} from "./stage.js";
-import {followRule, setupTools} from "./tools.js";
+import {setupTools, showAgain} from "./tools.js";
 import {setupFiring} from "./firing.js";
+import {followDesign} from "./optimise.js";
+import {fieldKinds, localise} from "./units.js";
 
 const $ = (id) => document.getElementById(id);
 export const state = {meta: null, presets: [], design: null, system: "metric", shot: null, ghosts: [],
-  t: 0, playing: false, speed: 0.1, camera: "field", preview: null, twin: null};
+  t: 0, playing: false, speed: 0.1, camera: "auto", preview: null, twin: null};
 
 // ---- units -------------------------------------------------------------------------------------
 export function show(value, kind, digits = 2) {
@@ -59,9 +62,15 @@ export function requestShot() {
 }
 
 export function fieldError(data) {
-  const shownAtField = showError($("fields"), data.field, data.error);
+  const message = said(data.error);
+  const shownAtField = showError($("fields"), data.field, message);
   $("design-error").hidden = shownAtField;
-  $("design-error").textContent = data.error;
+  $("design-error").textContent = message;
+}
+
+// A message of the server's (SI) in the shown units.
+function said(text) {
+  return localise(text, state.meta.units, state.system, fieldKinds(state.meta.groups));
 }
 
 function adopt(shot) {
@@ -100,12 +109,12 @@ function readouts(s) {
   $("range").textContent = s.range === null ? "–" : show(s.range, "length");
   $("status").textContent = s.status;
   $("status").className = s.status === "ok" ? "ok" : "failed";
-  $("message").textContent = s.message;
+  $("message").textContent = said(s.message);
   // At a glance the brief rows; every row under "all numbers" (the range and status are above).
   $("numbers").innerHTML = rowsHtml(s.summary.filter((row) => row.brief));
   $("all-numbers").innerHTML = rowsHtml(s.summary);
   $("warnings").innerHTML = "";
-  for (const w of s.warnings) { const li = document.createElement("li"); li.textContent = w; $("warnings").append(li); }
+  for (const w of s.warnings) { const li = document.createElement("li"); li.textContent = said(w); $("warnings").append(li); }
   energyBar(s);
 }
 
@@ -165,9 +174,15 @@ export function loadDesign(design, system = null) {
   state.design = structuredClone(design);
   state.twin = null;   // the engine's shot was of the design before
   if (system) setSystem(system);
-  fillForm($("fields"), state.design, state.meta.units, state.system);
-  followRule(state.design);
+  refill();
+  followDesign();   // the optimiser's bounds follow the new design
   requestShot();
+}
+
+// The form shown anew: the design's values in the shown units, and only the fields that apply.
+function refill() {
+  fillForm($("fields"), state.design, state.meta.units, state.system);
+  followChoices($("fields"), state.design, [$("aim-field"), $("whatif-field")]);
 }
 
 function setSystem(system) {
@@ -185,6 +200,13 @@ function onField(name, value) {
   if (name === "machine.kind") return changeKind(value);
   if (name === "machine.release_rule") return changeRule(value);
   setValue(state.design, name, value);
+  // A choice may leave other fields without effect, or bring them back (applies.js).
+  if (typeof value === "string" && state.meta.groups.some((g) => g.fields.some((f) => f.name === name && f.choices))) {
+    settle(state.design);
+    refill();
+  } else {
+    followChoices($("fields"), state.design, [$("aim-field"), $("whatif-field")]);
+  }
   requestShot();
 }
 
@@ -197,24 +219,20 @@ function changeRule(rule) {
   if (rule === "velocity" && m.release_angle === undefined && state.shot?.launch_angle != null) {
     m.release_angle = round(state.shot.launch_angle);
   }
-  fillForm($("fields"), state.design, state.meta.units, state.system);
-  followRule(state.design);
+  refill();
+  followDesign();   // the optimiser's variables follow the rule (the ideal rule has no release angle)
   requestShot();
 }
 
-// Only a hinged machine has a link: another kind leaves it out of the design (its row hidden), and
-// switching back restores the last one (or a third of the short arm).
+// Only a hinged machine has a link and a hinge, only a floating arm a guide and a track: another kind
+// sets their values aside (the link's row hidden, the others disabled with the reason), and
+// switching back restores them (the link: the last one, or a third of the short arm).
 function changeKind(kind) {
   const m = state.design.machine;
-  if (kind === "hinged") {
-    m.counterweight_link = state.link ?? m.counterweight_link ?? m.arm_short / 3;
-    delete m.kind;
-  } else {
-    if (m.counterweight_link !== undefined) state.link = m.counterweight_link;
-    delete m.counterweight_link;
-    m.kind = kind;
-  }
-  fillForm($("fields"), state.design, state.meta.units, state.system);
+  if (kind === "hinged") delete m.kind;
+  else m.kind = kind;
+  settle(state.design);
+  refill();
   requestShot();
 }
 
@@ -265,8 +283,9 @@ async function start() {
   });
   $("units").addEventListener("change", (e) => {
     setSystem(e.target.value);
-    fillForm($("fields"), state.design, state.meta.units, state.system);
+    refill();
     if (state.shot) { readouts(state.shot); draw(); }
+    showAgain();
   });
   $("play").addEventListener("click", () => {
     if (!state.playing && state.t >= duration(state.shot)) state.t = 0;

@@ -3,8 +3,6 @@
 // Slider spans, in file units, for fields whose span does not follow from their value (the server's
 // ``span`` of each such field, ``workbench.fields.SPANS``; filled by ``buildForm``).
 const FIXED_SPANS = {};
-// Why the release angle's row is disabled under the ideal rule (the value is kept for another rule).
-export const IDEAL_NOTE = "the ideal rule finds the release itself";
 // A positive value's slider spans value / SPREAD to value * SPREAD.
 const SPREAD = 3;
 const STEPS = 400;
@@ -69,7 +67,7 @@ function fieldRow(field, onChange) {
   if (field.choices) {
     const options = field.choices.map((c) => `<option value="${c}">${c}</option>`).join("");
     row.innerHTML = `<label for="${id}">${field.key.replaceAll("_", " ")}</label>${help}
-      <select id="${id}" name="${field.name}">${options}</select><p class="error" hidden></p>`;
+      <select id="${id}" name="${field.name}">${options}</select><p class="note" hidden></p><p class="error" hidden></p>`;
     row.querySelector("select").addEventListener("change", (e) => onChange(field.name, e.target.value));
     return row;
   }
@@ -84,23 +82,16 @@ function fieldRow(field, onChange) {
   return row;
 }
 
-// Shows ``design`` in the form in ``system``'s units (a row it has no use for hidden), and sets each
-// slider's span around its value.
+// Shows ``design`` in the form in ``system``'s units, and sets each slider's span around its value
+// (which rows apply to it: applies.js).
 export function fillForm(form, design, units, system) {
   for (const row of form.querySelectorAll(".field")) {
     const name = row.dataset.field;
     const value = getValue(design, name);
-    // Only a hinged machine has a link.
-    row.hidden = name === "machine.counterweight_link" && (design.machine.kind ?? "hinged") !== "hinged";
     if (!row.dataset.kind) {
       row.querySelector("select").value = value ?? row.querySelector("select").options[0].value;
       continue;
     }
-    // The ideal rule ignores the release angle: its row stays, disabled, with the reason.
-    const unused = name === "machine.release_angle" && design.machine.release_rule === "ideal";
-    for (const input of row.querySelectorAll("input")) input.disabled = unused;
-    row.querySelector(".note").hidden = !unused;
-    row.querySelector(".note").textContent = unused ? IDEAL_NOTE : "";
     const kind = row.dataset.kind;
     const number = row.querySelector("input[type=number]");
     const slider = row.querySelector(".slider");

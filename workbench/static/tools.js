@@ -1,19 +1,17 @@
 // The tools panel: best pin, aim, what-if, ghosts and the cross-check, run as server jobs with progress and cancel.
+import {crosscheckTable} from "./crosscheck.js";
 import {fileValue, getValue, setValue, shownValue, unitLabel} from "./form.js";
 import {followDesign, setupOptimise} from "./optimise.js";
+import {drawAxis, plotMargins} from "./plots.js";
+import {fieldKinds, localise} from "./units.js";
 
 const $ = (id) => document.getElementById(id);
 const CLIENT = Math.random().toString(36).slice(2);
 const POLL_MS = 100;
 let current = null;
-// The cross-check's verdicts (crosscheck.comparison.VERDICTS), as the table's caption says them.
-const VERDICT_CAPTIONS = {
-  agree: "The models agree",
-  disagree: "The models differ",
-  sensitive: "Too sensitive to compare: the design itself moves past a tolerance when its inputs move by parts in 1e9",
-  engine_failed: "The engine could not run this design",
-  engine_untrusted: "The engine could not reach the accuracy this design needs",
-};
+// What each tool shows, redrawn in the new units when they change (``showAgain``).
+const shownResults = {};
+let toolState = null;
 
 export async function runJob(state, tool, inputs, api) {
   if (current) return null;
@@ -21,7 +19,7 @@ export async function runJob(state, tool, inputs, api) {
   const response = await fetch("/api/jobs", {method: "POST", headers: {"content-type": "application/json"},
     body: JSON.stringify({tool, inputs, design: state.design, client: CLIENT})});
   let job = await response.json();
-  if (!response.ok) { toolError(job); return null; }
+  if (!response.ok) { toolError(job, state); return null; }
   current = job.id;
   $("progress-row").hidden = false;
   while (job.state === "running") {
@@ -31,13 +29,18 @@ export async function runJob(state, tool, inputs, api) {
   }
   current = null;
   $("progress-row").hidden = true;
-  if (job.state !== "done") { toolError(job.error); return null; }
+  if (job.state !== "done") { toolError(job.error, state); return null; }
   return job.result;
 }
 
-function toolError(error) {
+function toolError(error, state = toolState) {
   $("tool-error").hidden = false;
-  $("tool-error").textContent = error.error;
+  $("tool-error").textContent = localise(error.error, state.meta.units, state.system, fieldKinds(state.meta.groups));
+}
+
+// Redraws what the tools show in ``state``'s units (after the units change).
+export function showAgain() {
+  for (const show of Object.values(shownResults)) show();
 }
 
 function adoptValue(state, api, name, value) {
@@ -50,6 +53,7 @@ function numericFields(state) {
 }
 
 export function setupTools(state, api) {
+  toolState = state;
   const fields = numericFields(state);
   const options = fields.map((f) => `<option value="${f.name}">${f.name}</option>`).join("");
   $("aim-field").innerHTML = options;
@@ -104,7 +108,9 @@ export function setupTools(state, api) {
     const kind = row.dataset.kind;
     const [low, high] = row.span.map((v) => fileValue(state.meta.units, kind, state.system, v));
     const result = await runJob(state, "what_if", {field: name, low, high, steps: 41, load: $("whatif-load").value}, api);
-    if (result) plotSweep(state, api, result, kind);
+    if (!result) return;
+    shownResults.whatIf = () => plotSweep(state, api, result, kind);
+    shownResults.whatIf();
   });
 
   $("ghost").addEventListener("click", () => {
@@ -125,18 +131,8 @@ export function setupTools(state, api) {
   $("crosscheck").addEventListener("click", async () => {
     const result = await runJob(state, "crosscheck", {}, api);
     if (!result) return;
-    // A quantity apart only because the design itself amplifies a change of parts in 1e9 is
-    // "sensitive" (crosscheck.report.row_verdict), not a difference between the models.
-    const rowVerdict = (r) => r.ok ? "agree"
-      : (result.sensitivity?.[r.quantity] ?? -1) > (r.tolerance ?? 0) ? "sensitive" : "DIFFER";
-    const rows = result.rows.map((r) => `<tr class="${r.ok ? "ok" : rowVerdict(r) === "sensitive" ? "sensitive" : "failed"}">`
-      + `<td>${r.quantity}</td>`
-      + `<td>${fmt(r.analytic)}</td><td>${fmt(r.engine)}</td><td>${fmt(r.difference)}</td>`
-      + `<td>${fmt(r.tolerance)}</td><td>${r.unit}</td><td>${rowVerdict(r)}</td></tr>`).join("");
-    $("crosscheck-table").innerHTML = `<caption data-verdict="${result.verdict}">${VERDICT_CAPTIONS[result.verdict]}`
-      + `${result.error ? `: ${result.error}` : ""}</caption><tr><th>quantity</th><th>analytic</th><th>engine</th>`
-      + `<th>difference</th><th>tolerance</th><th>unit</th><th></th></tr>${rows}`;
-    $("crosscheck-table").hidden = false;
+    shownResults.crosscheck = () => crosscheckTable($("crosscheck-table"), result, state.meta.units, state.system);
+    shownResults.crosscheck();
     // The engine's shot beside the analytic one: its machine swinging on the stage, its flight a ghost.
     state.ghosts = state.ghosts.filter((g) => !g.engine);
     state.twin = result.engine;
@@ -145,67 +141,61 @@ export function setupTools(state, api) {
   });
 }
 
-// The tools' field choices under the design's rule: the ideal rule ignores the release angle, so it
-// is not offered (an aim or sweep over it would change nothing); a choice of it moves to the
-// counterweight's mass.
-export function followRule(design) {
-  followDesign();
-  const ideal = design.machine.release_rule === "ideal";
-  for (const select of [$("aim-field"), $("whatif-field")]) {
-    const option = select.querySelector('option[value="machine.release_angle"]');
-    if (!option) continue;
-    option.disabled = ideal;
-    option.title = ideal ? "the ideal rule finds the release itself" : "";
-    if (ideal && select.value === option.value) select.value = "machine.counterweight_mass";
-  }
-}
-
-function fmt(value) {
-  if (typeof value !== "number") return value ?? "–";
-  return Number(value.toPrecision(5)).toString();
-}
-
-// The sweep's range (left axis) and load (right axis) against the field; hover previews that
-// machine's trajectory on the stage, click adopts the value.
+// The sweep's range (left axis) and load (right axis) against the field, each axis in the shown units
+// (the projectile's acceleration in g); hover previews that machine's trajectory on the stage, click
+// adopts the value.
 function plotSweep(state, api, result, kind) {
   const canvas = $("whatif-plot");
   canvas.hidden = false;
   const ctx = canvas.getContext("2d");
-  const m = 30, W = canvas.width, H = canvas.height;
+  const W = canvas.width, H = canvas.height, margin = plotMargins(canvas, true);
+  const box = {left: margin.left, right: W - margin.right, top: margin.top, bottom: H - margin.bottom};
   const xs = result.values;
+  const units = state.meta.units, system = state.system;
+  // Each series in the shown units: the range's, the load's (the server's kind and values: g for an
+  // acceleration) and the field's.
+  const inUnits = (a, k) => a.map((v) => (v === null ? null : shownValue(units, k, system, v)));
+  const ranges = inUnits(result.ranges, "length");
+  const loads = inUnits(result.loads_shown, result.load_kind);
+  const loadUnit = unitLabel(units, result.load_kind, system);
+  const [x0, x1] = [xs[0], xs[xs.length - 1]].map((v) => shownValue(units, kind, system, v));
   const finite = (a) => a.filter((v) => v !== null);
   const scale = (a) => { const f = finite(a); return [Math.min(...f, 0), Math.max(...f, 1e-9)]; };
-  const [r0, r1] = scale(result.ranges), [l0, l1] = scale(result.loads);
-  const X = (i) => m + (W - 2 * m) * i / (xs.length - 1);
+  const [r0, r1] = scale(ranges), [l0, l1] = scale(loads);
+  const X = (i) => box.left + (box.right - box.left) * i / (xs.length - 1);
+  const Xv = (v) => box.left + (box.right - box.left) * (v - x0) / (x1 - x0);
+  const Yof = (lo, hi) => (v) => box.bottom - (box.bottom - box.top) * (v - lo) / (hi - lo);
   const curve = (a, lo, hi, color) => {
     ctx.strokeStyle = color; ctx.lineWidth = 2; ctx.beginPath();
     let drawing = false;
     a.forEach((v, i) => {
       if (v === null) { drawing = false; return; }
-      const y = H - m - (H - 2 * m) * (v - lo) / (hi - lo);
+      const y = Yof(lo, hi)(v);
       if (drawing) ctx.lineTo(X(i), y); else ctx.moveTo(X(i), y);
       drawing = true;
     });
     ctx.stroke();
   };
+  const loadName = result.load_label;
   const redraw = (hover) => {
     ctx.clearRect(0, 0, W, H);
-    ctx.fillStyle = "#333"; ctx.font = "11px sans-serif";
-    const units = state.meta.units;
-    ctx.fillText(`range to ${api.show(r1, "length", 1)}`, m, 12);
-    // the load's top, in its kind's unit (the server gives the projectile's acceleration in g)
-    const top = Math.max(...finite(result.loads_shown), 0);
-    ctx.fillText(`${result.load_label} to ${api.show(top, result.load_kind, result.load_kind === "g" ? 1 : 0)}`, W / 2, 12);
-    const shown = (v) => shownValue(units, kind, state.system, v).toPrecision(4);
-    ctx.fillText(`${result.field}: ${shown(xs[0])} .. ${shown(xs[xs.length - 1])} ${unitLabel(units, kind, state.system)}`, m, H - 8);
-    curve(result.ranges, r0, r1, "#c0392b");
-    curve(result.loads, l0, l1, "#1f618d");
-    if (hover !== null) { ctx.strokeStyle = "#7d3c98"; ctx.beginPath(); ctx.moveTo(X(hover), m); ctx.lineTo(X(hover), H - m); ctx.stroke(); }
+    drawAxis(ctx, canvas, box, "bottom", {lo: x0, hi: x1, at: Xv,
+      title: `${result.field} (${unitLabel(units, kind, system)})`});
+    drawAxis(ctx, canvas, box, "left", {lo: r0, hi: r1, at: Yof(r0, r1), title: `range (${unitLabel(units, "length", system)})`,
+      color: "#c0392b"});
+    drawAxis(ctx, canvas, box, "right", {lo: l0, hi: l1, at: Yof(l0, l1), title: `${loadName} (${loadUnit})`,
+      color: "#1f618d"});
+    curve(ranges, r0, r1, "#c0392b");
+    curve(loads, l0, l1, "#1f618d");
+    if (hover !== null) {
+      ctx.strokeStyle = "#7d3c98"; ctx.beginPath(); ctx.moveTo(X(hover), box.top); ctx.lineTo(X(hover), box.bottom); ctx.stroke();
+    }
   };
+  const m = box.left, span = box.right - box.left;
   redraw(null);
   const index = (event) => {
     const x = event.offsetX * canvas.width / canvas.clientWidth;
-    return Math.max(0, Math.min(xs.length - 1, Math.round((x - m) / (W - 2 * m) * (xs.length - 1))));
+    return Math.max(0, Math.min(xs.length - 1, Math.round((x - m) / span * (xs.length - 1))));
   };
   let previewed = -1;
   const preview = async (i) => {
