@@ -121,6 +121,9 @@ class Problem:
         it (a problem around a design, ``analytic.optimise.around``), instead of a sphere of
         ``counterweight_density``'s; its radius for the axle clearance is then the solid sphere's of
         that inertia, ``sqrt(5 I / (2 m))``. None (the default): the sphere of the density.
+    counterweight_clearance_radius : m, the counterweight's radius for the axle clearance where a design
+        gives it (``analytic.optimise.around``: no larger than its own machine clears), instead of
+        a sphere's; None (the default): the sphere's.
     min_arm_safety_factor : the least safety factor every design's arm must keep against its
         strength (``analytic.result.Shot.arm_safety_factor``; the arm needs a material or a
         strength), or None: no such limit.
@@ -147,6 +150,7 @@ class Problem:
     pouch_mass: float = 0.0
     counterweight_own_inertia: float | None = None
     min_arm_safety_factor: float | None = None
+    counterweight_clearance_radius: float | None = None
 
     def __post_init__(self) -> None:
         require_kind("machine.kind", self.kind)
@@ -252,7 +256,10 @@ class Problem:
     @property
     def counterweight_radius(self) -> float:
         """Radius of the solid-sphere counterweight, m: ``(3 m / (4 pi rho))^(1/3)``, or with
-        ``counterweight_own_inertia`` the solid sphere's of that inertia, ``sqrt(5 I / (2 m))``."""
+        ``counterweight_own_inertia`` the solid sphere's of that inertia, ``sqrt(5 I / (2 m))``;
+        ``counterweight_clearance_radius`` where given."""
+        if self.counterweight_clearance_radius is not None:
+            return self.counterweight_clearance_radius
         if self.counterweight_own_inertia is not None:
             return math.sqrt(2.5 * self.counterweight_own_inertia / self.counterweight_mass)
         return (3.0 * self.counterweight_mass / (4.0 * math.pi * self.counterweight_density)) ** (1 / 3)

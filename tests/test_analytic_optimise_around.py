@@ -116,3 +116,23 @@ def test_the_search_around_a_design_ends_no_worse_than_it_and_adopting_changes_o
     assert (found.name, found.projectile, found.base, found.losses) == (design.name, design.projectile,
                                                                         design.base, design.losses)
     assert simulate_fast(found).range == pytest.approx(result.ranges["optimum"], rel=1e-7)
+
+
+#: Trebuchator's presets (``analytic/data/designs/trebuchator``): three of them (punkin, siege, warwolf)
+#: give counterweights whose solid sphere of their inertia would not clear the axle at rest.
+TREBUCHATOR = sorted((DATA / "designs" / "trebuchator").glob("*.toml"))
+
+
+@pytest.mark.parametrize("path", TREBUCHATOR, ids=[p.stem for p in TREBUCHATOR])
+def test_every_machine_as_built_is_a_feasible_start(path):
+    design = load_design(path)
+    problem = problem_around(design)
+    assert np.all(constraint_values(problem, design.machine) >= -FEASIBILITY_TOLERANCE)
+    m = design.machine
+    sphere = math.sqrt(2.5 * m.counterweight_inertia / m.counterweight_mass)   # I = 2/5 m r^2
+    assert 0.0 <= problem.counterweight_radius <= sphere
+
+
+def test_a_counterweight_that_clears_as_a_sphere_keeps_the_spheres_radius():
+    design = default_design()   # the paper's 6.5 kg cast-iron sphere, r = 0.05995 m (paper_table3.toml)
+    assert problem_around(design).counterweight_radius == pytest.approx(0.05995, abs=1e-5)

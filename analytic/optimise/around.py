@@ -26,7 +26,7 @@ import numpy as np
 
 from analytic.design import ArmSection, Design, DesignError, Machine, require_number
 from analytic.design_space import ANGLE_VARIABLES, VARIABLE_NAMES, Problem, Variable, design_at
-from analytic.optimise.constraints import footprint
+from analytic.optimise.constraints import axle_distance, footprint
 
 #: Lengths range from the design's value divided by this to the value times this.
 DEFAULT_FACTOR = 2.0
@@ -172,16 +172,28 @@ def problem_around(design: Design, bounds: Mapping[str, tuple[float, float]] | N
                       for n, value in zip(VARIABLE_NAMES, start_values(design), strict=True))
     if m.kind != "hinged":
         variables = tuple(Variable(v.name, 0.0, 0.0) if v.name == "counterweight_link" else v for v in variables)
+    axle = (design.losses.axle_radius or 0.0) if axle_radius is None else axle_radius
     return Problem(
         name=f"around-{design.name}" if name is None else name, variables=variables,
         max_footprint=footprint(m, design.base.trough_height) if max_footprint is None else max_footprint,
         max_height=m.pivot_height if max_height is None else max_height,
-        axle_radius=(design.losses.axle_radius or 0.0) if axle_radius is None else axle_radius,
-        counterweight_mass=m.counterweight_mass, counterweight_density=None,
-        counterweight_own_inertia=m.counterweight_inertia, arm=ScaledArm.of(m),
+        axle_radius=axle, counterweight_mass=m.counterweight_mass, counterweight_density=None,
+        counterweight_own_inertia=m.counterweight_inertia,
+        counterweight_clearance_radius=clearance_radius(design, axle), arm=ScaledArm.of(m),
         projectile=design.projectile, environment=design.environment, release_rule=m.release_rule,
         base=design.base, losses=design.losses, load_limits=tuple(load_limits), minimise=minimise,
         min_range=min_range, kind=m.kind, sling_mass=m.sling_mass, pouch_mass=m.pouch_mass)
+
+
+def clearance_radius(design: Design, axle_radius: float) -> float:
+    """The counterweight's radius for the axle clearance around ``design``, m: the solid sphere's of its
+    inertia, ``sqrt(5 I / (2 m))``, but no more than the design's own machine clears at rest (a box or a
+    bucket of that inertia is not a sphere: the machine as built clears its axle, so its start is
+    feasible)."""
+    m = design.machine
+    sphere = math.sqrt(2.5 * m.counterweight_inertia / m.counterweight_mass)
+    room = axle_distance(m, design.base.trough_height) - axle_radius
+    return max(0.0, min(sphere, room))
 
 
 def adopted(design: Design, problem: Problem, values: np.ndarray) -> Design:
