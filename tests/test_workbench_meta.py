@@ -220,3 +220,23 @@ def test_each_kind_of_design_field_is_converted_from_the_unit_the_page_receives(
     assert units["acceleration"]["imperial"]["factor"] == pytest.approx(1 / 0.3048, rel=1e-12)
     assert units["density"]["imperial"]["factor"] == pytest.approx(0.3048**3 / 0.45359237, rel=1e-12)
     assert units["length"]["imperial"]["factor"] == pytest.approx(1 / 0.3048, rel=1e-12)
+
+
+def test_the_optimisers_bounds_name_every_variable_and_limit_the_problem_takes():
+    """The bounds table's rows (``around_bounds``): a label for each design variable
+    (``analytic.design_space.VARIABLE_NAMES``) and for each limit the page may set (``LIMITS``)."""
+    import time
+
+    from analytic.design_space import VARIABLE_NAMES
+    from workbench.optimising import LIMITS
+
+    client = page_client()
+    job = client.post("/api/jobs", json={"tool": "around_bounds", "design": table3(), "inputs": {}}).json()
+    while job["state"] == "running":
+        time.sleep(0.05)
+        job = client.get(f"/api/jobs/{job['id']}").json()
+    result = job["result"]
+    assert [row["name"] for row in result["variables"]] == list(VARIABLE_NAMES)
+    assert all(row["label"] for row in result["variables"])
+    assert [row["name"] for row in result["limit_rows"]] == list(LIMITS) == list(result["limits"])
+    assert {row["kind"] for row in result["limit_rows"]} == {"length", "force"}

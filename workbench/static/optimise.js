@@ -4,11 +4,6 @@ import {defaultOf, fileValue, getValue, setValue, shownValue, unitLabel} from ".
 import {drawAxis, plotMargins, readableFont} from "./plots.js";
 
 const $ = (id) => document.getElementById(id);
-// The variables' names as the table says them (analytic.design_space.VARIABLE_NAMES).
-const LABELS = {arm_short: "short arm", counterweight_link: "weight link", clearance: "clearance",
-  sling_length: "sling", starting_angle: "starting angle", release_angle: "release angle"};
-const LIMIT_ROWS = [["max_footprint", "footprint at most", "length"], ["max_height", "pivot height at most", "length"],
-  ["axle_radius", "axle radius", "length"], ["max_axle_load", "peak axle load at most", "force"]];
 
 // The user's own bounds and limits (file units: m, deg, N), kept until another design is loaded;
 // the rest are the server's defaults around the design on screen.
@@ -26,12 +21,12 @@ export function setupOptimise(state, api, runJob) {
     if (!defaults) return;
     const rows = defaults.variables.filter((v) => !v.fixed).map((v) => {
       const [low, high] = edits[v.name] ?? [v.lower, v.upper];
-      return `<tr data-name="${v.name}" data-kind="${v.kind}"><td>${LABELS[v.name]}</td><td>${shown(v.kind, v.value)}</td>`
+      return `<tr data-name="${v.name}" data-kind="${v.kind}"><td>${v.label}</td><td>${shown(v.kind, v.value)}</td>`
         + `<td><input type="number" step="any" aria-label="${v.name} lower" value="${shown(v.kind, low)}"></td>`
         + `<td><input type="number" step="any" aria-label="${v.name} upper" value="${shown(v.kind, high)}"></td>`
         + `<td>${unitLabel(units(), v.kind, state.system)}</td></tr>`;
     }).join("");
-    const limits = LIMIT_ROWS.map(([name, label, kind]) => {
+    const limits = defaults.limit_rows.map(({name, label, kind}) => {
       const value = name in limitEdits ? limitEdits[name] : defaults.limits[name];
       return `<tr data-limit="${name}" data-kind="${kind}"><td colspan="2">${label}</td><td colspan="2">`
         + `<input type="number" step="any" min="0" aria-label="${name}" placeholder="none" `
