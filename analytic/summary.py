@@ -40,6 +40,8 @@ FLIGHT_LOSSES = ("drag",)
 G = "g"
 #: The unit a stress is shown in (``analytic.units.display`` turns it to psi in imperial).
 MPA = "MPa"
+#: The unit each peak load is shown in: ``PEAK_UNITS``', but the projectile's acceleration in g (``in_g``).
+SHOWN_PEAK_UNITS = {**PEAK_UNITS, "peak_projectile_acceleration": G}
 
 
 def origin_label(design: Design) -> str:
@@ -51,12 +53,20 @@ def origin_label(design: Design) -> str:
 def hinge_load_label(design: Design) -> str:
     """What a table calls ``peak_hinge_load``: a fixed machine has no hinge, and the force is its
     counterweight's mount's."""
-    return "peak hinge load" if design.machine.kind == "hinged" else "peak mount load"
+    return peak_label_of_kind("peak_hinge_load", design.machine.kind)
 
 
 def peak_label(name: str, design: Design) -> str:
     """What a table calls the peak load ``name`` (a ``PEAK_UNITS`` key) of ``design``."""
-    return hinge_load_label(design) if name == "peak_hinge_load" else name.replace("_", " ")
+    return peak_label_of_kind(name, design.machine.kind)
+
+
+def peak_label_of_kind(name: str, kind: str) -> str:
+    """``peak_label`` on a machine of ``kind`` (``analytic.design.BUILT_KINDS``), for a page that
+    names the loads before it has a design."""
+    if name == "peak_hinge_load":
+        return "peak hinge load" if kind == "hinged" else "peak mount load"
+    return name.replace("_", " ")
 
 
 def in_g(acceleration, design: Design):

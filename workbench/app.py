@@ -17,7 +17,8 @@ from starlette.staticfiles import StaticFiles
 from analytic.design import DesignError
 from analytic.design_file import design_from_dict, design_to_dict, dumps_design
 
-from workbench.fields import fields_table, units_table
+from workbench.applies import rules_table
+from workbench.fields import fields_table, loads_table, units_table
 from workbench.guard import Guard
 from workbench.jobs import Jobs, TooMany
 from workbench.presets import presets_json
@@ -135,13 +136,15 @@ def _read_design(text: str) -> dict[str, Any]:
 
 
 async def meta(request: Request) -> Response:
-    """``GET /api/meta``: the design fields, the units, and the history spacings the stage asks for."""
+    """``GET /api/meta``: the design fields (with their defaults), the units, the history spacings the
+    stage asks for, which fields apply under which choices (``workbench.applies``) and the peak loads."""
     return JSONResponse(await run_in_threadpool(meta_json))
 
 
 def meta_json() -> dict[str, Any]:
     return {"groups": fields_table(), "units": units_table(),
-            "sampling": {"sample_step": PAGE_SAMPLE_STEP, "flight_sample_step": PAGE_FLIGHT_SAMPLE_STEP}}
+            "sampling": {"sample_step": PAGE_SAMPLE_STEP, "flight_sample_step": PAGE_FLIGHT_SAMPLE_STEP},
+            "rules": rules_table(), "loads": loads_table()}
 
 
 async def presets(request: Request) -> Response:

@@ -2,12 +2,16 @@
 
 from __future__ import annotations
 
+import dataclasses
+import functools
+import math
 from typing import Any
 
 from analytic.aero import DRAG_MODELS
-from analytic.design import BUILT_KINDS, MOBILITIES
+from analytic.design import BUILT_KINDS, FRICTIONS, DesignError, MOBILITIES, Base, Environment, Losses, Machine, Projectile
 from analytic.geometry import RELEASE_RULES
-from analytic.units import FIELD_KINDS, registry
+from analytic.result import PEAK_NAMES
+from analytic.units import ACCELERATION_G, ANGLE, FIELD_KINDS, registry
 
 #: Each group of fields, its table and its fields with a line a builder reads (file units: SI, degrees).
 GROUPS = (
@@ -97,7 +101,9 @@ def _factor(si: str, unit: str) -> float:
 
 def units_table() -> dict[str, Any]:
     """For each kind: the label in each system and the factor from the file unit to it."""
-    kinds = {kind.name: kind.file_unit for kind in FIELD_KINDS.values()}
+    # the page receives values in file units, SI but for angles: a projectile's limit, written in g in
+    # files (``ACCELERATION_G``), is an acceleration the page receives in m/s^2 as gravity's
+    kinds = {kind.name: kind.file_unit for kind in FIELD_KINDS.values() if kind is not ACCELERATION_G}
     kinds.update({"energy": "J"})
     # a summary row's units that no system changes (``analytic.units.SHOWN_KINDS``)
     kinds.update({"time": "s", "percent": "%", "g": "g", "stress (MPa)": "MPa"})
@@ -125,6 +131,9 @@ def fields_table() -> list[dict[str, Any]]:
                 row["kind"] = FIELD_KINDS[key].name
             if name in SPANS:
                 row["span"] = list(SPANS[name])
+            if name in ZERO_SPANS:
+                row["zero_span"] = list(ZERO_SPANS[name])
+            row.update(field_default(table, key))
             rows.append(row)
         groups.append({"title": title, "table": table, "fields": rows})
     return groups
@@ -140,5 +149,57 @@ SPANS = {
         "base_static_friction", "guide_friction", "track_friction", "guide_static_friction",
         "track_static_friction")},
     "projectile.drag_factor": (0, 3),
+    # on the arm: from the short arm's end to the long arm's (``analytic.design.Machine``'s rule)
+    "machine.arm_cg": ("-machine.arm_short", "machine.arm_long"),
 }
+#: Slider spans, file units, of fields at zero (or not set): a few centimetres of pin, and a sling or pouch
+#: up to as heavy as what it throws. A field named in a span stands for its value; a zero value of any
+#: other field spans 0 to 1.
+ZERO_SPANS = {"losses.axle_radius": (0, 0.1), "losses.hinge_radius": (0, 0.1),
+              "machine.sling_mass": (0, "projectile.mass"), "machine.pouch_mass": (0, "projectile.mass")}
+
+#: Each table's dataclass: what a design file leaves out takes its defaults.
+TABLES = {"machine": Machine, "projectile": Projectile, "environment": Environment, "base": Base, "losses": Losses}
+#: Fields whose default is another field's value: each static coefficient is its kinetic one (``Losses.static``).
+DEFAULT_FROM = {f"losses.{name}_static_friction": f"losses.{name}_friction" for name in FRICTIONS}
+
+
+def field_default(table: str, key: str) -> dict[str, Any]:
+    """What the field ``table.key`` is when a design leaves it out: ``{"default": value}`` (file units),
+    ``{"default_from": field}`` (that field's value), or ``{}`` (no default: required, or unused)."""
+    name = f"{table}.{key}"
+    if name in DEFAULT_FROM:
+        return {"default_from": DEFAULT_FROM[name]}
+    declared = next(f for f in dataclasses.fields(TABLES[table]) if f.name == key)
+    if declared.default is dataclasses.MISSING or declared.default is None or not _files_may_leave_out(name):
+        return {}
+    kind = FIELD_KINDS.get(key)
+    value = declared.default
+    return {"default": math.degrees(value) if kind is ANGLE and isinstance(value, float) else value}
+
+
+@functools.cache
+def _files_may_leave_out(name: str) -> bool:
+    """Whether a design file may leave ``name`` out (some fields with a default in ``analytic.design``,
+    the drag law, a file must give): the built-in design's tables without it are read."""
+    from analytic.design_file import default_design, design_from_dict, design_to_dict
+
+    table, key = name.split(".")
+    layout = design_to_dict(default_design())
+    layout.get(table, {}).pop(key, None)
+    try:
+        design_from_dict(layout)
+    except DesignError:
+        return False
+    return True
+
+
+def loads_table() -> list[dict[str, Any]]:
+    """The peak loads a what-if sweeps: name, the label on each kind of machine, and the kind of the
+    unit it is shown in (``analytic.summary``'s, the projectile's acceleration in g)."""
+    from analytic.summary import SHOWN_PEAK_UNITS, peak_label_of_kind
+    from analytic.units import SHOWN_KINDS
+
+    return [{"name": name, "labels": {kind: peak_label_of_kind(name, kind) for kind in BUILT_KINDS},
+             "kind": SHOWN_KINDS[SHOWN_PEAK_UNITS[name]]} for name in PEAK_NAMES]
 

@@ -35,6 +35,11 @@ PAGE_GENERATIONS = 8
 MAX_GENERATIONS = 40
 #: The limits the page may set (m; N for the axle load).
 LIMITS = ("max_footprint", "max_height", "axle_radius", "max_axle_load")
+#: How the page's table names each design variable and each limit (with its unit's kind).
+VARIABLE_LABELS = {"arm_short": "short arm", "counterweight_link": "weight link", "clearance": "clearance",
+                   "sling_length": "sling", "starting_angle": "starting angle", "release_angle": "release angle"}
+LIMIT_LABELS = {"max_footprint": ("footprint at most", "length"), "max_height": ("pivot height at most", "length"),
+                "axle_radius": ("axle radius", "length"), "max_axle_load": ("peak axle load at most", "force")}
 
 
 def _number(name: str, value: Any) -> float:
@@ -45,7 +50,8 @@ def _number(name: str, value: Any) -> float:
 
 def around_bounds(design: Design, inputs: dict[str, Any], job: Job) -> dict[str, Any]:
     """The default bounds and limits around ``design`` in file units (m, deg), for the page to show:
-    ``variables`` (name, unit kind, value, lower, upper; fixed ones flagged) and ``limits``."""
+    ``variables`` (name, label, unit kind, value, lower, upper; fixed ones flagged), ``limits`` and
+    ``limit_rows`` (each limit's name, label and unit kind, in the table's order)."""
     bounds = default_bounds(design)
     rows = []
     for name, value in zip(VARIABLE_NAMES, start_values(design), strict=True):
@@ -53,9 +59,11 @@ def around_bounds(design: Design, inputs: dict[str, Any], job: Job) -> dict[str,
         shown = (lambda v: math.degrees(v)) if angle else (lambda v: v)
         low, high = bounds.get(name, (value, value))
         rows.append({"name": name, "kind": "angle" if angle else "length", "value": shown(value),
-                     "lower": shown(low), "upper": shown(high), "fixed": name in fixed_variables(design)})
+                     "lower": shown(low), "upper": shown(high), "fixed": name in fixed_variables(design),
+                     "label": VARIABLE_LABELS[name]})
     m = design.machine
     return {"variables": rows,
+            "limit_rows": [{"name": name, "label": label, "kind": kind} for name, (label, kind) in LIMIT_LABELS.items()],
             "limits": {"max_footprint": footprint(m, design.base.trough_height), "max_height": m.pivot_height,
                        "axle_radius": design.losses.axle_radius or 0.0, "max_axle_load": None}}
 

@@ -128,12 +128,11 @@ def shown_load(load: str, values: np.ndarray, design: Design) -> dict[str, Any]:
     """How the page shows a peak load's ``values``: ``load_label`` (a fixed machine's mount load),
     ``load_kind`` (its unit's kind) and ``loads_shown`` in that kind's file unit (the projectile's
     acceleration in g, as the shot's summary gives it: ``analytic.summary``)."""
-    from analytic.summary import G, PEAK_UNITS, in_g, peak_label
+    from analytic.summary import G, SHOWN_PEAK_UNITS, in_g, peak_label
     from analytic.units import SHOWN_KINDS
 
-    unit, shown = PEAK_UNITS[load], values
-    if load == "peak_projectile_acceleration":
-        unit, shown = G, in_g(values, design)
+    unit = SHOWN_PEAK_UNITS[load]
+    shown = in_g(values, design) if unit == G else values
     return {"load_label": peak_label(load, design), "load_kind": SHOWN_KINDS[unit],
             "loads_shown": [None if math.isnan(v) else float(v) for v in shown]}
 

@@ -10,11 +10,12 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from analytic.optimise.constraints import CONSTRAINT_NAMES, FEASIBILITY_TOLERANCE
-from analytic.design_space import Problem
+from analytic.design_space import LOADS, Problem
 from analytic.optimise.report import Scales
 from analytic.plot_units import in_units
 from analytic.optimise.search import Optimum
 from analytic.optimise.sensitivity import Sensitivity
+from analytic.summary import PEAK_UNITS
 
 #: m: slings shorter than this throw ranges that oscillate with their length (``sensitivity.DEFAULT_POINTS``).
 SHORT_SLING = 0.1
@@ -62,7 +63,7 @@ def score_label(problem: Problem) -> str:
     """What the optimiser maximises, for an axis: the range, or minus a peak load."""
     if problem.minimise is None:
         return "range (m)"
-    unit = {"projectile_acceleration": "m/s^2", "arm_bending_moment": "N m"}.get(problem.minimise, "N")
+    unit = PEAK_UNITS[LOADS[problem.minimise]]
     return f"minus the peak {problem.minimise.replace('_', ' ')} ({unit})"
 
 

@@ -1,8 +1,8 @@
 // The workbench page: the design form, live shots (latest wins), the stage's playback, readouts, files and links.
-import {followChoices, settle} from "./applies.js";
-import {buildForm, fillForm, round, setValue, showError, shownValue, unitLabel} from "./form.js";
+import {followChoices, settle, useRules} from "./applies.js";
+import {buildForm, defaultOf, fileValue, fillForm, round, setValue, showError, shownValue, unitLabel} from "./form.js";
 import {drawStage, duration} from "./stage.js";
-import {setupTools, showAgain} from "./tools.js";
+import {labelLoads, setupTools, showAgain} from "./tools.js";
 import {setupFiring} from "./firing.js";
 import {followDesign} from "./optimise.js";
 import {fieldKinds, localise} from "./units.js";
@@ -183,9 +183,16 @@ export function loadDesign(design, system = null) {
 function refill() {
   fillForm($("fields"), state.design, state.meta.units, state.system);
   followChoices($("fields"), state.design, [$("aim-field"), $("whatif-field")]);
+  labelLoads(state);
 }
 
 function setSystem(system) {
+  // The tools' boxes (a target, a mass) keep the quantity typed, now in the new units.
+  for (const input of document.querySelectorAll("input[data-kind]")) {
+    if (input.value === "" || system === state.system) continue;
+    const file = fileValue(state.meta.units, input.dataset.kind, state.system, Number(input.value));
+    input.value = Number(shownValue(state.meta.units, input.dataset.kind, system, file).toPrecision(4));
+  }
   state.system = system;
   $("units").value = system;
   localStorage.setItem("workbench.units", system);
@@ -229,7 +236,7 @@ function changeRule(rule) {
 // switching back restores them (the link: the last one, or a third of the short arm).
 function changeKind(kind) {
   const m = state.design.machine;
-  if (kind === "hinged") delete m.kind;
+  if (kind === defaultOf(state.design, "machine.kind")) delete m.kind;   // as a design file leaves it out
   else m.kind = kind;
   settle(state.design);
   refill();
@@ -276,6 +283,7 @@ async function start() {
     fetch("/api/presets").then((r) => r.json())]);
   state.meta = meta; state.presets = presets;
   buildForm($("fields"), meta.groups, onField);
+  useRules(meta.rules);
   $("preset").innerHTML = presets.map((p) => `<option value="${p.name}">${p.title}</option>`).join("");
   $("preset").addEventListener("change", (e) => {
     const preset = presets.find((p) => p.name === e.target.value);

@@ -1,7 +1,7 @@
 // The firing-table tool: every setting of one field that lands on each target, a row a target and a
 // column a projectile mass, run as a server job (tools.firing); a click on a setting adopts it.
 import {fileValue, setValue, shownValue, unitLabel} from "./form.js";
-import {runJob} from "./tools.js";
+import {keepShown, runJob} from "./tools.js";
 
 const $ = (id) => document.getElementById(id);
 
@@ -18,7 +18,8 @@ export function setupFiring(state, api) {
       ? [mass("firing-mass-from"), mass("firing-mass-to"), Number($("firing-mass-steps").value)] : null;
     const name = $("firing-field").value;
     const result = await runJob(state, "firing_table", {field: name, targets, masses}, api);
-    if (result) firingTable(state, api, result, fields.find((f) => f.name === name).kind);
+    const kind = fields.find((f) => f.name === name).kind;
+    if (result) keepShown("firing", () => firingTable(state, api, result, kind));
   });
 }
 

@@ -1,8 +1,9 @@
 // The design form: one row per field (slider and number box in the shown units), grouped as the server lists them.
 
-// Slider spans, in file units, for fields whose span does not follow from their value (the server's
-// ``span`` of each such field, ``workbench.fields.SPANS``; filled by ``buildForm``).
-const FIXED_SPANS = {};
+// Each field as the server describes it (``GET /api/meta``'s groups, by name; filled by ``buildForm``):
+// its ``default`` (or ``default_from``, the field whose value it takes), its slider's ``span`` where
+// the span does not follow from its value, and its ``zero_span`` at zero (``workbench.fields``).
+const FIELDS = {};
 // A positive value's slider spans value / SPREAD to value * SPREAD.
 const SPREAD = 3;
 const STEPS = 400;
@@ -19,16 +20,25 @@ export function unitLabel(units, kind, system) {
   return units[kind][system].label;
 }
 
+// What ``name`` is where ``design`` leaves it out, file units (undefined: no default).
+export function defaultOf(design, name) {
+  const field = FIELDS[name];
+  if (!field) return undefined;
+  if (field.default_from) return getValue(design, field.default_from) ?? defaultOf(design, field.default_from);
+  return field.default;
+}
+
+// A span's end: a number, or a field's value (``"-table.key"``: minus it).
+function end(design, bound) {
+  if (typeof bound === "number") return bound;
+  return bound.startsWith("-") ? -getValue(design, bound.slice(1)) : getValue(design, bound);
+}
+
 function span(name, value, design) {
-  if (FIXED_SPANS[name]) return FIXED_SPANS[name];
-  if (name === "machine.arm_cg") return [-design.machine.arm_short, design.machine.arm_long];
-  // No sling or pouch mass yet: up to the projectile's (a sling as heavy as what it throws).
-  if ((name === "machine.sling_mass" || name === "machine.pouch_mass") && !(value > 0)) {
-    return [0, design.projectile.mass];
-  }
+  const field = FIELDS[name] ?? {};
+  if (field.span) return field.span.map((bound) => end(design, bound));
   if (value > 0) return [value / SPREAD, value * SPREAD];
-  if (name.endsWith("_radius")) return [0, 0.1];
-  return [0, 1];
+  return (field.zero_span ?? [0, 1]).map((bound) => end(design, bound));
 }
 
 export function getValue(design, name) {
@@ -51,7 +61,7 @@ export function buildForm(form, groups, onChange) {
     box.open = group.table === "machine" || group.table === "projectile";
     box.innerHTML = `<summary>${group.title}</summary>`;
     for (const field of group.fields) {
-      if (field.span) FIXED_SPANS[field.name] = field.span;
+      FIELDS[field.name] = field;
       box.append(fieldRow(field, onChange));
     }
     form.append(box);
@@ -83,29 +93,37 @@ function fieldRow(field, onChange) {
 }
 
 // Shows ``design`` in the form in ``system``'s units, and sets each slider's span around its value
-// (which rows apply to it: applies.js).
+// (which rows apply to it: applies.js). A field the design leaves out shows its default, greyed (the
+// number box's placeholder, the row marked ``unset``), its slider there.
 export function fillForm(form, design, units, system) {
   for (const row of form.querySelectorAll(".field")) {
     const name = row.dataset.field;
     const value = getValue(design, name);
+    const unset = value === undefined || value === null;
+    const fallback = defaultOf(design, name);
+    row.classList.toggle("unset", unset && fallback !== undefined);
     if (!row.dataset.kind) {
-      row.querySelector("select").value = value ?? row.querySelector("select").options[0].value;
+      row.querySelector("select").value = value ?? fallback ?? row.querySelector("select").options[0].value;
       continue;
     }
     const kind = row.dataset.kind;
     const number = row.querySelector("input[type=number]");
     const slider = row.querySelector(".slider");
     row.querySelector(".unit").textContent = unitLabel(units, kind, system);
-    number.value = value === undefined || value === null ? "" : round(shownValue(units, kind, system, value));
-    const [low, high] = span(name, value ?? 0, design).map((v) => shownValue(units, kind, system, v));
+    const shown = unset ? fallback : value;
+    number.value = unset ? "" : round(shownValue(units, kind, system, value));
+    number.placeholder = unset && fallback !== undefined ? String(round(shownValue(units, kind, system, fallback))) : "";
+    const [low, high] = span(name, shown ?? 0, design).map((v) => shownValue(units, kind, system, v));
     row.span = [low, high];
-    slider.value = value === undefined || value === null ? 0 : Math.round((number.value - low) / (high - low) * STEPS);
+    slider.value = shown === undefined ? 0 : Math.round((shownValue(units, kind, system, shown) - low) / (high - low) * STEPS);
     row.onSlide = () => {
+      row.classList.remove("unset");
       const shown = low + (high - low) * slider.value / STEPS;
       number.value = round(shown);
       row.onChange(name, fileValue(units, kind, system, Number(number.value)));
     };
     row.onType = (text) => {
+      row.classList.toggle("unset", text.trim() === "" && fallback !== undefined);
       if (text.trim() === "") return row.onChange(name, undefined);
       const shown = Number(text);
       row.onChange(name, Number.isFinite(shown) ? fileValue(units, kind, system, shown) : text);

@@ -1,13 +1,9 @@
 // The optimiser's panel: around the design on screen (its bounds and limits shown and editable in the
 // page's units) or the paper's problem, the optimum and the front of range against peak axle load.
-import {fileValue, setValue, shownValue, unitLabel} from "./form.js";
+import {defaultOf, fileValue, getValue, setValue, shownValue, unitLabel} from "./form.js";
+import {drawAxis, plotMargins, readableFont} from "./plots.js";
 
 const $ = (id) => document.getElementById(id);
-// The variables' names as the table says them (analytic.design_space.VARIABLE_NAMES).
-const LABELS = {arm_short: "short arm", counterweight_link: "weight link", clearance: "clearance",
-  sling_length: "sling", starting_angle: "starting angle", release_angle: "release angle"};
-const LIMIT_ROWS = [["max_footprint", "footprint at most", "length"], ["max_height", "pivot height at most", "length"],
-  ["axle_radius", "axle radius", "length"], ["max_axle_load", "peak axle load at most", "force"]];
 
 // The user's own bounds and limits (file units: m, deg, N), kept until another design is loaded;
 // the rest are the server's defaults around the design on screen.
@@ -25,12 +21,12 @@ export function setupOptimise(state, api, runJob) {
     if (!defaults) return;
     const rows = defaults.variables.filter((v) => !v.fixed).map((v) => {
       const [low, high] = edits[v.name] ?? [v.lower, v.upper];
-      return `<tr data-name="${v.name}" data-kind="${v.kind}"><td>${LABELS[v.name]}</td><td>${shown(v.kind, v.value)}</td>`
+      return `<tr data-name="${v.name}" data-kind="${v.kind}"><td>${v.label}</td><td>${shown(v.kind, v.value)}</td>`
         + `<td><input type="number" step="any" aria-label="${v.name} lower" value="${shown(v.kind, low)}"></td>`
         + `<td><input type="number" step="any" aria-label="${v.name} upper" value="${shown(v.kind, high)}"></td>`
         + `<td>${unitLabel(units(), v.kind, state.system)}</td></tr>`;
     }).join("");
-    const limits = LIMIT_ROWS.map(([name, label, kind]) => {
+    const limits = defaults.limit_rows.map(({name, label, kind}) => {
       const value = name in limitEdits ? limitEdits[name] : defaults.limits[name];
       return `<tr data-limit="${name}" data-kind="${kind}"><td colspan="2">${label}</td><td colspan="2">`
         + `<input type="number" step="any" min="0" aria-label="${name}" placeholder="none" `
@@ -97,6 +93,12 @@ function adopt(state, api, point) {
   api.loadDesign(design);
 }
 
+// The axle load as the tables name it (``GET /api/meta``'s ``loads``).
+function axleLoadLabel(state) {
+  const kind = getValue(state.design, "machine.kind") ?? defaultOf(state.design, "machine.kind");
+  return state.meta.loads.find((l) => l.name === "peak_axle_load").labels[kind];
+}
+
 function describeDesign(state, api, design) {
   const m = design.machine;
   const length = (v) => api.show(v, "length");
@@ -137,26 +139,30 @@ function frontPlot(state, api, result) {
   const canvas = $("front-plot");
   canvas.hidden = false;
   const ctx = canvas.getContext("2d");
-  const m = 40, W = canvas.width, H = canvas.height;
+  const W = canvas.width, H = canvas.height, margin = plotMargins(canvas);
+  const box = {left: margin.left, right: W - margin.right, top: margin.top, bottom: H - margin.bottom};
+  const units = state.meta.units, system = state.system;
+  // Each point's load and range in the shown units, as the axes read.
+  const load = (p) => shownValue(units, "force", system, p.peak_axle_load);
+  const reach = (p) => shownValue(units, "length", system, p.range);
   const shown = result.points.filter((p) => p.range !== null && p.peak_axle_load !== null);
   const start = result.problem === "paper" || result.start.range === null ? null : result.start;
   const all = start ? [...shown, start] : shown;
-  const loads = all.map((p) => p.peak_axle_load), ranges = all.map((p) => p.range);
+  const loads = all.map(load), ranges = all.map(reach);
   const span = (a) => { const lo = Math.min(...a), hi = Math.max(...a); const pad = 0.08 * (hi - lo || hi || 1); return [lo - pad, hi + pad]; };
   const [x0, x1] = span(loads), [y0, y1] = span(ranges);
-  const X = (v) => m + (W - 2 * m) * (v - x0) / (x1 - x0);
-  const Y = (v) => H - m - (H - 2 * m) * (v - y0) / (y1 - y0);
-  const at = shown.map((p) => [X(p.peak_axle_load), Y(p.range)]);
-  const describe = (p) => `range ${api.show(p.range, "length")} at peak axle load ${api.show(p.peak_axle_load, "force", 0)}`
+  const X = (v) => box.left + (box.right - box.left) * (v - x0) / (x1 - x0);
+  const Y = (v) => box.bottom - (box.bottom - box.top) * (v - y0) / (y1 - y0);
+  const at = shown.map((p) => [X(load(p)), Y(reach(p))]);
+  const loadName = axleLoadLabel(state);
+  const describe = (p) => `range ${api.show(p.range, "length")} at ${loadName} ${api.show(p.peak_axle_load, "force", 0)}`
     + (p.axle_limit === null ? " (no cap)" : ` (cap ${api.show(p.axle_limit, "force", 0)})`);
   const redraw = (picked) => {
     ctx.clearRect(0, 0, W, H);
-    ctx.strokeStyle = "#999"; ctx.lineWidth = 1;
-    ctx.beginPath(); ctx.moveTo(m, m / 2); ctx.lineTo(m, H - m); ctx.lineTo(W - m / 2, H - m); ctx.stroke();
-    ctx.fillStyle = "#333"; ctx.font = "13px sans-serif"; ctx.textAlign = "left";
-    ctx.fillText(`range ${api.show(y0, "length", 1)} .. ${api.show(y1, "length", 1)}`, m + 4, 14);
-    ctx.textAlign = "center";
-    ctx.fillText(`peak axle load ${api.show(x0, "force", 0)} .. ${api.show(x1, "force", 0)}`, W / 2, H - 12);
+    drawAxis(ctx, canvas, box, "bottom", {lo: x0, hi: x1, at: X,
+      title: `${loadName} (${unitLabel(units, "force", system)})`});
+    drawAxis(ctx, canvas, box, "left", {lo: y0, hi: y1, at: Y, title: `range (${unitLabel(units, "length", system)})`,
+      color: "#c0392b"});
     const order = at.map((_, i) => i).sort((a, b) => loads[a] - loads[b]);
     ctx.strokeStyle = "#c0392b"; ctx.lineWidth = 1.5; ctx.beginPath();
     order.forEach((i, k) => (k ? ctx.lineTo(...at[i]) : ctx.moveTo(...at[i])));
@@ -166,17 +172,17 @@ function frontPlot(state, api, result) {
       ctx.beginPath(); ctx.arc(x, y, i === picked ? 8 : 6, 0, 2 * Math.PI); ctx.fill();
     });
     if (start) {
-      const [x, y] = [X(start.peak_axle_load), Y(start.range)];
-      ctx.fillStyle = "#555"; ctx.beginPath();
+      const [x, y] = [X(load(start)), Y(reach(start))];
+      ctx.fillStyle = "#555"; ctx.font = readableFont(canvas); ctx.beginPath();
       ctx.moveTo(x, y - 7); ctx.lineTo(x + 7, y); ctx.lineTo(x, y + 7); ctx.lineTo(x - 7, y); ctx.closePath(); ctx.fill();
-      ctx.textAlign = x > W / 2 ? "right" : "left";
-      ctx.fillText("on screen", x + (x > W / 2 ? -10 : 10), y + 4);
+      ctx.textAlign = x > (box.left + box.right) / 2 ? "right" : "left";
+      ctx.fillText("on screen", x + (x > (box.left + box.right) / 2 ? -10 : 10), y + 4);
     }
   };
   redraw(-1);
   const scale = () => canvas.clientWidth / canvas.width;
   canvas.dataset.points = JSON.stringify(at.map(([x, y]) => [x * scale(), y * scale()]));
-  canvas.dataset.start = start ? JSON.stringify([X(start.peak_axle_load) * scale(), Y(start.range) * scale()]) : "";
+  canvas.dataset.start = start ? JSON.stringify([X(load(start)) * scale(), Y(reach(start)) * scale()]) : "";
   const nearest = (event) => {
     const x = event.offsetX / scale(), y = event.offsetY / scale();
     let best = -1, distance = PICK_RADIUS;

@@ -1,6 +1,6 @@
 // The tools panel: best pin, aim, what-if, ghosts and the cross-check, run as server jobs with progress and cancel.
 import {crosscheckTable} from "./crosscheck.js";
-import {fileValue, getValue, setValue, shownValue, unitLabel} from "./form.js";
+import {defaultOf, fileValue, getValue, setValue, shownValue, unitLabel} from "./form.js";
 import {followDesign, setupOptimise} from "./optimise.js";
 import {drawAxis, plotMargins} from "./plots.js";
 import {fieldKinds, localise} from "./units.js";
@@ -43,6 +43,13 @@ export function showAgain() {
   for (const show of Object.values(shownResults)) show();
 }
 
+// Keeps ``show`` (a function that draws a tool's result in the page's units) as what ``name`` shows,
+// redrawn after the units change; draws it now.
+export function keepShown(name, show) {
+  shownResults[name] = show;
+  show();
+}
+
 function adoptValue(state, api, name, value) {
   setValue(state.design, name, value);
   api.loadDesign(state.design);
@@ -50,6 +57,17 @@ function adoptValue(state, api, name, value) {
 
 function numericFields(state) {
   return state.meta.groups.flatMap((g) => g.fields).filter((f) => f.kind);
+}
+
+// The what-if's loads (``GET /api/meta``'s ``loads``), each named as on the machine on screen and with
+// the unit it is shown in.
+export function labelLoads(state) {
+  const select = $("whatif-load");
+  const kind = getValue(state.design, "machine.kind") ?? defaultOf(state.design, "machine.kind");
+  const chosen = select.value || state.meta.loads[0].name;
+  select.innerHTML = state.meta.loads.map((load) => `<option value="${load.name}">${load.labels[kind]} `
+    + `(${unitLabel(state.meta.units, load.kind, state.system)})</option>`).join("");
+  select.value = chosen;
 }
 
 export function setupTools(state, api) {
@@ -91,7 +109,7 @@ export function setupTools(state, api) {
       return;
     }
     // Of several settings that land on the target, the one nearest the present setting.
-    const now = getValue(state.design, name);
+    const now = getValue(state.design, name) ?? defaultOf(state.design, name);
     const best = result.solutions.reduce((a, b) => (Math.abs(b.value - now) < Math.abs(a.value - now) ? b : a));
     const kind = fields.find((f) => f.name === name).kind;
     const shownValue_ = shownValue(state.meta.units, kind, state.system, best.value);
@@ -102,7 +120,7 @@ export function setupTools(state, api) {
 
   $("whatif").addEventListener("click", async () => {
     const name = $("whatif-field").value;
-    const value = getValue(state.design, name);
+    const value = getValue(state.design, name) ?? defaultOf(state.design, name);
     if (typeof value !== "number") return toolError({error: `${name} is not set in this design`});
     const row = document.querySelector(`.field[data-field="${name}"]`);
     const kind = row.dataset.kind;
