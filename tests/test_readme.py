@@ -60,12 +60,12 @@ def subcommands(package: str) -> set[str]:
     """The subcommands ``python -m PACKAGE --help`` lists (its ``{a,b,...}`` choice)."""
     usage = subprocess.run([sys.executable, "-m", package, "--help"], cwd=ROOT, capture_output=True,
                            text=True, check=True).stdout
-    return set(re.search(r"\{([a-z_,]+)\}", usage).group(1).split(","))
+    return set(re.search(r"\{([a-z_,-]+)\}", usage).group(1).split(","))
 
 
 @pytest.mark.parametrize("package", ["analytic", "engine_model"])
 def test_the_readme_has_one_line_per_subcommand(package):
-    listed = re.findall(rf"^\| `python -m {package} (\w+)", readme(), flags=re.MULTILINE)
+    listed = re.findall(rf"^\| `python -m {package} ([\w-]+)", readme(), flags=re.MULTILINE)
     assert len(listed) == len(set(listed)), f"a subcommand of {package} is listed twice: {listed}"
     assert set(listed) == subcommands(package)
 
