@@ -19,6 +19,7 @@ import functools
 import math
 import os
 import sys
+import threading
 from pathlib import Path
 from typing import Any, NamedTuple
 
@@ -82,12 +83,24 @@ FIELD_KINDS = {
 _BOUND_KEYS = ("lower", "upper", "value")
 
 
+_REGISTRY_LOCK = threading.Lock()
+
+
 @functools.cache
-def registry():
-    """pint's unit registry, built once: 0.4 s, 0.1 s from its disk cache (``unit_cache_folder``)."""
+def _built_registry():
     import pint
 
     return pint.UnitRegistry(cache_folder=unit_cache_folder())
+
+
+def registry():
+    """pint's unit registry, built once: 0.4 s, 0.1 s from its disk cache (``unit_cache_folder``).
+
+    Built under a lock: threads that first read a unit at the same time (a server's requests)
+    must share one registry, since a quantity of one registry is not a quantity of another.
+    """
+    with _REGISTRY_LOCK:
+        return _built_registry()
 
 
 def unit_cache_folder() -> Path | None:
@@ -151,8 +164,9 @@ def parse(field: str, text: str, kind: Kind) -> float | int:
     if not any(character.isdigit() for character in text):   # pint reads "m" alone as 1 m
         raise DesignError(field, text, f"must be a number, or a {kind.name} with a unit: there is no number; "
                                        f"{expected}")
+    units = registry()
     try:
-        quantity = registry().Quantity(text)
+        quantity = units.Quantity(text)
     except pint.UndefinedUnitError as error:
         names = ", ".join(repr(name) for name in error.unit_names)
         guess = did_you_mean(error.unit_names[0], COMMON_UNITS) if error.unit_names else ""
@@ -160,15 +174,15 @@ def parse(field: str, text: str, kind: Kind) -> float | int:
                                        f"{guess}{expected}") from None
     except Exception:   # pint's parser raises assorted errors for text that is no expression at all
         raise DesignError(field, text, f"must be a number, or a {kind.name} with a unit; {expected}") from None
-    if not isinstance(quantity, registry().Quantity):   # a bare number in text
-        quantity = registry().Quantity(quantity)
+    if not isinstance(quantity, units.Quantity):   # a bare number in text
+        quantity = units.Quantity(quantity)
     if quantity.unitless:
         if kind is NUMBER:
             raise DesignError(field, text, "must be a number")
         raise DesignError(field, text, f"must be a number (in {kind.file_unit}), or a {kind.name} with a unit; "
                                        f"{expected}")
     if kind is ANGLE:
-        compatible = quantity.dimensionless and quantity.units != registry().dimensionless
+        compatible = quantity.dimensionless and quantity.units != units.dimensionless
     else:
         compatible = kind.dimensionality != "" and quantity.check(kind.dimensionality)
     if not compatible:

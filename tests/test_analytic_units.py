@@ -204,3 +204,42 @@ def test_units_still_read_after_another_environment_that_cached_pint_is_deleted(
     done = subprocess.run([sys.executable, "-c", read], env=env, capture_output=True, text=True)
     assert done.returncode == 0, done.stderr[-500:]
     assert float(done.stdout) == pytest.approx(0.6096, rel=1e-15)   # 2 ft = 0.6096 m exactly (international foot)
+
+
+#: Texts that threads read at once, each as a value of its field: with units of several kinds.
+FIRST_TEXTS = (("machine.pivot_height", "5 ft"), ("losses.axle_radius", "0.5 in"), ("machine.arm_mass", "14 lb"),
+               ("machine.release_angle", "43 deg"), ("environment.air_density", "1.2 kg/m^3"),
+               ("machine.arm_long", "61 cm"))
+READ_AT_ONCE = f"""
+import json, sys, threading
+sys.setswitchinterval(1e-6)   # threads trade the interpreter as often as it allows
+from analytic.units import from_file
+texts = {list(FIRST_TEXTS) * 2!r}
+barrier, read, errors = threading.Barrier(len(texts)), {{}}, []
+def first_read(field, text):
+    barrier.wait()
+    try:
+        read[text] = from_file(field, text)
+    except Exception as error:
+        errors.append(f"{{type(error).__name__}}: {{error}}")
+threads = [threading.Thread(target=first_read, args=pair) for pair in texts]
+for thread in threads: thread.start()
+for thread in threads: thread.join()
+print(json.dumps({{"read": read, "errors": errors}}))
+"""
+
+
+@pytest.mark.parametrize("attempt", range(3))
+def test_threads_that_first_read_units_at_once_all_read_them(attempt):
+    # Found on 2026-11-29: the workbench's page asks for its presets and its fields at once, and
+    # on a fresh server the two threads built two unit registries; a quantity of one was not a
+    # quantity of the other, and "5 ft" was refused as "must be a number (in m)" (HTTP 400). Each
+    # attempt is a fresh process, whose first reads are the race; before the fix every attempt
+    # of six refused three to six of the twelve texts.
+    done = subprocess.run([sys.executable, "-c", READ_AT_ONCE], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr[-500:]
+    answer = json.loads(done.stdout)
+    assert answer["errors"] == []
+    # The definitions (module docstring); 43 deg and 61 cm are in the file's own units.
+    assert answer["read"] == pytest.approx({"5 ft": 5 * FOOT, "0.5 in": 0.5 * INCH, "14 lb": 14 * POUND,
+                                            "43 deg": 43.0, "1.2 kg/m^3": 1.2, "61 cm": 0.61}, rel=1e-15)

@@ -13,12 +13,14 @@ import re
 import socket
 import subprocess
 import sys
+import time
 import urllib.request
 from pathlib import Path
 from urllib.parse import urlparse
 
 import pytest
 import tomli_w
+from playwright.sync_api import TimeoutError as PlaywrightTimeout
 
 from analytic.design_file import load_design
 from workbench.presets import PRESETS
@@ -26,10 +28,10 @@ from workbench.presets import PRESETS
 ROOT = Path(__file__).resolve().parents[1]
 CHROMIUM = "/usr/bin/chromium"
 SHOTS = ROOT / "out" / "workbench"
-#: Waits, ms: the first shot of a page (the reference path with histories is about 0.15 s alone, but
-#: a page waited over 20 s for it in the whole suite on 2 busy cores, beside the other worker's
-#: engine runs; the server's first shot, which loads the fast path's cache, is taken before
-#: any page opens) and a tool's job.
+#: Waits, ms: the first shot of a page (about 0.15 s alone; the server's first shot, which loads
+#: the fast path's cache, is taken before any page opens, and a page that waits in vain says what
+#: it saw, ``open_page``) and a tool's job. Bounds for a machine whose two cores are busy with
+#: the suite's other worker, not expected times.
 SHOT_WAIT = 60_000
 #: The server's first shot, s, asked before any page opens (``server``): a cold numba cache compiles.
 FIRST_SHOT_WAIT = 600
@@ -50,18 +52,22 @@ def browser_type_launch_args():
 
 
 @pytest.fixture(scope="session")
-def server():
+def server(tmp_path_factory):
+    """The server, its messages (stderr) to a file: a pipe nobody reads would stop it once full."""
     with socket.socket() as sock:
         sock.bind(("127.0.0.1", 0))
         port = sock.getsockname()[1]
+    log_path = tmp_path_factory.mktemp("workbench") / "server.log"
+    log = log_path.open("w")
     process = subprocess.Popen([sys.executable, "-m", "workbench", "--port", str(port), "--no-browser"],
-                               cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                               cwd=ROOT, stdout=subprocess.PIPE, stderr=log, text=True)
     line = process.stdout.readline()
-    assert f"http://127.0.0.1:{port}/" in line, line + process.stderr.read()
+    assert f"http://127.0.0.1:{port}/" in line, line + log_path.read_text()
     _first_shot(f"http://127.0.0.1:{port}/")
     yield f"http://127.0.0.1:{port}/"
     process.terminate()
     process.communicate(timeout=10)
+    log.close()
 
 
 def _first_shot(url: str) -> None:
@@ -87,8 +93,22 @@ def shots(page) -> int:
 
 
 def open_page(page, server, wait_for=1):
+    """Open the page and wait for its first shot; if it does not come, fail with what the page saw."""
+    seen: list[str] = []
+    started = time.monotonic()
+    stamp = lambda: f"{time.monotonic() - started:7.2f} s"   # noqa: E731
+    page.on("console", lambda message: seen.append(f"{stamp()} console {message.type}: {message.text}"))
+    page.on("pageerror", lambda error: seen.append(f"{stamp()} page error: {error}"))
+    page.on("request", lambda request: seen.append(f"{stamp()} -> {request.method} {request.url}"))
+    page.on("requestfinished", lambda request: seen.append(f"{stamp()} <- {request.url}"))
+    page.on("requestfailed", lambda request: seen.append(f"{stamp()} failed {request.url}: {request.failure}"))
     page.goto(server)
-    page.wait_for_function(f"Number(document.body.dataset.shots || 0) >= {wait_for}", timeout=SHOT_WAIT)
+    try:
+        page.wait_for_function(f"Number(document.body.dataset.shots || 0) >= {wait_for}", timeout=SHOT_WAIT)
+    except PlaywrightTimeout:
+        state = page.evaluate("JSON.stringify({...document.body.dataset, "
+                              "error: document.getElementById('design-error')?.textContent})")
+        pytest.fail(f"no shot drawn after {stamp()}; the page: {state}\n" + "\n".join(seen))
 
 
 def wait_for_next_shot(page, before: int):
@@ -127,6 +147,22 @@ def test_page_loads_without_console_errors_or_requests_elsewhere(page, server):
     assert page.get_by_test_id("status").inner_text() == "ok"
     assert errors == []
     assert hosts == {urlparse(server).netloc}
+
+
+def test_a_page_whose_server_refuses_its_start_says_so(page, server):
+    # The page's first two requests (its fields and its presets) answered with an error, as a
+    # fresh server once did when two threads first read units at once: the page names it.
+    page.route("**/api/presets", lambda route: route.fulfill(
+        status=400, content_type="application/json",
+        body=json.dumps({"error": "machine.pivot_height = '5 ft': must be a number", "field": ""})))
+    errors = []
+    page.on("pageerror", lambda error: errors.append(str(error)))
+    page.goto(server)
+    message = page.get_by_test_id("design-error")
+    message.wait_for(state="visible", timeout=SHOT_WAIT)
+    assert "could not start" in message.inner_text()
+    assert "/api/presets: machine.pivot_height = '5 ft': must be a number" in message.inner_text()
+    assert errors == []
 
 
 def test_sling_length_slider_gives_the_command_lines_range(page, server, tmp_path):

@@ -278,9 +278,23 @@ function designFromLink() {
 }
 
 // ---- start -------------------------------------------------------------------------------------------
+// The server's answer to a GET, or an error with its message.
+async function fetched(url) {
+  const response = await fetch(url);
+  const data = await response.json().catch(() => ({}));
+  if (!response.ok) throw new Error(`${url}: ${data.error ?? `HTTP ${response.status}`}`);
+  return data;
+}
+
 async function start() {
-  const [meta, presets] = await Promise.all([fetch("/api/meta").then((r) => r.json()),
-    fetch("/api/presets").then((r) => r.json())]);
+  let meta, presets;
+  try {
+    [meta, presets] = await Promise.all([fetched("/api/meta"), fetched("/api/presets")]);
+  } catch (error) {   // said on the page, never left as a script error behind a blank form
+    $("design-error").hidden = false;
+    $("design-error").textContent = `the page could not start (reload to try again): ${error.message}`;
+    return;
+  }
   state.meta = meta; state.presets = presets;
   buildForm($("fields"), meta.groups, onField);
   useRules(meta.rules);
