@@ -577,3 +577,44 @@ def test_a_batch_finds_the_peak_loads_only_when_asked():
     assert thrown.any() and np.all(np.isfinite(with_loads.peak_sling_tension[thrown]))
     # The loads are outputs only: the shot itself is the same either way.
     np.testing.assert_array_equal(without.range, with_loads.range)
+
+
+#: Designs of several scopes, each a fresh process's first shot of its scope: the paper's optimum,
+#: with the realistic losses, on a rolling frame, and under the ideal release rule.
+FIRST_SHOTS = """
+import dataclasses, json, sys, threading
+from analytic.design_file import default_design
+from analytic.fast import simulate_fast
+from benchmarks.designs import ROLLING_FRAME, TYPICAL_LOSSES
+
+def designs():
+    d = default_design()
+    return [d, dataclasses.replace(d, losses=TYPICAL_LOSSES), dataclasses.replace(d, base=ROLLING_FRAME),
+            dataclasses.replace(d, machine=dataclasses.replace(d.machine, release_rule="ideal", release_angle=None))]
+
+if __name__ == "__main__":
+    sys.setswitchinterval(1e-6)
+    shots = designs() * 2
+    barrier, ranges = threading.Barrier(len(shots)), [None] * len(shots)
+    def first(i):
+        barrier.wait()
+        ranges[i] = simulate_fast(shots[i]).range.hex()
+    threads = [threading.Thread(target=first, args=(i,)) for i in range(len(shots))]
+    for thread in threads: thread.start()
+    for thread in threads: thread.join()
+    print(json.dumps(ranges))
+"""
+
+
+def test_threads_that_first_shoot_at_once_give_each_scope_its_own_numbers(tmp_path):
+    # A server's first requests may each be the first shot of its scope: eight threads at once,
+    # in a fresh process, give the numbers the same designs give one at a time in this one.
+    script = tmp_path / "first_shots.py"
+    script.write_text(FIRST_SHOTS)
+    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True,
+                          env={**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)})
+    assert done.returncode == 0, done.stderr[-800:]
+    namespace: dict = {}
+    exec(compile(FIRST_SHOTS.replace('if __name__ == "__main__":', "if False:"), "first_shots", "exec"), namespace)
+    expected = [fast.simulate_fast(design).range.hex() for design in namespace["designs"]()] * 2
+    assert json.loads(done.stdout) == expected

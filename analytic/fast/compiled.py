@@ -47,6 +47,7 @@ from __future__ import annotations
 import functools
 import hashlib
 import os
+import threading
 import types
 from pathlib import Path
 
@@ -380,6 +381,10 @@ def _scope_function(scope: Scope, label: bool = True):
 
 
 _scopes: dict[str, dict[str, types.ModuleType]] = {}
+#: Held while a scope's or the callable twins' modules are built: threads that first shoot at once
+#: (a server's requests) share one build, as they must (two builds' twins, with the same names,
+#: would each drop and load the same cache files).
+_BUILDING = threading.RLock()
 
 
 def kernel_scope(scope: Scope) -> dict[str, types.ModuleType]:
@@ -391,17 +396,23 @@ def kernel_scope(scope: Scope) -> dict[str, types.ModuleType]:
     scope's switches, so numba prunes what the scope leaves out before it types anything
     (``analytic.scope``).
     """
-    if scope.name not in _scopes:
-        modules = compile_modules((*MODEL_MODULES, dop853, kernel_loads, kernel), _scope_function(scope), INLINE,
-                                  constants=scope.globals())
-        _check_cache(modules["kernel"].shots)
-        _scopes[scope.name] = modules
-    return _scopes[scope.name]
+    with _BUILDING:
+        if scope.name not in _scopes:
+            modules = compile_modules((*MODEL_MODULES, dop853, kernel_loads, kernel), _scope_function(scope), INLINE,
+                                      constants=scope.globals())
+            _check_cache(modules["kernel"].shots)
+            _scopes[scope.name] = modules
+        return _scopes[scope.name]
+
+
+def _model_twins() -> tuple[dict[str, types.ModuleType], dict[str, types.ModuleType]]:
+    """``(kernel_twins, callable_twins)``, built on first use."""
+    with _BUILDING:
+        return _built_model_twins()
 
 
 @functools.cache
-def _model_twins() -> tuple[dict[str, types.ModuleType], dict[str, types.ModuleType]]:
-    """``(kernel_twins, callable_twins)``, built on first use."""
+def _built_model_twins() -> tuple[dict[str, types.ModuleType], dict[str, types.ModuleType]]:
     kernel_twins = compile_modules(MODEL_MODULES, _scope_function(EVERYTHING, label=False), INLINE,
                                    constants=EVERYTHING.globals())
 
