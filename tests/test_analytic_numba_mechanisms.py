@@ -251,7 +251,7 @@ def test_importing_the_fast_path_builds_nothing_and_deletes_nothing(tmp_path):
                 importlib.import_module(module.name)
         from analytic.fast import compiled
         print(json.dumps({"dispatchers": count() - before, "scopes": len(compiled._scopes),
-                          "twins": compiled._model_twins.cache_info().currsize}))
+                          "twins": compiled._built_model_twins.cache_info().currsize}))
     """
     assert json.loads(run(imports).splitlines()[-1]) == {"dispatchers": 0, "scopes": 0, "twins": 0}
     assert stale.exists()
