@@ -19,6 +19,7 @@ degrees) throughout.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -139,7 +140,8 @@ def check_inputs(target: float, bounds: tuple[float, float], within: float | Non
 
 def aim(design: Design, field_name: str, target: float, *, bounds: tuple[float, float] | None = None,
         within: float | None = None, points: int = SCAN_POINTS,
-        scanned: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None) -> Aim:
+        scanned: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
+        check: Callable[[], None] | None = None) -> Aim:
     """The settings of ``field_name`` that land ``design``'s projectile ``target`` metres from the pivot.
 
     Parameters
@@ -154,6 +156,8 @@ def aim(design: Design, field_name: str, target: float, *, bounds: tuple[float, 
     scanned : ``(values, ranges, status)`` of an earlier ``scan`` of this design and field over
         ``np.linspace(*bounds, points)``, reused instead of shooting the scan again (a firing
         table aims at many targets from one scan).
+    check : called before every shot after the scan; what it raises ends the search there and is
+        raised again (the workbench stops a cancelled job so).
 
     Returns
     -------
@@ -185,7 +189,10 @@ def aim(design: Design, field_name: str, target: float, *, bounds: tuple[float, 
         ranges, status = scanned[1], scanned[2]
     ok = np.isfinite(ranges)
 
+    stop = (lambda: None) if check is None else check
+
     def fast_range(value: float) -> float:
+        stop()
         try:
             shot = fast.simulate_fast(target_field.replace(design, value), loads=False)
         except DesignError:
@@ -207,6 +214,7 @@ def aim(design: Design, field_name: str, target: float, *, bounds: tuple[float, 
                 brackets += [(values[max(i - 1, 0)], extreme_v), (extreme_v, values[min(i + 1, points - 1)])]
     solutions = []
     for a, b in sorted(set(brackets)):
+        stop()
         found = _solve(design, target_field, fast_range, a, b, target, bounds, within, values, ranges)
         if found is not None:
             solutions.append(found)

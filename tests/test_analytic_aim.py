@@ -167,3 +167,33 @@ def test_imperial_output_shows_feet_and_pounds(table3, tmp_path, capsys):
     assert f"counterweight_mass = {solution['value'] / pound:.6f} lb" in text
     assert f"{solution['metres_per_unit'] / foot * pound:+.4f} ft per lb" in text
     assert "at 100.0000 ft" in text
+
+
+class Stop(Exception):
+    """What a caller's check raises to end a search (the workbench's is ``Cancelled``)."""
+
+
+def _stops_at(calls: int):
+    """A check that raises ``Stop`` at its ``calls``-th call, and counts them."""
+    seen = []
+
+    def check() -> None:
+        seen.append(None)
+        if len(seen) == calls:
+            raise Stop
+
+    return check, seen
+
+
+@pytest.mark.parametrize("calls", [1, 5])
+def test_a_check_that_raises_ends_aim_at_once(table3, calls, monkeypatch):
+    # Counted from the fast shots aim asks for after its scan: none may follow the check that raised.
+    from analytic import fast
+
+    shots, original = [], fast.simulate_fast
+    monkeypatch.setattr(fast, "simulate_fast", lambda *a, **k: shots.append(None) or original(*a, **k))
+    check, seen = _stops_at(calls)
+    with pytest.raises(Stop):
+        aim(table3, "machine.release_angle", 30.0, check=check)
+    assert len(seen) == calls
+    assert len(shots) == calls - 1   # each check before its shot: the last one's shot never ran

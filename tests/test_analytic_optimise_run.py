@@ -71,3 +71,28 @@ def test_optimum_is_a_first_order_point_and_nothing_failed_there(optima, seed):
     assert optimum.first_order.residual < RESIDUAL_LIMIT
     assert all(value >= 0.0 for value in optimum.first_order.bound_multipliers.values())
     assert optimum.local_message == "Optimization terminated successfully"
+
+
+@pytest.mark.parametrize("batches", [1, 4])
+def test_a_check_that_raises_ends_the_optimisation_before_its_next_batch(batches):
+    # The workbench's cancel: the evaluator calls the check before each batch of shots, and the
+    # optimisation ends there, its last batch never shot.
+    from analytic.optimise import optimise
+
+    seen = []
+
+    class Stop(Exception):
+        pass
+
+    def check() -> None:
+        seen.append(None)
+        if len(seen) == batches:
+            raise Stop
+
+    shot = []
+    original = Evaluator._fast_throws
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(Evaluator, "_fast_throws", lambda self, *a: shot.append(None) or original(self, *a))
+        with pytest.raises(Stop):
+            optimise(default_problem(), workers=1, settings=Settings(maxiter=40), check=check)
+    assert len(seen) == batches and len(shot) == batches - 1

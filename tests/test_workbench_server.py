@@ -120,6 +120,31 @@ def test_a_cancelled_tool_stops_at_its_next_step():
     assert running.progress < 1.0 and running.result is None
 
 
+@pytest.mark.parametrize("tool, inputs", [
+    ("optimise", {"front": True, "problem": "around", "generations": 40}),
+    ("optimise", {"front": False, "problem": "paper", "generations": 40}),
+])
+def test_a_cancelled_optimisation_stops_before_its_next_batch_of_shots(monkeypatch, tool, inputs):
+    """The optimiser checks the job before each batch of shots (``Evaluator(check=...)``): cancelled
+    mid-search, at most the batch in flight is shot, and its thread ends without a result."""
+    from analytic.optimise.evaluate import Evaluator
+
+    batches, original = [], Evaluator._fast_throws
+    monkeypatch.setattr(Evaluator, "_fast_throws", lambda self, *a: batches.append(None) or original(self, *a))
+    client = client_at("127.0.0.1")
+    job = client.post("/api/jobs", json={"tool": tool, "design": tables(), "client": "c", "inputs": inputs}).json()
+    deadline = time.monotonic() + STOP_WAIT
+    while len(batches) < 3 and time.monotonic() < deadline:   # well into the global stage's generations
+        time.sleep(0.01)
+    assert len(batches) >= 3
+    client.post(f"/api/jobs/{job['id']}/cancel", json={})
+    shot_before = len(batches)
+    running = client.app.state.jobs.get(job["id"])
+    assert running.ended.wait(STOP_WAIT)
+    assert len(batches) <= shot_before + 1
+    assert running.result is None and running.to_json()["state"] == "cancelled"
+
+
 def _on_the_loop() -> bool:
     try:
         asyncio.get_running_loop()

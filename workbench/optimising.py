@@ -141,7 +141,7 @@ def optimise_design(design: Design, inputs: dict[str, Any], job: Job) -> dict[st
         cap = runs[index]
         limited = problem if cap is None else dataclasses.replace(
             problem, load_limits=tuple(p for p in problem.load_limits if p[0] != "axle_load") + (("axle_load", cap),))
-        result = optimise(limited, workers=1, start=start, settings=settings)
+        result = optimise(limited, workers=1, start=start, settings=settings, check=job.check)
         values, load = result.optimum.values, result.peaks["optimum"].get("peak_axle_load")
         reach = None if load is None else result.ranges["optimum"]   # no peaks: nothing found throws
         points.append({"axle_limit": cap, "range": reach, "peak_axle_load": load, "values": values,

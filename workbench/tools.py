@@ -81,6 +81,7 @@ def best_pin(design: Design, inputs: dict[str, Any], job: Job) -> dict[str, Any]
     a, b = values[max(best - 1, 0)], values[min(best + 1, len(values) - 1)]
 
     def negative_range(angle: float) -> float:
+        job.check()
         shot = fast.simulate_fast(target.replace(design, angle), loads=False)
         return -shot.range if shot.ok else math.inf
 
@@ -98,7 +99,7 @@ def aim_at(design: Design, inputs: dict[str, Any], job: Job) -> dict[str, Any]:
     bounds = default_bounds(target_field, design)
     check_inputs(target, bounds, None)
     job.check()
-    return aim(design, target_field.name, target, bounds=bounds).to_json()
+    return aim(design, target_field.name, target, bounds=bounds, check=job.check).to_json()
 
 
 def what_if(design: Design, inputs: dict[str, Any], job: Job) -> dict[str, Any]:
@@ -194,7 +195,8 @@ def firing(design: Design, inputs: dict[str, Any], job: Job) -> dict[str, Any]:
     rows = []
     for index, mass in enumerate([None] if masses is None else masses):
         job.check()
-        table = firing_table(design, target_field.name, ranges["targets"], None if mass is None else [mass])
+        table = firing_table(design, target_field.name, ranges["targets"], None if mass is None else [mass],
+                             check=job.check)
         rows += [{"target": e.target, "projectile_mass": e.projectile_mass, "values": list(e.settings),
                   "status": e.status} for e in table.entries]
         job.progress = (index + 1) / (1 if masses is None else len(masses))

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -245,7 +246,8 @@ def check_inputs(design: Design, target_field: Field, masses, fitted: Fitted | N
 
 
 def firing_table(design: Design, field_name: str, targets, masses=None, *, calibration=None,
-                 points: int = SCAN_POINTS, progress: bool = False) -> FiringTable:
+                 points: int = SCAN_POINTS, progress: bool = False,
+                 check: Callable[[], None] | None = None) -> FiringTable:
     """The settings of ``field_name`` that land on each target, at each projectile mass.
 
     Parameters
@@ -258,6 +260,8 @@ def firing_table(design: Design, field_name: str, targets, masses=None, *, calib
     calibration : an ``analytic.calibrate.Calibration`` to shoot at and take bands from, or None.
     points : settings scanned over the bounds (``analytic.aim.SCAN_POINTS``).
     progress : a progress bar on stderr, an entry a step.
+    check : called before every shot after each scan (``analytic.aim.aim``); what it raises ends
+        the table there and is raised again.
 
     Returns
     -------
@@ -291,7 +295,7 @@ def firing_table(design: Design, field_name: str, targets, masses=None, *, calib
             span = None
             for target in targets:
                 found = aim(shot_design, target_field.name, float(target), bounds=bounds, points=points,
-                            scanned=(values, ranges, status))
+                            scanned=(values, ranges, status), check=check)
                 span = found.reachable
                 entries.append(_entry(found, float(mass), base, target_field, fitted))
                 bar.update(1)

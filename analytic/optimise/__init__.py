@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -78,7 +79,7 @@ class Optimisation:
 def optimise(problem: Problem, *, seed: int = 0, robust_sigma: float | None = None,
              nodes: int = DEFAULT_NODES, path: str = FAST, workers: int | None = None,
              progress: bool = False, start: np.ndarray | None = None,
-             settings: Settings | None = None) -> Optimisation:
+             settings: Settings | None = None, check: Callable[[], None] | None = None) -> Optimisation:
     """Maximise the range over the problem's free variables, and everything the report shows.
 
     The global stage (differential evolution) warm-starts the local one
@@ -114,6 +115,9 @@ def optimise(problem: Problem, *, seed: int = 0, robust_sigma: float | None = No
         good when it meets the problem's limits.
     settings : Settings, optional
         The search's budget (``search.Settings``); default ``Settings(seed=seed)``.
+    check : callable, optional
+        Called before every batch of shots (``evaluate.Evaluator``); what it raises ends the
+        optimisation there and is raised again (the workbench stops a cancelled job so).
 
     Returns
     -------
@@ -143,7 +147,7 @@ def optimise(problem: Problem, *, seed: int = 0, robust_sigma: float | None = No
         paper = problem.complete(variables_of(default_design().machine))
         if problem.kind != "hinged":   # the paper's frame and arms, its counterweight bolted on
             paper = bolted(paper)
-    with Evaluator(problem, path=path, workers=workers) as evaluator:
+    with Evaluator(problem, path=path, workers=workers, check=check) as evaluator:
         optima = {"optimum": maximise(problem, evaluator, settings, progress=progress, include=start)}
         if scatter is not None:
             optima["robust optimum"] = maximise(problem, evaluator, settings, scatter=scatter,

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import multiprocessing
 from collections import Counter
+from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 from typing import Self
@@ -139,6 +140,8 @@ class Evaluator:
     workers : threads (fast path; default ``analytic.fast.default_threads()``)
         or worker processes (reference path; default ``DEFAULT_PROCESSES``)
         shooting at once.
+    check : called before every batch of shots; what it raises ends the search there (a
+        workbench job that was cancelled, or ran out of time).
 
     Attributes
     ----------
@@ -147,7 +150,8 @@ class Evaluator:
     shots : number of shots simulated.
     """
 
-    def __init__(self, problem: Problem, *, path: str = FAST, workers: int | None = None):
+    def __init__(self, problem: Problem, *, path: str = FAST, workers: int | None = None,
+                 check: Callable[[], None] | None = None):
         if path not in PATHS:
             raise ValueError(f"path = {path!r}: must be one of {', '.join(PATHS)}")
         if workers is None and path == FAST:
@@ -160,6 +164,7 @@ class Evaluator:
             raise ValueError(f"workers = {workers!r}: need at least one")
         self.problem = problem
         self.path = path
+        self._check = check
         self.failures: Counter[str] = Counter()
         self.shots = 0
         self._pool = None
@@ -190,6 +195,8 @@ class Evaluator:
         values : (S, n) design vectors (``problem.variables``), m, rad and kg.
         loads : find the peak loads; by default only when the problem constrains them.
         """
+        if self._check is not None:
+            self._check()
         values = np.asarray(values, dtype=float).reshape(-1, len(self.problem.variables))
         if loads is None:
             loads = bool(self.problem.outcome_constraints)
