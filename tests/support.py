@@ -481,3 +481,20 @@ def page_client():
     from workbench.app import build_app
 
     return TestClient(build_app(), base_url=PAGE_URL, raise_server_exceptions=False)
+
+
+class Stop(Exception):
+    """What a caller's ``check`` raises to end a search (the workbench's is ``Cancelled``)."""
+
+
+def stops_at(calls: int):
+    """``(check, seen)``: a check that raises ``Stop`` at its ``calls``-th call, and the list it counts
+    its calls in."""
+    seen: list[None] = []
+
+    def check() -> None:
+        seen.append(None)
+        if len(seen) == calls:
+            raise Stop
+
+    return check, seen

@@ -15,6 +15,7 @@ from analytic.design_file import save_design
 from analytic.fields import field
 from analytic.reference import simulate
 from crosscheck.cases import sample_cases
+from support import Stop, stops_at
 
 
 def _landing(design, name, value):
@@ -169,21 +170,6 @@ def test_imperial_output_shows_feet_and_pounds(table3, tmp_path, capsys):
     assert "at 100.0000 ft" in text
 
 
-class Stop(Exception):
-    """What a caller's check raises to end a search (the workbench's is ``Cancelled``)."""
-
-
-def _stops_at(calls: int):
-    """A check that raises ``Stop`` at its ``calls``-th call, and counts them."""
-    seen = []
-
-    def check() -> None:
-        seen.append(None)
-        if len(seen) == calls:
-            raise Stop
-
-    return check, seen
-
 
 @pytest.mark.parametrize("calls", [1, 5])
 def test_a_check_that_raises_ends_aim_at_once(table3, calls, monkeypatch):
@@ -192,7 +178,7 @@ def test_a_check_that_raises_ends_aim_at_once(table3, calls, monkeypatch):
 
     shots, original = [], fast.simulate_fast
     monkeypatch.setattr(fast, "simulate_fast", lambda *a, **k: shots.append(None) or original(*a, **k))
-    check, seen = _stops_at(calls)
+    check, seen = stops_at(calls)
     with pytest.raises(Stop):
         aim(table3, "machine.release_angle", 30.0, check=check)
     assert len(seen) == calls

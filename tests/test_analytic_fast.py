@@ -27,7 +27,7 @@ from analytic import aero, eom, fast, geometry, stages, states
 from analytic.fast import compiled, kernel
 from analytic.aero import DRAG_TABLE
 from analytic.design import Base
-from analytic.design_file import default_design
+from analytic.design_file import default_design, design_from_dict, design_to_dict
 from benchmarks.cli import main as bench_main
 from benchmarks.designs import ROLLING_FRAME, TYPICAL_LOSSES, bench_designs
 from benchmarks.report import format_bench
@@ -579,42 +579,35 @@ def test_a_batch_finds_the_peak_loads_only_when_asked():
     np.testing.assert_array_equal(without.range, with_loads.range)
 
 
-#: Designs of several scopes, each a fresh process's first shot of its scope: the paper's optimum,
-#: with the realistic losses, on a rolling frame, and under the ideal release rule.
 FIRST_SHOTS = """
-import dataclasses, json, sys, threading
-from analytic.design_file import default_design
+import json, sys, threading
+from analytic.design_file import design_from_dict
 from analytic.fast import simulate_fast
-from benchmarks.designs import ROLLING_FRAME, TYPICAL_LOSSES
 
-def designs():
-    d = default_design()
-    return [d, dataclasses.replace(d, losses=TYPICAL_LOSSES), dataclasses.replace(d, base=ROLLING_FRAME),
-            dataclasses.replace(d, machine=dataclasses.replace(d.machine, release_rule="ideal", release_angle=None))]
-
-if __name__ == "__main__":
-    sys.setswitchinterval(1e-6)
-    shots = designs() * 2
-    barrier, ranges = threading.Barrier(len(shots)), [None] * len(shots)
-    def first(i):
-        barrier.wait()
-        ranges[i] = simulate_fast(shots[i]).range.hex()
-    threads = [threading.Thread(target=first, args=(i,)) for i in range(len(shots))]
-    for thread in threads: thread.start()
-    for thread in threads: thread.join()
-    print(json.dumps(ranges))
+sys.setswitchinterval(1e-6)   # threads trade the interpreter as often as it allows
+shots = [design_from_dict(tables) for tables in json.loads(sys.stdin.read())]
+barrier, ranges = threading.Barrier(len(shots)), [None] * len(shots)
+def first(i):
+    barrier.wait()
+    ranges[i] = simulate_fast(shots[i]).range.hex()
+threads = [threading.Thread(target=first, args=(i,)) for i in range(len(shots))]
+for thread in threads: thread.start()
+for thread in threads: thread.join()
+print(json.dumps(ranges))
 """
 
 
-def test_threads_that_first_shoot_at_once_give_each_scope_its_own_numbers(tmp_path):
-    # A server's first requests may each be the first shot of its scope: eight threads at once,
-    # in a fresh process, give the numbers the same designs give one at a time in this one.
-    script = tmp_path / "first_shots.py"
-    script.write_text(FIRST_SHOTS)
-    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True,
-                          env={**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)})
+def test_threads_that_first_shoot_at_once_give_each_scope_its_own_numbers():
+    # A server's first requests may each be the first shot of its scope: eight threads at once, in
+    # a fresh process, give the numbers the same designs give one at a time in this one. The
+    # designs are of four scopes: the paper's optimum, with the realistic losses, on a rolling
+    # frame, and under the ideal release rule.
+    d = default_design()
+    designs = [d, dataclasses.replace(d, losses=TYPICAL_LOSSES), dataclasses.replace(d, base=ROLLING_FRAME),
+               dataclasses.replace(d, machine=dataclasses.replace(d.machine, release_rule="ideal",
+                                                                  release_angle=None))] * 2
+    tables = [design_to_dict(design) for design in designs]
+    done = subprocess.run([sys.executable, "-c", FIRST_SHOTS], capture_output=True, text=True,
+                          input=json.dumps(tables), env={**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)})
     assert done.returncode == 0, done.stderr[-800:]
-    namespace: dict = {}
-    exec(compile(FIRST_SHOTS.replace('if __name__ == "__main__":', "if False:"), "first_shots", "exec"), namespace)
-    expected = [fast.simulate_fast(design).range.hex() for design in namespace["designs"]()] * 2
-    assert json.loads(done.stdout) == expected
+    assert json.loads(done.stdout) == [fast.simulate_fast(design_from_dict(t)).range.hex() for t in tables]

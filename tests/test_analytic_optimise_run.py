@@ -13,7 +13,7 @@ from analytic.design_space import default_problem, design_at, variables_of
 from analytic.optimise.report import display
 from analytic.optimise.search import Settings, maximise
 from analytic.reference import DEFAULT_RTOL
-from support import RESIDUAL_LIMIT, SEED_DESIGN_AGREEMENT, SEED_RANGE_AGREEMENT
+from support import RESIDUAL_LIMIT, SEED_DESIGN_AGREEMENT, SEED_RANGE_AGREEMENT, Stop, stops_at
 
 SEEDS = (0, 1, 2)
 #: Re-simulated at a 100x tighter integrator tolerance, the optimum's range may move by this (relative).
@@ -74,25 +74,14 @@ def test_optimum_is_a_first_order_point_and_nothing_failed_there(optima, seed):
 
 
 @pytest.mark.parametrize("batches", [1, 4])
-def test_a_check_that_raises_ends_the_optimisation_before_its_next_batch(batches):
+def test_a_check_that_raises_ends_the_optimisation_before_its_next_batch(batches, monkeypatch):
     # The workbench's cancel: the evaluator calls the check before each batch of shots, and the
     # optimisation ends there, its last batch never shot.
     from analytic.optimise import optimise
 
-    seen = []
-
-    class Stop(Exception):
-        pass
-
-    def check() -> None:
-        seen.append(None)
-        if len(seen) == batches:
-            raise Stop
-
-    shot = []
-    original = Evaluator._fast_throws
-    with pytest.MonkeyPatch.context() as patch:
-        patch.setattr(Evaluator, "_fast_throws", lambda self, *a: shot.append(None) or original(self, *a))
-        with pytest.raises(Stop):
-            optimise(default_problem(), workers=1, settings=Settings(maxiter=40), check=check)
+    shot, original = [], Evaluator._fast_throws
+    monkeypatch.setattr(Evaluator, "_fast_throws", lambda self, *a: shot.append(None) or original(self, *a))
+    check, seen = stops_at(batches)
+    with pytest.raises(Stop):
+        optimise(default_problem(), workers=1, settings=Settings(maxiter=40), check=check)
     assert len(seen) == batches and len(shot) == batches - 1

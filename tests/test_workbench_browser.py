@@ -96,7 +96,10 @@ def open_page(page, server, wait_for=1):
     """Open the page and wait for its first shot; if it does not come, fail with what the page saw."""
     seen: list[str] = []
     started = time.monotonic()
-    stamp = lambda: f"{time.monotonic() - started:7.2f} s"   # noqa: E731
+
+    def stamp() -> str:
+        return f"{time.monotonic() - started:7.2f} s"
+
     page.on("console", lambda message: seen.append(f"{stamp()} console {message.type}: {message.text}"))
     page.on("pageerror", lambda error: seen.append(f"{stamp()} page error: {error}"))
     page.on("request", lambda request: seen.append(f"{stamp()} -> {request.method} {request.url}"))
